@@ -1,0 +1,180 @@
+//! Discrete embeddings: which velocity operator, which quadrature rows, which direct scheme.
+
+use crate::error::{Error, Result};
+use crate::grid::Grid;
+use crate::operator::Operator;
+use std::fmt;
+use std::ops::RangeInclusive;
+
+/// The side σ of an embedding.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Side {
+    /// σ = −: backward differences, Gauss quadrature on `I_− = {1..N}`.
+    Backward,
+    /// σ = +: forward differences, Gauss quadrature on `I_+ = {0..N−1}`.
+    Forward,
+}
+
+impl Side {
+    /// σ as a number: −1 for [`Side::Backward`], +1 for [`Side::Forward`].
+    pub fn sign(self) -> f64 {
+        match self {
+            Side::Backward => -1.0,
+            Side::Forward => 1.0,
+        }
+    }
+    /// The other side, −σ.
+    pub fn opposite(self) -> Side {
+        match self {
+            Side::Backward => Side::Forward,
+            Side::Forward => Side::Backward,
+        }
+    }
+    fn symbol(self) -> char {
+        match self {
+            Side::Backward => '−',
+            Side::Forward => '+',
+        }
+    }
+}
+
+/// The three families of discrete embeddings of the paper.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum EmbeddingKind {
+    /// Gauss-FDEσ (paper §2.1): the direct scheme substitutes `d/dt ↦ −σΔ_σ`. Not coherent.
+    FiniteDifference,
+    /// The asymmetric Gauss-FDEσ (paper §2.3): `d_− ↦ Δ_−`, `d_+ ↦ Δ_+`. Coherent.
+    Asymmetric,
+    /// Gauss-GLEσ (paper §3): `D^α_± ↦ Δ^α_±`. Coherent.
+    GrunwaldLetnikov {
+        /// The order `0 < α ≤ 1`.
+        alpha: f64,
+    },
+}
+
+/// A discrete embedding: a family and a side σ.
+///
+/// # Example
+///
+/// ```
+/// use varembed::{Embedding, Side};
+/// let gle = Embedding::grunwald_letnikov(Side::Backward, 0.5)?;
+/// assert_eq!(gle.to_string(), "Gauss-GLE− (α = 0.5)");
+/// assert!(Embedding::grunwald_letnikov(Side::Backward, 1.5).is_err());
+/// # Ok::<(), varembed::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Embedding {
+    kind: EmbeddingKind,
+    side: Side,
+}
+
+impl Embedding {
+    /// Gauss-FDEσ.
+    pub fn finite_difference(side: Side) -> Self {
+        Embedding {
+            kind: EmbeddingKind::FiniteDifference,
+            side,
+        }
+    }
+    /// The asymmetric Gauss-FDEσ.
+    pub fn asymmetric(side: Side) -> Self {
+        Embedding {
+            kind: EmbeddingKind::Asymmetric,
+            side,
+        }
+    }
+    /// Gauss-GLEσ of order α; errors unless `0 < α ≤ 1`.
+    pub fn grunwald_letnikov(side: Side, alpha: f64) -> Result<Self> {
+        if !(alpha > 0.0 && alpha <= 1.0) {
+            return Err(Error::AlphaOutOfRange { alpha });
+        }
+        Ok(Embedding {
+            kind: EmbeddingKind::GrunwaldLetnikov { alpha },
+            side,
+        })
+    }
+
+    /// The family.
+    pub fn kind(&self) -> EmbeddingKind {
+        self.kind
+    }
+    /// The side σ.
+    pub fn side(&self) -> Side {
+        self.side
+    }
+    /// The order α (1 for the classical embeddings).
+    pub fn alpha(&self) -> f64 {
+        match self.kind {
+            EmbeddingKind::GrunwaldLetnikov { alpha } => alpha,
+            _ => 1.0,
+        }
+    }
+    /// Whether the embedding is Grünwald–Letnikov (even at α = 1, where its operators equal
+    /// the classical ones but are stored densely).
+    pub fn is_fractional(&self) -> bool {
+        matches!(self.kind, EmbeddingKind::GrunwaldLetnikov { .. })
+    }
+    /// Whether the paper proves the embedding coherent (direct = variational).
+    pub fn is_coherent(&self) -> bool {
+        !matches!(self.kind, EmbeddingKind::FiniteDifference)
+    }
+
+    /// The operator `Δ_σ` (or `Δ^α_σ`): the velocity is `V = −σ Δ_σ Q` on the quadrature rows.
+    pub fn velocity_operator(&self, grid: &Grid) -> Operator {
+        self.operator(self.side, grid)
+    }
+
+    /// The operator `Δ_{−σ}` (or `Δ^α_{−σ}`) that the direct scheme of the coherent
+    /// embeddings applies to `p`.
+    pub fn adjoint_operator(&self, grid: &Grid) -> Operator {
+        self.operator(self.side.opposite(), grid)
+    }
+
+    fn operator(&self, side: Side, grid: &Grid) -> Operator {
+        match self.kind {
+            EmbeddingKind::GrunwaldLetnikov { alpha } => {
+                Operator::grunwald_letnikov(side, alpha, grid.n(), grid.h())
+                    .expect("α was checked when the embedding was built")
+            }
+            _ => Operator::finite_difference(side, grid.n(), grid.h()),
+        }
+    }
+
+    /// The Gauss σ-quadrature rows `I_σ`: `1..=N` for σ = −, `0..=N−1` for σ = +.
+    pub fn quadrature_rows(&self, n: usize) -> RangeInclusive<usize> {
+        match self.side {
+            Side::Backward => 1..=n,
+            Side::Forward => 0..=n - 1,
+        }
+    }
+
+    /// The rows of the direct scheme (DESIGN.md's table): Gauss-FDE− `2..=N`, Gauss-FDE+
+    /// `0..=N−2`, the coherent embeddings `1..=N−1`. Always `N − 1` rows (empty when `N = 1`).
+    #[allow(clippy::reversed_empty_ranges)] // an empty range is the right answer for N = 1
+    pub fn direct_rows(&self, n: usize) -> RangeInclusive<usize> {
+        match (self.kind, self.side) {
+            (EmbeddingKind::FiniteDifference, Side::Backward) => 2..=n,
+            (EmbeddingKind::FiniteDifference, Side::Forward) if n >= 2 => 0..=n - 2,
+            (EmbeddingKind::FiniteDifference, Side::Forward) => 1..=0,
+            _ => variational_rows(n),
+        }
+    }
+}
+
+/// The rows of the variational scheme, `1..=N−1` (the interior nodes).
+#[allow(clippy::reversed_empty_ranges)]
+pub(crate) fn variational_rows(n: usize) -> RangeInclusive<usize> {
+    if n >= 2 { 1..=n - 1 } else { 1..=0 }
+}
+
+impl fmt::Display for Embedding {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let s = self.side.symbol();
+        match self.kind {
+            EmbeddingKind::FiniteDifference => write!(f, "Gauss-FDE{s}"),
+            EmbeddingKind::Asymmetric => write!(f, "asymmetric Gauss-FDE{s}"),
+            EmbeddingKind::GrunwaldLetnikov { alpha } => write!(f, "Gauss-GLE{s} (α = {alpha})"),
+        }
+    }
+}

@@ -1,0 +1,72 @@
+//! The uniform grid `t_k = a + k h`, `k = 0..=N`, `h = (b − a)/N`.
+
+use crate::error::{Error, Result};
+
+/// A uniform partition of `[a, b]` into `N ≥ 1` steps.
+///
+/// # Example
+///
+/// ```
+/// let grid = varembed::Grid::new(0.0, 1.0, 4)?;
+/// assert_eq!(grid.h(), 0.25);
+/// assert_eq!(grid.t(3), 0.75);
+/// # Ok::<(), varembed::Error>(())
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Grid {
+    a: f64,
+    b: f64,
+    n: usize,
+    h: f64,
+}
+
+impl Grid {
+    /// The grid of `[a, b]` with `n` steps. Errors unless `a`, `b` are finite, `a < b`, `n ≥ 1`
+    /// and `h = (b − a)/n` is a positive normal number.
+    pub fn new(a: f64, b: f64, n: usize) -> Result<Self> {
+        let invalid = |reason| Err(Error::InvalidGrid { a, b, n, reason });
+        if !a.is_finite() || !b.is_finite() {
+            return invalid("the ends must be finite");
+        }
+        if n == 0 {
+            return invalid("N must be at least 1");
+        }
+        if a >= b {
+            return invalid("a must be smaller than b");
+        }
+        let h = (b - a) / n as f64;
+        if !h.is_normal() || a + h == a {
+            return invalid("the step h = (b − a)/N is too small to resolve");
+        }
+        Ok(Grid { a, b, n, h })
+    }
+
+    /// Left end `a`.
+    pub fn a(&self) -> f64 {
+        self.a
+    }
+    /// Right end `b`.
+    pub fn b(&self) -> f64 {
+        self.b
+    }
+    /// Number of steps `N`.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+    /// Step size `h`.
+    pub fn h(&self) -> f64 {
+        self.h
+    }
+    /// Node `t_k = a + k h` (`t_N = b` exactly).
+    pub fn t(&self, k: usize) -> f64 {
+        if k == self.n {
+            self.b
+        } else {
+            self.a + k as f64 * self.h
+        }
+    }
+    /// All nodes `t_0, …, t_N`.
+    pub fn nodes(&self) -> Vec<f64> {
+        (0..=self.n).map(|k| self.t(k)).collect()
+    }
+}

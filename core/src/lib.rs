@@ -1,0 +1,29 @@
+//! # varembed
+//!
+//! Direct discrete embeddings and variational integrators of classical and fractional
+//! Lagrangian systems, after L. Bourdin, *Variational integrators of fractional Lagrangian
+//! systems in the framework of discrete embeddings*.
+//!
+//! The paper's diagram, in words: a Lagrangian `L(x, v, t)` gives a functional
+//! `∫ L(q, q̇, t) dt` and, by the variational principle, an Euler–Lagrange equation. A discrete
+//! embedding (a grid, a discrete derivative, a quadrature) can be applied on either road:
+//! to the equation (the **direct** scheme: substitute the discrete operators into
+//! Euler–Lagrange) or to the functional (the **variational** scheme: the critical points of the
+//! discrete action `S_h(Q) = h Σ_{k∈I_σ} L(Q_k, V_k, t_k)`). The embedding is **coherent** when the
+//! two roads meet. Gauss-FDEσ is not coherent; its asymmetric version and Gauss-GLEσ are.
+#![deny(missing_docs)]
+
+pub mod embedding;
+pub mod error;
+pub mod grid;
+pub mod lagrangian;
+pub mod operator;
+pub mod solve;
+pub mod weights;
+
+pub use embedding::{Embedding, EmbeddingKind, Side};
+pub use error::{Error, Location, Result};
+pub use grid::Grid;
+pub use lagrangian::{Hessian, Lagrangian, Matrix, StepKind, StepTimes, Vector};
+pub use operator::Operator;
+pub use varembed_macros::lagrangian;

@@ -1,0 +1,234 @@
+//! The discrete operators `Δ_±` and `Δ^α_±` of the paper, with `apply` and `apply_transpose`.
+//!
+//! `Δ_− Q_k = (Q_k − Q_{k−1})/h` (`k = 1..=N`), `Δ_+ Q_k = (Q_k − Q_{k+1})/h` (`k = 0..=N−1`),
+//! `Δ^α_− Q_k = h^{−α} Σ_{r=0}^{k} α_r Q_{k−r}` (`k = 1..=N`) and
+//! `Δ^α_+ Q_k = h^{−α} Σ_{r=0}^{N−k} α_r Q_{k+r}` (`k = 0..=N−1`). All four are one formula,
+//! `h^{−α} Σ_r w_r Q_{k ∓ r}`, with `w = (1, −1)` for the classical operators and the
+//! Grünwald–Letnikov weights for the fractional ones; the classical operator is stored with two
+//! weights so that applying it costs `O(N)`.
+//!
+//! Values "on the rows" (the result of `apply`, the argument of `apply_transpose`) are stored
+//! by position: entry `i` belongs to row `k = i + first_row`.
+
+use crate::embedding::Side;
+use crate::error::{Error, Result};
+use crate::lagrangian::Vector;
+use crate::weights::grunwald_letnikov;
+use std::ops::RangeInclusive;
+
+/// `Δ_σ` or `Δ^α_σ` on a grid of `N` steps: an `N × (N + 1)` matrix.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Operator {
+    side: Side,
+    alpha: f64,
+    n: usize,
+    scale: f64,
+    weights: Vec<f64>,
+}
+
+impl Operator {
+    /// The classical finite difference `Δ_σ` with step `h` on `n` steps.
+    pub fn finite_difference(side: Side, n: usize, h: f64) -> Self {
+        Operator {
+            side,
+            alpha: 1.0,
+            n,
+            scale: 1.0 / h,
+            weights: vec![1.0, -1.0],
+        }
+    }
+
+    /// The Grünwald–Letnikov operator `Δ^α_σ` with step `h` on `n` steps (`0 < α ≤ 1`).
+    pub fn grunwald_letnikov(side: Side, alpha: f64, n: usize, h: f64) -> Result<Self> {
+        if !(alpha > 0.0 && alpha <= 1.0) {
+            return Err(Error::AlphaOutOfRange { alpha });
+        }
+        Ok(Operator {
+            side,
+            alpha,
+            n,
+            scale: h.powf(-alpha),
+            weights: grunwald_letnikov(alpha, n + 1),
+        })
+    }
+
+    /// Which side σ.
+    pub fn side(&self) -> Side {
+        self.side
+    }
+    /// The order α (1 for the classical operators).
+    pub fn alpha(&self) -> f64 {
+        self.alpha
+    }
+    /// The factor `h^{−α}`.
+    pub fn scale(&self) -> f64 {
+        self.scale
+    }
+    /// The weights `w_r` (`1, −1` for the classical operators).
+    pub fn weights(&self) -> &[f64] {
+        &self.weights
+    }
+    /// The rows `k` on which the operator is defined: `1..=N` for σ = −, `0..=N−1` for σ = +.
+    pub fn rows(&self) -> RangeInclusive<usize> {
+        match self.side {
+            Side::Backward => 1..=self.n,
+            Side::Forward => 0..=self.n - 1,
+        }
+    }
+    /// The first row (`1` for σ = −, `0` for σ = +).
+    pub fn first_row(&self) -> usize {
+        *self.rows().start()
+    }
+
+    /// Nonzero entries `(j, M[k, j])` of row `k` (a node index in `0..=N`, not necessarily one
+    /// of [`rows`](Self::rows): the sum is cut at the grid's ends).
+    pub fn row_entries(&self, k: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let reach = match self.side {
+            Side::Backward => k,
+            Side::Forward => self.n - k,
+        };
+        let len = self.weights.len().min(reach + 1);
+        self.weights[..len].iter().enumerate().map(move |(r, w)| {
+            let j = match self.side {
+                Side::Backward => k - r,
+                Side::Forward => k + r,
+            };
+            (j, self.scale * w)
+        })
+    }
+
+    /// `(Δ Q)_k` for one row `k` (the same cut-off as [`row_entries`](Self::row_entries)).
+    pub fn apply_row<const D: usize>(&self, q: &[Vector<D>], k: usize) -> Vector<D> {
+        let mut acc = Vector::<D>::zeros();
+        for (j, c) in self.row_entries(k) {
+            acc += q[j] * c;
+        }
+        acc
+    }
+
+    /// `Δ Q`: `q` has `N + 1` nodes, the result `N` values (entry `i` is row `i + first_row`).
+    pub fn apply<const D: usize>(&self, q: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
+        check_len("curve", self.n + 1, q.len())?;
+        Ok(self.rows().map(|k| self.apply_row(q, k)).collect())
+    }
+
+    /// `Δᵀ W`: `w` has `N` values on the rows, the result `N + 1` nodes.
+    pub fn apply_transpose<const D: usize>(&self, w: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
+        check_len("values on the rows", self.n, w.len())?;
+        let mut out = vec![Vector::<D>::zeros(); self.n + 1];
+        for (i, k) in self.rows().enumerate() {
+            for (j, c) in self.row_entries(k) {
+                out[j] += w[i] * c;
+            }
+        }
+        Ok(out)
+    }
+}
+
+pub(crate) fn check_len(what: &'static str, expected: usize, found: usize) -> Result<()> {
+    if expected == found {
+        Ok(())
+    } else {
+        Err(Error::WrongLength {
+            what,
+            expected,
+            found,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn dense<const D: usize>(op: &Operator, n: usize) -> Vec<Vec<f64>> {
+        let mut m = vec![vec![0.0; n + 1]; n];
+        for (i, k) in op.rows().enumerate() {
+            for (j, c) in op.row_entries(k) {
+                m[i][j] += c;
+            }
+        }
+        m
+    }
+
+    #[test]
+    fn classical_operators_are_the_paper_differences() {
+        let q: Vec<Vector<1>> = [1.0, 4.0, 9.0, 16.0]
+            .iter()
+            .map(|&x| Vector::<1>::new(x))
+            .collect();
+        let h = 0.5;
+        let minus = Operator::finite_difference(Side::Backward, 3, h)
+            .apply(&q)
+            .unwrap();
+        let plus = Operator::finite_difference(Side::Forward, 3, h)
+            .apply(&q)
+            .unwrap();
+        assert_eq!(
+            minus.iter().map(|v| v[0]).collect::<Vec<_>>(),
+            vec![6.0, 10.0, 14.0]
+        );
+        assert_eq!(
+            plus.iter().map(|v| v[0]).collect::<Vec<_>>(),
+            vec![-6.0, -10.0, -14.0]
+        );
+    }
+
+    #[test]
+    fn fractional_at_alpha_one_is_classical_and_transpose_is_adjoint() {
+        let n = 7;
+        let h = 0.3;
+        for side in [Side::Backward, Side::Forward] {
+            let gl = Operator::grunwald_letnikov(side, 1.0, n, h).unwrap();
+            let fd = Operator::finite_difference(side, n, h);
+            assert_eq!(dense::<1>(&gl, n), dense::<1>(&fd, n));
+            let op = Operator::grunwald_letnikov(side, 0.4, n, h).unwrap();
+            let q: Vec<Vector<2>> = (0..=n)
+                .map(|k| Vector::<2>::new(k as f64, (k * k) as f64 - 3.0))
+                .collect();
+            let w: Vec<Vector<2>> = (0..n)
+                .map(|i| Vector::<2>::new((i as f64).sin(), 1.0 / (1.0 + i as f64)))
+                .collect();
+            // <Δq, w> = <q, Δᵀw>
+            let lhs: f64 = op
+                .apply(&q)
+                .unwrap()
+                .iter()
+                .zip(&w)
+                .map(|(a, b)| a.dot(b))
+                .sum();
+            let rhs: f64 = q
+                .iter()
+                .zip(op.apply_transpose(&w).unwrap())
+                .map(|(a, b)| a.dot(&b))
+                .sum();
+            assert!(
+                (lhs - rhs).abs() <= 1e-12 * lhs.abs().max(1.0),
+                "{lhs} vs {rhs}"
+            );
+        }
+    }
+
+    #[test]
+    fn wrong_lengths_and_alpha_are_errors() {
+        let op = Operator::finite_difference(Side::Backward, 3, 0.1);
+        assert!(matches!(
+            op.apply(&[Vector::<1>::zeros(); 3]),
+            Err(Error::WrongLength {
+                expected: 4,
+                found: 3,
+                ..
+            })
+        ));
+        assert!(matches!(
+            op.apply_transpose(&[Vector::<1>::zeros(); 4]),
+            Err(Error::WrongLength { .. })
+        ));
+        for alpha in [0.0, -0.5, 1.5, f64::NAN] {
+            assert!(matches!(
+                Operator::grunwald_letnikov(Side::Forward, alpha, 3, 0.1),
+                Err(Error::AlphaOutOfRange { .. })
+            ));
+        }
+    }
+}

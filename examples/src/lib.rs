@@ -1,0 +1,1 @@
+//! Scenes and reports of varembed; see `examples/`.
