@@ -10,6 +10,8 @@ pub enum Location {
     Step(usize),
     /// A Newton iteration of a boundary value problem (the global system).
     Newton(usize),
+    /// The evaluation of the Lagrangian at node `Q_k`.
+    Node(usize),
 }
 
 impl std::fmt::Display for Location {
@@ -17,6 +19,7 @@ impl std::fmt::Display for Location {
         match self {
             Location::Step(n) => write!(f, "step {n} (node Q_{n})"),
             Location::Newton(i) => write!(f, "global Newton iteration {i}"),
+            Location::Node(k) => write!(f, "node Q_{k}"),
         }
     }
 }

@@ -37,6 +37,30 @@ pub type Vector<const D: usize> = SVector<f64, D>;
 /// A `D × D` block.
 pub type Matrix<const D: usize> = SMatrix<f64, D, D>;
 
+/// A point of `R^D` given as `f64` (when `D = 1`), `[f64; D]` or [`Vector<D>`].
+pub trait IntoVector<const D: usize> {
+    /// The point as a [`Vector<D>`].
+    fn into_vector(self) -> Vector<D>;
+}
+
+impl IntoVector<1> for f64 {
+    fn into_vector(self) -> Vector<1> {
+        Vector::<1>::new(self)
+    }
+}
+
+impl<const D: usize> IntoVector<D> for [f64; D] {
+    fn into_vector(self) -> Vector<D> {
+        Vector::<D>::from(self)
+    }
+}
+
+impl<const D: usize> IntoVector<D> for Vector<D> {
+    fn into_vector(self) -> Vector<D> {
+        self
+    }
+}
+
 /// The three second-derivative blocks of a Lagrangian at one point.
 ///
 /// `xx[(i, j)] = ∂²L/∂x_i∂x_j`, `xv[(i, j)] = ∂²L/∂x_i∂v_j`, `vv[(i, j)] = ∂²L/∂v_i∂v_j`.

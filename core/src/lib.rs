@@ -18,12 +18,16 @@ pub mod error;
 pub mod grid;
 pub mod lagrangian;
 pub mod operator;
+pub mod problem;
 pub mod solve;
 pub mod weights;
 
 pub use embedding::{Embedding, EmbeddingKind, Side};
 pub use error::{Error, Location, Result};
 pub use grid::Grid;
-pub use lagrangian::{Hessian, Lagrangian, Matrix, StepKind, StepTimes, Vector};
+pub use lagrangian::{Hessian, IntoVector, Lagrangian, Matrix, StepKind, StepTimes, Vector};
 pub use operator::Operator;
+pub use problem::{Problem, Scheme};
+pub use solve::Solution;
+pub use solve::newton::NewtonOptions;
 pub use varembed_macros::lagrangian;

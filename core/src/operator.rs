@@ -97,6 +97,24 @@ impl Operator {
         })
     }
 
+    /// Nonzero entries `(k, M[k, j])` of column `j` (`j` in `0..=N`), over the rows `k` of
+    /// [`rows`](Self::rows): what `apply_transpose` sums.
+    pub fn column_entries(&self, j: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let rows = self.rows();
+        let (first, last) = (*rows.start(), *rows.end());
+        let len = self.weights.len();
+        let (lo, hi) = match self.side {
+            // M[k, j] = s w_{k−j} for k ≥ j.
+            Side::Backward => (j.max(first), (j + len - 1).min(last)),
+            // M[k, j] = s w_{j−k} for k ≤ j.
+            Side::Forward => ((j + 1).saturating_sub(len).max(first), j.min(last)),
+        };
+        (lo..=hi).map(move |k| {
+            let r = k.abs_diff(j);
+            (k, self.scale * self.weights[r])
+        })
+    }
+
     /// `(Δ Q)_k` for one row `k` (the same cut-off as [`row_entries`](Self::row_entries)).
     pub fn apply_row<const D: usize>(&self, q: &[Vector<D>], k: usize) -> Vector<D> {
         let mut acc = Vector::<D>::zeros();

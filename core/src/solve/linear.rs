@@ -51,6 +51,151 @@ pub fn solve_small<const D: usize>(a: &Matrix<D>, b: &Vector<D>) -> Option<Vecto
     x.iter().all(|v| v.is_finite()).then_some(x)
 }
 
+/// A square banded matrix with `kl` sub- and `ku` super-diagonals, factorised in place by LU
+/// with partial pivoting (the LAPACK `gbtrf` scheme): `O(n (kl + ku) kl)` work, `O(n (2kl + ku))`
+/// memory. Row `i` stores columns `i − kl ..= i + kl + ku` (the extra `kl` hold the fill-in
+/// that row exchanges bring).
+pub struct BandedMatrix {
+    n: usize,
+    kl: usize,
+    ku: usize,
+    width: usize,
+    data: Vec<f64>,
+    pivots: Vec<usize>,
+}
+
+impl BandedMatrix {
+    /// The zero `n × n` matrix with bandwidths `kl`, `ku`.
+    pub fn zeros(n: usize, kl: usize, ku: usize) -> Self {
+        let width = 2 * kl + ku + 1;
+        BandedMatrix {
+            n,
+            kl,
+            ku,
+            width,
+            data: vec![0.0; n * width],
+            pivots: Vec::new(),
+        }
+    }
+
+    /// Order `n`.
+    pub fn order(&self) -> usize {
+        self.n
+    }
+
+    fn slot(&self, i: usize, j: usize) -> usize {
+        debug_assert!(
+            j + self.kl >= i && j <= i + self.kl + self.ku,
+            "({i}, {j}) outside the band"
+        );
+        i * self.width + (j + self.kl - i)
+    }
+
+    /// Adds `value` to entry `(i, j)`, which must lie within the band.
+    pub fn add(&mut self, i: usize, j: usize, value: f64) {
+        let s = self.slot(i, j);
+        self.data[s] += value;
+    }
+
+    /// Entry `(i, j)` (zero outside the stored band).
+    pub fn get(&self, i: usize, j: usize) -> f64 {
+        if j + self.kl < i || j > i + self.kl + self.ku {
+            0.0
+        } else {
+            self.data[self.slot(i, j)]
+        }
+    }
+
+    /// Factorises in place. Returns the index of the first pivot column that is numerically
+    /// zero (relative to the largest entry) as `Err`.
+    pub fn factorize(&mut self) -> std::result::Result<(), usize> {
+        let (n, kl, ku) = (self.n, self.kl, self.ku);
+        let norm = self.data.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        if !norm.is_finite() {
+            return Err(0);
+        }
+        self.pivots = vec![0; n];
+        for j in 0..n {
+            let last_row = (j + kl).min(n - 1);
+            let mut piv = j;
+            let mut max = self.get(j, j).abs();
+            for i in j + 1..=last_row {
+                let a = self.get(i, j).abs();
+                if a > max {
+                    max = a;
+                    piv = i;
+                }
+            }
+            if max <= SINGULAR_RATIO * norm {
+                return Err(j);
+            }
+            self.pivots[j] = piv;
+            let last_col = (j + kl + ku).min(n - 1);
+            if piv != j {
+                for c in j..=last_col {
+                    let (a, b) = (self.slot(j, c), self.slot(piv, c));
+                    self.data.swap(a, b);
+                }
+            }
+            let d = self.get(j, j);
+            for i in j + 1..=last_row {
+                let sij = self.slot(i, j);
+                let l = self.data[sij] / d;
+                self.data[sij] = l;
+                if l != 0.0 {
+                    for c in j + 1..=last_col {
+                        let u = self.data[self.slot(j, c)];
+                        let s = self.slot(i, c);
+                        self.data[s] -= l * u;
+                    }
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Solves `A x = b` in place with the factors of [`factorize`](Self::factorize).
+    pub fn solve_inplace(&self, b: &mut [f64]) {
+        let (n, kl, ku) = (self.n, self.kl, self.ku);
+        for j in 0..n {
+            b.swap(j, self.pivots[j]);
+            let bj = b[j];
+            for i in j + 1..=(j + kl).min(n - 1) {
+                b[i] -= self.data[self.slot(i, j)] * bj;
+            }
+        }
+        for i in (0..n).rev() {
+            let mut s = b[i];
+            for c in i + 1..=(i + kl + ku).min(n - 1) {
+                s -= self.data[self.slot(i, c)] * b[c];
+            }
+            b[i] = s / self.data[self.slot(i, i)];
+        }
+    }
+}
+
+/// Solves a dense system by LU with partial pivoting (nalgebra); `None` when a pivot is
+/// numerically zero relative to the largest entry.
+pub fn solve_dense(
+    a: nalgebra::DMatrix<f64>,
+    b: &nalgebra::DVector<f64>,
+) -> Option<nalgebra::DVector<f64>> {
+    let norm = a.amax();
+    if !norm.is_finite() {
+        return None;
+    }
+    let lu = a.lu();
+    if lu
+        .u()
+        .diagonal()
+        .iter()
+        .any(|d| d.abs() <= SINGULAR_RATIO * norm)
+    {
+        return None;
+    }
+    lu.solve(b).filter(|x| x.iter().all(|v| v.is_finite()))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -64,5 +209,41 @@ mod tests {
         let s = Matrix::<2>::new(1.0, 2.0, 2.0, 4.0);
         assert!(solve_small(&s, &Vector::<2>::new(1.0, 1.0)).is_none());
         assert!(solve_small(&Matrix::<1>::zeros(), &Vector::<1>::new(1.0)).is_none());
+    }
+
+    #[test]
+    fn banded_lu_matches_dense_lu_with_pivoting() {
+        // A band matrix whose diagonal is tiny, so that partial pivoting must exchange rows.
+        let (n, kl, ku) = (9, 2, 1);
+        let mut band = BandedMatrix::zeros(n, kl, ku);
+        let mut dense = nalgebra::DMatrix::<f64>::zeros(n, n);
+        for i in 0..n {
+            for j in i.saturating_sub(kl)..=(i + ku).min(n - 1) {
+                let v = if i == j {
+                    1e-3
+                } else {
+                    ((i * 7 + j * 3) % 5) as f64 - 1.7
+                };
+                band.add(i, j, v);
+                dense[(i, j)] = v;
+            }
+        }
+        let rhs: Vec<f64> = (0..n).map(|i| (i as f64).cos()).collect();
+        let expected = solve_dense(dense, &nalgebra::DVector::from_vec(rhs.clone())).unwrap();
+        band.factorize().unwrap();
+        let mut x = rhs;
+        band.solve_inplace(&mut x);
+        for i in 0..n {
+            assert!(
+                (x[i] - expected[i]).abs() < 1e-12 * expected.amax(),
+                "{i}: {} vs {}",
+                x[i],
+                expected[i]
+            );
+        }
+        let mut singular = BandedMatrix::zeros(3, 1, 1);
+        singular.add(0, 0, 1.0);
+        singular.add(1, 1, 1.0);
+        assert_eq!(singular.factorize(), Err(2));
     }
 }

@@ -1,0 +1,326 @@
+//! [`Problem`]: a Lagrangian, a grid and an embedding; the two residual paths, the action, and
+//! the Jacobian of the global system.
+
+use crate::embedding::{Embedding, EmbeddingKind, variational_rows};
+use crate::error::{Error, Location, Result};
+use crate::grid::Grid;
+use crate::lagrangian::{Lagrangian, Matrix, Vector};
+use crate::operator::{Operator, check_len};
+use crate::solve::newton::NewtonOptions;
+use std::ops::RangeInclusive;
+
+/// Which discrete scheme of an embedding.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Scheme {
+    /// The direct embedding of the Euler–Lagrange equation: the embedding's operators
+    /// substituted into `∂_x L − d/dt ∂_v L = 0`.
+    Direct,
+    /// The variational integrator: the critical points of the discrete action `S_h`.
+    Variational,
+}
+
+impl std::fmt::Display for Scheme {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            Scheme::Direct => "direct",
+            Scheme::Variational => "variational",
+        })
+    }
+}
+
+/// A Lagrangian on a grid under a discrete embedding.
+///
+/// # Example
+///
+/// ```
+/// use varembed::{Embedding, Grid, Hessian, Lagrangian, Matrix, Problem, Scheme, Side, Vector};
+///
+/// struct Free; // L = ½v²
+/// impl Lagrangian<1> for Free {
+///     fn value(&self, _x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 { 0.5 * v[0] * v[0] }
+///     fn gradient(&self, _x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
+///         (Vector::<1>::zeros(), *v)
+///     }
+///     fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
+///         Hessian { xx: Matrix::<1>::zeros(), xv: Matrix::<1>::zeros(), vv: Matrix::<1>::identity() }
+///     }
+/// }
+///
+/// let problem = Problem::new(&Free, Grid::new(0.0, 1.0, 4)?, Embedding::finite_difference(Side::Backward));
+/// // A straight line is a solution of both schemes.
+/// let q: Vec<Vector<1>> = (0..=4).map(|k| Vector::<1>::new(0.25 * k as f64)).collect();
+/// assert!(problem.residual(Scheme::Direct, &q)?.iter().all(|r| r[0].abs() < 1e-14));
+/// assert!((problem.action(&q)? - 0.5).abs() < 1e-14);
+/// # Ok::<(), varembed::Error>(())
+/// ```
+pub struct Problem<'l, L: ?Sized, const D: usize> {
+    pub(crate) lagrangian: &'l L,
+    pub(crate) grid: Grid,
+    pub(crate) embedding: Embedding,
+    /// `Δ_σ` (or `Δ^α_σ`).
+    pub(crate) velocity: Operator,
+    /// `Δ_{−σ}` (or `Δ^α_{−σ}`).
+    pub(crate) adjoint: Operator,
+    pub(crate) newton: NewtonOptions,
+}
+
+/// `V`, `f = ∂L/∂x`, `p = ∂L/∂v` at the quadrature nodes, stored by node index `0..=N` (the one
+/// node outside `I_σ` holds zeros and is never read by a valid row).
+pub(crate) struct Pointwise<const D: usize> {
+    pub v: Vec<Vector<D>>,
+    pub f: Vec<Vector<D>>,
+    pub p: Vec<Vector<D>>,
+}
+
+/// Where the Jacobian blocks of the global system go (banded or dense storage).
+pub(crate) trait BlockSink<const D: usize> {
+    fn add_block(&mut self, row: usize, col: usize, block: &Matrix<D>);
+}
+
+impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
+    /// The problem of `lagrangian` on `grid` under `embedding`, with default Newton options.
+    pub fn new(lagrangian: &'l L, grid: Grid, embedding: Embedding) -> Self {
+        Problem {
+            lagrangian,
+            grid,
+            embedding,
+            velocity: embedding.velocity_operator(&grid),
+            adjoint: embedding.adjoint_operator(&grid),
+            newton: NewtonOptions::default(),
+        }
+    }
+
+    /// The same problem with other Newton options.
+    pub fn with_newton(mut self, newton: NewtonOptions) -> Self {
+        self.newton = newton;
+        self
+    }
+
+    /// The grid.
+    pub fn grid(&self) -> &Grid {
+        &self.grid
+    }
+    /// The embedding.
+    pub fn embedding(&self) -> &Embedding {
+        &self.embedding
+    }
+    /// The Lagrangian.
+    pub fn lagrangian(&self) -> &L {
+        self.lagrangian
+    }
+    /// The Newton options.
+    pub fn newton_options(&self) -> &NewtonOptions {
+        &self.newton
+    }
+
+    /// The nodes `k` of the equations of `scheme` (DESIGN.md's table); entry `i` of
+    /// [`residual`](Self::residual) is row `rows.start() + i`.
+    pub fn residual_rows(&self, scheme: Scheme) -> RangeInclusive<usize> {
+        match scheme {
+            Scheme::Direct => self.embedding.direct_rows(self.grid.n()),
+            Scheme::Variational => variational_rows(self.grid.n()),
+        }
+    }
+
+    /// The discrete velocity `V = −σ Δ_σ Q` (or `−σ Δ^α_σ Q`) on the quadrature rows `I_σ`.
+    pub fn velocity(&self, q: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
+        self.check_curve(q)?;
+        let sign = -self.embedding.side().sign();
+        Ok(self
+            .velocity
+            .apply(q)?
+            .into_iter()
+            .map(|v| v * sign)
+            .collect())
+    }
+
+    /// The residual of `scheme` at `Q` (`N + 1` nodes), one entry per row of
+    /// [`residual_rows`](Self::residual_rows).
+    ///
+    /// - [`Scheme::Direct`] substitutes the operators into Euler–Lagrange:
+    ///   `f_k + σ (Δ_σ p)_k` for Gauss-FDEσ, `f_k − σ (Δ_{−σ} p)_k` for the asymmetric
+    ///   Gauss-FDEσ, `f_k − σ (Δ^α_{−σ} p)_k` for Gauss-GLEσ.
+    /// - [`Scheme::Variational`] is the gradient of the discrete action,
+    ///   `(1/h) ∂S_h/∂Q_j = f_j + (Dᵀ p)_j`, `j = 1..=N−1`, assembled through the transpose of
+    ///   the velocity operator `D = −σ Δ_σ`.
+    ///
+    /// The two are computed by separate code: comparing them is the paper's coherence test.
+    pub fn residual(&self, scheme: Scheme, q: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
+        let pw = self.pointwise(q)?;
+        Ok(self.residual_from(scheme, &pw))
+    }
+
+    pub(crate) fn residual_from(&self, scheme: Scheme, pw: &Pointwise<D>) -> Vec<Vector<D>> {
+        match scheme {
+            Scheme::Direct => self.direct_residual(pw),
+            Scheme::Variational => self.variational_residual(pw),
+        }
+    }
+
+    /// The discrete action `S_h(Q) = h Σ_{k∈I_σ} L(Q_k, V_k, t_k)`.
+    pub fn action(&self, q: &[Vector<D>]) -> Result<f64> {
+        let v = self.velocity(q)?;
+        let mut s = 0.0;
+        for (k, vk) in self.embedding.quadrature_rows(self.grid.n()).zip(&v) {
+            s += self.lagrangian.value(&q[k], vk, self.grid.t(k));
+        }
+        let s = s * self.grid.h();
+        if s.is_finite() {
+            Ok(s)
+        } else {
+            Err(self.first_non_finite(q, &v))
+        }
+    }
+
+    pub(crate) fn check_curve(&self, q: &[Vector<D>]) -> Result<()> {
+        check_len("discrete curve Q", self.grid.n() + 1, q.len())?;
+        match q.iter().position(|x| !x.iter().all(|c| c.is_finite())) {
+            Some(k) => Err(Error::NonFiniteInput {
+                what: format!("Q_{k} = {:?}", q[k].as_slice()),
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// Which node made the Lagrangian non-finite (for the error message).
+    fn first_non_finite(&self, q: &[Vector<D>], v: &[Vector<D>]) -> Error {
+        let rows = self.embedding.quadrature_rows(self.grid.n());
+        let k = rows
+            .clone()
+            .zip(v)
+            .find(|(k, vk)| {
+                !self
+                    .lagrangian
+                    .value(&q[*k], vk, self.grid.t(*k))
+                    .is_finite()
+            })
+            .map_or(*rows.start(), |(k, _)| k);
+        Error::NotFinite {
+            at: Location::Node(k),
+        }
+    }
+
+    pub(crate) fn pointwise(&self, q: &[Vector<D>]) -> Result<Pointwise<D>> {
+        let v_rows = self.velocity(q)?;
+        let n = self.grid.n();
+        let mut pw = Pointwise {
+            v: vec![Vector::<D>::zeros(); n + 1],
+            f: vec![Vector::<D>::zeros(); n + 1],
+            p: vec![Vector::<D>::zeros(); n + 1],
+        };
+        for (k, vk) in self.embedding.quadrature_rows(n).zip(v_rows) {
+            let (f, p) = self.lagrangian.gradient(&q[k], &vk, self.grid.t(k));
+            if !(f.iter().chain(p.iter()).all(|c| c.is_finite())) {
+                return Err(Error::NotFinite {
+                    at: Location::Node(k),
+                });
+            }
+            pw.v[k] = vk;
+            pw.f[k] = f;
+            pw.p[k] = p;
+        }
+        Ok(pw)
+    }
+
+    /// The direct path: the embedding's operators applied to `p` row by row.
+    fn direct_residual(&self, pw: &Pointwise<D>) -> Vec<Vector<D>> {
+        let sigma = self.embedding.side().sign();
+        let rows = self.residual_rows(Scheme::Direct);
+        match self.embedding.kind() {
+            // d/dt ↦ −σΔ_σ in ∂_x L − d/dt ∂_v L.
+            EmbeddingKind::FiniteDifference => rows
+                .map(|k| pw.f[k] + self.velocity.apply_row(&pw.p, k) * sigma)
+                .collect(),
+            // −σ d_{−σ} ↦ −σ Δ_{−σ} (Δ^α_{−σ}) in the asymmetric / fractional Euler–Lagrange.
+            EmbeddingKind::Asymmetric | EmbeddingKind::GrunwaldLetnikov { .. } => rows
+                .map(|k| pw.f[k] - self.adjoint.apply_row(&pw.p, k) * sigma)
+                .collect(),
+        }
+    }
+
+    /// The variational path: `f + Dᵀ p` on the interior nodes, `D = −σ Δ_σ`.
+    fn variational_residual(&self, pw: &Pointwise<D>) -> Vec<Vector<D>> {
+        let sigma = self.embedding.side().sign();
+        let n = self.grid.n();
+        let p_rows: Vec<Vector<D>> = self.embedding.quadrature_rows(n).map(|k| pw.p[k]).collect();
+        let dt_p = self
+            .velocity
+            .apply_transpose(&p_rows)
+            .expect("p has one value per quadrature row");
+        variational_rows(n)
+            .map(|j| pw.f[j] - dt_p[j] * sigma)
+            .collect()
+    }
+
+    /// The Jacobian of [`residual`](Self::residual) with respect to the interior nodes
+    /// `Q_1..Q_{N−1}`: block `(i, j − 1)` is `∂r_{rows[i]}/∂Q_j`.
+    ///
+    /// Every scheme's row is `r_k = f_k + Σ_m B[k, m] p_m` with `V = D Q`, `D = −σΔ_σ`, so
+    /// `∂r_k/∂Q_j = δ_kj L_xx + L_xv D[k, j] + Σ_m B[k, m] (δ_mj L_vx + L_vv D[m, j])`.
+    /// For the variational scheme `B = Dᵀ`, read by columns of `Δ_σ`; this gives the symmetric
+    /// `L_xx + L_xv D + Dᵀ L_vx + Dᵀ L_vv D`.
+    pub(crate) fn assemble_jacobian(
+        &self,
+        scheme: Scheme,
+        q: &[Vector<D>],
+        pw: &Pointwise<D>,
+        sink: &mut impl BlockSink<D>,
+    ) {
+        let n = self.grid.n();
+        let sigma = self.embedding.side().sign();
+        let hess: Vec<Option<_>> = (0..=n)
+            .map(|k| {
+                self.embedding
+                    .quadrature_rows(n)
+                    .contains(&k)
+                    .then(|| self.lagrangian.hessian(&q[k], &pw.v[k], self.grid.t(k)))
+            })
+            .collect();
+        let unknown = |j: usize| (1..n).contains(&j);
+        // D[m, j] = −σ Δ_σ[m, j].
+        let d_row = |m: usize| {
+            self.velocity
+                .row_entries(m)
+                .map(move |(j, c)| (j, -sigma * c))
+        };
+        for (i, k) in self.residual_rows(scheme).enumerate() {
+            let hk = hess[k].as_ref().expect("rows lie in I_σ");
+            if unknown(k) {
+                sink.add_block(i, k - 1, &hk.xx);
+            }
+            for (j, c) in d_row(k) {
+                if unknown(j) {
+                    sink.add_block(i, j - 1, &(hk.xv * c));
+                }
+            }
+            let b_entries: Vec<(usize, f64)> = match (scheme, self.embedding.kind()) {
+                (Scheme::Direct, EmbeddingKind::FiniteDifference) => self
+                    .velocity
+                    .row_entries(k)
+                    .map(|(m, c)| (m, sigma * c))
+                    .collect(),
+                (Scheme::Direct, _) => self
+                    .adjoint
+                    .row_entries(k)
+                    .map(|(m, c)| (m, -sigma * c))
+                    .collect(),
+                (Scheme::Variational, _) => self
+                    .velocity
+                    .column_entries(k)
+                    .map(|(m, c)| (m, -sigma * c))
+                    .collect(),
+            };
+            for (m, b) in b_entries {
+                let hm = hess[m].as_ref().expect("B only reaches nodes of I_σ");
+                if unknown(m) {
+                    sink.add_block(i, m - 1, &(hm.xv.transpose() * b));
+                }
+                for (j, c) in d_row(m) {
+                    if unknown(j) {
+                        sink.add_block(i, j - 1, &(hm.vv * (b * c)));
+                    }
+                }
+            }
+        }
+    }
+}

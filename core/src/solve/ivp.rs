@@ -1,0 +1,162 @@
+//! Initial value problems of the classical embeddings: a three-point recurrence, one
+//! `d`-dimensional solve per step.
+
+use crate::embedding::EmbeddingKind;
+use crate::error::{Error, Location, Result};
+use crate::lagrangian::{IntoVector, Lagrangian, StepKind, StepTimes, Vector};
+use crate::problem::{Problem, Scheme};
+use crate::solve::Solution;
+use crate::solve::newton::solve_step;
+
+impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
+    /// The step kernel that advances `scheme` under this problem's embedding.
+    ///
+    /// The asymmetric Gauss-FDEσ is coherent: its direct scheme *is* the variational
+    /// recurrence, so both schemes step with the variational kernel. Gauss-GLEσ has no
+    /// three-point recurrence (every node talks to every other) and gives
+    /// [`Error::Unsupported`]: solve it as a boundary value problem.
+    pub fn step_kind(&self, scheme: Scheme) -> Result<StepKind> {
+        use crate::embedding::Side::{Backward, Forward};
+        let side = self.embedding.side();
+        match (self.embedding.kind(), scheme, side) {
+            (EmbeddingKind::GrunwaldLetnikov { .. }, _, _) => Err(Error::Unsupported {
+                operation: "an initial value problem",
+                embedding: self.embedding.to_string(),
+            }),
+            (EmbeddingKind::FiniteDifference, Scheme::Direct, Backward) => {
+                Ok(StepKind::DirectBackward)
+            }
+            (EmbeddingKind::FiniteDifference, Scheme::Direct, Forward) => {
+                Ok(StepKind::DirectForward)
+            }
+            (_, _, Backward) => Ok(StepKind::VariationalBackward),
+            (_, _, Forward) => Ok(StepKind::VariationalForward),
+        }
+    }
+
+    /// The discrete Legendre start: `Q_1` from `Q_0 = q(a)` and `π_0 = ∂L/∂v(q(a), q̇(a), a)`,
+    /// by the variational step equation of this side (σ=−: `∂L/∂v(Q_1, (Q_1−Q_0)/h, t_1) = π_0`;
+    /// σ=+: `p_0 − h f_0 = π_0` at `(Q_0, (Q_1−Q_0)/h, t_0)`).
+    pub fn legendre_start(
+        &self,
+        q0: impl IntoVector<D>,
+        v0: impl IntoVector<D>,
+    ) -> Result<Vector<D>> {
+        let (q0, v0) = (q0.into_vector(), v0.into_vector());
+        check_finite("q(a)", &q0)?;
+        check_finite("q̇(a)", &v0)?;
+        let kind = match self.embedding.side() {
+            crate::Side::Backward => StepKind::VariationalBackward,
+            crate::Side::Forward => StepKind::VariationalForward,
+        };
+        let (grid, h) = (&self.grid, self.grid.h());
+        let (_, pi0) = self.lagrangian.gradient(&q0, &v0, grid.t(0));
+        let times = StepTimes {
+            h,
+            t_a: grid.t(0) - h,
+            t_b: grid.t(0),
+            t_y: grid.t(1),
+        };
+        let guess = q0 + v0 * h;
+        solve_step(
+            self.lagrangian,
+            kind,
+            &q0,
+            &pi0,
+            &times,
+            guess,
+            1,
+            &self.newton,
+        )
+        .map(|(q1, _)| q1)
+    }
+
+    /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` with `scheme`, starting from
+    /// the discrete Legendre start (the same `Q_1` for both schemes).
+    ///
+    /// Errors: [`Error::Unsupported`] for Gauss-GLEσ; at step `n`,
+    /// [`Error::SingularJacobian`], [`Error::NewtonDidNotConverge`] (with the last residual) or
+    /// [`Error::NotFinite`] (e.g. an unstable explicit recurrence overflowing).
+    pub fn solve_ivp(
+        &self,
+        scheme: Scheme,
+        q0: impl IntoVector<D>,
+        v0: impl IntoVector<D>,
+    ) -> Result<Solution<D>> {
+        self.step_kind(scheme)?;
+        let q0 = q0.into_vector();
+        let q1 = self.legendre_start(q0, v0)?;
+        self.solve_ivp_from_nodes(scheme, q0, q1)
+    }
+
+    /// Runs the recurrence of `scheme` from given first nodes `Q_0`, `Q_1`.
+    pub fn solve_ivp_from_nodes(
+        &self,
+        scheme: Scheme,
+        q0: impl IntoVector<D>,
+        q1: impl IntoVector<D>,
+    ) -> Result<Solution<D>> {
+        let kind = self.step_kind(scheme)?;
+        let (q0, q1) = (q0.into_vector(), q1.into_vector());
+        check_finite("Q_0", &q0)?;
+        check_finite("Q_1", &q1)?;
+        let grid = self.grid;
+        let n_steps = grid.n();
+        let h = grid.h();
+        let mut q = Vec::with_capacity(n_steps + 1);
+        q.push(q0);
+        if n_steps >= 1 {
+            q.push(q1);
+        }
+        let (mut iterations, mut explicit_steps) = (0, 0);
+        for n in 2..=n_steps {
+            let (a, b) = (q[n - 2], q[n - 1]);
+            let times = StepTimes {
+                h,
+                t_a: grid.t(n - 2),
+                t_b: grid.t(n - 1),
+                t_y: grid.t(n),
+            };
+            let momentum = self.lagrangian.step_momentum(kind, &a, &b, &times);
+            let guess = b * 2.0 - a;
+            let (y, its) = solve_step(
+                self.lagrangian,
+                kind,
+                &b,
+                &momentum,
+                &times,
+                guess,
+                n,
+                &self.newton,
+            )?;
+            if !y.iter().all(|c| c.is_finite()) {
+                return Err(Error::NotFinite {
+                    at: Location::Step(n),
+                });
+            }
+            if its == 0 {
+                explicit_steps += 1;
+            }
+            iterations += its;
+            q.push(y);
+        }
+        Ok(Solution {
+            scheme,
+            embedding: self.embedding,
+            grid,
+            q,
+            newton_iterations: iterations,
+            explicit_steps,
+        })
+    }
+}
+
+fn check_finite<const D: usize>(what: &str, x: &Vector<D>) -> Result<()> {
+    if x.iter().all(|c| c.is_finite()) {
+        Ok(())
+    } else {
+        Err(Error::NonFiniteInput {
+            what: format!("{what} = {:?}", x.as_slice()),
+        })
+    }
+}

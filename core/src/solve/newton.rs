@@ -1,0 +1,80 @@
+//! Newton's method: options, and the `d`-dimensional step solve of the initial value problems.
+
+use crate::error::{Error, Location, Result};
+use crate::lagrangian::{Lagrangian, StepKind, StepTimes, Vector};
+use crate::solve::linear::solve_small;
+
+/// Stopping rule of Newton's method.
+///
+/// A step of an initial value problem has converged when the max-norm of its residual
+/// `G(y) − π` (in momentum units) is at most `tolerance · (1 + ‖π‖∞)`. The global system of a
+/// boundary value problem has converged when its max-norm residual is at most
+/// `tolerance · (1 + ‖f‖∞ + h^{−α} ‖p‖∞)`, the size of the terms each row balances.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NewtonOptions {
+    /// Relative tolerance (default `1e-12`).
+    pub tolerance: f64,
+    /// Iterations before giving up with [`Error::NewtonDidNotConverge`] (default 50).
+    pub max_iterations: usize,
+}
+
+impl Default for NewtonOptions {
+    fn default() -> Self {
+        NewtonOptions {
+            tolerance: 1e-12,
+            max_iterations: 50,
+        }
+    }
+}
+
+/// Solves the step equation `G(y) = π` of `kind` for the newest node `Q_n` (index `n`, for the
+/// error), given `b = Q_{n−1}`, from the initial guess `guess`.
+///
+/// Returns the node and the number of Newton iterations (0 when the Lagrangian supplies the
+/// closed-form update [`Lagrangian::step_explicit`]).
+#[allow(clippy::too_many_arguments)] // the step's data, each a different thing
+pub(crate) fn solve_step<const D: usize, L: Lagrangian<D> + ?Sized>(
+    lagrangian: &L,
+    kind: StepKind,
+    b: &Vector<D>,
+    momentum: &Vector<D>,
+    times: &StepTimes,
+    guess: Vector<D>,
+    n: usize,
+    options: &NewtonOptions,
+) -> Result<(Vector<D>, usize)> {
+    let at = Location::Step(n);
+    if let Some(y) = lagrangian.step_explicit(kind, b, momentum, times) {
+        return if y.iter().all(|c| c.is_finite()) {
+            Ok((y, 0))
+        } else {
+            Err(Error::NotFinite { at })
+        };
+    }
+    if !momentum.iter().all(|c| c.is_finite()) {
+        return Err(Error::NotFinite { at });
+    }
+    let scale = 1.0 + momentum.amax();
+    let mut y = guess;
+    let mut residual = f64::INFINITY;
+    for iteration in 0..=options.max_iterations {
+        let (r, j) = lagrangian.step_residual(kind, b, &y, momentum, times);
+        if !r.iter().all(|c| c.is_finite()) {
+            return Err(Error::NotFinite { at });
+        }
+        residual = r.amax();
+        if residual <= options.tolerance * scale {
+            return Ok((y, iteration));
+        }
+        if iteration == options.max_iterations {
+            break;
+        }
+        let delta = solve_small(&j, &r).ok_or(Error::SingularJacobian { at })?;
+        y -= delta;
+    }
+    Err(Error::NewtonDidNotConverge {
+        at,
+        iterations: options.max_iterations,
+        residual,
+    })
+}
