@@ -17,6 +17,7 @@ pub mod embedding;
 pub mod error;
 pub mod grid;
 pub mod lagrangian;
+pub mod ode;
 pub mod operator;
 pub mod problem;
 pub mod solve;

@@ -1,0 +1,88 @@
+//! Must-show 4: harmonic oscillator, exact discrete solutions.
+//! Variational: `Q_k = A cos(kθ) + B sin(kθ)`, `cos θ = 1 − (ωh)²/2`.
+//! Direct σ = −: `Q_k = r^k (A' cos(kφ) + B' sin(kφ))`, `r = (1 + ω²h²)^{−1/2}`, `tan φ = ωh`:
+//! it loses exactly the factor `r` of amplitude per step.
+
+mod common;
+use common::Oscillator;
+use varembed::{Embedding, Grid, Problem, Scheme, Side};
+
+const OMEGA: f64 = 2.0;
+
+#[test]
+fn variational_run_is_the_exact_discrete_rotation() {
+    let grid = Grid::new(0.0, 30.0, 1500).unwrap();
+    let h = grid.h();
+    let theta = (1.0 - (OMEGA * h).powi(2) / 2.0).acos();
+    for side in [Side::Backward, Side::Forward] {
+        let problem = Problem::new(
+            &Oscillator { omega: OMEGA },
+            grid,
+            Embedding::finite_difference(side),
+        );
+        let run = problem.solve_ivp(Scheme::Variational, 1.0, 0.5).unwrap();
+        let a = run.q[0][0];
+        let b = (run.q[1][0] - a * theta.cos()) / theta.sin();
+        for (k, q) in run.q.iter().enumerate() {
+            let exact = a * (k as f64 * theta).cos() + b * (k as f64 * theta).sin();
+            assert!(
+                (q[0] - exact).abs() < 1e-10,
+                "{side:?} k = {k}: {} vs {exact}",
+                q[0]
+            );
+        }
+    }
+}
+
+#[test]
+fn direct_backward_run_loses_the_factor_r_per_step() {
+    let grid = Grid::new(0.0, 30.0, 1500).unwrap();
+    let h = grid.h();
+    let r = (1.0 + (OMEGA * h).powi(2)).powf(-0.5);
+    let phi = (OMEGA * h).atan();
+    let problem = Problem::new(
+        &Oscillator { omega: OMEGA },
+        grid,
+        Embedding::finite_difference(Side::Backward),
+    );
+    let run = problem.solve_ivp(Scheme::Direct, 1.0, 0.5).unwrap();
+    let a = run.q[0][0];
+    let b = (run.q[1][0] / r - a * phi.cos()) / phi.sin();
+    for (k, q) in run.q.iter().enumerate() {
+        let exact = r.powi(k as i32) * (a * (k as f64 * phi).cos() + b * (k as f64 * phi).sin());
+        assert!((q[0] - exact).abs() < 1e-10, "k = {k}: {} vs {exact}", q[0]);
+    }
+    // Measured on the run: the peak over the last period (≈ 157 steps, 2π/φ) against the peak
+    // over the first is between r^1500 = 0.30 and r^1300 = 0.35 (≈ e^{−ω²hT/2} = e^{−1.2}).
+    let peak = |range: std::ops::Range<usize>| range.map(|k| run.q[k][0].abs()).fold(0.0, f64::max);
+    let ratio = peak(1301..1501) / peak(0..200);
+    assert!(
+        (r.powi(1500)..r.powi(1300)).contains(&ratio),
+        "decay ratio {ratio}"
+    );
+}
+
+#[test]
+fn direct_forward_run_gains_the_factor_one_over_r_per_step() {
+    // (Q_{k+2} − 2Q_{k+1} + Q_k)/h² = −ω²Q_k has roots 1 ± iωh, of modulus 1/r.
+    let grid = Grid::new(0.0, 5.0, 500).unwrap();
+    let h = grid.h();
+    let growth = (1.0 + (OMEGA * h).powi(2)).sqrt();
+    let phi = (OMEGA * h).atan();
+    let problem = Problem::new(
+        &Oscillator { omega: OMEGA },
+        grid,
+        Embedding::finite_difference(Side::Forward),
+    );
+    let run = problem.solve_ivp(Scheme::Direct, 1.0, 0.5).unwrap();
+    let a = run.q[0][0];
+    let b = (run.q[1][0] / growth - a * phi.cos()) / phi.sin();
+    for (k, q) in run.q.iter().enumerate() {
+        let exact =
+            growth.powi(k as i32) * (a * (k as f64 * phi).cos() + b * (k as f64 * phi).sin());
+        assert!(
+            (q[0] - exact).abs() < 1e-10 * growth.powi(k as i32),
+            "k = {k}"
+        );
+    }
+}
