@@ -28,7 +28,7 @@ pub use error::{Error, Location, Result};
 pub use grid::Grid;
 pub use lagrangian::{Hessian, IntoVector, Lagrangian, Matrix, StepKind, StepTimes, Vector};
 pub use operator::Operator;
-pub use problem::{Problem, Scheme};
+pub use problem::{Problem, Scheme, curve_from_flat};
 pub use solve::Solution;
 pub use solve::newton::NewtonOptions;
 pub use varembed_macros::lagrangian;

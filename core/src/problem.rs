@@ -9,6 +9,30 @@ use crate::operator::{Operator, check_len};
 use crate::solve::newton::NewtonOptions;
 use std::ops::RangeInclusive;
 
+/// A discrete curve from a flat array `[Q_0[0], …, Q_0[D−1], Q_1[0], …]`.
+///
+/// # Example
+///
+/// ```
+/// let q = varembed::curve_from_flat::<2>(&[0.0, 1.0, 2.0, 3.0])?;
+/// assert_eq!(q[1][0], 2.0);
+/// assert!(varembed::curve_from_flat::<2>(&[0.0, 1.0, 2.0]).is_err());
+/// # Ok::<(), varembed::Error>(())
+/// ```
+pub fn curve_from_flat<const D: usize>(values: &[f64]) -> Result<Vec<Vector<D>>> {
+    if D == 0 || !values.len().is_multiple_of(D) {
+        return Err(Error::WrongDimension {
+            what: "flat curve",
+            dimension: D,
+            found: values.len(),
+        });
+    }
+    Ok(values
+        .chunks_exact(D)
+        .map(Vector::<D>::from_column_slice)
+        .collect())
+}
+
 /// Which discrete scheme of an embedding.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Scheme {
@@ -318,6 +342,91 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
                 for (j, c) in d_row(m) {
                     if unknown(j) {
                         sink.add_block(i, j - 1, &(hm.vv * (b * c)));
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Side;
+    use crate::lagrangian::Hessian;
+
+    /// `L = ½(1 + x₀²)v₀² + ½v₁² + sin(t) x₁ v₀ + x₀ v₀ v₁ − cos x₀ − x₁⁴/4`.
+    struct Mixed;
+    impl Lagrangian<2> for Mixed {
+        fn value(&self, x: &Vector<2>, v: &Vector<2>, t: f64) -> f64 {
+            0.5 * (1.0 + x[0] * x[0]) * v[0] * v[0]
+                + 0.5 * v[1] * v[1]
+                + t.sin() * x[1] * v[0]
+                + x[0] * v[0] * v[1]
+                - x[0].cos()
+                - 0.25 * x[1].powi(4)
+        }
+        fn gradient(&self, x: &Vector<2>, v: &Vector<2>, t: f64) -> (Vector<2>, Vector<2>) {
+            (
+                Vector::<2>::new(
+                    x[0] * v[0] * v[0] + v[0] * v[1] + x[0].sin(),
+                    t.sin() * v[0] - x[1].powi(3),
+                ),
+                Vector::<2>::new(
+                    (1.0 + x[0] * x[0]) * v[0] + t.sin() * x[1] + x[0] * v[1],
+                    v[1] + x[0] * v[0],
+                ),
+            )
+        }
+        fn hessian(&self, x: &Vector<2>, v: &Vector<2>, t: f64) -> Hessian<2> {
+            Hessian {
+                xx: Matrix::<2>::new(v[0] * v[0] + x[0].cos(), 0.0, 0.0, -3.0 * x[1] * x[1]),
+                xv: Matrix::<2>::new(2.0 * x[0] * v[0] + v[1], v[0], t.sin(), 0.0),
+                vv: Matrix::<2>::new(1.0 + x[0] * x[0], x[0], x[0], 1.0),
+            }
+        }
+    }
+
+    /// The assembled Jacobian equals central differences of the residual, for every scheme of
+    /// every embedding (so Newton's quadratic convergence rests on the right matrix).
+    #[test]
+    fn jacobian_matches_finite_differences_of_the_residual() {
+        let n = 9;
+        let grid = Grid::new(0.1, 1.0, n).unwrap();
+        let mut embeddings = Vec::new();
+        for side in [Side::Backward, Side::Forward] {
+            embeddings.push(Embedding::finite_difference(side));
+            embeddings.push(Embedding::asymmetric(side));
+            embeddings.push(Embedding::grunwald_letnikov(side, 0.6).unwrap());
+        }
+        let q: Vec<Vector<2>> = (0..=n)
+            .map(|k| Vector::<2>::new((k as f64 * 0.7).sin(), (k as f64 * 0.3).cos() - 0.5))
+            .collect();
+        for embedding in embeddings {
+            let problem = Problem::new(&Mixed, grid, embedding);
+            for scheme in [Scheme::Direct, Scheme::Variational] {
+                let pw = problem.pointwise(&q).unwrap();
+                let size = (n - 1) * 2;
+                let mut jac = nalgebra::DMatrix::<f64>::zeros(size, size);
+                problem.assemble_jacobian(scheme, &q, &pw, &mut jac);
+                let eps = 1e-6;
+                for j in 1..n {
+                    for c in 0..2 {
+                        let (mut plus, mut minus) = (q.clone(), q.clone());
+                        plus[j][c] += eps;
+                        minus[j][c] -= eps;
+                        let rp = problem.residual(scheme, &plus).unwrap();
+                        let rm = problem.residual(scheme, &minus).unwrap();
+                        for i in 0..n - 1 {
+                            for a in 0..2 {
+                                let fd = (rp[i][a] - rm[i][a]) / (2.0 * eps);
+                                let exact = jac[(i * 2 + a, (j - 1) * 2 + c)];
+                                assert!(
+                                    (fd - exact).abs() <= 1e-6 * (1.0 + fd.abs()),
+                                    "{embedding} {scheme}: d r_{i}[{a}] / d Q_{j}[{c}] = {exact} vs {fd}"
+                                );
+                            }
+                        }
                     }
                 }
             }

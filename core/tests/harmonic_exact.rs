@@ -86,3 +86,77 @@ fn direct_forward_run_gains_the_factor_one_over_r_per_step() {
         );
     }
 }
+
+/// The oscillator declaring its steps affine: `step_explicit` then solves each step in closed
+/// form (one linear solve from the generic default), with no Newton iteration.
+struct AffineOscillator(Oscillator);
+
+impl varembed::Lagrangian<1> for AffineOscillator {
+    fn value(&self, x: &varembed::Vector<1>, v: &varembed::Vector<1>, t: f64) -> f64 {
+        self.0.value(x, v, t)
+    }
+    fn gradient(
+        &self,
+        x: &varembed::Vector<1>,
+        v: &varembed::Vector<1>,
+        t: f64,
+    ) -> (varembed::Vector<1>, varembed::Vector<1>) {
+        self.0.gradient(x, v, t)
+    }
+    fn hessian(
+        &self,
+        x: &varembed::Vector<1>,
+        v: &varembed::Vector<1>,
+        t: f64,
+    ) -> varembed::Hessian<1> {
+        self.0.hessian(x, v, t)
+    }
+    fn step_is_affine(&self, _kind: varembed::StepKind) -> bool {
+        true
+    }
+}
+
+#[test]
+fn affine_steps_run_without_newton_and_agree_with_newton() {
+    let grid = Grid::new(0.0, 10.0, 1000).unwrap();
+    for side in [Side::Backward, Side::Forward] {
+        for scheme in [Scheme::Direct, Scheme::Variational] {
+            let embedding = Embedding::finite_difference(side);
+            let explicit = Problem::new(
+                &AffineOscillator(Oscillator { omega: OMEGA }),
+                grid,
+                embedding,
+            )
+            .solve_ivp(scheme, 1.0, 0.5)
+            .unwrap();
+            let newton = Problem::new(&Oscillator { omega: OMEGA }, grid, embedding)
+                .solve_ivp(scheme, 1.0, 0.5)
+                .unwrap();
+            assert_eq!(
+                (explicit.newton_iterations, explicit.explicit_steps),
+                (0, grid.n() - 1),
+                "{side:?} {scheme}"
+            );
+            assert!(
+                newton.newton_iterations >= grid.n() - 1,
+                "the plain oscillator runs Newton"
+            );
+            let gap = explicit
+                .q
+                .iter()
+                .zip(&newton.q)
+                .map(|(a, b)| (a - b).amax())
+                .fold(0.0, f64::max);
+            assert!(gap < 1e-12, "{side:?} {scheme}: {gap:e}");
+        }
+    }
+}
+
+#[test]
+fn energy_default_is_v_dot_p_minus_l() {
+    use varembed::{Lagrangian as _, Vector};
+    // E = v·∂L/∂v − L = ½v² + ½ω²x² for the oscillator.
+    let (x, v) = (Vector::<1>::new(0.7), Vector::<1>::new(-1.3));
+    let e = Oscillator { omega: OMEGA }.energy(&x, &v, 0.0);
+    assert!((e - (0.5 * 1.3 * 1.3 + 0.5 * OMEGA * OMEGA * 0.49)).abs() < 1e-15);
+}

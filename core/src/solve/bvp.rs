@@ -78,12 +78,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         for iteration in 0..=opts.max_iterations {
             let at = Location::Newton(iteration);
             let scale = 1.0 + max_norm(&pw.f) + h_alpha * max_norm(&pw.p);
-            if res <= opts.tolerance * scale {
-                return Ok(finish(q, iteration));
-            }
-            if iteration == opts.max_iterations {
-                break;
-            }
+            // Factorise before testing convergence: a solution where the Jacobian is singular
+            // is not isolated, and is reported rather than returned.
             let mut rhs: Vec<f64> = r.iter().flat_map(|x| x.iter().copied()).collect();
             if self.embedding.is_fractional() {
                 let mut jac = DMatrix::<f64>::zeros(unknowns, unknowns);
@@ -97,6 +93,12 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
                 jac.factorize()
                     .map_err(|_| Error::SingularJacobian { at })?;
                 jac.solve_inplace(&mut rhs);
+            }
+            if res <= opts.tolerance * scale {
+                return Ok(finish(q, iteration));
+            }
+            if iteration == opts.max_iterations {
+                break;
             }
             // Backtracking: halve the step until the residual decreases (at most 6 times, then
             // take the shortest step anyway and let the iteration count decide).

@@ -9,12 +9,13 @@ const SINGULAR_RATIO: f64 = 1e-14;
 
 /// Solves `A x = b` for a `D × D` block by Gaussian elimination with partial pivoting.
 /// `None` when `A` is singular (to the relative threshold `1e-14` of its largest entry) or
-/// not finite.
+/// not finite. The solution itself may overflow: callers check it (that is a
+/// [`NotFinite`](crate::Error::NotFinite), not a singular matrix).
 pub fn solve_small<const D: usize>(a: &Matrix<D>, b: &Vector<D>) -> Option<Vector<D>> {
     if D == 1 {
         // The scalar case is the hot path of every d = 1 Newton step.
-        let x = b[0] / a[(0, 0)];
-        return (a[(0, 0)] != 0.0 && x.is_finite()).then(|| Vector::<D>::from_element(x));
+        let a = a[(0, 0)];
+        return (a != 0.0 && a.is_finite()).then(|| Vector::<D>::from_element(b[0] / a));
     }
     let mut m = *a;
     let mut x = *b;
@@ -48,7 +49,7 @@ pub fn solve_small<const D: usize>(a: &Matrix<D>, b: &Vector<D>) -> Option<Vecto
         }
         x[col] = s / m[(col, col)];
     }
-    x.iter().all(|v| v.is_finite()).then_some(x)
+    Some(x)
 }
 
 /// A square banded matrix with `kl` sub- and `ku` super-diagonals, factorised in place by LU

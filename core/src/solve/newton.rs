@@ -62,6 +62,10 @@ pub(crate) fn solve_step<const D: usize, L: Lagrangian<D> + ?Sized>(
         if !r.iter().all(|c| c.is_finite()) {
             return Err(Error::NotFinite { at });
         }
+        // The step is well defined only where its Jacobian is invertible (implicit function
+        // theorem): a singular J at a zero residual means every nearby y solves it, so it is an
+        // error even then, never a silently returned guess.
+        let delta = solve_small(&j, &r).ok_or(Error::SingularJacobian { at })?;
         residual = r.amax();
         if residual <= options.tolerance * scale {
             return Ok((y, iteration));
@@ -69,8 +73,10 @@ pub(crate) fn solve_step<const D: usize, L: Lagrangian<D> + ?Sized>(
         if iteration == options.max_iterations {
             break;
         }
-        let delta = solve_small(&j, &r).ok_or(Error::SingularJacobian { at })?;
         y -= delta;
+        if !y.iter().all(|c| c.is_finite()) {
+            return Err(Error::NotFinite { at });
+        }
     }
     Err(Error::NewtonDidNotConverge {
         at,

@@ -1,0 +1,272 @@
+//! Must-show 8: every error variant is produced, by user input or by a failing solve, as a
+//! typed error carrying where it happened; nothing panics.
+
+mod common;
+use common::{Oscillator, Pendulum, v1};
+use varembed::ode::DifferentialOperator;
+use varembed::{
+    Embedding, Error, Grid, Hessian, Lagrangian, Location, Matrix, NewtonOptions, Problem, Scheme,
+    Side, Vector, curve_from_flat,
+};
+
+#[test]
+fn invalid_grids() {
+    for (a, b, n) in [
+        (0.0, 1.0, 0),
+        (1.0, 1.0, 5),
+        (2.0, 1.0, 5),
+        (f64::NAN, 1.0, 5),
+        (0.0, f64::INFINITY, 5),
+    ] {
+        assert!(
+            matches!(Grid::new(a, b, n), Err(Error::InvalidGrid { .. })),
+            "{a} {b} {n}"
+        );
+    }
+    // h too small to move t: a + h == a.
+    assert!(matches!(
+        Grid::new(1e20, 1e20 + 1e5, 1_000_000),
+        Err(Error::InvalidGrid { .. })
+    ));
+}
+
+#[test]
+fn alpha_out_of_range() {
+    for alpha in [0.0, -0.1, 1.0001, f64::NAN, f64::INFINITY] {
+        assert_eq!(
+            Embedding::grunwald_letnikov(Side::Backward, alpha)
+                .map(|_| ())
+                .unwrap_err()
+                .to_string(),
+            Error::AlphaOutOfRange { alpha }.to_string()
+        );
+    }
+}
+
+#[test]
+fn wrong_length_dimension_and_non_finite_input() {
+    let grid = Grid::new(0.0, 1.0, 4).unwrap();
+    let pendulum = Pendulum { g: 1.0, l: 1.0 };
+    let problem = Problem::new(
+        &pendulum,
+        grid,
+        Embedding::finite_difference(Side::Backward),
+    );
+    let short = vec![v1(0.0); 4];
+    assert_eq!(
+        problem.residual(Scheme::Direct, &short),
+        Err(Error::WrongLength {
+            what: "discrete curve Q",
+            expected: 5,
+            found: 4
+        })
+    );
+    assert!(matches!(
+        problem.action(&short),
+        Err(Error::WrongLength { .. })
+    ));
+    assert!(matches!(
+        problem.solve_bvp_from(Scheme::Direct, &short),
+        Err(Error::WrongLength { .. })
+    ));
+    let mut bad = vec![v1(0.0); 5];
+    bad[3] = v1(f64::NAN);
+    assert!(matches!(
+        problem.residual(Scheme::Variational, &bad),
+        Err(Error::NonFiniteInput { .. })
+    ));
+    assert!(matches!(
+        problem.solve_ivp(Scheme::Direct, f64::INFINITY, 0.0),
+        Err(Error::NonFiniteInput { .. })
+    ));
+    assert!(matches!(
+        problem.solve_ivp(Scheme::Direct, 0.0, f64::NAN),
+        Err(Error::NonFiniteInput { .. })
+    ));
+    assert!(matches!(
+        problem.solve_bvp(Scheme::Direct, 0.0, f64::NAN),
+        Err(Error::NonFiniteInput { .. })
+    ));
+    assert_eq!(
+        curve_from_flat::<3>(&[1.0; 7]),
+        Err(Error::WrongDimension {
+            what: "flat curve",
+            dimension: 3,
+            found: 7
+        })
+    );
+    let op = DifferentialOperator::<1>::new().linear(2, 1.0);
+    assert!(matches!(
+        op.embed(Side::Backward, grid).solve_ivp(&[v1(0.0)]),
+        Err(Error::WrongLength { .. })
+    ));
+}
+
+#[test]
+fn fractional_initial_value_problems_are_unsupported() {
+    let grid = Grid::new(0.0, 1.0, 10).unwrap();
+    let pendulum = Pendulum { g: 1.0, l: 1.0 };
+    let problem = Problem::new(
+        &pendulum,
+        grid,
+        Embedding::grunwald_letnikov(Side::Forward, 0.5).unwrap(),
+    );
+    let err = problem
+        .solve_ivp(Scheme::Variational, 0.1, 0.0)
+        .unwrap_err();
+    assert!(matches!(err, Error::Unsupported { .. }));
+    assert_eq!(
+        err.to_string(),
+        "an initial value problem is not available for Gauss-GLE+ (α = 0.5)"
+    );
+}
+
+/// `L = x`: no velocity at all, so `∂²L/∂v²` and every step Jacobian vanish.
+struct Degenerate;
+impl Lagrangian<1> for Degenerate {
+    fn value(&self, x: &Vector<1>, _v: &Vector<1>, _t: f64) -> f64 {
+        x[0]
+    }
+    fn gradient(&self, _x: &Vector<1>, _v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
+        (v1(1.0), v1(0.0))
+    }
+    fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
+        Hessian {
+            xx: Matrix::<1>::zeros(),
+            xv: Matrix::<1>::zeros(),
+            vv: Matrix::<1>::zeros(),
+        }
+    }
+}
+
+#[test]
+fn singular_jacobians_are_located() {
+    let grid = Grid::new(0.0, 1.0, 10).unwrap();
+    for side in [Side::Backward, Side::Forward] {
+        let problem = Problem::new(&Degenerate, grid, Embedding::finite_difference(side));
+        // The Legendre start is the first step that needs ∂²L/∂v².
+        assert_eq!(
+            problem
+                .solve_ivp(Scheme::Variational, 0.0, 1.0)
+                .unwrap_err(),
+            Error::SingularJacobian {
+                at: Location::Step(1)
+            }
+        );
+        assert_eq!(
+            problem
+                .solve_ivp_from_nodes(Scheme::Direct, 0.0, 0.1)
+                .unwrap_err(),
+            Error::SingularJacobian {
+                at: Location::Step(2)
+            }
+        );
+        assert_eq!(
+            problem
+                .solve_bvp(Scheme::Variational, 0.0, 1.0)
+                .unwrap_err(),
+            Error::SingularJacobian {
+                at: Location::Newton(0)
+            }
+        );
+    }
+}
+
+#[test]
+fn newton_failure_reports_step_and_residual() {
+    // A pendulum with a step far too large for the implicit direct scheme to converge in 2
+    // iterations.
+    let grid = Grid::new(0.0, 50.0, 50).unwrap();
+    let pendulum = Pendulum { g: 9.81, l: 1.0 };
+    let problem = Problem::new(
+        &pendulum,
+        grid,
+        Embedding::finite_difference(Side::Backward),
+    )
+    .with_newton(NewtonOptions {
+        tolerance: 1e-12,
+        max_iterations: 2,
+    });
+    match problem.solve_ivp(Scheme::Direct, 2.5, 0.0) {
+        Err(Error::NewtonDidNotConverge {
+            at: Location::Step(n),
+            iterations: 2,
+            residual,
+        }) => {
+            assert!(
+                n >= 1 && residual > 0.0 && residual.is_finite(),
+                "step {n}, residual {residual}"
+            );
+        }
+        other => panic!("expected a Newton failure, got {other:?}"),
+    }
+    let bvp = problem.solve_bvp(Scheme::Variational, 0.0, 3.0);
+    assert!(
+        matches!(
+            bvp,
+            Err(Error::NewtonDidNotConverge {
+                at: Location::Newton(2),
+                ..
+            })
+        ),
+        "{bvp:?}"
+    );
+}
+
+#[test]
+fn unstable_explicit_scheme_is_reported_not_returned() {
+    // Störmer–Verlet is stable for ωh < 2; at ωh = 2.01 it grows like 1.22^k and overflows.
+    let omega = 1.0;
+    let grid = Grid::new(0.0, 2.01 * 5000.0, 5000).unwrap();
+    let oscillator = Oscillator { omega };
+    let problem = Problem::new(
+        &oscillator,
+        grid,
+        Embedding::finite_difference(Side::Forward),
+    );
+    match problem.solve_ivp(Scheme::Variational, 1.0, 0.0) {
+        Err(Error::NotFinite {
+            at: Location::Step(n),
+        }) => assert!(n > 100 && n < 5000, "step {n}"),
+        other => panic!("expected NotFinite, got {other:?}"),
+    }
+}
+
+/// Kepler `L = ½|v|² + 1/|x|`, singular at the origin.
+struct Kepler;
+impl Lagrangian<2> for Kepler {
+    fn value(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> f64 {
+        0.5 * v.norm_squared() + 1.0 / x.norm()
+    }
+    fn gradient(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> (Vector<2>, Vector<2>) {
+        (-x / x.norm().powi(3), *v)
+    }
+    fn hessian(&self, x: &Vector<2>, _v: &Vector<2>, _t: f64) -> Hessian<2> {
+        let r = x.norm();
+        Hessian {
+            xx: (x * x.transpose() * 3.0 / r.powi(2) - Matrix::<2>::identity()) / r.powi(3),
+            xv: Matrix::<2>::zeros(),
+            vv: Matrix::<2>::identity(),
+        }
+    }
+}
+
+#[test]
+fn lagrangian_blowing_up_is_located_at_its_node() {
+    let grid = Grid::new(0.0, 1.0, 4).unwrap();
+    let problem = Problem::new(&Kepler, grid, Embedding::finite_difference(Side::Backward));
+    let mut q = vec![Vector::<2>::new(1.0, 0.0); 5];
+    q[3] = Vector::<2>::zeros();
+    assert_eq!(
+        problem.residual(Scheme::Direct, &q),
+        Err(Error::NotFinite {
+            at: Location::Node(3)
+        })
+    );
+    assert_eq!(
+        problem.action(&q),
+        Err(Error::NotFinite {
+            at: Location::Node(3)
+        })
+    );
+}
