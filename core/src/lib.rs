@@ -32,3 +32,8 @@ pub use problem::{Problem, Scheme, curve_from_flat};
 pub use solve::Solution;
 pub use solve::newton::NewtonOptions;
 pub use varembed_macros::lagrangian;
+
+/// The README's quick start, compiled and run as a doctest.
+#[doc = include_str!("../../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -1,1 +1,0 @@
-//! Scenes and reports of varembed; see `examples/`.
