@@ -134,10 +134,10 @@ impl Embedding {
     fn operator(&self, side: Side, grid: &Grid) -> Operator {
         match self.kind {
             EmbeddingKind::GrunwaldLetnikov { alpha } => {
-                Operator::grunwald_letnikov(side, alpha, grid.n(), grid.h())
+                Operator::grunwald_letnikov(side, alpha, grid)
                     .expect("α was checked when the embedding was built")
             }
-            _ => Operator::finite_difference(side, grid.n(), grid.h()),
+            _ => Operator::finite_difference(side, grid),
         }
     }
 

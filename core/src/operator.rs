@@ -12,6 +12,7 @@
 
 use crate::embedding::Side;
 use crate::error::{Error, Result};
+use crate::grid::Grid;
 use crate::lagrangian::Vector;
 use crate::weights::grunwald_letnikov;
 use std::ops::RangeInclusive;
@@ -27,28 +28,28 @@ pub struct Operator {
 }
 
 impl Operator {
-    /// The classical finite difference `Δ_σ` with step `h` on `n` steps.
-    pub fn finite_difference(side: Side, n: usize, h: f64) -> Self {
+    /// The classical finite difference `Δ_σ` on `grid`.
+    pub fn finite_difference(side: Side, grid: &Grid) -> Self {
         Operator {
             side,
             alpha: 1.0,
-            n,
-            scale: 1.0 / h,
+            n: grid.n(),
+            scale: 1.0 / grid.h(),
             weights: vec![1.0, -1.0],
         }
     }
 
-    /// The Grünwald–Letnikov operator `Δ^α_σ` with step `h` on `n` steps (`0 < α ≤ 1`).
-    pub fn grunwald_letnikov(side: Side, alpha: f64, n: usize, h: f64) -> Result<Self> {
+    /// The Grünwald–Letnikov operator `Δ^α_σ` on `grid` (`0 < α ≤ 1`).
+    pub fn grunwald_letnikov(side: Side, alpha: f64, grid: &Grid) -> Result<Self> {
         if !(alpha > 0.0 && alpha <= 1.0) {
             return Err(Error::AlphaOutOfRange { alpha });
         }
         Ok(Operator {
             side,
             alpha,
-            n,
-            scale: h.powf(-alpha),
-            weights: grunwald_letnikov(alpha, n + 1),
+            n: grid.n(),
+            scale: grid.h().powf(-alpha),
+            weights: grunwald_letnikov(alpha, grid.n() + 1),
         })
     }
 
@@ -81,13 +82,17 @@ impl Operator {
     }
 
     /// Nonzero entries `(j, M[k, j])` of row `k` (a node index in `0..=N`, not necessarily one
-    /// of [`rows`](Self::rows): the sum is cut at the grid's ends).
+    /// of [`rows`](Self::rows): the sum is cut at the grid's ends; empty when `k > N`).
     pub fn row_entries(&self, k: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
         let reach = match self.side {
             Side::Backward => k,
-            Side::Forward => self.n - k,
+            Side::Forward => self.n.saturating_sub(k),
         };
-        let len = self.weights.len().min(reach + 1);
+        let len = if k > self.n {
+            0
+        } else {
+            self.weights.len().min(reach + 1)
+        };
         self.weights[..len].iter().enumerate().map(move |(r, w)| {
             let j = match self.side {
                 Side::Backward => k - r,
@@ -115,8 +120,9 @@ impl Operator {
         })
     }
 
-    /// `(Δ Q)_k` for one row `k` (the same cut-off as [`row_entries`](Self::row_entries)).
-    pub fn apply_row<const D: usize>(&self, q: &[Vector<D>], k: usize) -> Vector<D> {
+    /// `(Δ Q)_k` for one row `k` (the same cut-off as [`row_entries`](Self::row_entries));
+    /// `q` holds the `N + 1` nodes.
+    pub(crate) fn apply_row<const D: usize>(&self, q: &[Vector<D>], k: usize) -> Vector<D> {
         let mut acc = Vector::<D>::zeros();
         for (j, c) in self.row_entries(k) {
             acc += q[j] * c;
@@ -175,11 +181,11 @@ mod tests {
             .iter()
             .map(|&x| Vector::<1>::new(x))
             .collect();
-        let h = 0.5;
-        let minus = Operator::finite_difference(Side::Backward, 3, h)
+        let grid = Grid::new(0.0, 1.5, 3).unwrap(); // h = 0.5
+        let minus = Operator::finite_difference(Side::Backward, &grid)
             .apply(&q)
             .unwrap();
-        let plus = Operator::finite_difference(Side::Forward, 3, h)
+        let plus = Operator::finite_difference(Side::Forward, &grid)
             .apply(&q)
             .unwrap();
         assert_eq!(
@@ -195,12 +201,13 @@ mod tests {
     #[test]
     fn fractional_at_alpha_one_is_classical_and_transpose_is_adjoint() {
         let n = 7;
-        let h = 0.3;
+        let grid = Grid::new(0.0, 2.1, n).unwrap();
         for side in [Side::Backward, Side::Forward] {
-            let gl = Operator::grunwald_letnikov(side, 1.0, n, h).unwrap();
-            let fd = Operator::finite_difference(side, n, h);
+            let gl = Operator::grunwald_letnikov(side, 1.0, &grid).unwrap();
+            let fd = Operator::finite_difference(side, &grid);
             assert_eq!(dense::<1>(&gl, n), dense::<1>(&fd, n));
-            let op = Operator::grunwald_letnikov(side, 0.4, n, h).unwrap();
+            let op = Operator::grunwald_letnikov(side, 0.4, &grid).unwrap();
+            assert_eq!(op.row_entries(n + 1).count(), 0);
             let q: Vec<Vector<2>> = (0..=n)
                 .map(|k| Vector::<2>::new(k as f64, (k * k) as f64 - 3.0))
                 .collect();
@@ -229,7 +236,8 @@ mod tests {
 
     #[test]
     fn wrong_lengths_and_alpha_are_errors() {
-        let op = Operator::finite_difference(Side::Backward, 3, 0.1);
+        let grid = Grid::new(0.0, 0.3, 3).unwrap();
+        let op = Operator::finite_difference(Side::Backward, &grid);
         assert!(matches!(
             op.apply(&[Vector::<1>::zeros(); 3]),
             Err(Error::WrongLength {
@@ -244,7 +252,7 @@ mod tests {
         ));
         for alpha in [0.0, -0.5, 1.5, f64::NAN] {
             assert!(matches!(
-                Operator::grunwald_letnikov(Side::Forward, alpha, 3, 0.1),
+                Operator::grunwald_letnikov(Side::Forward, alpha, &grid),
                 Err(Error::AlphaOutOfRange { .. })
             ));
         }

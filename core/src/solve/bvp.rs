@@ -84,12 +84,18 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             if self.embedding.is_fractional() {
                 let mut jac = DMatrix::<f64>::zeros(unknowns, unknowns);
                 self.assemble_jacobian(scheme, &q, &pw, &mut jac);
+                if !jac.iter().all(|c| c.is_finite()) {
+                    return Err(Error::NotFinite { at });
+                }
                 let x = solve_dense(jac, &DVector::from_vec(rhs))
                     .ok_or(Error::SingularJacobian { at })?;
                 rhs = x.as_slice().to_vec();
             } else {
                 let mut jac = BandedMatrix::zeros(unknowns, 2 * D - 1, 2 * D - 1);
                 self.assemble_jacobian(scheme, &q, &pw, &mut jac);
+                if !jac.is_finite() {
+                    return Err(Error::NotFinite { at });
+                }
                 jac.factorize()
                     .map_err(|_| Error::SingularJacobian { at })?;
                 jac.solve_inplace(&mut rhs);

@@ -107,6 +107,11 @@ impl BandedMatrix {
         }
     }
 
+    /// Whether every stored entry is finite.
+    pub fn is_finite(&self) -> bool {
+        self.data.iter().all(|v| v.is_finite())
+    }
+
     /// Factorises in place. Returns the index of the first pivot column that is numerically
     /// zero (relative to the largest entry) as `Err`.
     pub fn factorize(&mut self) -> std::result::Result<(), usize> {

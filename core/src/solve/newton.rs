@@ -59,7 +59,7 @@ pub(crate) fn solve_step<const D: usize, L: Lagrangian<D> + ?Sized>(
     let mut residual = f64::INFINITY;
     for iteration in 0..=options.max_iterations {
         let (r, j) = lagrangian.step_residual(kind, b, &y, momentum, times);
-        if !r.iter().all(|c| c.is_finite()) {
+        if !r.iter().chain(j.iter()).all(|c| c.is_finite()) {
             return Err(Error::NotFinite { at });
         }
         // The step is well defined only where its Jacobian is invertible (implicit function
