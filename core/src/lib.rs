@@ -13,6 +13,7 @@
 //! two roads meet. Gauss-FDEσ is not coherent; its asymmetric version and Gauss-GLEσ are.
 #![deny(missing_docs)]
 
+pub mod compare;
 pub mod embedding;
 pub mod error;
 pub mod grid;
@@ -23,6 +24,7 @@ pub mod problem;
 pub mod solve;
 pub mod weights;
 
+pub use compare::{CompareOptions, Comparison, Reference, SchemeReport};
 pub use embedding::{Embedding, EmbeddingKind, Side};
 pub use error::{Error, Location, Result};
 pub use grid::Grid;
