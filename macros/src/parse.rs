@@ -139,11 +139,11 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
         }
     } else {
         for (k, expected) in ["x", "v"].iter().enumerate() {
-            if names[k].0 != expected {
+            if bare(&names[k].0) != *expected {
                 errors.push(syn::Error::new_spanned(
                     &names[k].0,
                     format!(
-                        "parameter {} must be named `{expected}`; {SIGNATURE}",
+                        "parameter {} must be named `{expected}` (or `_{expected}`); {SIGNATURE}",
                         k + 1
                     ),
                 ));
@@ -178,7 +178,8 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
                     ),
                 ));
             }
-            if name == "t" {
+            let plain = bare(name);
+            if plain == "t" {
                 if k == 2 {
                     has_t = true;
                 } else {
@@ -187,10 +188,10 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
                         "the time `t` must be the third parameter, right after `v`",
                     ));
                 }
-            } else if name == "x" || name == "v" {
+            } else if plain == "x" || plain == "v" {
                 errors.push(syn::Error::new_spanned(
                     name,
-                    format!("`{name}` must be parameter {}", if name == "x" { 1 } else { 2 }),
+                    format!("`{name}` must be parameter {}", if plain == "x" { 1 } else { 2 }),
                 ));
             } else {
                 consts.push(name.clone());
@@ -216,7 +217,7 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
         } else {
             Binding::Array(true)
         };
-        env.insert("x".into(), x);
+        env.insert(names[0].0.to_string(), x);
     }
     if names.len() > 1 {
         let v = if scalar {
@@ -224,10 +225,10 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
         } else {
             Binding::Array(false)
         };
-        env.insert("v".into(), v);
+        env.insert(names[1].0.to_string(), v);
     }
     if has_t {
-        env.insert("t".into(), Binding::Scalar(parser.graph.var(Var::T)));
+        env.insert(names[2].0.to_string(), Binding::Scalar(parser.graph.var(Var::T)));
     }
     for (k, c) in consts.iter().enumerate() {
         env.insert(c.to_string(), Binding::Scalar(parser.graph.var(Var::Const(k))));
@@ -258,6 +259,12 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
         graph: parser.graph,
         root,
     })
+}
+
+/// A parameter name without the leading `_` that silences "unused" warnings.
+fn bare(name: &Ident) -> String {
+    let s = name.to_string();
+    s.strip_prefix('_').map(str::to_string).unwrap_or(s)
 }
 
 /// `snake_case` → `CamelCase`.
