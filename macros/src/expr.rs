@@ -171,6 +171,11 @@ impl Graph {
         id
     }
 
+    /// The id of `node` if it exists.
+    pub fn lookup(&self, node: Node) -> Option<Id> {
+        self.index.get(&node).copied()
+    }
+
     /// The node behind `id`.
     pub fn node(&self, id: Id) -> Node {
         self.nodes[id]

@@ -7,8 +7,7 @@
 //! constant folding of every operation on constants; `a + 0 = a`, `a − 0 = a`, `0 − a = −a`,
 //! `a · 1 = a`, `a · (−1) = −a`, `a / 1 = a`; `−(−a) = a`; `a + a = 2·a`, `a + (−b) = a − b`,
 //! `a − (−b) = a + b`, `(−a)·b = −(a·b)`, `(−a)/b = −(a/b)`; `a^0 = 1`, `a^1 = a`.
-//! The operands of `+` and `·` are put in a canonical order, newer node first, which keeps
-//! left-to-right chains like `0.5 * l * l` readable (swapping them is exact), so
+//! `a + b` and `b + a` (likewise `·`) share one node (swapping them is exact), so
 //! `a·b` and `b·a` are the same node. Nothing is reassociated, so no rounding changes.
 
 use std::collections::HashMap;
@@ -55,8 +54,17 @@ impl Graph {
             let two = self.num(2.0);
             return self.mul(two, a);
         }
-        let (a, b) = if a >= b { (a, b) } else { (b, a) };
-        self.intern(Node::Add(a, b))
+        self.commutative(Node::Add(a, b), Node::Add(b, a))
+    }
+
+    /// `node`, or its mirror `swapped` if that exists already (`a·b` and `b·a` are the same
+    /// value exactly, so they share one node; the first-built order is kept, so the emitted
+    /// code reads like the user's).
+    fn commutative(&mut self, node: Node, swapped: Node) -> Id {
+        match self.lookup(swapped) {
+            Some(id) => id,
+            None => self.intern(node),
+        }
     }
 
     /// `a − b`.
@@ -111,8 +119,7 @@ impl Graph {
             }
             (None, None) => {}
         }
-        let (a, b) = if a >= b { (a, b) } else { (b, a) };
-        self.intern(Node::Mul(a, b))
+        self.commutative(Node::Mul(a, b), Node::Mul(b, a))
     }
 
     /// `a / b`.
