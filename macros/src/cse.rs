@@ -43,6 +43,13 @@ impl Plan {
         Self { temps, temp_index }
     }
 
+    /// A plan that binds nothing: every node is inlined at each use (a negative control for
+    /// the CSE tests).
+    #[cfg(test)]
+    pub fn without_temps(g: &Graph) -> Self {
+        Self { temps: Vec::new(), temp_index: vec![None; g.len()] }
+    }
+
     /// The temporary bound to `id`, if any.
     pub fn temp(&self, id: Id) -> Option<usize> {
         self.temp_index.get(id).copied().flatten()
