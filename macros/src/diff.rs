@@ -1,0 +1,203 @@
+//! Symbolic differentiation on the DAG, memoised per `(node, variable)` so that shared
+//! subexpressions are differentiated once and their derivatives are shared too.
+//!
+//! Derivative rules (`n` is the node itself, reused where the derivative contains it):
+//!
+//! | node | derivative |
+//! | --- | --- |
+//! | `a / b` | `(a' − n·b') / b` |
+//! | `sin a`, `cos a`, `tan a` | `cos a·a'`, `−sin a·a'`, `(1 + n²)·a'` |
+//! | `asin a`, `acos a`, `atan a` | `a'/√(1 − a²)`, `−a'/√(1 − a²)`, `a'/(1 + a²)` |
+//! | `sinh a`, `cosh a`, `tanh a` | `cosh a·a'`, `sinh a·a'`, `(1 − n²)·a'` |
+//! | `exp a`, `ln a`, `log10 a` | `n·a'`, `a'/a`, `a'/(a·ln 10)` |
+//! | `sqrt a`, `cbrt a`, `recip a` | `a'/(2n)`, `a'/(3n²)`, `−n²·a'` |
+//! | `abs a` | `sign(a)·a'`, with `sign(0) = 0` (a subgradient; `abs` is not differentiable at 0) |
+//! | `a.powi(k)` | `k·a^(k−1)·a'` |
+//! | `a.powf(b)` | `b·a^(b−1)·a' + n·ln a·b'` (the second term, present only when the exponent is not constant, needs `a > 0`) |
+//! | `a.hypot(b)` | `(a·a' + b·b')/n` |
+
+use std::collections::HashMap;
+
+use crate::expr::{Func, Graph, Id, Node, Var};
+
+/// Differentiates nodes of one graph; keeps the memo between calls so that second
+/// derivatives reuse first ones.
+#[derive(Default)]
+pub struct Differentiator {
+    memo: HashMap<(Id, Var), Id>,
+}
+
+impl Differentiator {
+    /// A differentiator with an empty memo.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// `∂root/∂var`.
+    pub fn diff(&mut self, g: &mut Graph, root: Id, var: Var) -> Id {
+        // Reachable nodes in topological order: every child's derivative exists before its
+        // parent's, and no recursion is needed.
+        for id in g.reachable(&[root]) {
+            if self.memo.contains_key(&(id, var)) {
+                continue;
+            }
+            let d = self.rule(g, id, var);
+            self.memo.insert((id, var), d);
+        }
+        self.memo[&(root, var)]
+    }
+
+    fn rule(&self, g: &mut Graph, id: Id, var: Var) -> Id {
+        let d = |i: Id| self.memo[&(i, var)];
+        match g.node(id) {
+            Node::Num(_) => g.num(0.0),
+            Node::Var(w) => g.num(if w == var { 1.0 } else { 0.0 }),
+            Node::Add(a, b) => g.add(d(a), d(b)),
+            Node::Sub(a, b) => g.sub(d(a), d(b)),
+            Node::Mul(a, b) => {
+                let l = g.mul(d(a), b);
+                let r = g.mul(a, d(b));
+                g.add(l, r)
+            }
+            Node::Div(a, b) => {
+                let nb = g.mul(id, d(b));
+                let num = g.sub(d(a), nb);
+                g.div(num, b)
+            }
+            Node::Neg(a) => g.neg(d(a)),
+            Node::Call(f, a) => {
+                let da = d(a);
+                if g.is_num(da, 0.0) {
+                    return g.num(0.0);
+                }
+                let outer = match f {
+                    Func::Sin => g.call(Func::Cos, a),
+                    Func::Cos => {
+                        let s = g.call(Func::Sin, a);
+                        g.neg(s)
+                    }
+                    Func::Tan => {
+                        let sq = g.mul(id, id);
+                        let one = g.num(1.0);
+                        g.add(one, sq)
+                    }
+                    Func::Asin | Func::Acos => {
+                        let sq = g.mul(a, a);
+                        let one = g.num(1.0);
+                        let diff = g.sub(one, sq);
+                        let root = g.call(Func::Sqrt, diff);
+                        let inv = g.div(one, root);
+                        if f == Func::Acos { g.neg(inv) } else { inv }
+                    }
+                    Func::Atan => {
+                        let sq = g.mul(a, a);
+                        let one = g.num(1.0);
+                        let den = g.add(one, sq);
+                        return g.div(da, den);
+                    }
+                    Func::Sinh => g.call(Func::Cosh, a),
+                    Func::Cosh => g.call(Func::Sinh, a),
+                    Func::Tanh => {
+                        let sq = g.mul(id, id);
+                        let one = g.num(1.0);
+                        g.sub(one, sq)
+                    }
+                    Func::Exp => id,
+                    Func::Ln => return g.div(da, a),
+                    Func::Log10 => {
+                        let ln10 = g.num(std::f64::consts::LN_10);
+                        let den = g.mul(a, ln10);
+                        return g.div(da, den);
+                    }
+                    Func::Sqrt => {
+                        let two = g.num(2.0);
+                        let den = g.mul(two, id);
+                        return g.div(da, den);
+                    }
+                    Func::Cbrt => {
+                        let three = g.num(3.0);
+                        let sq = g.mul(id, id);
+                        let den = g.mul(three, sq);
+                        return g.div(da, den);
+                    }
+                    Func::Recip => {
+                        let sq = g.mul(id, id);
+                        g.neg(sq)
+                    }
+                    Func::Abs => g.call(Func::Sign, a),
+                    Func::Sign => return g.num(0.0),
+                };
+                g.mul(outer, da)
+            }
+            Node::Powi(a, n) => {
+                let da = d(a);
+                if g.is_num(da, 0.0) {
+                    return g.num(0.0);
+                }
+                let k = g.num(f64::from(n));
+                // n − 1 cannot overflow: n = i32::MIN is rejected by the parser.
+                let p = g.powi(a, n.saturating_sub(1));
+                let kp = g.mul(k, p);
+                g.mul(kp, da)
+            }
+            Node::Powf(a, b) => {
+                let (da, db) = (d(a), d(b));
+                let one = g.num(1.0);
+                let bm1 = g.sub(b, one);
+                let p = g.powf(a, bm1);
+                let bp = g.mul(b, p);
+                let base = g.mul(bp, da);
+                let ln = g.call(Func::Ln, a);
+                let nl = g.mul(id, ln);
+                let expo = g.mul(nl, db);
+                g.add(base, expo)
+            }
+            Node::Hypot(a, b) => {
+                let l = g.mul(a, d(a));
+                let r = g.mul(b, d(b));
+                let num = g.add(l, r);
+                g.div(num, id)
+            }
+        }
+    }
+}
+
+/// The first and second derivatives of `L`, as nodes of the model's graph.
+#[derive(Clone, Debug)]
+pub struct Derivatives {
+    /// `∂L/∂x_i`.
+    pub fx: Vec<Id>,
+    /// `∂L/∂v_i`.
+    pub fv: Vec<Id>,
+    /// `∂²L/∂x_i∂x_j`, row-major; symmetric by construction (only `i ≤ j` is differentiated,
+    /// the lower triangle reuses it).
+    pub xx: Vec<Id>,
+    /// `∂²L/∂x_i∂v_j`, row-major.
+    pub xv: Vec<Id>,
+    /// `∂²L/∂v_i∂v_j`, row-major, symmetric like `xx`.
+    pub vv: Vec<Id>,
+}
+
+impl Derivatives {
+    /// Differentiates `root` (a Lagrangian of dimension `dim`) twice.
+    pub fn new(g: &mut Graph, root: Id, dim: usize) -> Self {
+        let mut d = Differentiator::new();
+        let fx: Vec<Id> = (0..dim).map(|i| d.diff(g, root, Var::X(i))).collect();
+        let fv: Vec<Id> = (0..dim).map(|i| d.diff(g, root, Var::V(i))).collect();
+        let mut xx = vec![0; dim * dim];
+        let mut vv = vec![0; dim * dim];
+        let mut xv = vec![0; dim * dim];
+        for i in 0..dim {
+            for j in 0..dim {
+                xv[i * dim + j] = d.diff(g, fx[i], Var::V(j));
+                if i <= j {
+                    xx[i * dim + j] = d.diff(g, fx[i], Var::X(j));
+                    vv[i * dim + j] = d.diff(g, fv[i], Var::V(j));
+                    xx[j * dim + i] = xx[i * dim + j];
+                    vv[j * dim + i] = vv[i * dim + j];
+                }
+            }
+        }
+        Self { fx, fv, xx, xv, vv }
+    }
+}

@@ -1,0 +1,237 @@
+//! Smart constructors: every node is built through these, so the DAG is simplified as it
+//! grows.
+//!
+//! Rules (all exact in floating point for finite operands, except the structural-zero rules
+//! `0 · a = 0`, `0 / a = 0`, `a − a = 0`, `a / a = 1`, which assume `a` finite and nonzero
+//! where it matters — the usual convention of symbolic differentiation):
+//! constant folding of every operation on constants; `a + 0 = a`, `a − 0 = a`, `0 − a = −a`,
+//! `a · 1 = a`, `a · (−1) = −a`, `a / 1 = a`; `−(−a) = a`; `a + a = 2·a`, `a + (−b) = a − b`,
+//! `a − (−b) = a + b`, `(−a)·b = −(a·b)`, `(−a)/b = −(a/b)`; `a^0 = 1`, `a^1 = a`.
+//! `a + b` and `b + a` (likewise `·`) share one node (swapping them is exact), so
+//! `a·b` and `b·a` are the same node. Nothing is reassociated, so no rounding changes.
+
+use std::collections::HashMap;
+
+use crate::expr::{Func, Graph, Id, Node, Var};
+
+impl Graph {
+    /// The constant `c`.
+    pub fn num(&mut self, c: f64) -> Id {
+        self.intern(Node::Num(c.to_bits()))
+    }
+
+    /// The variable `var`.
+    pub fn var(&mut self, var: Var) -> Id {
+        self.intern(Node::Var(var))
+    }
+
+    fn neg_inner(&self, a: Id) -> Option<Id> {
+        match self.node(a) {
+            Node::Neg(b) => Some(b),
+            _ => None,
+        }
+    }
+
+    /// `a + b`.
+    pub fn add(&mut self, a: Id, b: Id) -> Id {
+        if let (Some(x), Some(y)) = (self.num_value(a), self.num_value(b)) {
+            return self.num(x + y);
+        }
+        if self.is_num(a, 0.0) {
+            return b;
+        }
+        if self.is_num(b, 0.0) {
+            return a;
+        }
+        if let Some(nb) = self.neg_inner(b) {
+            return self.sub(a, nb);
+        }
+        if let Some(na) = self.neg_inner(a) {
+            return self.sub(b, na);
+        }
+        if a == b {
+            // a + a = 2·a exactly.
+            let two = self.num(2.0);
+            return self.mul(two, a);
+        }
+        self.commutative(Node::Add(a, b), Node::Add(b, a))
+    }
+
+    /// `node`, or its mirror `swapped` if that exists already (`a·b` and `b·a` are the same
+    /// value exactly, so they share one node; the first-built order is kept, so the emitted
+    /// code reads like the user's).
+    fn commutative(&mut self, node: Node, swapped: Node) -> Id {
+        match self.lookup(swapped) {
+            Some(id) => id,
+            None => self.intern(node),
+        }
+    }
+
+    /// `a − b`.
+    pub fn sub(&mut self, a: Id, b: Id) -> Id {
+        if let (Some(x), Some(y)) = (self.num_value(a), self.num_value(b)) {
+            return self.num(x - y);
+        }
+        if a == b {
+            return self.num(0.0);
+        }
+        if self.is_num(b, 0.0) {
+            return a;
+        }
+        if self.is_num(a, 0.0) {
+            return self.neg(b);
+        }
+        if let Some(nb) = self.neg_inner(b) {
+            return self.add(a, nb);
+        }
+        self.intern(Node::Sub(a, b))
+    }
+
+    /// `a · b`.
+    pub fn mul(&mut self, a: Id, b: Id) -> Id {
+        if let (Some(x), Some(y)) = (self.num_value(a), self.num_value(b)) {
+            return self.num(x * y);
+        }
+        if self.is_num(a, 0.0) || self.is_num(b, 0.0) {
+            return self.num(0.0);
+        }
+        if self.is_num(a, 1.0) {
+            return b;
+        }
+        if self.is_num(b, 1.0) {
+            return a;
+        }
+        if self.is_num(a, -1.0) {
+            return self.neg(b);
+        }
+        if self.is_num(b, -1.0) {
+            return self.neg(a);
+        }
+        match (self.neg_inner(a), self.neg_inner(b)) {
+            (Some(na), Some(nb)) => return self.mul(na, nb),
+            (Some(na), None) => {
+                let m = self.mul(na, b);
+                return self.neg(m);
+            }
+            (None, Some(nb)) => {
+                let m = self.mul(a, nb);
+                return self.neg(m);
+            }
+            (None, None) => {}
+        }
+        self.commutative(Node::Mul(a, b), Node::Mul(b, a))
+    }
+
+    /// `a / b`.
+    pub fn div(&mut self, a: Id, b: Id) -> Id {
+        if let (Some(x), Some(y)) = (self.num_value(a), self.num_value(b)) {
+            return self.num(x / y);
+        }
+        if self.is_num(a, 0.0) {
+            return self.num(0.0);
+        }
+        if self.is_num(b, 1.0) {
+            return a;
+        }
+        if self.is_num(b, -1.0) {
+            return self.neg(a);
+        }
+        if a == b {
+            return self.num(1.0);
+        }
+        if let Some(na) = self.neg_inner(a) {
+            let d = self.div(na, b);
+            return self.neg(d);
+        }
+        self.intern(Node::Div(a, b))
+    }
+
+    /// `−a`.
+    pub fn neg(&mut self, a: Id) -> Id {
+        if let Some(x) = self.num_value(a) {
+            return self.num(-x);
+        }
+        if let Some(na) = self.neg_inner(a) {
+            return na;
+        }
+        self.intern(Node::Neg(a))
+    }
+
+    /// `f(a)`.
+    pub fn call(&mut self, f: Func, a: Id) -> Id {
+        if let Some(x) = self.num_value(a) {
+            return self.num(f.eval(x));
+        }
+        self.intern(Node::Call(f, a))
+    }
+
+    /// `a.powi(n)`.
+    pub fn powi(&mut self, a: Id, n: i32) -> Id {
+        if n == 0 {
+            return self.num(1.0);
+        }
+        if n == 1 {
+            return a;
+        }
+        if let Some(x) = self.num_value(a) {
+            return self.num(x.powi(n));
+        }
+        self.intern(Node::Powi(a, n))
+    }
+
+    /// `a.powf(b)`.
+    pub fn powf(&mut self, a: Id, b: Id) -> Id {
+        if let (Some(x), Some(y)) = (self.num_value(a), self.num_value(b)) {
+            return self.num(x.powf(y));
+        }
+        if self.is_num(b, 0.0) {
+            return self.num(1.0);
+        }
+        if self.is_num(b, 1.0) {
+            return a;
+        }
+        self.intern(Node::Powf(a, b))
+    }
+
+    /// `a.hypot(b)`.
+    pub fn hypot(&mut self, a: Id, b: Id) -> Id {
+        if let (Some(x), Some(y)) = (self.num_value(a), self.num_value(b)) {
+            return self.num(x.hypot(y));
+        }
+        self.intern(Node::Hypot(a, b))
+    }
+
+    /// Rebuilds `root` with every variable accepted by `replace` substituted, re-simplifying on
+    /// the way (used to specialise the step kernels, e.g. `v = 0` in the explicit update).
+    pub fn substitute(
+        &mut self,
+        root: Id,
+        replace: &dyn Fn(Var) -> Option<f64>,
+        memo: &mut HashMap<Id, Id>,
+    ) -> Id {
+        for id in self.reachable(&[root]) {
+            if memo.contains_key(&id) {
+                continue;
+            }
+            let m = |i: Id| memo[&i];
+            let new = match self.node(id) {
+                Node::Num(_) => id,
+                Node::Var(var) => match replace(var) {
+                    Some(c) => self.num(c),
+                    None => id,
+                },
+                Node::Add(a, b) => self.add(m(a), m(b)),
+                Node::Sub(a, b) => self.sub(m(a), m(b)),
+                Node::Mul(a, b) => self.mul(m(a), m(b)),
+                Node::Div(a, b) => self.div(m(a), m(b)),
+                Node::Neg(a) => self.neg(m(a)),
+                Node::Call(f, a) => self.call(f, m(a)),
+                Node::Powi(a, n) => self.powi(m(a), n),
+                Node::Powf(a, b) => self.powf(m(a), m(b)),
+                Node::Hypot(a, b) => self.hypot(m(a), m(b)),
+            };
+            memo.insert(id, new);
+        }
+        memo[&root]
+    }
+}

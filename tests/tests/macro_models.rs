@@ -1,0 +1,386 @@
+//! Must show 3 of issue 3: models through `#[lagrangian]` against hand-written derivatives
+//! (`1e-13`), and the generated step kernels against the trait's generic defaults.
+//!
+//! Each hand-written impl below implements only `value`, `gradient`, `hessian` (and
+//! `step_is_affine`, decided by hand from the second-derivative blocks), so its step kernels are
+//! the trait's defaults.
+
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+use varembed::{Hessian, Lagrangian, Matrix, StepKind, StepTimes, Vector, lagrangian};
+
+const KINDS: [StepKind; 4] = [
+    StepKind::VariationalBackward,
+    StepKind::VariationalForward,
+    StepKind::DirectBackward,
+    StepKind::DirectForward,
+];
+
+/// `|a − b| ≤ tol · max(1, |b|)`: relative for large entries, absolute near zero (entries that
+/// are exactly zero by hand may come out as round-off from the generated code's factoring).
+fn close(what: &str, a: f64, b: f64, tol: f64) {
+    assert!(
+        (a - b).abs() <= tol * b.abs().max(1.0),
+        "{what}: generated {a:e}, hand-written {b:e}"
+    );
+}
+
+fn close_vec<const D: usize>(what: &str, a: &Vector<D>, b: &Vector<D>, tol: f64) {
+    for i in 0..D {
+        close(&format!("{what}[{i}]"), a[i], b[i], tol);
+    }
+}
+
+fn close_mat<const D: usize>(what: &str, a: &Matrix<D>, b: &Matrix<D>, tol: f64) {
+    for i in 0..D {
+        for j in 0..D {
+            close(&format!("{what}[({i}, {j})]"), a[(i, j)], b[(i, j)], tol);
+        }
+    }
+}
+
+fn random_vec<const D: usize>(rng: &mut StdRng, scale: f64) -> Vector<D> {
+    Vector::<D>::from_fn(|_, _| rng.random_range(-scale..scale))
+}
+
+/// Derivatives at 1e-13 on random points.
+fn check_derivatives<const D: usize>(
+    gen_: &impl Lagrangian<D>,
+    hand: &impl Lagrangian<D>,
+    center: Vector<D>,
+    rng: &mut StdRng,
+) {
+    const TOL: f64 = 1e-13;
+    for _ in 0..200 {
+        let x = center + random_vec::<D>(rng, 1.5);
+        let v = random_vec::<D>(rng, 2.0);
+        let t = rng.random_range(-1.0..3.0);
+        close("L", gen_.value(&x, &v, t), hand.value(&x, &v, t), TOL);
+        let (gf, gp) = gen_.gradient(&x, &v, t);
+        let (hf, hp) = hand.gradient(&x, &v, t);
+        close_vec("∂L/∂x", &gf, &hf, TOL);
+        close_vec("∂L/∂v", &gp, &hp, TOL);
+        let (gh, hh) = (gen_.hessian(&x, &v, t), hand.hessian(&x, &v, t));
+        close_mat("xx", &gh.xx, &hh.xx, TOL);
+        close_mat("xv", &gh.xv, &hh.xv, TOL);
+        close_mat("vv", &gh.vv, &hh.vv, TOL);
+    }
+}
+
+/// Generated kernels against the trait defaults of the hand impl, for every kind. The kernels
+/// combine derivatives (`p − h f − π`, `L_vx + L_vv/h − h L_xx − L_xv`), so the tolerance is
+/// relative to the size of the terms, at 1e-12.
+fn check_kernels<const D: usize>(
+    gen_: &impl Lagrangian<D>,
+    hand: &impl Lagrangian<D>,
+    center: Vector<D>,
+    rng: &mut StdRng,
+) {
+    const TOL: f64 = 1e-12;
+    let mut explicit_seen = 0;
+    for _ in 0..200 {
+        let h = rng.random_range(0.01..0.2);
+        let t_a = rng.random_range(-1.0..2.0);
+        let times = StepTimes { h, t_a, t_b: t_a + h, t_y: t_a + 2.0 * h };
+        let a = center + random_vec::<D>(rng, 1.0);
+        let b = a + random_vec::<D>(rng, 2.0 * h);
+        let y = b + random_vec::<D>(rng, 2.0 * h);
+        for kind in KINDS {
+            let gm = gen_.step_momentum(kind, &a, &b, &times);
+            let hm = hand.step_momentum(kind, &a, &b, &times);
+            let scale = 1.0 + hm.amax();
+            close_vec(&format!("{kind:?} momentum"), &(gm / scale), &(hm / scale), TOL);
+
+            let (gr, gj) = gen_.step_residual(kind, &b, &y, &hm, &times);
+            let (hr, hj) = hand.step_residual(kind, &b, &y, &hm, &times);
+            let scale = 1.0 + hm.amax() + hand.gradient(&y, &((y - b) / h), t_a).1.amax();
+            close_vec(&format!("{kind:?} residual"), &(gr / scale), &(hr / scale), TOL);
+            let scale = 1.0 + hj.amax();
+            close_mat(&format!("{kind:?} jacobian"), &(gj / scale), &(hj / scale), TOL);
+
+            assert_eq!(
+                gen_.step_is_affine(kind),
+                hand.step_is_affine(kind),
+                "{kind:?}: affinity"
+            );
+            let ge = gen_.step_explicit(kind, &b, &hm, &times);
+            let he = hand.step_explicit(kind, &b, &hm, &times);
+            match (ge, he) {
+                (Some(g), Some(e)) => {
+                    explicit_seen += 1;
+                    close_vec(&format!("{kind:?} explicit"), &g, &e, 1e-10);
+                    // The explicit update solves the step equation.
+                    let (r, _) = gen_.step_residual(kind, &b, &g, &hm, &times);
+                    assert!(r.amax() <= 1e-9 * (1.0 + hm.amax()), "{kind:?}: residual {r}");
+                }
+                (None, None) => {}
+                other => panic!("{kind:?}: explicit update differs: {other:?}"),
+            }
+        }
+    }
+    let affine = KINDS.iter().filter(|&&k| hand.step_is_affine(k)).count();
+    assert_eq!(explicit_seen, 200 * affine);
+}
+
+// ---------------------------------------------------------------- pendulum (d = 1)
+
+#[lagrangian]
+fn pendulum(x: f64, v: f64, g: f64, l: f64) -> f64 {
+    0.5 * l * l * v * v + g * l * x.cos()
+}
+
+struct PendulumHand {
+    g: f64,
+    l: f64,
+}
+
+impl Lagrangian<1> for PendulumHand {
+    fn value(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
+        pendulum(x[0], v[0], self.g, self.l)
+    }
+    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
+        let (g, l) = (self.g, self.l);
+        (Vector::<1>::new(-g * l * x[0].sin()), Vector::<1>::new(l * l * v[0]))
+    }
+    fn hessian(&self, x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
+        let (g, l) = (self.g, self.l);
+        Hessian {
+            xx: Matrix::<1>::new(-g * l * x[0].cos()),
+            xv: Matrix::<1>::zeros(),
+            vv: Matrix::<1>::new(l * l),
+        }
+    }
+    fn step_is_affine(&self, kind: StepKind) -> bool {
+        // L_vv constant and L_xv = 0; only the direct backward step sees L_xx(y).
+        kind != StepKind::DirectBackward
+    }
+}
+
+#[test]
+fn pendulum_matches_hand_written() {
+    let mut rng = StdRng::seed_from_u64(1);
+    let (gen_, hand) = (Pendulum { g: 9.81, l: 1.3 }, PendulumHand { g: 9.81, l: 1.3 });
+    check_derivatives(&gen_, &hand, Vector::<1>::zeros(), &mut rng);
+    check_kernels(&gen_, &hand, Vector::<1>::zeros(), &mut rng);
+}
+
+// ---------------------------------------------------------------- Kepler (d = 2)
+
+#[lagrangian]
+fn kepler(x: [f64; 2], v: [f64; 2], mu: f64) -> f64 {
+    let r = (x[0] * x[0] + x[1] * x[1]).sqrt();
+    0.5 * (v[0] * v[0] + v[1] * v[1]) + mu / r
+}
+
+struct KeplerHand {
+    mu: f64,
+}
+
+impl Lagrangian<2> for KeplerHand {
+    fn value(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> f64 {
+        kepler([x[0], x[1]], [v[0], v[1]], self.mu)
+    }
+    fn gradient(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> (Vector<2>, Vector<2>) {
+        let r = x.norm();
+        (-x * (self.mu / (r * r * r)), *v)
+    }
+    fn hessian(&self, x: &Vector<2>, _v: &Vector<2>, _t: f64) -> Hessian<2> {
+        let r = x.norm();
+        let xx = Matrix::<2>::from_fn(|i, j| {
+            let delta = if i == j { 1.0 } else { 0.0 };
+            self.mu * (3.0 * x[i] * x[j] / r.powi(5) - delta / r.powi(3))
+        });
+        Hessian { xx, xv: Matrix::<2>::zeros(), vv: Matrix::<2>::identity() }
+    }
+    fn step_is_affine(&self, kind: StepKind) -> bool {
+        kind != StepKind::DirectBackward
+    }
+}
+
+#[test]
+fn kepler_matches_hand_written() {
+    let mut rng = StdRng::seed_from_u64(2);
+    let (gen_, hand) = (Kepler { mu: 1.7 }, KeplerHand { mu: 1.7 });
+    // Positions around (2.5, −2): away from the singularity at the origin.
+    let center = Vector::<2>::new(2.5, -2.0);
+    check_derivatives(&gen_, &hand, center, &mut rng);
+    check_kernels(&gen_, &hand, center, &mut rng);
+}
+
+// ---------------------------------------------------------------- double pendulum (d = 2)
+
+#[lagrangian]
+fn double_pendulum(x: [f64; 2], v: [f64; 2], m1: f64, m2: f64, l1: f64, l2: f64, g: f64) -> f64 {
+    let kinetic = 0.5 * (m1 + m2) * l1 * l1 * v[0] * v[0]
+        + 0.5 * m2 * l2 * l2 * v[1] * v[1]
+        + m2 * l1 * l2 * v[0] * v[1] * (x[0] - x[1]).cos();
+    let potential = -(m1 + m2) * g * l1 * x[0].cos() - m2 * g * l2 * x[1].cos();
+    kinetic - potential
+}
+
+struct DoublePendulumHand {
+    m1: f64,
+    m2: f64,
+    l1: f64,
+    l2: f64,
+    g: f64,
+}
+
+impl Lagrangian<2> for DoublePendulumHand {
+    fn value(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> f64 {
+        let Self { m1, m2, l1, l2, g } = *self;
+        double_pendulum([x[0], x[1]], [v[0], v[1]], m1, m2, l1, l2, g)
+    }
+    fn gradient(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> (Vector<2>, Vector<2>) {
+        let Self { m1, m2, l1, l2, g } = *self;
+        let (c, s) = ((x[0] - x[1]).cos(), (x[0] - x[1]).sin());
+        let k = m2 * l1 * l2;
+        let f = Vector::<2>::new(
+            -k * v[0] * v[1] * s - (m1 + m2) * g * l1 * x[0].sin(),
+            k * v[0] * v[1] * s - m2 * g * l2 * x[1].sin(),
+        );
+        let p = Vector::<2>::new(
+            (m1 + m2) * l1 * l1 * v[0] + k * v[1] * c,
+            m2 * l2 * l2 * v[1] + k * v[0] * c,
+        );
+        (f, p)
+    }
+    fn hessian(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> Hessian<2> {
+        let Self { m1, m2, l1, l2, g } = *self;
+        let (c, s) = ((x[0] - x[1]).cos(), (x[0] - x[1]).sin());
+        let k = m2 * l1 * l2;
+        let kvvc = k * v[0] * v[1] * c;
+        Hessian {
+            xx: Matrix::<2>::new(
+                -kvvc - (m1 + m2) * g * l1 * x[0].cos(),
+                kvvc,
+                kvvc,
+                -kvvc - m2 * g * l2 * x[1].cos(),
+            ),
+            xv: Matrix::<2>::new(-k * v[1] * s, -k * v[0] * s, k * v[1] * s, k * v[0] * s),
+            vv: Matrix::<2>::new((m1 + m2) * l1 * l1, k * c, k * c, m2 * l2 * l2),
+        }
+    }
+    fn step_is_affine(&self, kind: StepKind) -> bool {
+        // L_vv depends on x only: affine exactly when the Jacobian reads L_vv at the fixed
+        // node b and nothing else (direct σ = +). L_xv depends on v, which rules out
+        // VariationalForward.
+        kind == StepKind::DirectForward
+    }
+}
+
+#[test]
+fn double_pendulum_matches_hand_written() {
+    let mut rng = StdRng::seed_from_u64(3);
+    let gen_ = DoublePendulum { m1: 1.2, m2: 0.7, l1: 1.1, l2: 0.8, g: 9.81 };
+    let hand = DoublePendulumHand { m1: 1.2, m2: 0.7, l1: 1.1, l2: 0.8, g: 9.81 };
+    check_derivatives(&gen_, &hand, Vector::<2>::zeros(), &mut rng);
+    check_kernels(&gen_, &hand, Vector::<2>::zeros(), &mut rng);
+}
+
+// ---------------------------------------------------------------- time-dependent (d = 1)
+
+/// Caldirola–Kanai damped oscillator `L = e^{γt} (½ m v² − ½ k x²)`.
+#[lagrangian]
+fn caldirola_kanai(x: f64, v: f64, t: f64, m: f64, k: f64, gamma: f64) -> f64 {
+    (gamma * t).exp() * (0.5 * m * v * v - 0.5 * k * x * x)
+}
+
+struct CaldirolaKanaiHand {
+    m: f64,
+    k: f64,
+    gamma: f64,
+}
+
+impl Lagrangian<1> for CaldirolaKanaiHand {
+    fn value(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> f64 {
+        caldirola_kanai(x[0], v[0], t, self.m, self.k, self.gamma)
+    }
+    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> (Vector<1>, Vector<1>) {
+        let e = (self.gamma * t).exp();
+        (Vector::<1>::new(-e * self.k * x[0]), Vector::<1>::new(e * self.m * v[0]))
+    }
+    fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, t: f64) -> Hessian<1> {
+        let e = (self.gamma * t).exp();
+        Hessian {
+            xx: Matrix::<1>::new(-e * self.k),
+            xv: Matrix::<1>::zeros(),
+            vv: Matrix::<1>::new(e * self.m),
+        }
+    }
+    fn step_is_affine(&self, _kind: StepKind) -> bool {
+        // Every block depends on t only.
+        true
+    }
+}
+
+#[test]
+fn time_dependent_matches_hand_written() {
+    let mut rng = StdRng::seed_from_u64(4);
+    let gen_ = CaldirolaKanai { m: 1.5, k: 4.0, gamma: 0.3 };
+    let hand = CaldirolaKanaiHand { m: 1.5, k: 4.0, gamma: 0.3 };
+    check_derivatives(&gen_, &hand, Vector::<1>::zeros(), &mut rng);
+    check_kernels(&gen_, &hand, Vector::<1>::zeros(), &mut rng);
+}
+
+// ---------------------------------------------------------------- parameterised (d = 1)
+
+/// Anharmonic oscillator with a velocity-dependent coupling:
+/// `L = ½ m v² − ½ k x² − ¼ λ x⁴ + c x v`.
+#[lagrangian]
+fn anharmonic(x: f64, v: f64, m: f64, k: f64, lambda: f64, c: f64) -> f64 {
+    0.5 * m * v.powi(2) - 0.5 * k * x.powi(2) - 0.25 * lambda * x.powi(4) + c * x * v
+}
+
+struct AnharmonicHand {
+    m: f64,
+    k: f64,
+    lambda: f64,
+    c: f64,
+}
+
+impl Lagrangian<1> for AnharmonicHand {
+    fn value(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
+        anharmonic(x[0], v[0], self.m, self.k, self.lambda, self.c)
+    }
+    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
+        let (x, v) = (x[0], v[0]);
+        (
+            Vector::<1>::new(-self.k * x - self.lambda * x.powi(3) + self.c * v),
+            Vector::<1>::new(self.m * v + self.c * x),
+        )
+    }
+    fn hessian(&self, x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
+        Hessian {
+            xx: Matrix::<1>::new(-self.k - 3.0 * self.lambda * x[0] * x[0]),
+            xv: Matrix::<1>::new(self.c),
+            vv: Matrix::<1>::new(self.m),
+        }
+    }
+    fn step_is_affine(&self, kind: StepKind) -> bool {
+        kind != StepKind::DirectBackward
+    }
+}
+
+#[test]
+fn parameterised_matches_hand_written() {
+    let mut rng = StdRng::seed_from_u64(5);
+    for (m, k, lambda, c) in [(1.0, 2.0, 0.5, 0.3), (0.2, -1.0, 3.0, -2.0)] {
+        let gen_ = Anharmonic { m, k, lambda, c };
+        let hand = AnharmonicHand { m, k, lambda, c };
+        check_derivatives(&gen_, &hand, Vector::<1>::zeros(), &mut rng);
+        check_kernels(&gen_, &hand, Vector::<1>::zeros(), &mut rng);
+    }
+}
+
+#[test]
+fn derivatives_text_lists_the_formulas() {
+    let text = Pendulum::DERIVATIVES;
+    assert!(text.contains("∂L/∂x = -(g * l * x.sin())"), "{text}");
+    assert!(text.lines().any(|l| l.starts_with("∂²L/∂x∂x = ")), "{text}");
+    // L_xv = 0 is omitted.
+    assert!(!text.contains("∂²L/∂x∂v"), "{text}");
+    let text = DoublePendulum::DERIVATIVES;
+    assert!(text.contains("∂²L/∂x[0]∂v[1] = "), "{text}");
+    assert!(!text.contains("∂²L/∂x[1]∂x[0]"), "symmetric blocks are listed once: {text}");
+}
