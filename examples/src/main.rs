@@ -4,29 +4,14 @@
 //! report folder and plots, is built on top of this; see issue 4.)
 
 use varembed::{
-    CompareOptions, Embedding, Grid, Hessian, Lagrangian, Matrix, Problem, Reference, Side, Start,
-    Vector,
+    CompareOptions, Embedding, Grid, Problem, Reference, Side, Start, Vector, lagrangian,
 };
 
 /// Harmonic oscillator `L = ½v² − ½ω²x²`: exact solution `q(t) = q₀ cos ωt + (v₀/ω) sin ωt`.
-struct Oscillator {
-    omega: f64,
-}
-
-impl Lagrangian<1> for Oscillator {
-    fn value(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
-        0.5 * v[0] * v[0] - 0.5 * self.omega.powi(2) * x[0] * x[0]
-    }
-    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
-        (Vector::<1>::new(-self.omega.powi(2) * x[0]), *v)
-    }
-    fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
-        Hessian {
-            xx: Matrix::<1>::new(-self.omega.powi(2)),
-            xv: Matrix::<1>::zeros(),
-            vv: Matrix::<1>::identity(),
-        }
-    }
+#[allow(dead_code)] // the macro keeps the fn callable; this program only uses the struct
+#[lagrangian]
+fn oscillator(x: f64, v: f64, omega: f64) -> f64 {
+    0.5 * v * v - 0.5 * omega * omega * x * x
 }
 
 fn main() -> varembed::Result<()> {

@@ -147,13 +147,22 @@ pub fn lower(model: &mut Model) -> Lowered {
             let mut memo = HashMap::new();
             let zero_v = |v: Var| matches!(v, Var::V(_)).then_some(0.0);
             explicit.push(Some(
-                roots.iter().map(|&r| g.substitute(r, &zero_v, &mut memo)).collect(),
+                roots
+                    .iter()
+                    .map(|&r| g.substitute(r, &zero_v, &mut memo))
+                    .collect(),
             ));
         } else {
             explicit.push(None);
         }
     }
-    Lowered { d, momentum, residual, affine, explicit }
+    Lowered {
+        d,
+        momentum,
+        residual,
+        affine,
+        explicit,
+    }
 }
 
 const P_IF: u8 = 0;
@@ -354,7 +363,11 @@ fn point_leaf(consts: &[Ident]) -> impl Fn(Var) -> TokenStream + '_ {
 
 /// Leaves of a step kernel evaluated at position `x`, time `times.<t>`, with the velocity in
 /// the locals `v0, v1, …`.
-fn step_leaf<'a>(consts: &'a [Ident], x: &'a Ident, t: &'a Ident) -> impl Fn(Var) -> TokenStream + 'a {
+fn step_leaf<'a>(
+    consts: &'a [Ident],
+    x: &'a Ident,
+    t: &'a Ident,
+) -> impl Fn(Var) -> TokenStream + 'a {
     move |v| match v {
         Var::X(i) => {
             let i = index(i);
@@ -404,13 +417,7 @@ fn vector(dim: usize, entries: &[TokenStream]) -> TokenStream {
 }
 
 /// `let [mut] name = Matrix::zeros(); name[(i, j)] = …;` for the nonzero entries.
-fn matrix(
-    g: &Graph,
-    r: &Render<'_>,
-    name: &Ident,
-    dim: usize,
-    entries: &[Id],
-) -> TokenStream {
+fn matrix(g: &Graph, r: &Render<'_>, name: &Ident, dim: usize, entries: &[Id]) -> TokenStream {
     let d = index(dim);
     let sets: Vec<TokenStream> = entries
         .iter()
@@ -485,12 +492,7 @@ pub fn emit(model: &mut Model) -> TokenStream {
     let r = Render::new(g, &plan, &leaf);
     let (temps, out) = (r.temps(), r.root(model.root));
     let value_body = quote!(#temps #out);
-    let value = method_point(
-        quote!(value),
-        quote!(f64),
-        value_body,
-        &vec_ty,
-    );
+    let value = method_point(quote!(value), quote!(f64), value_body, &vec_ty);
 
     // gradient
     let roots: Vec<Id> = d.fx.iter().chain(&d.fv).copied().collect();
@@ -738,7 +740,11 @@ pub fn derivatives_text(model: &Model, d: &Derivatives) -> String {
     let dim = model.dim;
     let var = |x: bool, i: usize| {
         let n = if x { "x" } else { "v" };
-        if model.scalar { n.to_string() } else { format!("{n}[{i}]") }
+        if model.scalar {
+            n.to_string()
+        } else {
+            format!("{n}[{i}]")
+        }
     };
     let p = Printer { g, model };
     let mut lines = vec![format!("L = {}", p.print(model.root))];
@@ -758,7 +764,12 @@ pub fn derivatives_text(model: &Model, d: &Derivatives) -> String {
                 if (sym && j < i) || g.is_num(id, 0.0) {
                     continue;
                 }
-                lines.push(format!("∂²L/∂{}∂{} = {}", var(bx, i), var(by, j), p.print(id)));
+                lines.push(format!(
+                    "∂²L/∂{}∂{} = {}",
+                    var(bx, i),
+                    var(by, j),
+                    p.print(id)
+                ));
             }
         }
     }
@@ -780,7 +791,12 @@ impl Printer<'_> {
         let order = self.g.reachable(&[id]);
         let mut size: HashMap<Id, usize> = HashMap::new();
         for &n in &order {
-            let s = self.g.node(n).children().iter().fold(1usize, |acc, c| acc.saturating_add(size[c]));
+            let s = self
+                .g
+                .node(n)
+                .children()
+                .iter()
+                .fold(1usize, |acc, c| acc.saturating_add(size[c]));
             size.insert(n, s);
         }
         if size[&id] > MAX_TEXT_NODES {
@@ -796,7 +812,10 @@ impl Printer<'_> {
 
     fn go(&self, id: Id) -> (String, u8) {
         let bin = |a: Id, b: Id, op: &str, p: u8| {
-            (format!("{} {op} {}", self.wrap(a, p), self.wrap(b, p + 1)), p)
+            (
+                format!("{} {op} {}", self.wrap(a, p), self.wrap(b, p + 1)),
+                p,
+            )
         };
         match self.g.node(id) {
             Node::Num(bits) => {
