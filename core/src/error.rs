@@ -100,6 +100,18 @@ pub enum Error {
         /// Max-norm of the last residual.
         residual: f64,
     },
+    /// The recurrence is numerically unstable at this step size: its linearisation has an
+    /// eigenvalue `λ` that is real and below `−1` (the sawtooth mode of an under-resolved step)
+    /// or of modulus at least 2 (see [`Problem::solve_ivp`](crate::Problem::solve_ivp)).
+    #[error("the scheme is unstable at {at}: its step map has the eigenvalue {re:.4} {im:+.4}i")]
+    Unstable {
+        /// Where the check ran.
+        at: Location,
+        /// Real part of the offending eigenvalue.
+        re: f64,
+        /// Imaginary part of the offending eigenvalue.
+        im: f64,
+    },
     /// The computed solution stopped being finite (overflow of an unstable scheme, or a
     /// Lagrangian evaluated outside its domain).
     #[error("solution is no longer finite at {at}")]

@@ -215,21 +215,74 @@ fn newton_failure_reports_step_and_residual() {
 
 #[test]
 fn unstable_explicit_scheme_is_reported_not_returned() {
-    // Störmer–Verlet is stable for ωh < 2; at ωh = 2.01 it grows like 1.22^k and overflows.
+    // Störmer–Verlet is stable for ωh < 2. At ωh = 2.01 its step map has the real eigenvalue
+    // λ = −c − √(c² − 1), c = (ωh)²/2 − 1: reported at the first check (step 2), even on a run
+    // far too short to overflow.
     let omega = 1.0;
-    let grid = Grid::new(0.0, 2.01 * 5000.0, 5000).unwrap();
+    let c: f64 = 2.01f64.powi(2) / 2.0 - 1.0;
+    let expected = -c - (c * c - 1.0).sqrt();
     let oscillator = Oscillator { omega };
-    let problem = Problem::new(
-        &oscillator,
-        grid,
-        Embedding::finite_difference(Side::Forward),
-    );
+    for n in [10, 5000] {
+        let grid = Grid::new(0.0, 2.01 * n as f64, n).unwrap();
+        for side in [Side::Backward, Side::Forward] {
+            let problem = Problem::new(&oscillator, grid, Embedding::finite_difference(side));
+            match problem.solve_ivp(Scheme::Variational, 1.0, 0.0) {
+                Err(Error::Unstable {
+                    at: Location::Step(2),
+                    re,
+                    im,
+                }) => {
+                    assert!(
+                        (re - expected).abs() < 1e-6 && im == 0.0,
+                        "λ = {re} + {im}i, expected {expected}"
+                    );
+                }
+                other => panic!("expected Unstable, got {other:?}"),
+            }
+        }
+    }
+}
+
+/// `L = ½v² + ½x²`: the inverted oscillator, `q = cosh t`, a *physical* instability.
+struct Inverted;
+impl Lagrangian<1> for Inverted {
+    fn value(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
+        0.5 * (v[0] * v[0] + x[0] * x[0])
+    }
+    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
+        (*x, *v)
+    }
+    fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
+        Hessian {
+            xx: Matrix::<1>::identity(),
+            xv: Matrix::<1>::zeros(),
+            vv: Matrix::<1>::identity(),
+        }
+    }
+}
+
+#[test]
+fn physical_growth_is_not_flagged_but_overflow_is_reported() {
+    // Eigenvalues ≈ e^{±h}, positive: no Unstable. cosh(t) overflows f64 near t = 710.
+    let grid = Grid::new(0.0, 1000.0, 100_000).unwrap();
+    let problem = Problem::new(&Inverted, grid, Embedding::finite_difference(Side::Forward));
     match problem.solve_ivp(Scheme::Variational, 1.0, 0.0) {
         Err(Error::NotFinite {
             at: Location::Step(n),
-        }) => assert!(n > 100 && n < 5000, "step {n}"),
+        }) => {
+            let t = grid.t(n);
+            assert!((700.0..720.0).contains(&t), "overflow at t = {t}");
+        }
         other => panic!("expected NotFinite, got {other:?}"),
     }
+    // On a short interval the same run is a normal, accurate solution.
+    let short = Problem::new(
+        &Inverted,
+        Grid::new(0.0, 5.0, 5000).unwrap(),
+        Embedding::finite_difference(Side::Forward),
+    );
+    let run = short.solve_ivp(Scheme::Variational, 1.0, 0.0).unwrap();
+    assert!((run.last()[0] - 5f64.cosh()).abs() < 1e-2 * 5f64.cosh());
 }
 
 /// Kepler `L = ½|v|² + 1/|x|`, singular at the origin.
