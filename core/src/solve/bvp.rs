@@ -9,6 +9,7 @@ use crate::lagrangian::{IntoVector, Lagrangian, Matrix, Vector};
 use crate::problem::{BlockSink, Problem, Scheme};
 use crate::solve::Solution;
 use crate::solve::linear::{BandedMatrix, solve_dense};
+use crate::solve::newton::at_round_off;
 use nalgebra::{DMatrix, DVector};
 
 impl<const D: usize> BlockSink<D> for BandedMatrix {
@@ -81,12 +82,17 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             // Factorise before testing convergence: a solution where the Jacobian is singular
             // is not isolated, and is reported rather than returned.
             let mut rhs: Vec<f64> = r.iter().flat_map(|x| x.iter().copied()).collect();
+            let j_norm;
             if self.embedding.is_fractional() {
                 let mut jac = DMatrix::<f64>::zeros(unknowns, unknowns);
                 self.assemble_jacobian(scheme, &q, &pw, &mut jac);
                 if !jac.iter().all(|c| c.is_finite()) {
                     return Err(Error::NotFinite { at });
                 }
+                j_norm = jac
+                    .row_iter()
+                    .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
+                    .fold(0.0, f64::max);
                 let x = solve_dense(jac, &DVector::from_vec(rhs))
                     .ok_or(Error::SingularJacobian { at })?;
                 rhs = x.as_slice().to_vec();
@@ -96,11 +102,12 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
                 if !jac.is_finite() {
                     return Err(Error::NotFinite { at });
                 }
+                j_norm = jac.norm_inf();
                 jac.factorize()
                     .map_err(|_| Error::SingularJacobian { at })?;
                 jac.solve_inplace(&mut rhs);
             }
-            if res <= opts.tolerance * scale {
+            if res <= opts.tolerance * scale || at_round_off(res, j_norm, max_norm(&q)) {
                 return Ok(finish(q, iteration));
             }
             if iteration == opts.max_iterations {

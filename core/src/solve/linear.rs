@@ -107,6 +107,14 @@ impl BandedMatrix {
         }
     }
 
+    /// `‖A‖∞`, the largest absolute row sum (before factorisation).
+    pub fn norm_inf(&self) -> f64 {
+        self.data
+            .chunks(self.width)
+            .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
+            .fold(0.0, f64::max)
+    }
+
     /// Whether every stored entry is finite.
     pub fn is_finite(&self) -> bool {
         self.data.iter().all(|v| v.is_finite())

@@ -10,12 +10,26 @@ use crate::solve::linear::solve_small;
 /// `G(y) − π` (in momentum units) is at most `tolerance · (1 + ‖π‖∞)`. The global system of a
 /// boundary value problem has converged when its max-norm residual is at most
 /// `tolerance · (1 + ‖f‖∞ + h^{−α} ‖p‖∞)`, the size of the terms each row balances.
+///
+/// Either has also converged when the residual is down to the round-off it cannot go below,
+/// [`ROUND_OFF_FLOOR`]` · ε · ‖J‖∞ · ‖y‖∞` (with `J` the Jacobian and `y` the unknowns): the
+/// velocity `(y − b)/h` loses `ε|y|/h` to cancellation, which `J ∼ L_vv/h` carries into the
+/// residual, so with small `h` and large coordinates no tolerance below that is reachable.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NewtonOptions {
     /// Relative tolerance (default `1e-12`).
     pub tolerance: f64,
     /// Iterations before giving up with [`Error::NewtonDidNotConverge`] (default 50).
     pub max_iterations: usize,
+}
+
+/// Multiple of `ε ‖J‖∞ ‖y‖∞` below which a residual is round-off (see [`NewtonOptions`]).
+pub const ROUND_OFF_FLOOR: f64 = 64.0;
+
+/// Whether `residual` is at the round-off level of a system with Jacobian max-norm `jacobian`
+/// at unknowns of max-norm `unknowns`.
+pub(crate) fn at_round_off(residual: f64, jacobian: f64, unknowns: f64) -> bool {
+    residual <= ROUND_OFF_FLOOR * f64::EPSILON * jacobian * unknowns
 }
 
 impl Default for NewtonOptions {
@@ -67,7 +81,11 @@ pub(crate) fn solve_step<const D: usize, L: Lagrangian<D> + ?Sized>(
         // error even then, never a silently returned guess.
         let delta = solve_small(&j, &r).ok_or(Error::SingularJacobian { at })?;
         residual = r.amax();
-        if residual <= options.tolerance * scale {
+        let j_norm = j
+            .row_iter()
+            .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
+            .fold(0.0, f64::max);
+        if residual <= options.tolerance * scale || at_round_off(residual, j_norm, y.amax()) {
             return Ok((y, iteration));
         }
         if iteration == options.max_iterations {
