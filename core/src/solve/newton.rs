@@ -71,21 +71,40 @@ pub(crate) fn solve_step<const D: usize, L: Lagrangian<D> + ?Sized>(
     let scale = 1.0 + momentum.amax();
     let mut y = guess;
     let mut residual = f64::INFINITY;
+    // Failures at the initial guess belong to the problem (a Lagrangian undefined there, a
+    // degenerate ∂²L/∂v²); failures after Newton has moved belong to the iteration.
+    let diverged = |iterations, residual| Error::NewtonDidNotConverge {
+        at,
+        iterations,
+        residual,
+    };
     for iteration in 0..=options.max_iterations {
         let (r, j) = lagrangian.step_residual(kind, b, &y, momentum, times);
         if !r.iter().chain(j.iter()).all(|c| c.is_finite()) {
-            return Err(Error::NotFinite { at });
+            return Err(if iteration == 0 {
+                Error::NotFinite { at }
+            } else {
+                diverged(iteration, residual)
+            });
         }
-        // The step is well defined only where its Jacobian is invertible (implicit function
-        // theorem): a singular J at a zero residual means every nearby y solves it, so it is an
-        // error even then, never a silently returned guess.
-        let delta = solve_small(&j, &r).ok_or(Error::SingularJacobian { at })?;
         residual = r.amax();
         let j_norm = j
             .row_iter()
             .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
             .fold(0.0, f64::max);
-        if residual <= options.tolerance * scale || at_round_off(residual, j_norm, y.amax()) {
+        let converged =
+            residual <= options.tolerance * scale || at_round_off(residual, j_norm, y.amax());
+        // The step is well defined only where its Jacobian is invertible (implicit function
+        // theorem): a singular J at a zero residual means every nearby y solves it, so it is an
+        // error even then, never a silently returned guess.
+        let Some(delta) = solve_small(&j, &r) else {
+            return Err(if iteration == 0 || converged {
+                Error::SingularJacobian { at }
+            } else {
+                diverged(iteration, residual)
+            });
+        };
+        if converged {
             return Ok((y, iteration));
         }
         if iteration == options.max_iterations {
@@ -93,12 +112,8 @@ pub(crate) fn solve_step<const D: usize, L: Lagrangian<D> + ?Sized>(
         }
         y -= delta;
         if !y.iter().all(|c| c.is_finite()) {
-            return Err(Error::NotFinite { at });
+            return Err(diverged(iteration + 1, residual));
         }
     }
-    Err(Error::NewtonDidNotConverge {
-        at,
-        iterations: options.max_iterations,
-        residual,
-    })
+    Err(diverged(options.max_iterations, residual))
 }
