@@ -128,7 +128,7 @@ pub fn lower(model: &mut Model) -> Lowered {
     // evaluated at `y`) or the velocity `(y − b)/h` (always).
     let dep_x = g.depends(|v| matches!(v, Var::X(_)));
     let dep_v = g.depends(|v| matches!(v, Var::V(_)));
-    let free_of = |ids: &[Id], x: bool| ids.iter().all(|&i| !dep_v[i] && !(x && dep_x[i]));
+    let free_of = |ids: &[Id], x: bool| ids.iter().all(|&i| !(dep_v[i] || (x && dep_x[i])));
     let affine: Vec<bool> = Kind::ALL
         .iter()
         .map(|kind| match kind {
@@ -147,13 +147,22 @@ pub fn lower(model: &mut Model) -> Lowered {
             let mut memo = HashMap::new();
             let zero_v = |v: Var| matches!(v, Var::V(_)).then_some(0.0);
             explicit.push(Some(
-                roots.iter().map(|&r| g.substitute(r, &zero_v, &mut memo)).collect(),
+                roots
+                    .iter()
+                    .map(|&r| g.substitute(r, &zero_v, &mut memo))
+                    .collect(),
             ));
         } else {
             explicit.push(None);
         }
     }
-    Lowered { d, momentum, residual, affine, explicit }
+    Lowered {
+        d,
+        momentum,
+        residual,
+        affine,
+        explicit,
+    }
 }
 
 const P_IF: u8 = 0;
@@ -279,6 +288,14 @@ fn number(c: f64, suffixed: bool) -> (TokenStream, u8) {
             (quote!(-f64::INFINITY), P_NEG)
         };
     }
+    if let Some(name) = named_constant(c.abs()) {
+        let name = Ident::new(name, Span::call_site());
+        return if c.is_sign_negative() {
+            (quote!(-::core::f64::consts::#name), P_NEG)
+        } else {
+            (quote!(::core::f64::consts::#name), P_MAX)
+        };
+    }
     let lit = if suffixed {
         Literal::f64_suffixed(c.abs())
     } else {
@@ -289,6 +306,38 @@ fn number(c: f64, suffixed: bool) -> (TokenStream, u8) {
     } else {
         (quote!(#lit), P_MAX)
     }
+}
+
+/// The `std::f64::consts` name of `c`, if `c` is one of them exactly: emitted by name, which
+/// reads better than 17 digits (and is what clippy's `approx_constant` asks of the user's
+/// crate, where this code lands).
+pub fn named_constant(c: f64) -> Option<&'static str> {
+    use std::f64::consts::*;
+    const TABLE: [(f64, &str); 19] = [
+        (PI, "PI"),
+        (TAU, "TAU"),
+        (E, "E"),
+        (SQRT_2, "SQRT_2"),
+        (FRAC_1_SQRT_2, "FRAC_1_SQRT_2"),
+        (LN_2, "LN_2"),
+        (LN_10, "LN_10"),
+        (LOG2_E, "LOG2_E"),
+        (LOG10_E, "LOG10_E"),
+        (LOG2_10, "LOG2_10"),
+        (LOG10_2, "LOG10_2"),
+        (FRAC_PI_2, "FRAC_PI_2"),
+        (FRAC_PI_3, "FRAC_PI_3"),
+        (FRAC_PI_4, "FRAC_PI_4"),
+        (FRAC_PI_6, "FRAC_PI_6"),
+        (FRAC_PI_8, "FRAC_PI_8"),
+        (FRAC_1_PI, "FRAC_1_PI"),
+        (FRAC_2_PI, "FRAC_2_PI"),
+        (FRAC_2_SQRT_PI, "FRAC_2_SQRT_PI"),
+    ];
+    TABLE
+        .iter()
+        .find(|(v, _)| v.to_bits() == c.to_bits())
+        .map(|&(_, name)| name)
 }
 
 fn index(i: usize) -> Literal {
@@ -354,7 +403,11 @@ fn point_leaf(consts: &[Ident]) -> impl Fn(Var) -> TokenStream + '_ {
 
 /// Leaves of a step kernel evaluated at position `x`, time `times.<t>`, with the velocity in
 /// the locals `v0, v1, …`.
-fn step_leaf<'a>(consts: &'a [Ident], x: &'a Ident, t: &'a Ident) -> impl Fn(Var) -> TokenStream + 'a {
+fn step_leaf<'a>(
+    consts: &'a [Ident],
+    x: &'a Ident,
+    t: &'a Ident,
+) -> impl Fn(Var) -> TokenStream + 'a {
     move |v| match v {
         Var::X(i) => {
             let i = index(i);
@@ -404,13 +457,7 @@ fn vector(dim: usize, entries: &[TokenStream]) -> TokenStream {
 }
 
 /// `let [mut] name = Matrix::zeros(); name[(i, j)] = …;` for the nonzero entries.
-fn matrix(
-    g: &Graph,
-    r: &Render<'_>,
-    name: &Ident,
-    dim: usize,
-    entries: &[Id],
-) -> TokenStream {
+fn matrix(g: &Graph, r: &Render<'_>, name: &Ident, dim: usize, entries: &[Id]) -> TokenStream {
     let d = index(dim);
     let sets: Vec<TokenStream> = entries
         .iter()
@@ -485,12 +532,7 @@ pub fn emit(model: &mut Model) -> TokenStream {
     let r = Render::new(g, &plan, &leaf);
     let (temps, out) = (r.temps(), r.root(model.root));
     let value_body = quote!(#temps #out);
-    let value = method_point(
-        quote!(value),
-        quote!(f64),
-        value_body,
-        &vec_ty,
-    );
+    let value = method_point(quote!(value), quote!(f64), value_body, &vec_ty);
 
     // gradient
     let roots: Vec<Id> = d.fx.iter().chain(&d.fv).copied().collect();
@@ -738,7 +780,11 @@ pub fn derivatives_text(model: &Model, d: &Derivatives) -> String {
     let dim = model.dim;
     let var = |x: bool, i: usize| {
         let n = if x { "x" } else { "v" };
-        if model.scalar { n.to_string() } else { format!("{n}[{i}]") }
+        if model.scalar {
+            n.to_string()
+        } else {
+            format!("{n}[{i}]")
+        }
     };
     let p = Printer { g, model };
     let mut lines = vec![format!("L = {}", p.print(model.root))];
@@ -758,7 +804,12 @@ pub fn derivatives_text(model: &Model, d: &Derivatives) -> String {
                 if (sym && j < i) || g.is_num(id, 0.0) {
                     continue;
                 }
-                lines.push(format!("∂²L/∂{}∂{} = {}", var(bx, i), var(by, j), p.print(id)));
+                lines.push(format!(
+                    "∂²L/∂{}∂{} = {}",
+                    var(bx, i),
+                    var(by, j),
+                    p.print(id)
+                ));
             }
         }
     }
@@ -780,7 +831,12 @@ impl Printer<'_> {
         let order = self.g.reachable(&[id]);
         let mut size: HashMap<Id, usize> = HashMap::new();
         for &n in &order {
-            let s = self.g.node(n).children().iter().fold(1usize, |acc, c| acc.saturating_add(size[c]));
+            let s = self
+                .g
+                .node(n)
+                .children()
+                .iter()
+                .fold(1usize, |acc, c| acc.saturating_add(size[c]));
             size.insert(n, s);
         }
         if size[&id] > MAX_TEXT_NODES {
@@ -796,12 +852,19 @@ impl Printer<'_> {
 
     fn go(&self, id: Id) -> (String, u8) {
         let bin = |a: Id, b: Id, op: &str, p: u8| {
-            (format!("{} {op} {}", self.wrap(a, p), self.wrap(b, p + 1)), p)
+            (
+                format!("{} {op} {}", self.wrap(a, p), self.wrap(b, p + 1)),
+                p,
+            )
         };
         match self.g.node(id) {
             Node::Num(bits) => {
                 let c = f64::from_bits(bits);
-                let s = format!("{c:?}");
+                let s = match named_constant(c.abs()) {
+                    Some(name) if c < 0.0 => format!("-{name}"),
+                    Some(name) => name.to_string(),
+                    None => format!("{c:?}"),
+                };
                 (s, if c.is_sign_negative() { P_NEG } else { P_MAX })
             }
             Node::Var(v) => {

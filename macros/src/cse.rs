@@ -29,7 +29,11 @@ impl Plan {
             let node = g.node(id);
             for c in node.children() {
                 // `sign(a)` is emitted as an `if` that reads `a` twice: `a` must be a value.
-                uses[c] += if matches!(node, Node::Call(Func::Sign, _)) { 2 } else { 1 };
+                uses[c] += if matches!(node, Node::Call(Func::Sign, _)) {
+                    2
+                } else {
+                    1
+                };
             }
         }
         let mut temp_index = vec![None; g.len()];
@@ -47,7 +51,10 @@ impl Plan {
     /// the CSE tests).
     #[cfg(test)]
     pub fn without_temps(g: &Graph) -> Self {
-        Self { temps: Vec::new(), temp_index: vec![None; g.len()] }
+        Self {
+            temps: Vec::new(),
+            temp_index: vec![None; g.len()],
+        }
     }
 
     /// The temporary bound to `id`, if any.

@@ -217,7 +217,10 @@ impl Graph {
     /// Evaluates `roots` with variable values from `env`, sharing the work over the DAG.
     pub fn eval_many(&self, roots: &[Id], env: &dyn Fn(Var) -> f64) -> Vec<f64> {
         let mut memo: HashMap<Id, f64> = HashMap::new();
-        roots.iter().map(|&r| self.eval_memo(r, env, &mut memo)).collect()
+        roots
+            .iter()
+            .map(|&r| self.eval_memo(r, env, &mut memo))
+            .collect()
     }
 
     /// Evaluates one node.

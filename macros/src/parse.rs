@@ -69,16 +69,28 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
     }
     let sig = &item.sig;
     if let Some(c) = &sig.constness {
-        errors.push(syn::Error::new_spanned(c, "a #[lagrangian] fn cannot be `const`"));
+        errors.push(syn::Error::new_spanned(
+            c,
+            "a #[lagrangian] fn cannot be `const`",
+        ));
     }
     if let Some(a) = &sig.asyncness {
-        errors.push(syn::Error::new_spanned(a, "a #[lagrangian] fn cannot be `async`"));
+        errors.push(syn::Error::new_spanned(
+            a,
+            "a #[lagrangian] fn cannot be `async`",
+        ));
     }
     if let Some(u) = &sig.unsafety {
-        errors.push(syn::Error::new_spanned(u, "a #[lagrangian] fn cannot be `unsafe`"));
+        errors.push(syn::Error::new_spanned(
+            u,
+            "a #[lagrangian] fn cannot be `unsafe`",
+        ));
     }
     if let Some(abi) = &sig.abi {
-        errors.push(syn::Error::new_spanned(abi, "a #[lagrangian] fn cannot have an ABI"));
+        errors.push(syn::Error::new_spanned(
+            abi,
+            "a #[lagrangian] fn cannot have an ABI",
+        ));
     }
     if !sig.generics.params.is_empty() || sig.generics.where_clause.is_some() {
         errors.push(syn::Error::new_spanned(
@@ -87,7 +99,10 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
         ));
     }
     if let Some(var) = &sig.variadic {
-        errors.push(syn::Error::new_spanned(var, "a #[lagrangian] fn cannot be variadic"));
+        errors.push(syn::Error::new_spanned(
+            var,
+            "a #[lagrangian] fn cannot be variadic",
+        ));
     }
     match &sig.output {
         ReturnType::Default => errors.push(syn::Error::new_spanned(
@@ -96,7 +111,10 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
         )),
         ReturnType::Type(_, ty) => {
             if !is_f64(ty) {
-                errors.push(syn::Error::new_spanned(ty, "a #[lagrangian] fn must return `f64`"));
+                errors.push(syn::Error::new_spanned(
+                    ty,
+                    "a #[lagrangian] fn must return `f64`",
+                ));
             }
         }
     }
@@ -191,7 +209,10 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
             } else if plain == "x" || plain == "v" {
                 errors.push(syn::Error::new_spanned(
                     name,
-                    format!("`{name}` must be parameter {}", if plain == "x" { 1 } else { 2 }),
+                    format!(
+                        "`{name}` must be parameter {}",
+                        if plain == "x" { 1 } else { 2 }
+                    ),
                 ));
             } else {
                 consts.push(name.clone());
@@ -209,7 +230,10 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
         ));
     }
 
-    let mut parser = Parser { graph: Graph::new(), errors };
+    let mut parser = Parser {
+        graph: Graph::new(),
+        errors,
+    };
     let mut env: HashMap<String, Binding> = HashMap::new();
     for (k, is_x) in [(0, true), (1, false)] {
         if let Some((name, _)) = names.get(k) {
@@ -221,10 +245,16 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
         }
     }
     if has_t {
-        env.insert(names[2].0.to_string(), Binding::Scalar(parser.graph.var(Var::T)));
+        env.insert(
+            names[2].0.to_string(),
+            Binding::Scalar(parser.graph.var(Var::T)),
+        );
     }
     for (k, c) in consts.iter().enumerate() {
-        env.insert(c.to_string(), Binding::Scalar(parser.graph.var(Var::Const(k))));
+        env.insert(
+            c.to_string(),
+            Binding::Scalar(parser.graph.var(Var::Const(k))),
+        );
     }
     let root = parser.block(&item.block, &mut env);
 
@@ -271,7 +301,11 @@ fn camel_case(s: &str) -> String {
             out.push_str(chars.as_str());
         }
     }
-    if out.is_empty() { "Lagrangian".into() } else { out }
+    if out.is_empty() {
+        "Lagrangian".into()
+    } else {
+        out
+    }
 }
 
 fn is_f64(ty: &Type) -> bool {
@@ -292,11 +326,17 @@ fn state_type(ty: &Type) -> (Option<usize>, Option<syn::Error>) {
     if let Type::Array(arr) = ty {
         let elem = (!is_f64(&arr.elem))
             .then(|| syn::Error::new_spanned(&arr.elem, "the state arrays must hold `f64`"));
-        if let Expr::Lit(syn::ExprLit { lit: Lit::Int(n), .. }) = &arr.len {
+        if let Expr::Lit(syn::ExprLit {
+            lit: Lit::Int(n), ..
+        }) = &arr.len
+        {
             return match n.base10_parse::<usize>() {
                 Ok(0) => (
                     Some(usize::MAX),
-                    Some(syn::Error::new_spanned(n, "the dimension must be at least 1")),
+                    Some(syn::Error::new_spanned(
+                        n,
+                        "the dimension must be at least 1",
+                    )),
                 ),
                 Ok(d) => (Some(d), elem),
                 Err(e) => (Some(usize::MAX), Some(e)),
@@ -378,7 +418,10 @@ impl Parser {
             Pat::Ident(pi) if pi.by_ref.is_none() && pi.subpat.is_none() => {
                 if let Some(m) = &pi.mutability {
                     // Reported, and the name stays bound so that its uses are not errors too.
-                    self.error(m, "`let mut` is not supported: bindings are immutable values");
+                    self.error(
+                        m,
+                        "`let mut` is not supported: bindings are immutable values",
+                    );
                 }
                 Some(pi.ident.to_string())
             }
@@ -390,7 +433,10 @@ impl Parser {
                 self.let_pattern(&pt.pat)
             }
             other => {
-                self.error(other, "a `let` binding must be a plain name, e.g. `let r2 = x * x;`");
+                self.error(
+                    other,
+                    "a `let` binding must be a plain name, e.g. `let r2 = x * x;`",
+                );
                 None
             }
         }
@@ -435,13 +481,13 @@ impl Parser {
                 let Expr::Path(fp) = &*call.func else {
                     return self.unsupported(&call.func, "calling this is");
                 };
-                let segs: Vec<String> =
-                    fp.path.segments.iter().map(|s| s.ident.to_string()).collect();
-                let generic = fp
+                let segs: Vec<String> = fp
                     .path
                     .segments
                     .iter()
-                    .any(|s| !s.arguments.is_none());
+                    .map(|s| s.ident.to_string())
+                    .collect();
+                let generic = fp.path.segments.iter().any(|s| !s.arguments.is_none());
                 if fp.qself.is_some()
                     || generic
                     || segs.len() != 2
@@ -506,7 +552,12 @@ impl Parser {
         if p.qself.is_some() || p.path.segments.iter().any(|s| !s.arguments.is_none()) {
             return self.unsupported(p, "this path is");
         }
-        let segs: Vec<String> = p.path.segments.iter().map(|s| s.ident.to_string()).collect();
+        let segs: Vec<String> = p
+            .path
+            .segments
+            .iter()
+            .map(|s| s.ident.to_string())
+            .collect();
         if segs.len() == 1 && p.path.leading_colon.is_none() {
             return match env.get(&segs[0]) {
                 Some(Binding::Scalar(id)) => *id,
@@ -547,7 +598,9 @@ impl Parser {
                 let n = name.unwrap_or_default();
                 return self.error(
                     &ix.expr,
-                    format!("`{n}` is a scalar: only `x` and `v` declared as `[f64; D]` can be indexed"),
+                    format!(
+                        "`{n}` is a scalar: only `x` and `v` declared as `[f64; D]` can be indexed"
+                    ),
                 );
             }
             None => {
@@ -555,12 +608,11 @@ impl Parser {
             }
         };
         let index = match &*ix.index {
-            Expr::Lit(syn::ExprLit { lit: Lit::Int(i), .. }) => i.base10_parse::<usize>(),
+            Expr::Lit(syn::ExprLit {
+                lit: Lit::Int(i), ..
+            }) => i.base10_parse::<usize>(),
             other => {
-                return self.error(
-                    other,
-                    "the index must be an integer literal, e.g. `x[0]`",
-                );
+                return self.error(other, "the index must be an integer literal, e.g. `x[0]`");
             }
         };
         match index {
@@ -636,9 +688,9 @@ impl Parser {
 /// An integer literal, possibly negated (`-2`), possibly parenthesised.
 fn int_literal(e: &Expr) -> Option<syn::Result<i64>> {
     match e {
-        Expr::Lit(syn::ExprLit { lit: Lit::Int(i), .. }) if matches!(i.suffix(), "" | "i32") => {
-            Some(i.base10_parse::<i64>())
-        }
+        Expr::Lit(syn::ExprLit {
+            lit: Lit::Int(i), ..
+        }) if matches!(i.suffix(), "" | "i32") => Some(i.base10_parse::<i64>()),
         Expr::Unary(u) if matches!(u.op, UnOp::Neg(_)) => {
             int_literal(&u.expr).map(|r| r.map(|n| -n))
         }

@@ -36,16 +36,20 @@ impl Rng {
 
 /// Every operation the generator draws, to check that all are covered.
 const OPS: [&str; 25] = [
-    "+", "-", "*", "/", "neg", "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh",
-    "tanh", "exp", "ln", "log10", "sqrt", "cbrt", "recip", "abs", "powi", "powf", "hypot",
-    "const",
+    "+", "-", "*", "/", "neg", "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh",
+    "exp", "ln", "log10", "sqrt", "cbrt", "recip", "abs", "powi", "powf", "hypot", "const",
 ];
 
 /// Random expression source over `x[0..2]`, `v[0..2]`, `t`, `c` and the `let` names in scope.
 /// Arguments of functions with a restricted domain are wrapped so the domain holds
 /// (`1.0 + e·e > 0` for ln/sqrt/…, `0.8·tanh e ∈ (−1, 1)` for asin/acos, bounded arguments for
 /// exp/sinh/cosh/tan so values stay moderate).
-fn gen_expr(rng: &mut Rng, depth: usize, names: &[String], used: &mut HashMap<&'static str, usize>) -> String {
+fn gen_expr(
+    rng: &mut Rng,
+    depth: usize,
+    names: &[String],
+    used: &mut HashMap<&'static str, usize>,
+) -> String {
     if depth == 0 || rng.below(5) == 0 {
         return match rng.below(6) {
             0 => format!("x[{}]", rng.below(2)),
@@ -54,7 +58,11 @@ fn gen_expr(rng: &mut Rng, depth: usize, names: &[String], used: &mut HashMap<&'
             3 if !names.is_empty() => names[rng.below(names.len())].clone(),
             4 => {
                 let c = rng.uniform(0.1, 2.0);
-                if rng.below(2) == 0 { format!("{c:?}") } else { format!("(-{c:?})") }
+                if rng.below(2) == 0 {
+                    format!("{c:?}")
+                } else {
+                    format!("(-{c:?})")
+                }
             }
             _ => format!("{}", 1 + rng.below(3)),
         };
@@ -65,7 +73,11 @@ fn gen_expr(rng: &mut Rng, depth: usize, names: &[String], used: &mut HashMap<&'
     let a = sub(rng);
     let pos = |e: &str| format!("(1.0 + ({e}) * ({e}))");
     let call = |rng: &mut Rng, f: &str, arg: String| {
-        if rng.below(2) == 0 { format!("({arg}).{f}()") } else { format!("f64::{f}({arg})") }
+        if rng.below(2) == 0 {
+            format!("({arg}).{f}()")
+        } else {
+            format!("f64::{f}({arg})")
+        }
     };
     match op {
         "+" | "-" | "*" => format!("({a}) {op} ({})", sub(rng)),
@@ -78,7 +90,11 @@ fn gen_expr(rng: &mut Rng, depth: usize, names: &[String], used: &mut HashMap<&'
         "ln" | "log10" | "sqrt" | "cbrt" | "recip" => call(rng, op, pos(&a)),
         "powi" => {
             let n = rng.below(7) as i32 - 3;
-            let base = if n < 0 { pos(&a) } else { format!("({a}).tanh()") };
+            let base = if n < 0 {
+                pos(&a)
+            } else {
+                format!("({a}).tanh()")
+            };
             format!("{base}.powi({n})")
         }
         "powf" => format!("{}.powf(0.5 * ({}).sin())", pos(&a), sub(rng)),
@@ -183,7 +199,10 @@ fn random_trees_match_finite_differences() {
         }
     }
     for op in OPS {
-        assert!(used.get(op).copied().unwrap_or(0) >= 20, "operation {op} drawn too rarely");
+        assert!(
+            used.get(op).copied().unwrap_or(0) >= 20,
+            "operation {op} drawn too rarely"
+        );
     }
     // Points where L is not finite or not smooth at the FD scale are rare.
     eprintln!("checked {checked}, skipped {skipped}");
@@ -232,7 +251,8 @@ fn pendulum_item() -> TokenStream {
 #[test]
 fn pendulum_expansion_snapshot() {
     let out = pretty(expand(quote!(), pendulum_item()).expect("the pendulum expands"));
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/expand/pendulum.expanded.rs");
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/expand/pendulum.expanded.rs");
     if std::env::var_os("UPDATE_EXPAND").is_some() {
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(&path, &out).unwrap();
@@ -322,20 +342,39 @@ fn double_pendulum_hessian_evaluates_each_subexpression_once() {
     let roots = hessian_roots(g, &low.d);
     let plan = Plan::new(g, &roots);
     let (keys, defs) = evaluated_subtrees(g, &plan, &roots);
-    assert!(keys.len() > 10, "the hessian evaluates {} operations", keys.len());
-    assert!(duplicates(&keys).is_empty(), "evaluated twice: {:?}", duplicates(&keys));
+    assert!(
+        keys.len() > 10,
+        "the hessian evaluates {} operations",
+        keys.len()
+    );
+    assert!(
+        duplicates(&keys).is_empty(),
+        "evaluated twice: {:?}",
+        duplicates(&keys)
+    );
     // Every temporary's defining expression is distinct.
     assert!(!defs.is_empty());
-    assert!(duplicates(&defs).is_empty(), "temporaries repeat: {:?}", duplicates(&defs));
+    assert!(
+        duplicates(&defs).is_empty(),
+        "temporaries repeat: {:?}",
+        duplicates(&defs)
+    );
 
     // The same holds for every other emitted method.
-    let mut methods: Vec<Vec<Id>> = vec![vec![model.root], low.d.fx.iter().chain(&low.d.fv).copied().collect()];
+    let mut methods: Vec<Vec<Id>> = vec![
+        vec![model.root],
+        low.d.fx.iter().chain(&low.d.fv).copied().collect(),
+    ];
     methods.extend(low.momentum.iter().cloned());
     methods.extend(low.residual.iter().cloned());
     for roots in &methods {
         let plan = Plan::new(g, roots);
         let (keys, _) = evaluated_subtrees(g, &plan, roots);
-        assert!(duplicates(&keys).is_empty(), "evaluated twice: {:?}", duplicates(&keys));
+        assert!(
+            duplicates(&keys).is_empty(),
+            "evaluated twice: {:?}",
+            duplicates(&keys)
+        );
     }
 
     // Negative control: without temporaries the hessian does repeat work, so the check above

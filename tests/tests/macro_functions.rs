@@ -148,7 +148,9 @@ fn l_tanh(x: f64, _v: f64) -> f64 {
 #[test]
 fn tanh() {
     let sech2 = |x: f64| 1.0 / (x.cosh() * x.cosh());
-    check_unary(&LTanh, &POINTS, f64::tanh, sech2, |x| -2.0 * sech2(x) * x.tanh());
+    check_unary(&LTanh, &POINTS, f64::tanh, sech2, |x| {
+        -2.0 * sech2(x) * x.tanh()
+    });
 }
 
 #[lagrangian]
@@ -224,7 +226,13 @@ fn l_recip(x: f64, _v: f64) -> f64 {
 #[test]
 fn recip() {
     let pts = [-2.5, -0.3, 0.4, 8.0];
-    check_unary(&LRecip, &pts, f64::recip, |x| -1.0 / (x * x), |x| 2.0 / (x * x * x));
+    check_unary(
+        &LRecip,
+        &pts,
+        f64::recip,
+        |x| -1.0 / (x * x),
+        |x| 2.0 / (x * x * x),
+    );
 }
 
 #[lagrangian]
@@ -273,7 +281,10 @@ fn consts_and_arithmetic() {
 }
 
 /// Checks the full first and second derivatives of a two-argument `L(x, v)`.
-#[allow(clippy::too_many_arguments, reason = "one closure per derivative keeps the tests flat")]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "one closure per derivative keeps the tests flat"
+)]
 fn check_binary(
     lag: &impl Lagrangian<1>,
     points: &[(f64, f64)],

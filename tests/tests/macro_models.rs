@@ -81,7 +81,12 @@ fn check_kernels<const D: usize>(
     for _ in 0..200 {
         let h = rng.random_range(0.01..0.2);
         let t_a = rng.random_range(-1.0..2.0);
-        let times = StepTimes { h, t_a, t_b: t_a + h, t_y: t_a + 2.0 * h };
+        let times = StepTimes {
+            h,
+            t_a,
+            t_b: t_a + h,
+            t_y: t_a + 2.0 * h,
+        };
         let a = center + random_vec::<D>(rng, 1.0);
         let b = a + random_vec::<D>(rng, 2.0 * h);
         let y = b + random_vec::<D>(rng, 2.0 * h);
@@ -89,14 +94,29 @@ fn check_kernels<const D: usize>(
             let gm = gen_.step_momentum(kind, &a, &b, &times);
             let hm = hand.step_momentum(kind, &a, &b, &times);
             let scale = 1.0 + hm.amax();
-            close_vec(&format!("{kind:?} momentum"), &(gm / scale), &(hm / scale), TOL);
+            close_vec(
+                &format!("{kind:?} momentum"),
+                &(gm / scale),
+                &(hm / scale),
+                TOL,
+            );
 
             let (gr, gj) = gen_.step_residual(kind, &b, &y, &hm, &times);
             let (hr, hj) = hand.step_residual(kind, &b, &y, &hm, &times);
             let scale = 1.0 + hm.amax() + hand.gradient(&y, &((y - b) / h), t_a).1.amax();
-            close_vec(&format!("{kind:?} residual"), &(gr / scale), &(hr / scale), TOL);
+            close_vec(
+                &format!("{kind:?} residual"),
+                &(gr / scale),
+                &(hr / scale),
+                TOL,
+            );
             let scale = 1.0 + hj.amax();
-            close_mat(&format!("{kind:?} jacobian"), &(gj / scale), &(hj / scale), TOL);
+            close_mat(
+                &format!("{kind:?} jacobian"),
+                &(gj / scale),
+                &(hj / scale),
+                TOL,
+            );
 
             assert_eq!(
                 gen_.step_is_affine(kind),
@@ -111,7 +131,10 @@ fn check_kernels<const D: usize>(
                     close_vec(&format!("{kind:?} explicit"), &g, &e, 1e-10);
                     // The explicit update solves the step equation.
                     let (r, _) = gen_.step_residual(kind, &b, &g, &hm, &times);
-                    assert!(r.amax() <= 1e-9 * (1.0 + hm.amax()), "{kind:?}: residual {r}");
+                    assert!(
+                        r.amax() <= 1e-9 * (1.0 + hm.amax()),
+                        "{kind:?}: residual {r}"
+                    );
                 }
                 (None, None) => {}
                 other => panic!("{kind:?}: explicit update differs: {other:?}"),
@@ -140,7 +163,10 @@ impl Lagrangian<1> for PendulumHand {
     }
     fn gradient(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
         let (g, l) = (self.g, self.l);
-        (Vector::<1>::new(-g * l * x[0].sin()), Vector::<1>::new(l * l * v[0]))
+        (
+            Vector::<1>::new(-g * l * x[0].sin()),
+            Vector::<1>::new(l * l * v[0]),
+        )
     }
     fn hessian(&self, x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
         let (g, l) = (self.g, self.l);
@@ -159,7 +185,10 @@ impl Lagrangian<1> for PendulumHand {
 #[test]
 fn pendulum_matches_hand_written() {
     let mut rng = StdRng::seed_from_u64(1);
-    let (gen_, hand) = (Pendulum { g: 9.81, l: 1.3 }, PendulumHand { g: 9.81, l: 1.3 });
+    let (gen_, hand) = (
+        Pendulum { g: 9.81, l: 1.3 },
+        PendulumHand { g: 9.81, l: 1.3 },
+    );
     check_derivatives(&gen_, &hand, Vector::<1>::zeros(), &mut rng);
     check_kernels(&gen_, &hand, Vector::<1>::zeros(), &mut rng);
 }
@@ -190,7 +219,11 @@ impl Lagrangian<2> for KeplerHand {
             let delta = if i == j { 1.0 } else { 0.0 };
             self.mu * (3.0 * x[i] * x[j] / r.powi(5) - delta / r.powi(3))
         });
-        Hessian { xx, xv: Matrix::<2>::zeros(), vv: Matrix::<2>::identity() }
+        Hessian {
+            xx,
+            xv: Matrix::<2>::zeros(),
+            vv: Matrix::<2>::identity(),
+        }
     }
     fn step_is_affine(&self, kind: StepKind) -> bool {
         kind != StepKind::DirectBackward
@@ -272,8 +305,20 @@ impl Lagrangian<2> for DoublePendulumHand {
 #[test]
 fn double_pendulum_matches_hand_written() {
     let mut rng = StdRng::seed_from_u64(3);
-    let gen_ = DoublePendulum { m1: 1.2, m2: 0.7, l1: 1.1, l2: 0.8, g: 9.81 };
-    let hand = DoublePendulumHand { m1: 1.2, m2: 0.7, l1: 1.1, l2: 0.8, g: 9.81 };
+    let gen_ = DoublePendulum {
+        m1: 1.2,
+        m2: 0.7,
+        l1: 1.1,
+        l2: 0.8,
+        g: 9.81,
+    };
+    let hand = DoublePendulumHand {
+        m1: 1.2,
+        m2: 0.7,
+        l1: 1.1,
+        l2: 0.8,
+        g: 9.81,
+    };
     check_derivatives(&gen_, &hand, Vector::<2>::zeros(), &mut rng);
     check_kernels(&gen_, &hand, Vector::<2>::zeros(), &mut rng);
 }
@@ -298,7 +343,10 @@ impl Lagrangian<1> for CaldirolaKanaiHand {
     }
     fn gradient(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> (Vector<1>, Vector<1>) {
         let e = (self.gamma * t).exp();
-        (Vector::<1>::new(-e * self.k * x[0]), Vector::<1>::new(e * self.m * v[0]))
+        (
+            Vector::<1>::new(-e * self.k * x[0]),
+            Vector::<1>::new(e * self.m * v[0]),
+        )
     }
     fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, t: f64) -> Hessian<1> {
         let e = (self.gamma * t).exp();
@@ -317,8 +365,16 @@ impl Lagrangian<1> for CaldirolaKanaiHand {
 #[test]
 fn time_dependent_matches_hand_written() {
     let mut rng = StdRng::seed_from_u64(4);
-    let gen_ = CaldirolaKanai { m: 1.5, k: 4.0, gamma: 0.3 };
-    let hand = CaldirolaKanaiHand { m: 1.5, k: 4.0, gamma: 0.3 };
+    let gen_ = CaldirolaKanai {
+        m: 1.5,
+        k: 4.0,
+        gamma: 0.3,
+    };
+    let hand = CaldirolaKanaiHand {
+        m: 1.5,
+        k: 4.0,
+        gamma: 0.3,
+    };
     check_derivatives(&gen_, &hand, Vector::<1>::zeros(), &mut rng);
     check_kernels(&gen_, &hand, Vector::<1>::zeros(), &mut rng);
 }
@@ -382,5 +438,8 @@ fn derivatives_text_lists_the_formulas() {
     assert!(!text.contains("∂²L/∂x∂v"), "{text}");
     let text = DoublePendulum::DERIVATIVES;
     assert!(text.contains("∂²L/∂x[0]∂v[1] = "), "{text}");
-    assert!(!text.contains("∂²L/∂x[1]∂x[0]"), "symmetric blocks are listed once: {text}");
+    assert!(
+        !text.contains("∂²L/∂x[1]∂x[0]"),
+        "symmetric blocks are listed once: {text}"
+    );
 }
