@@ -59,7 +59,9 @@ struct Parser {
 
 /// Parses the attribute arguments and the fn into a [`Model`].
 pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
-    let item: ItemFn = syn::parse2(item)?;
+    let item: ItemFn = syn::parse2(item).map_err(|e| {
+        syn::Error::new(e.span(), format!("{e}: #[lagrangian] applies to a `fn`; {SIGNATURE}"))
+    })?;
     let mut errors = Vec::new();
     if !args.is_empty() {
         errors.push(syn::Error::new_spanned(
