@@ -246,13 +246,12 @@ fn pendulum_item() -> TokenStream {
     }
 }
 
-/// The pendulum's expansion, pretty-printed, against the committed snapshot; set
-/// `UPDATE_EXPAND=1` to rewrite it after an intended change (and review the diff).
-#[test]
-fn pendulum_expansion_snapshot() {
-    let out = pretty(expand(quote!(), pendulum_item()).expect("the pendulum expands"));
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/expand/pendulum.expanded.rs");
+/// Compares the pretty-printed expansion of `item` with `macros/tests/expand/<name>.expanded.rs`;
+/// with `UPDATE_EXPAND=1` rewrites the file first (review the diff).
+fn check_snapshot(name: &str, item: TokenStream) {
+    let out = pretty(expand(quote!(), item).expect("the model expands"));
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(format!("tests/expand/{name}.expanded.rs"));
     if std::env::var_os("UPDATE_EXPAND").is_some() {
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(&path, &out).unwrap();
@@ -261,12 +260,26 @@ fn pendulum_expansion_snapshot() {
         .unwrap_or_else(|e| panic!("{}: {e}; run with UPDATE_EXPAND=1", path.display()));
     assert!(
         out == expected,
-        "the expansion changed; run with UPDATE_EXPAND=1 and review the diff.\n{out}"
+        "the expansion of {name} changed; run with UPDATE_EXPAND=1 and review the diff.\n{out}"
     );
 }
 
-fn double_pendulum() -> Model {
-    let item = quote! {
+/// Must show 5: the pendulum's generated code, so a change to the emitted derivatives shows
+/// in review.
+#[test]
+fn pendulum_expansion_snapshot() {
+    check_snapshot("pendulum", pendulum_item());
+}
+
+/// The double pendulum's generated code (d = 2, shared temporaries, symmetric blocks).
+#[test]
+fn double_pendulum_expansion_snapshot() {
+    check_snapshot("double_pendulum", double_pendulum_item());
+}
+
+fn double_pendulum_item() -> TokenStream {
+    quote! {
+        /// Double pendulum.
         fn double_pendulum(x: [f64; 2], v: [f64; 2], m1: f64, m2: f64, l1: f64, l2: f64, g: f64) -> f64 {
             let kinetic = 0.5 * (m1 + m2) * l1 * l1 * v[0] * v[0]
                 + 0.5 * m2 * l2 * l2 * v[1] * v[1]
@@ -274,8 +287,11 @@ fn double_pendulum() -> Model {
             let potential = -(m1 + m2) * g * l1 * x[0].cos() - m2 * g * l2 * x[1].cos();
             kinetic - potential
         }
-    };
-    parse::parse(quote!(), item).expect("the double pendulum parses")
+    }
+}
+
+fn double_pendulum() -> Model {
+    parse::parse(quote!(), double_pendulum_item()).expect("the double pendulum parses")
 }
 
 /// Walks what a plan emits — each temporary's definition and each root — and returns the
