@@ -8,7 +8,6 @@ use varembed::{
 };
 
 /// Harmonic oscillator `L = ½v² − ½ω²x²`: exact solution `q(t) = q₀ cos ωt + (v₀/ω) sin ωt`.
-#[allow(dead_code)] // the macro keeps the fn callable; this program only uses the struct
 #[lagrangian]
 fn oscillator(x: f64, v: f64, omega: f64) -> f64 {
     0.5 * v * v - 0.5 * omega * omega * x * x

@@ -128,7 +128,7 @@ pub fn lower(model: &mut Model) -> Lowered {
     // evaluated at `y`) or the velocity `(y − b)/h` (always).
     let dep_x = g.depends(|v| matches!(v, Var::X(_)));
     let dep_v = g.depends(|v| matches!(v, Var::V(_)));
-    let free_of = |ids: &[Id], x: bool| ids.iter().all(|&i| !dep_v[i] && !(x && dep_x[i]));
+    let free_of = |ids: &[Id], x: bool| ids.iter().all(|&i| !(dep_v[i] || (x && dep_x[i])));
     let affine: Vec<bool> = Kind::ALL
         .iter()
         .map(|kind| match kind {
@@ -288,6 +288,14 @@ fn number(c: f64, suffixed: bool) -> (TokenStream, u8) {
             (quote!(-f64::INFINITY), P_NEG)
         };
     }
+    if let Some(name) = named_constant(c.abs()) {
+        let name = Ident::new(name, Span::call_site());
+        return if c.is_sign_negative() {
+            (quote!(-::core::f64::consts::#name), P_NEG)
+        } else {
+            (quote!(::core::f64::consts::#name), P_MAX)
+        };
+    }
     let lit = if suffixed {
         Literal::f64_suffixed(c.abs())
     } else {
@@ -298,6 +306,38 @@ fn number(c: f64, suffixed: bool) -> (TokenStream, u8) {
     } else {
         (quote!(#lit), P_MAX)
     }
+}
+
+/// The `std::f64::consts` name of `c`, if `c` is one of them exactly: emitted by name, which
+/// reads better than 17 digits (and is what clippy's `approx_constant` asks of the user's
+/// crate, where this code lands).
+pub fn named_constant(c: f64) -> Option<&'static str> {
+    use std::f64::consts::*;
+    const TABLE: [(f64, &str); 19] = [
+        (PI, "PI"),
+        (TAU, "TAU"),
+        (E, "E"),
+        (SQRT_2, "SQRT_2"),
+        (FRAC_1_SQRT_2, "FRAC_1_SQRT_2"),
+        (LN_2, "LN_2"),
+        (LN_10, "LN_10"),
+        (LOG2_E, "LOG2_E"),
+        (LOG10_E, "LOG10_E"),
+        (LOG2_10, "LOG2_10"),
+        (LOG10_2, "LOG10_2"),
+        (FRAC_PI_2, "FRAC_PI_2"),
+        (FRAC_PI_3, "FRAC_PI_3"),
+        (FRAC_PI_4, "FRAC_PI_4"),
+        (FRAC_PI_6, "FRAC_PI_6"),
+        (FRAC_PI_8, "FRAC_PI_8"),
+        (FRAC_1_PI, "FRAC_1_PI"),
+        (FRAC_2_PI, "FRAC_2_PI"),
+        (FRAC_2_SQRT_PI, "FRAC_2_SQRT_PI"),
+    ];
+    TABLE
+        .iter()
+        .find(|(v, _)| v.to_bits() == c.to_bits())
+        .map(|&(_, name)| name)
 }
 
 fn index(i: usize) -> Literal {
@@ -533,6 +573,9 @@ pub fn emit(model: &mut Model) -> TokenStream {
     let text = derivatives_text(model, d);
 
     quote! {
+        // The fn stays callable, but the generated struct is the usual entry point: a program
+        // that only uses the struct has not made a mistake worth a `dead_code` warning.
+        #[allow(dead_code)]
         #item
 
         #strukt
@@ -820,7 +863,11 @@ impl Printer<'_> {
         match self.g.node(id) {
             Node::Num(bits) => {
                 let c = f64::from_bits(bits);
-                let s = format!("{c:?}");
+                let s = match named_constant(c.abs()) {
+                    Some(name) if c < 0.0 => format!("-{name}"),
+                    Some(name) => name.to_string(),
+                    None => format!("{c:?}"),
+                };
                 (s, if c.is_sign_negative() { P_NEG } else { P_MAX })
             }
             Node::Var(v) => {

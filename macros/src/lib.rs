@@ -64,7 +64,7 @@ use proc_macro::TokenStream;
 /// let (x, v) = (Vector::<1>::new(0.3), Vector::<1>::new(-1.0));
 /// let (f, p) = lag.gradient(&x, &v, 0.0);
 /// assert_eq!(f[0], -9.81 * 2.0 * 0.3f64.sin());
-/// assert_eq!(p[0], 4.0 * -1.0);
+/// assert_eq!(p[0], -4.0);
 /// assert_eq!(pendulum(0.3, -1.0, 9.81, 2.0), lag.value(&x, &v, 0.0));
 /// println!("{}", Pendulum::DERIVATIVES);
 /// ```

@@ -47,19 +47,24 @@ pub struct Model {
 #[derive(Clone, Copy)]
 enum Binding {
     Scalar(Id),
-    /// `x` or `v` declared as an array; `true` for `x`.
-    Array(bool),
+    /// `x` or `v` declared as an array (`true` for `x`) of this length (`usize::MAX` when the
+    /// length is not a literal, already reported).
+    Array(bool, usize),
 }
 
 struct Parser {
     graph: Graph,
     errors: Vec<syn::Error>,
-    dim: usize,
 }
 
 /// Parses the attribute arguments and the fn into a [`Model`].
 pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
-    let item: ItemFn = syn::parse2(item)?;
+    let item: ItemFn = syn::parse2(item).map_err(|e| {
+        syn::Error::new(
+            e.span(),
+            format!("{e}: #[lagrangian] applies to a `fn`; {SIGNATURE}"),
+        )
+    })?;
     let mut errors = Vec::new();
     if !args.is_empty() {
         errors.push(syn::Error::new_spanned(
@@ -140,6 +145,7 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
     }
     let mut dim = 1;
     let mut scalar = true;
+    let mut shapes: [Option<usize>; 2] = [None, None];
     let mut has_t = false;
     let mut consts = Vec::new();
     if names.len() < 2 {
@@ -167,25 +173,22 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
                 ));
             }
         }
-        match state_type(&names[0].1) {
-            Ok(d) => {
-                if let Some(d) = d {
-                    dim = d;
-                    scalar = false;
-                }
-            }
-            Err(e) => errors.push(e),
+        // Each of `x`, `v` is bound with its own declared shape even when the two differ, so
+        // that the body is still checked without a cascade of follow-up errors.
+        let (x_shape, x_err) = state_type(&names[0].1);
+        let (v_shape, v_err) = state_type(&names[1].1);
+        errors.extend(x_err);
+        errors.extend(v_err);
+        if v_shape != x_shape {
+            errors.push(syn::Error::new_spanned(
+                &names[1].1,
+                "`v` must have the same type as `x`",
+            ));
         }
-        match state_type(&names[1].1) {
-            Ok(d) => {
-                if d != (if scalar { None } else { Some(dim) }) {
-                    errors.push(syn::Error::new_spanned(
-                        &names[1].1,
-                        "`v` must have the same type as `x`",
-                    ));
-                }
-            }
-            Err(e) => errors.push(e),
+        shapes = [x_shape, v_shape];
+        if let Some(d) = x_shape {
+            dim = d;
+            scalar = false;
         }
         for (k, (name, ty)) in names.iter().enumerate().skip(2) {
             if !is_f64(ty) {
@@ -205,6 +208,8 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
                         name,
                         "the time `t` must be the third parameter, right after `v`",
                     ));
+                    // Still usable in the body (as a constant), so no "unknown name" follows.
+                    consts.push(name.clone());
                 }
             } else if plain == "x" || plain == "v" {
                 errors.push(syn::Error::new_spanned(
@@ -233,24 +238,16 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
     let mut parser = Parser {
         graph: Graph::new(),
         errors,
-        dim,
     };
     let mut env: HashMap<String, Binding> = HashMap::new();
-    if !names.is_empty() {
-        let x = if scalar {
-            Binding::Scalar(parser.graph.var(Var::X(0)))
-        } else {
-            Binding::Array(true)
-        };
-        env.insert(names[0].0.to_string(), x);
-    }
-    if names.len() > 1 {
-        let v = if scalar {
-            Binding::Scalar(parser.graph.var(Var::V(0)))
-        } else {
-            Binding::Array(false)
-        };
-        env.insert(names[1].0.to_string(), v);
+    for (k, is_x) in [(0, true), (1, false)] {
+        if let Some((name, _)) = names.get(k) {
+            let binding = match shapes[k] {
+                None => Binding::Scalar(parser.graph.var(if is_x { Var::X(0) } else { Var::V(0) })),
+                Some(d) => Binding::Array(is_x, d),
+            };
+            env.insert(name.to_string(), binding);
+        }
     }
     if has_t {
         env.insert(
@@ -325,40 +322,46 @@ fn is_f64(ty: &Type) -> bool {
     }
 }
 
-/// `f64` → `None`, `[f64; D]` → `Some(D)`.
-fn state_type(ty: &Type) -> syn::Result<Option<usize>> {
+/// `f64` → `None`, `[f64; D]` → `Some(D)`, with the error if the type is not one of these (the
+/// shape is then the closest guess, so that the body can still be checked).
+fn state_type(ty: &Type) -> (Option<usize>, Option<syn::Error>) {
     if is_f64(ty) {
-        return Ok(None);
+        return (None, None);
     }
     if let Type::Array(arr) = ty {
-        if !is_f64(&arr.elem) {
-            return Err(syn::Error::new_spanned(
-                &arr.elem,
-                "the state arrays must hold `f64`",
-            ));
-        }
+        let elem = (!is_f64(&arr.elem))
+            .then(|| syn::Error::new_spanned(&arr.elem, "the state arrays must hold `f64`"));
         if let Expr::Lit(syn::ExprLit {
             lit: Lit::Int(n), ..
         }) = &arr.len
         {
-            let d: usize = n.base10_parse()?;
-            if d == 0 {
-                return Err(syn::Error::new_spanned(
-                    n,
-                    "the dimension must be at least 1",
-                ));
-            }
-            return Ok(Some(d));
+            return match n.base10_parse::<usize>() {
+                Ok(0) => (
+                    Some(usize::MAX),
+                    Some(syn::Error::new_spanned(
+                        n,
+                        "the dimension must be at least 1",
+                    )),
+                ),
+                Ok(d) => (Some(d), elem),
+                Err(e) => (Some(usize::MAX), Some(e)),
+            };
         }
-        return Err(syn::Error::new_spanned(
-            &arr.len,
-            "the dimension must be an integer literal, e.g. `[f64; 2]`",
-        ));
+        return (
+            Some(usize::MAX),
+            Some(syn::Error::new_spanned(
+                &arr.len,
+                "the dimension must be an integer literal, e.g. `[f64; 2]`",
+            )),
+        );
     }
-    Err(syn::Error::new_spanned(
-        ty,
-        format!("`x` and `v` must be `f64` or `[f64; D]`; {SIGNATURE}"),
-    ))
+    (
+        None,
+        Some(syn::Error::new_spanned(
+            ty,
+            format!("`x` and `v` must be `f64` or `[f64; D]`; {SIGNATURE}"),
+        )),
+    )
 }
 
 impl Parser {
@@ -419,11 +422,11 @@ impl Parser {
         match pat {
             Pat::Ident(pi) if pi.by_ref.is_none() && pi.subpat.is_none() => {
                 if let Some(m) = &pi.mutability {
+                    // Reported, and the name stays bound so that its uses are not errors too.
                     self.error(
                         m,
                         "`let mut` is not supported: bindings are immutable values",
                     );
-                    return None;
                 }
                 Some(pi.ident.to_string())
             }
@@ -563,7 +566,7 @@ impl Parser {
         if segs.len() == 1 && p.path.leading_colon.is_none() {
             return match env.get(&segs[0]) {
                 Some(Binding::Scalar(id)) => *id,
-                Some(Binding::Array(_)) => self.error(
+                Some(Binding::Array(..)) => self.error(
                     p,
                     format!("`{}` is an array: use its components `{}[i]`", segs[0], segs[0]),
                 ),
@@ -594,8 +597,8 @@ impl Parser {
             _ => None,
         };
         let binding = name.as_ref().and_then(|n| env.get(n).copied());
-        let is_x = match binding {
-            Some(Binding::Array(is_x)) => is_x,
+        let (is_x, dim) = match binding {
+            Some(Binding::Array(is_x, dim)) => (is_x, dim),
             Some(Binding::Scalar(_)) => {
                 let n = name.unwrap_or_default();
                 return self.error(
@@ -618,13 +621,13 @@ impl Parser {
             }
         };
         match index {
-            Ok(i) if i < self.dim => {
+            Ok(i) if i < dim => {
                 let var = if is_x { Var::X(i) } else { Var::V(i) };
                 self.graph.var(var)
             }
             Ok(i) => self.error(
                 &ix.index,
-                format!("index {i} is out of bounds: the dimension is {}", self.dim),
+                format!("index {i} is out of bounds: the dimension is {dim}"),
             ),
             Err(e) => {
                 self.errors.push(e);
@@ -651,10 +654,12 @@ impl Parser {
             return self.unsupported(name, &format!("the method `{s}` is"));
         }
         if args.len() != arity {
-            return self.error(
-                all_args,
-                format!("`{s}` takes {arity} argument(s) besides the receiver"),
-            );
+            let msg = format!("`{s}` takes {arity} argument(s) besides the receiver");
+            return if args.is_empty() {
+                self.error(name, msg)
+            } else {
+                self.error(all_args, msg)
+            };
         }
         match s.as_str() {
             "powi" => match int_literal(args[0]) {

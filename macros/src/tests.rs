@@ -246,13 +246,12 @@ fn pendulum_item() -> TokenStream {
     }
 }
 
-/// The pendulum's expansion, pretty-printed, against the committed snapshot; set
-/// `UPDATE_EXPAND=1` to rewrite it after an intended change (and review the diff).
-#[test]
-fn pendulum_expansion_snapshot() {
-    let out = pretty(expand(quote!(), pendulum_item()).expect("the pendulum expands"));
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/expand/pendulum.expanded.rs");
+/// Compares the pretty-printed expansion of `item` with `macros/tests/expand/<name>.expanded.rs`;
+/// with `UPDATE_EXPAND=1` rewrites the file first (review the diff).
+fn check_snapshot(name: &str, item: TokenStream) {
+    let out = pretty(expand(quote!(), item).expect("the model expands"));
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(format!("tests/expand/{name}.expanded.rs"));
     if std::env::var_os("UPDATE_EXPAND").is_some() {
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
         std::fs::write(&path, &out).unwrap();
@@ -261,12 +260,26 @@ fn pendulum_expansion_snapshot() {
         .unwrap_or_else(|e| panic!("{}: {e}; run with UPDATE_EXPAND=1", path.display()));
     assert!(
         out == expected,
-        "the expansion changed; run with UPDATE_EXPAND=1 and review the diff.\n{out}"
+        "the expansion of {name} changed; run with UPDATE_EXPAND=1 and review the diff.\n{out}"
     );
 }
 
-fn double_pendulum() -> Model {
-    let item = quote! {
+/// Must show 5: the pendulum's generated code, so a change to the emitted derivatives shows
+/// in review.
+#[test]
+fn pendulum_expansion_snapshot() {
+    check_snapshot("pendulum", pendulum_item());
+}
+
+/// The double pendulum's generated code (d = 2, shared temporaries, symmetric blocks).
+#[test]
+fn double_pendulum_expansion_snapshot() {
+    check_snapshot("double_pendulum", double_pendulum_item());
+}
+
+fn double_pendulum_item() -> TokenStream {
+    quote! {
+        /// Double pendulum.
         fn double_pendulum(x: [f64; 2], v: [f64; 2], m1: f64, m2: f64, l1: f64, l2: f64, g: f64) -> f64 {
             let kinetic = 0.5 * (m1 + m2) * l1 * l1 * v[0] * v[0]
                 + 0.5 * m2 * l2 * l2 * v[1] * v[1]
@@ -274,8 +287,11 @@ fn double_pendulum() -> Model {
             let potential = -(m1 + m2) * g * l1 * x[0].cos() - m2 * g * l2 * x[1].cos();
             kinetic - potential
         }
-    };
-    parse::parse(quote!(), item).expect("the double pendulum parses")
+    }
+}
+
+fn double_pendulum() -> Model {
+    parse::parse(quote!(), double_pendulum_item()).expect("the double pendulum parses")
 }
 
 /// Walks what a plan emits — each temporary's definition and each root — and returns the
@@ -382,4 +398,66 @@ fn double_pendulum_hessian_evaluates_each_subexpression_once() {
     let inline = Plan::without_temps(g);
     let (keys, _) = evaluated_subtrees(g, &inline, &roots);
     assert!(!duplicates(&keys).is_empty());
+}
+
+/// The emitted code means what the IR means: the generated `let`s and expressions of
+/// gradient + hessian, printed as Rust and read back by the parser, evaluate to the same
+/// numbers (this checks operator precedence, parentheses, negative literals, named constants).
+/// `abs` is left out of these trees: its derivative `sign` is emitted as an `if`, which the
+/// parser rejects by design; `tests/tests/macro_functions.rs` covers it through the macro.
+#[test]
+fn emitted_code_round_trips_through_the_parser() {
+    let mut rng = Rng(0xC0DE);
+    let mut used = HashMap::new();
+    let mut trees = 0;
+    while trees < 300 {
+        let src = gen_fn(&mut rng, &mut used);
+        if src.contains("abs") {
+            continue;
+        }
+        trees += 1;
+        let item: TokenStream = src.parse().expect("generated source tokenizes");
+        let mut model = parse::parse(quote!(), item).unwrap_or_else(|e| panic!("{e}\n{src}"));
+        let d = Derivatives::new(&mut model.graph, model.root, 2);
+        let g = &model.graph;
+        let mut roots: Vec<Id> = d.fx.iter().chain(&d.fv).copied().collect();
+        roots.extend(hessian_roots(g, &d));
+        let plan = Plan::new(g, &roots);
+        let leaf = |v: Var| match v {
+            Var::X(i) => {
+                let i = proc_macro2::Literal::usize_unsuffixed(i);
+                quote!(x[#i])
+            }
+            Var::V(i) => {
+                let i = proc_macro2::Literal::usize_unsuffixed(i);
+                quote!(v[#i])
+            }
+            Var::T => quote!(t),
+            _ => quote!(c),
+        };
+        let render = codegen::Render::new(g, &plan, &leaf);
+        let temps = render.temps();
+        let point: [f64; 6] = std::array::from_fn(|_| rng.uniform(-1.0, 1.0));
+        let env = |u: Var| match u {
+            Var::X(i) => point[i],
+            Var::V(i) => point[2 + i],
+            Var::T => point[4],
+            _ => point[5],
+        };
+        for &root in &roots {
+            let expr = render.root(root);
+            let emitted = quote! {
+                fn emitted(x: [f64; 2], v: [f64; 2], t: f64, c: f64) -> f64 { #temps #expr }
+            };
+            let back = parse::parse(quote!(), emitted.clone())
+                .unwrap_or_else(|e| panic!("{e}\n{emitted}"));
+            let (a, b) = (g.eval(root, &env), back.graph.eval(back.root, &env));
+            if a.is_finite() {
+                assert!(
+                    (a - b).abs() <= 1e-14 * a.abs().max(1.0),
+                    "IR {a:e}, emitted {b:e}\n{emitted}"
+                );
+            }
+        }
+    }
 }

@@ -1,3 +1,4 @@
+#[allow(dead_code)]
 /// Planar pendulum of length `l` under gravity `g`.
 pub fn pendulum(x: f64, v: f64, g: f64, l: f64) -> f64 {
     0.5 * l * l * v * v + g * l * x.cos()

@@ -1,0 +1,8 @@
+use varembed::lagrangian;
+
+#[lagrangian]
+struct Pendulum {
+    g: f64,
+}
+
+fn main() {}
