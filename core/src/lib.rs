@@ -15,16 +15,19 @@
 
 pub mod embedding;
 pub mod error;
+pub mod fft_operator;
 pub mod grid;
 pub mod lagrangian;
 pub mod ode;
 pub mod operator;
 pub mod problem;
 pub mod solve;
+pub mod toeplitz;
 pub mod weights;
 
 pub use embedding::{Embedding, EmbeddingKind, Side};
 pub use error::{Error, Location, Result};
+pub use fft_operator::FftOperator;
 pub use grid::Grid;
 pub use lagrangian::{Hessian, IntoVector, Lagrangian, Matrix, StepKind, StepTimes, Vector};
 pub use operator::Operator;
