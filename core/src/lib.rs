@@ -33,6 +33,7 @@ pub use lagrangian::{Hessian, IntoVector, Lagrangian, Matrix, StepKind, StepTime
 pub use operator::Operator;
 pub use problem::{Problem, Scheme, curve_from_flat};
 pub use solve::Solution;
+pub use solve::fractional::FractionalSolver;
 pub use solve::newton::NewtonOptions;
 pub use varembed_macros::lagrangian;
 

@@ -2,12 +2,17 @@
 //!
 //! The Jacobian is block-tridiagonal for the classical embeddings (every row couples three
 //! consecutive nodes) and is factorised as a band matrix in `O(N d³)`; for Gauss-GLEσ it is
-//! dense and factorised by dense LU in `O((N d)³)`, the small-`N` reference path.
+//! dense and factorised by dense LU in `O((N d)³)`, the small-`N` reference path, or solved by
+//! the FFT Newton–Krylov fast path of [`fractional`](crate::solve::fractional), as chosen by
+//! [`FractionalSolver`].
 
 use crate::error::{Error, Location, Result};
 use crate::lagrangian::{IntoVector, Lagrangian, Matrix, Vector};
 use crate::problem::{BlockSink, Problem, Scheme};
 use crate::solve::Solution;
+use crate::solve::fractional::{
+    self, DENSE_FALLBACK_LIMIT, DENSE_LIMIT, FractionalSolver, KrylovBudget,
+};
 use crate::solve::linear::{BandedMatrix, solve_dense};
 use nalgebra::{DMatrix, DVector};
 
@@ -70,6 +75,21 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         };
         if unknowns == 0 {
             return Ok(finish(q, 0));
+        }
+        if self.embedding.is_fractional() {
+            let fast = match self.fractional_solver {
+                FractionalSolver::Dense => false,
+                FractionalSolver::Fast => true,
+                FractionalSolver::Auto => unknowns > DENSE_LIMIT,
+            };
+            if fast {
+                match fractional::solve(self, scheme, guess, &KrylovBudget::default()) {
+                    Err(Error::KrylovDidNotConverge { .. })
+                        if self.fractional_solver == FractionalSolver::Auto
+                            && unknowns <= DENSE_FALLBACK_LIMIT => {}
+                    result => return result,
+                }
+            }
         }
         let opts = self.newton;
         let h_alpha = self.grid.h().powf(-self.embedding.alpha());
