@@ -64,6 +64,11 @@ impl FftOperator {
         self.n
     }
 
+    /// The buffers of the products, to share with other matrices of the same FFT length.
+    pub(crate) fn workspace_mut(&mut self) -> &mut Workspace {
+        &mut self.ws
+    }
+
     /// The FFT length (at least `2N + 1`).
     pub fn fft_len(&self) -> usize {
         self.toeplitz.fft_len()

@@ -265,3 +265,52 @@ fn a_hard_nonconvex_problem_gives_a_correct_answer_or_a_typed_error() {
     }
     eprintln!("outcomes: {outcomes:?}");
 }
+
+/// Must-show 2 at N = 2000 (dense LU of a 1999² system: run in release,
+/// `cargo test -p varembed --release --test fractional_fast -- --ignored n2000`).
+#[test]
+#[ignore = "dense reference at N = 2000: seconds in release, minutes in debug"]
+fn n2000_fast_and_dense_agree() {
+    let pendulum = Pendulum { g: 1.0, l: 1.0 };
+    for (side, alpha) in [(Side::Backward, 0.7), (Side::Forward, 0.3)] {
+        let gap = fast_vs_dense(
+            &pendulum,
+            2000,
+            side,
+            alpha,
+            Scheme::Variational,
+            Vector::<1>::new(0.0),
+            Vector::<1>::new(1.0),
+        );
+        eprintln!("N = 2000, {side:?}, α = {alpha}: gap {gap:e}");
+        assert!(gap <= 1e-10, "{side:?}, α = {alpha}: gap {gap:e}");
+    }
+}
+
+/// Must-show 4: the fast path at N = 10⁶ (d = 1) in O(N) memory. Run alone, in release, so
+/// that the process's peak resident set (`VmHWM`) is this solve's:
+/// `cargo test -p varembed --release --test fractional_fast -- --ignored million --nocapture`.
+#[test]
+#[ignore = "N = 10⁶: run alone in release to measure the peak memory"]
+fn million_nodes_in_linear_memory() {
+    let pendulum = Pendulum { g: 1.0, l: 1.0 };
+    let n = 1_000_000;
+    let grid = Grid::new(0.0, 1.0, n).unwrap();
+    let embedding = Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap();
+    let problem = Problem::new(&pendulum, grid, embedding);
+    let sol = problem.solve_bvp(Scheme::Variational, 0.0, 1.0).unwrap();
+    let status = std::fs::read_to_string("/proc/self/status").unwrap();
+    let peak_kib: f64 = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
+        .expect("VmHWM in /proc/self/status");
+    let peak_mib = peak_kib / 1024.0;
+    eprintln!(
+        "N = {n}: {} Newton iterations, peak RSS {peak_mib:.0} MiB",
+        sol.newton_iterations
+    );
+    // A dense Jacobian would need 8 TB; O(N) storage is a few hundred bytes per node.
+    assert!(peak_mib < 1024.0, "peak RSS {peak_mib:.0} MiB");
+    assert!(sol.q.iter().all(|x| x[0].is_finite()));
+}

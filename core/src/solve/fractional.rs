@@ -48,7 +48,7 @@ use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
 use crate::problem::{Problem, Scheme};
 use crate::solve::Solution;
 use crate::solve::krylov::{KrylovFailure, KrylovOptions, KrylovSystem, conjugate_gradient, gmres};
-use crate::toeplitz::{TriangularToeplitz, Workspace};
+use crate::toeplitz::TriangularToeplitz;
 use crate::weights::grunwald_letnikov_inverse;
 use rustfft::num_complex::Complex;
 
@@ -110,7 +110,6 @@ struct FastSystem<const D: usize> {
     velocity: FftOperator,
     /// `G`, the inverse of the lower-triangular GL Toeplitz matrix, order `N − 1`.
     inverse: TriangularToeplitz,
-    inverse_ws: Workspace,
     /// Hessians at the rows `first_row..first_row + N`.
     hessians: Vec<Hessian<D>>,
     /// `L_vv⁻¹` at the interior nodes `1..N−1` (entry `j − 1`).
@@ -127,8 +126,8 @@ impl<const D: usize> FastSystem<D> {
         let n = problem.grid.n();
         let velocity = FftOperator::new(&problem.velocity);
         let g = grunwald_letnikov_inverse(problem.velocity.alpha(), n - 1);
-        let inverse = TriangularToeplitz::new(&g);
-        let inverse_ws = Workspace::new(&inverse);
+        // Same FFT length as the operator (order N + 1 ≥ N − 1), so both share one workspace.
+        let inverse = TriangularToeplitz::with_fft_len(&g, velocity.fft_len());
         let zero = Hessian {
             xx: Matrix::<D>::zeros(),
             xv: Matrix::<D>::zeros(),
@@ -142,7 +141,6 @@ impl<const D: usize> FastSystem<D> {
             first_row: problem.velocity.first_row(),
             velocity,
             inverse,
-            inverse_ws,
             hessians: vec![zero; n],
             vv_inverse: vec![Matrix::<D>::identity(); n - 1],
             full: vec![Vector::<D>::zeros(); n + 1],
@@ -174,8 +172,13 @@ impl<const D: usize> FastSystem<D> {
         for j in 1..self.n {
             let vv = &self.hessians[j - self.first_row].vv;
             let inv = vv.try_inverse().filter(|m| m.iter().all(|c| c.is_finite()));
+            let size = vv.amax();
             self.vv_inverse[j - 1] = inv.unwrap_or_else(|| {
-                Matrix::<D>::identity() / vv.amax().max(f64::MIN_POSITIVE).min(1.0)
+                if size > 0.0 {
+                    Matrix::<D>::identity() / size
+                } else {
+                    Matrix::<D>::identity()
+                }
             });
         }
         Ok(())
@@ -187,7 +190,7 @@ impl<const D: usize> FastSystem<D> {
             let pair = c + 1 < D;
             self.inverse.mul_with(
                 transpose,
-                &mut self.inverse_ws,
+                self.velocity.workspace_mut(),
                 |k| Complex::new(x[k][c], if pair { x[k][c + 1] } else { 0.0 }),
                 |k, y| {
                     out[k][c] = y.re;
