@@ -43,7 +43,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// Newton's method on the rows of [`residual`](Self::residual), with a backtracking line
     /// search on the max-norm of the residual. Errors: [`Error::SingularJacobian`],
     /// [`Error::NewtonDidNotConverge`] (iterations, last residual) and [`Error::NotFinite`],
-    /// located at the global Newton iteration.
+    /// located at the global Newton iteration; on the fractional fast path (see
+    /// [`FractionalSolver`]) also [`Error::KrylovDidNotConverge`].
     pub fn solve_bvp(
         &self,
         scheme: Scheme,
