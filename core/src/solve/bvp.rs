@@ -3,7 +3,7 @@
 //! The Jacobian is block-tridiagonal for the classical embeddings (every row couples three
 //! consecutive nodes) and is factorised as a band matrix in `O(N d³)`; for Gauss-GLEσ it is
 //! dense and factorised by dense LU in `O((N d)³)`, the small-`N` reference path, or solved by
-//! the FFT Newton–Krylov fast path of [`fractional`](crate::solve::fractional), as chosen by
+//! the FFT Newton–Krylov fast path of [`fractional`], as chosen by
 //! [`FractionalSolver`].
 
 use crate::error::{Error, Location, Result};
