@@ -112,6 +112,22 @@ pub enum Error {
         /// Imaginary part of the offending eigenvalue.
         im: f64,
     },
+    /// The Krylov solver of the fractional fast path (conjugate gradients, then GMRES) did not
+    /// solve a Newton system `J δ = r` to the forcing tolerance: the Jacobian is (nearly)
+    /// singular or so indefinite that the preconditioner cannot tame it. Solve with
+    /// [`FractionalSolver::Dense`](crate::FractionalSolver::Dense) for small `N`, or from a
+    /// better initial guess.
+    #[error(
+        "the Krylov solver did not converge at {at} after {iterations} iterations: relative linear residual {residual:.3e}"
+    )]
+    KrylovDidNotConverge {
+        /// Where (the global Newton iteration).
+        at: Location,
+        /// Products with the Jacobian made by the last Krylov solver tried.
+        iterations: usize,
+        /// Its relative residual `‖r − J δ‖₂ / ‖r‖₂`.
+        residual: f64,
+    },
     /// The computed solution stopped being finite (overflow of an unstable scheme, or a
     /// Lagrangian evaluated outside its domain).
     #[error("solution is no longer finite at {at}")]

@@ -16,22 +16,26 @@
 pub mod compare;
 pub mod embedding;
 pub mod error;
+pub mod fft_operator;
 pub mod grid;
 pub mod lagrangian;
 pub mod ode;
 pub mod operator;
 pub mod problem;
 pub mod solve;
+pub mod toeplitz;
 pub mod weights;
 
 pub use compare::{CompareOptions, Comparison, Reference, SchemeReport};
 pub use embedding::{Embedding, EmbeddingKind, Side};
 pub use error::{Error, Location, Result};
+pub use fft_operator::FftOperator;
 pub use grid::Grid;
 pub use lagrangian::{Hessian, IntoVector, Lagrangian, Matrix, StepKind, StepTimes, Vector};
 pub use operator::Operator;
 pub use problem::{Problem, Scheme, curve_from_flat};
 pub use solve::Solution;
+pub use solve::fractional::FractionalSolver;
 pub use solve::ivp::Start;
 pub use solve::newton::NewtonOptions;
 pub use varembed_macros::lagrangian;

@@ -6,6 +6,7 @@ use crate::error::{Error, Location, Result};
 use crate::grid::Grid;
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::operator::{Operator, check_len};
+use crate::solve::fractional::FractionalSolver;
 use crate::solve::newton::NewtonOptions;
 use std::ops::RangeInclusive;
 
@@ -86,6 +87,7 @@ pub struct Problem<'l, L: ?Sized, const D: usize> {
     /// `Δ_{−σ}` (or `Δ^α_{−σ}`).
     pub(crate) adjoint: Operator,
     pub(crate) newton: NewtonOptions,
+    pub(crate) fractional_solver: FractionalSolver,
 }
 
 /// `V`, `f = ∂L/∂x`, `p = ∂L/∂v` at the quadrature nodes, stored by node index `0..=N` (the one
@@ -111,6 +113,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
             velocity: embedding.velocity_operator(&grid),
             adjoint: embedding.adjoint_operator(&grid),
             newton: NewtonOptions::default(),
+            fractional_solver: FractionalSolver::default(),
         }
     }
 
@@ -118,6 +121,45 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
     pub fn with_newton(mut self, newton: NewtonOptions) -> Self {
         self.newton = newton;
         self
+    }
+
+    /// The same problem with another linear solver for the boundary value problems of the
+    /// fractional embeddings (default [`FractionalSolver::Auto`]: dense LU for small systems,
+    /// the FFT Newton–Krylov fast path above). The classical embeddings ignore it.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, FractionalSolver, Grid, Problem, Side};
+    /// # use varembed::{Hessian, Lagrangian, Matrix, Vector};
+    /// # struct Free;
+    /// # impl Lagrangian<1> for Free {
+    /// #     fn value(&self, _x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 { 0.5 * v[0] * v[0] }
+    /// #     fn gradient(&self, _x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
+    /// #         (Vector::<1>::zeros(), *v)
+    /// #     }
+    /// #     fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
+    /// #         Hessian { xx: Matrix::<1>::zeros(), xv: Matrix::<1>::zeros(), vv: Matrix::<1>::identity() }
+    /// #     }
+    /// # }
+    /// let gle = Embedding::grunwald_letnikov(Side::Backward, 0.7)?;
+    /// let problem = Problem::new(&Free, Grid::new(0.0, 1.0, 100)?, gle)
+    ///     .with_fractional_solver(FractionalSolver::Fast);
+    /// let fast = problem.solve_bvp(varembed::Scheme::Variational, 0.0, 1.0)?;
+    /// let dense = problem
+    ///     .with_fractional_solver(FractionalSolver::Dense)
+    ///     .solve_bvp(varembed::Scheme::Variational, 0.0, 1.0)?;
+    /// assert!(fast.max_distance(&dense.q).unwrap() < 1e-10);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn with_fractional_solver(mut self, solver: FractionalSolver) -> Self {
+        self.fractional_solver = solver;
+        self
+    }
+
+    /// The linear solver of the fractional boundary value problems.
+    pub fn fractional_solver(&self) -> FractionalSolver {
+        self.fractional_solver
     }
 
     /// The grid.

@@ -2,12 +2,17 @@
 //!
 //! The Jacobian is block-tridiagonal for the classical embeddings (every row couples three
 //! consecutive nodes) and is factorised as a band matrix in `O(N d³)`; for Gauss-GLEσ it is
-//! dense and factorised by dense LU in `O((N d)³)`, the small-`N` reference path.
+//! dense and factorised by dense LU in `O((N d)³)`, the small-`N` reference path, or solved by
+//! the FFT Newton–Krylov fast path of [`fractional`], as chosen by
+//! [`FractionalSolver`].
 
 use crate::error::{Error, Location, Result};
 use crate::lagrangian::{IntoVector, Lagrangian, Matrix, Vector};
 use crate::problem::{BlockSink, Problem, Scheme};
 use crate::solve::Solution;
+use crate::solve::fractional::{
+    self, DENSE_FALLBACK_LIMIT, DENSE_LIMIT, FractionalSolver, KrylovBudget,
+};
 use crate::solve::linear::{BandedMatrix, solve_dense};
 use crate::solve::newton::at_round_off;
 use nalgebra::{DMatrix, DVector};
@@ -39,7 +44,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// Newton's method on the rows of [`residual`](Self::residual), with a backtracking line
     /// search on the max-norm of the residual. Errors: [`Error::SingularJacobian`],
     /// [`Error::NewtonDidNotConverge`] (iterations, last residual) and [`Error::NotFinite`],
-    /// located at the global Newton iteration.
+    /// located at the global Newton iteration; on the fractional fast path (see
+    /// [`FractionalSolver`]) also [`Error::KrylovDidNotConverge`].
     pub fn solve_bvp(
         &self,
         scheme: Scheme,
@@ -72,10 +78,26 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         if unknowns == 0 {
             return Ok(finish(q, 0));
         }
+        if self.embedding.is_fractional() {
+            let fast = match self.fractional_solver {
+                FractionalSolver::Dense => false,
+                FractionalSolver::Fast => true,
+                FractionalSolver::Auto => unknowns > DENSE_LIMIT,
+            };
+            if fast {
+                match fractional::solve(self, scheme, guess, &KrylovBudget::default()) {
+                    Err(Error::KrylovDidNotConverge { .. })
+                        if self.fractional_solver == FractionalSolver::Auto
+                            && unknowns <= DENSE_FALLBACK_LIMIT => {}
+                    result => return result,
+                }
+            }
+        }
         let opts = self.newton;
         let h_alpha = self.grid.h().powf(-self.embedding.alpha());
         let (mut r, mut pw) = self.residual_and_pointwise(scheme, &q, 0)?;
         let mut res = max_norm(&r);
+        let mut previous = f64::INFINITY;
         for iteration in 0..=opts.max_iterations {
             let at = Location::Newton(iteration);
             let scale = 1.0 + max_norm(&pw.f) + h_alpha * max_norm(&pw.p);
@@ -107,7 +129,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
                     .map_err(|_| Error::SingularJacobian { at })?;
                 jac.solve_inplace(&mut rhs);
             }
-            if res <= opts.tolerance * scale || at_round_off(res, j_norm, max_norm(&q)) {
+            if res <= opts.tolerance * scale || at_round_off(res, previous, j_norm, max_norm(&q)) {
                 return Ok(finish(q, iteration));
             }
             if iteration == opts.max_iterations {
@@ -133,6 +155,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
                 };
                 if accept {
                     (r, pw) = attempt?;
+                    previous = res;
                     res = max_norm(&r);
                     q = trial;
                     break;

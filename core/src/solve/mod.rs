@@ -2,7 +2,9 @@
 //! problems.
 
 pub mod bvp;
+pub mod fractional;
 pub mod ivp;
+pub mod krylov;
 pub mod linear;
 pub mod newton;
 

@@ -26,10 +26,13 @@ pub struct NewtonOptions {
 /// Multiple of `ε ‖J‖∞ ‖y‖∞` below which a residual is round-off (see [`NewtonOptions`]).
 pub const ROUND_OFF_FLOOR: f64 = 64.0;
 
-/// Whether `residual` is at the round-off level of a system with Jacobian max-norm `jacobian`
-/// at unknowns of max-norm `unknowns`.
-pub(crate) fn at_round_off(residual: f64, jacobian: f64, unknowns: f64) -> bool {
-    residual <= ROUND_OFF_FLOOR * f64::EPSILON * jacobian * unknowns
+/// Whether Newton has stagnated at round-off: `residual` is within the round-off level of a
+/// system with Jacobian max-norm `jacobian` at unknowns of max-norm `unknowns`, *and* the last
+/// iteration did not halve it (`previous` is the residual before it; `∞` at the start). While
+/// the residual still falls, iterating goes on: the solution error is `cond(J)` times the
+/// residual, so stopping early at the floor would cost accuracy.
+pub(crate) fn at_round_off(residual: f64, previous: f64, jacobian: f64, unknowns: f64) -> bool {
+    residual <= ROUND_OFF_FLOOR * f64::EPSILON * jacobian * unknowns && residual > 0.5 * previous
 }
 
 impl Default for NewtonOptions {
@@ -87,13 +90,14 @@ pub(crate) fn solve_step<const D: usize, L: Lagrangian<D> + ?Sized>(
                 diverged(iteration, residual)
             });
         }
+        let previous = residual;
         residual = r.amax();
         let j_norm = j
             .row_iter()
             .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
             .fold(0.0, f64::max);
-        let converged =
-            residual <= options.tolerance * scale || at_round_off(residual, j_norm, y.amax());
+        let converged = residual <= options.tolerance * scale
+            || at_round_off(residual, previous, j_norm, y.amax());
         // The step is well defined only where its Jacobian is invertible (implicit function
         // theorem): a singular J at a zero residual means every nearby y solves it, so it is an
         // error even then, never a silently returned guess.

@@ -1,0 +1,105 @@
+//! Issue 5(c): the fractional BVP solve time against N, fast path vs dense LU, in one run.
+//!
+//! Pendulum `L = ½v² + cos x`, Gauss-GLE− with α = 0.7 on `[0, 1]`, `Q_0 = 0`, `Q_N = 1`.
+//! Before timing each size, the solve is run once and its Newton iterations and reached
+//! residual are printed (see `report`).
+//!
+//! `cargo bench -p varembed --bench fractional -- --warm-up-time 1 --measurement-time 3`;
+//! set `VAREMBED_BENCH_MILLION=1` to include N = 10⁶.
+
+use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
+use std::hint::black_box;
+use varembed::{
+    Embedding, FftOperator, FractionalSolver, Grid, Hessian, Lagrangian, Matrix, Operator, Problem,
+    Scheme, Side, Vector,
+};
+
+/// `L = ½v² + cos x`.
+struct Pendulum;
+
+impl Lagrangian<1> for Pendulum {
+    fn value(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
+        0.5 * v[0] * v[0] + x[0].cos()
+    }
+    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
+        (Vector::<1>::new(-x[0].sin()), *v)
+    }
+    fn hessian(&self, x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
+        Hessian {
+            xx: Matrix::<1>::new(-x[0].cos()),
+            xv: Matrix::<1>::zeros(),
+            vv: Matrix::<1>::identity(),
+        }
+    }
+}
+
+fn problem(n: usize, solver: FractionalSolver) -> Problem<'static, Pendulum, 1> {
+    let grid = Grid::new(0.0, 1.0, n).expect("valid grid");
+    let embedding = Embedding::grunwald_letnikov(Side::Backward, 0.7).expect("valid α");
+    Problem::new(&Pendulum, grid, embedding).with_fractional_solver(solver)
+}
+
+/// Solves once and prints the Newton iterations and the reached residual
+/// `r_j = f_j + (Δᵀ p)_j` (σ = −, so `D = Δ^α_−`), computed independently of the solver by
+/// [`FftOperator`]: as `max|r|`, as the action gradient `h max|r| = max|∂S_h/∂Q_j|`, and relative
+/// to the Newton scale `1 + max|f| + h^{−α} max|p|`.
+fn report(n: usize, solver: FractionalSolver) {
+    let p = problem(n, solver);
+    let sol = p
+        .solve_bvp(Scheme::Variational, 0.0, 1.0)
+        .expect("the pendulum BVP converges");
+    let op = Operator::grunwald_letnikov(Side::Backward, 0.7, p.grid()).expect("valid α");
+    let mut fast = FftOperator::new(&op);
+    let v = fast.apply(&sol.q).expect("N + 1 nodes");
+    let dt_p = fast.apply_transpose(&v).expect("N rows"); // p = ∂L/∂v = v
+    let r_max = (1..n).fold(0.0f64, |m, j| {
+        m.max((-sol.q[j][0].sin() + dt_p[j][0]).abs())
+    });
+    let p_max = v.iter().fold(0.0f64, |m, x| m.max(x.amax()));
+    let h = p.grid().h();
+    let scale = 1.0
+        + 1.0f64.min(sol.q.iter().fold(0.0f64, |m, x| m.max(x[0].sin().abs())))
+        + h.powf(-0.7) * p_max;
+    eprintln!(
+        "{solver:?} N = {n}: {} Newton iterations, max|r| = {r_max:.2e}, h·max|r| = {:.2e}, \
+         max|r|/scale = {:.2e}",
+        sol.newton_iterations,
+        h * r_max,
+        r_max / scale
+    );
+}
+
+fn bench(c: &mut Criterion) {
+    let mut group = c.benchmark_group("fractional_bvp_pendulum_alpha0.7");
+    group.sample_size(10);
+    let mut fast_sizes = vec![1_000, 10_000, 100_000];
+    if std::env::var_os("VAREMBED_BENCH_MILLION").is_some() {
+        fast_sizes.push(1_000_000);
+    }
+    for (solver, sizes) in [
+        (FractionalSolver::Dense, vec![250, 500, 1_000]),
+        (FractionalSolver::Fast, fast_sizes),
+    ] {
+        for n in sizes {
+            report(n, solver);
+            let p = problem(n, solver);
+            let name = if solver == FractionalSolver::Fast {
+                "fast"
+            } else {
+                "dense"
+            };
+            group.bench_with_input(BenchmarkId::new(name, n), &n, |b, _| {
+                b.iter(|| {
+                    black_box(
+                        p.solve_bvp(Scheme::Variational, 0.0, 1.0)
+                            .expect("converges"),
+                    )
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

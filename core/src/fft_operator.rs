@@ -1,0 +1,162 @@
+//! [`FftOperator`]: the operators `Δ^α_±` of [`Operator`] applied by FFT, `O(N log N)` per
+//! product and `O(N)` memory instead of the dense loops' `O(N²)` time.
+//!
+//! Every operator is `h^{−α} Σ_r w_r Q_{k∓r}`. With `T` the lower-triangular Toeplitz matrix of
+//! order `N + 1` with first column `w` ([`TriangularToeplitz`]):
+//!
+//! - `Δ_− Q = h^{−α} (T Q)[1..=N]`, `Δ_−ᵀ W = h^{−α} Tᵀ (0, W_1, …, W_N)`;
+//! - `Δ_+ Q = h^{−α} (Tᵀ Q)[0..N]`, `Δ_+ᵀ W = h^{−α} T (W_0, …, W_{N−1}, 0)`.
+//!
+//! The `D` components of the points are multiplied two at a time (packed as one complex
+//! vector). The FFT of `w` is computed once, when the operator is built.
+//!
+//! # Example
+//!
+//! ```
+//! use varembed::{FftOperator, Grid, Operator, Side, Vector};
+//! let grid = Grid::new(0.0, 1.0, 50)?;
+//! let op = Operator::grunwald_letnikov(Side::Backward, 0.6, &grid)?;
+//! let mut fast = FftOperator::new(&op);
+//! let q: Vec<Vector<1>> = (0..=50).map(|k| Vector::<1>::new((k as f64).sin())).collect();
+//! let (a, b) = (op.apply(&q)?, fast.apply(&q)?);
+//! assert!(a.iter().zip(&b).all(|(x, y)| (x - y).amax() < 1e-12));
+//! # Ok::<(), varembed::Error>(())
+//! ```
+
+use crate::embedding::Side;
+use crate::error::Result;
+use crate::lagrangian::Vector;
+use crate::operator::{Operator, check_len};
+use crate::toeplitz::{TriangularToeplitz, Workspace};
+use rustfft::num_complex::Complex;
+
+/// `Δ_σ` or `Δ^α_σ` (an `N × (N + 1)` matrix) with products by FFT.
+#[derive(Clone, Debug)]
+pub struct FftOperator {
+    side: Side,
+    n: usize,
+    scale: f64,
+    toeplitz: TriangularToeplitz,
+    ws: Workspace,
+}
+
+impl FftOperator {
+    /// The FFT form of `op` (its weights transformed once).
+    pub fn new(op: &Operator) -> Self {
+        let n = op.rows().count();
+        let mut column = vec![0.0; n + 1];
+        for (c, w) in column.iter_mut().zip(op.weights()) {
+            *c = *w;
+        }
+        let toeplitz = TriangularToeplitz::new(&column);
+        let ws = Workspace::new(&toeplitz);
+        FftOperator {
+            side: op.side(),
+            n,
+            scale: op.scale(),
+            toeplitz,
+            ws,
+        }
+    }
+
+    /// The number of steps `N`.
+    pub fn n(&self) -> usize {
+        self.n
+    }
+
+    /// The buffers of the products, to share with other matrices of the same FFT length.
+    pub(crate) fn workspace_mut(&mut self) -> &mut Workspace {
+        &mut self.ws
+    }
+
+    /// The FFT length (at least `2N + 1`).
+    pub fn fft_len(&self) -> usize {
+        self.toeplitz.fft_len()
+    }
+
+    /// `Δ Q` into `out`: `q` has `N + 1` nodes, `out` `N` values (entry `i` is row
+    /// `i + first_row`, as [`Operator::apply`]).
+    pub fn apply_inplace<const D: usize>(
+        &mut self,
+        q: &[Vector<D>],
+        out: &mut [Vector<D>],
+    ) -> Result<()> {
+        check_len("curve", self.n + 1, q.len())?;
+        check_len("values on the rows", self.n, out.len())?;
+        let (transpose, shift) = match self.side {
+            Side::Backward => (false, 1),
+            Side::Forward => (true, 0),
+        };
+        let (n, s) = (self.n, self.scale);
+        for c in (0..D).step_by(2) {
+            let pair = c + 1 < D;
+            self.toeplitz.mul_with(
+                transpose,
+                &mut self.ws,
+                |k| pack(&q[k], c, pair),
+                |k, y| {
+                    if k >= shift && k - shift < n {
+                        unpack(&mut out[k - shift], c, pair, y * s);
+                    }
+                },
+            );
+        }
+        Ok(())
+    }
+
+    /// `Δᵀ W` into `out`: `w` has `N` values on the rows, `out` `N + 1` nodes.
+    pub fn apply_transpose_inplace<const D: usize>(
+        &mut self,
+        w: &[Vector<D>],
+        out: &mut [Vector<D>],
+    ) -> Result<()> {
+        check_len("values on the rows", self.n, w.len())?;
+        check_len("curve", self.n + 1, out.len())?;
+        let (transpose, shift) = match self.side {
+            Side::Backward => (true, 1),
+            Side::Forward => (false, 0),
+        };
+        let (n, s) = (self.n, self.scale);
+        for c in (0..D).step_by(2) {
+            let pair = c + 1 < D;
+            self.toeplitz.mul_with(
+                transpose,
+                &mut self.ws,
+                |k| {
+                    if k >= shift && k - shift < n {
+                        pack(&w[k - shift], c, pair)
+                    } else {
+                        Complex::new(0.0, 0.0)
+                    }
+                },
+                |k, y| unpack(&mut out[k], c, pair, y * s),
+            );
+        }
+        Ok(())
+    }
+
+    /// `Δ Q` (allocating), the fast twin of [`Operator::apply`].
+    pub fn apply<const D: usize>(&mut self, q: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
+        let mut out = vec![Vector::<D>::zeros(); self.n];
+        self.apply_inplace(q, &mut out)?;
+        Ok(out)
+    }
+
+    /// `Δᵀ W` (allocating), the fast twin of [`Operator::apply_transpose`].
+    pub fn apply_transpose<const D: usize>(&mut self, w: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
+        let mut out = vec![Vector::<D>::zeros(); self.n + 1];
+        self.apply_transpose_inplace(w, &mut out)?;
+        Ok(out)
+    }
+}
+
+fn pack<const D: usize>(x: &Vector<D>, c: usize, pair: bool) -> Complex<f64> {
+    Complex::new(x[c], if pair { x[c + 1] } else { 0.0 })
+}
+
+fn unpack<const D: usize>(x: &mut Vector<D>, c: usize, pair: bool, y: Complex<f64>) {
+    x[c] = y.re;
+    if pair {
+        x[c + 1] = y.im;
+    }
+}

@@ -1,0 +1,696 @@
+//! The fast path for the boundary value problems of Gauss-GLEσ: Newton–Krylov with the
+//! operators applied by FFT, `O(N log N)` per iteration and `O(N)` memory.
+//!
+//! Gauss-GLEσ is coherent, so its direct and variational schemes are the same equations; the
+//! fast path solves the variational form `r_j = f_j + (Dᵀ p)_j = 0` on the interior nodes
+//! `j = 1..N−1`, with `D = −σ Δ^α_σ` and `V = D Q`. Its Jacobian, restricted to the interior
+//! unknowns (the boundary nodes are fixed), is the symmetric
+//!
+//! `J = L_xx + L_xv D + Dᵀ L_vx + Dᵀ L_vv D`,
+//!
+//! never formed: `J δ` costs two FFT products (`a = D δ`, then `Dᵀ(L_vx δ + L_vv a)`).
+//!
+//! **Preconditioner.** On the interior columns, the rows of `D` that belong to interior nodes
+//! form a square triangular Toeplitz matrix `D_a = s·T` (σ = −: `T` lower-triangular with the
+//! Grünwald–Letnikov weights `w`, `s = h^{−α}`; σ = +: `D_a = −s Tᵀ`); `D` has one row more (row
+//! `N` for σ = −, row `0` for σ = +). The preconditioner is `P = D_aᵀ V D_a`, with `V` the block
+//! diagonal of the `L_vv` at the interior nodes: the `L_vv` part of `J` minus the rank-`d` term of
+//! the extra row. The inverse of `T` is the lower-triangular Toeplitz matrix `G` of the weights
+//! `g_r = Γ(r+α)/(Γ(α) r!)` ([`grunwald_letnikov_inverse`]), so
+//!
+//! `P⁻¹ = s⁻² G V⁻¹ Gᵀ` (σ = −),  `P⁻¹ = s⁻² Gᵀ V⁻¹ G` (σ = +),
+//!
+//! two triangular Toeplitz products by FFT. `P` is symmetric positive definite when every `L_vv`
+//! is; `P⁻¹ J = I + P⁻¹(L_xx + L_xv D + Dᵀ L_vx + rank d)`, and since `D_a` grows like `h^{−α}`
+//! the remainder is a compact perturbation: the iteration counts stay flat as `N` grows.
+//!
+//! **Linear solves.** Conjugate gradients first (`J` is symmetric); when `J` is indefinite
+//! (a potential whose `L_xx` outweighs the kinetic term), CG breaks down and GMRES(m) takes
+//! over. Each Newton system is solved to the Eisenstat–Walker forcing tolerance `η_k`, never
+//! below what the Newton tolerance needs. When neither solver gets below `η_k` — and not even
+//! below `0.1`, which still gives a usable inexact Newton step — the solve fails with
+//! [`Error::KrylovDidNotConverge`]; with [`FractionalSolver::Auto`] a small system then falls back
+//! to dense LU.
+//!
+//! **Stopping rule.** The same as the dense path: `max|r| ≤ tol · (1 + max|f| + h^{−α} max|p|)`,
+//! with the residual computed by FFT; a solution is returned only when it holds.
+//!
+//! ## Reference
+//!
+//! S. C. Eisenstat and H. F. Walker, *Choosing the forcing terms in an inexact Newton method*,
+//! SIAM J. Sci. Comput. 17 (1996) (choice 2). Triangular Toeplitz inverses: D. Bini,
+//! *Parallel solution of certain Toeplitz linear systems*, SIAM J. Comput. 13 (1984).
+
+use crate::embedding::Side;
+use crate::error::{Error, Location, Result};
+use crate::fft_operator::FftOperator;
+use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
+use crate::problem::{Problem, Scheme};
+use crate::solve::Solution;
+use crate::solve::krylov::{KrylovFailure, KrylovOptions, KrylovSystem, conjugate_gradient, gmres};
+use crate::toeplitz::TriangularToeplitz;
+use crate::weights::grunwald_letnikov_inverse;
+use rustfft::num_complex::Complex;
+
+/// Which linear algebra solves the Newton systems of a fractional (Gauss-GLEσ) boundary value
+/// problem. Set with [`Problem::with_fractional_solver`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum FractionalSolver {
+    /// Dense LU when the system is small (`(N − 1)·d ≤` [`DENSE_LIMIT`]), the fast path
+    /// otherwise; when the fast path's Krylov solver fails on a system of at most
+    /// [`DENSE_FALLBACK_LIMIT`] unknowns, the problem is solved again by dense LU.
+    #[default]
+    Auto,
+    /// Always dense LU: `O((N d)²)` memory and `O((N d)³)` time per Newton iteration. The
+    /// reference the fast path is tested against.
+    Dense,
+    /// Always the FFT Newton–Krylov path (module docs), without dense fallback.
+    Fast,
+}
+
+/// Unknowns `(N − 1)·d` up to which [`FractionalSolver::Auto`] uses dense LU.
+pub const DENSE_LIMIT: usize = 400;
+
+/// Unknowns up to which [`FractionalSolver::Auto`] falls back to dense LU when the Krylov
+/// solver fails.
+pub const DENSE_FALLBACK_LIMIT: usize = 1500;
+
+/// Iteration budgets of the Krylov solvers (per Newton system).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct KrylovBudget {
+    pub cg_iterations: usize,
+    pub gmres_iterations: usize,
+    pub restart: usize,
+}
+
+impl Default for KrylovBudget {
+    fn default() -> Self {
+        KrylovBudget {
+            cg_iterations: 300,
+            gmres_iterations: 300,
+            restart: 30,
+        }
+    }
+}
+
+/// The largest forcing term: a step whose linear residual is below this fraction of the
+/// nonlinear one is still a descent step of an inexact Newton method.
+const ETA_MAX: f64 = 0.1;
+
+/// The Newton system at one iterate: Hessians at the quadrature rows, the preconditioner's
+/// blocks, and the FFT machinery with its buffers (allocated once per solve).
+struct FastSystem<const D: usize> {
+    n: usize,
+    sigma: f64,
+    side: Side,
+    /// `h^{−α}`.
+    scale: f64,
+    /// The first quadrature row (1 for σ = −, 0 for σ = +).
+    first_row: usize,
+    velocity: FftOperator,
+    /// `G`, the inverse of the lower-triangular GL Toeplitz matrix, order `N − 1`.
+    inverse: TriangularToeplitz,
+    /// Hessians at the rows `first_row..first_row + N`.
+    hessians: Vec<Hessian<D>>,
+    /// `L_vv⁻¹` at the interior nodes `1..N−1` (entry `j − 1`).
+    vv_inverse: Vec<Matrix<D>>,
+    full: Vec<Vector<D>>,
+    rows: Vec<Vector<D>>,
+    rows_b: Vec<Vector<D>>,
+    nodes: Vec<Vector<D>>,
+    interior: Vec<Vector<D>>,
+}
+
+impl<const D: usize> FastSystem<D> {
+    fn new<L: Lagrangian<D> + ?Sized>(problem: &Problem<'_, L, D>) -> Self {
+        let n = problem.grid.n();
+        let velocity = FftOperator::new(&problem.velocity);
+        let g = grunwald_letnikov_inverse(problem.velocity.alpha(), n - 1);
+        // Same FFT length as the operator (order N + 1 ≥ N − 1), so both share one workspace.
+        let inverse = TriangularToeplitz::with_fft_len(&g, velocity.fft_len());
+        let zero = Hessian {
+            xx: Matrix::<D>::zeros(),
+            xv: Matrix::<D>::zeros(),
+            vv: Matrix::<D>::zeros(),
+        };
+        FastSystem {
+            n,
+            sigma: problem.embedding.side().sign(),
+            side: problem.embedding.side(),
+            scale: problem.velocity.scale(),
+            first_row: problem.velocity.first_row(),
+            velocity,
+            inverse,
+            hessians: vec![zero; n],
+            vv_inverse: vec![Matrix::<D>::identity(); n - 1],
+            full: vec![Vector::<D>::zeros(); n + 1],
+            rows: vec![Vector::<D>::zeros(); n],
+            rows_b: vec![Vector::<D>::zeros(); n],
+            nodes: vec![Vector::<D>::zeros(); n + 1],
+            interior: vec![Vector::<D>::zeros(); n - 1],
+        }
+    }
+
+    /// Hessians and preconditioner blocks at `q` (with `v` the velocities on the rows).
+    fn linearize<L: Lagrangian<D> + ?Sized>(
+        &mut self,
+        problem: &Problem<'_, L, D>,
+        q: &[Vector<D>],
+        v: &[Vector<D>],
+        at: Location,
+    ) -> Result<()> {
+        for (i, h) in self.hessians.iter_mut().enumerate() {
+            let k = i + self.first_row;
+            *h = problem.lagrangian.hessian(&q[k], &v[i], problem.grid.t(k));
+            let finite = h.xx.iter().chain(h.xv.iter()).chain(h.vv.iter());
+            if !finite.into_iter().all(|c| c.is_finite()) {
+                return Err(Error::NotFinite { at });
+            }
+        }
+        // Where an L_vv block cannot be inverted the preconditioner keeps the identity there:
+        // it only has to be good, and the Krylov solver reports what it cannot solve.
+        for j in 1..self.n {
+            let vv = &self.hessians[j - self.first_row].vv;
+            let inv = vv.try_inverse().filter(|m| m.iter().all(|c| c.is_finite()));
+            let size = vv.amax();
+            self.vv_inverse[j - 1] = inv.unwrap_or_else(|| {
+                if size > 0.0 {
+                    Matrix::<D>::identity() / size
+                } else {
+                    Matrix::<D>::identity()
+                }
+            });
+        }
+        Ok(())
+    }
+
+    /// `out = Gᵀ x` (transpose) or `G x`, component pairs packed.
+    fn mul_inverse(&mut self, transpose: bool, x: &[Vector<D>], out: &mut [Vector<D>]) {
+        for c in (0..D).step_by(2) {
+            let pair = c + 1 < D;
+            self.inverse.mul_with(
+                transpose,
+                self.velocity.workspace_mut(),
+                |k| Complex::new(x[k][c], if pair { x[k][c + 1] } else { 0.0 }),
+                |k, y| {
+                    out[k][c] = y.re;
+                    if pair {
+                        out[k][c + 1] = y.im;
+                    }
+                },
+            );
+        }
+    }
+}
+
+fn read<const D: usize>(x: &[f64], j: usize) -> Vector<D> {
+    Vector::<D>::from_column_slice(&x[j * D..(j + 1) * D])
+}
+
+impl<const D: usize> KrylovSystem for FastSystem<D> {
+    fn len(&self) -> usize {
+        (self.n - 1) * D
+    }
+
+    /// `J δ` with `a = D δ`, `b = L_vx δ + L_vv a` (on the rows), `J δ = L_xx δ + L_xv a + Dᵀ b`.
+    fn apply(&mut self, x: &[f64], y: &mut [f64]) {
+        let n = self.n;
+        self.full[0] = Vector::<D>::zeros();
+        self.full[n] = Vector::<D>::zeros();
+        for j in 1..n {
+            self.full[j] = read(x, j - 1);
+        }
+        self.velocity
+            .apply_inplace(&self.full, &mut self.rows)
+            .expect("buffers sized for the grid");
+        let minus_sigma = -self.sigma;
+        for i in 0..n {
+            let k = i + self.first_row;
+            let h = &self.hessians[i];
+            let a = self.rows[i] * minus_sigma;
+            self.rows[i] = a;
+            self.rows_b[i] = h.xv.transpose() * self.full[k] + h.vv * a;
+        }
+        self.velocity
+            .apply_transpose_inplace(&self.rows_b, &mut self.nodes)
+            .expect("buffers sized for the grid");
+        for j in 1..n {
+            let i = j - self.first_row;
+            let h = &self.hessians[i];
+            let yj = h.xx * self.full[j] + h.xv * self.rows[i] + self.nodes[j] * minus_sigma;
+            y[(j - 1) * D..j * D].copy_from_slice(yj.as_slice());
+        }
+    }
+
+    /// `z = P⁻¹ r = s⁻² G V⁻¹ Gᵀ r` (σ = −) or `s⁻² Gᵀ V⁻¹ G r` (σ = +).
+    fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
+        let m = self.n - 1;
+        let mut input = std::mem::take(&mut self.interior);
+        for j in 0..m {
+            input[j] = read(r, j);
+        }
+        let mut middle = std::mem::take(&mut self.nodes);
+        let first_transposed = self.side == Side::Backward;
+        self.mul_inverse(first_transposed, &input, &mut middle[..m]);
+        let s2 = 1.0 / (self.scale * self.scale);
+        for j in 0..m {
+            middle[j] = self.vv_inverse[j] * middle[j] * s2;
+        }
+        self.mul_inverse(!first_transposed, &middle[..m], &mut input);
+        for j in 0..m {
+            z[j * D..(j + 1) * D].copy_from_slice(input[j].as_slice());
+        }
+        self.interior = input;
+        self.nodes = middle;
+    }
+}
+
+/// The residual at an iterate, with what the Jacobian needs.
+struct Evaluation<const D: usize> {
+    /// `r_j`, `j = 1..N−1`.
+    r: Vec<Vector<D>>,
+    /// `V` on the rows.
+    v: Vec<Vector<D>>,
+    /// `1 + max|f| + h^{−α} max|p|`.
+    scale: f64,
+}
+
+fn max_norm<const D: usize>(x: &[Vector<D>]) -> f64 {
+    x.iter().fold(0.0, |m, v| m.max(v.amax()))
+}
+
+fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
+    problem: &Problem<'_, L, D>,
+    system: &mut FastSystem<D>,
+    q: &[Vector<D>],
+    iteration: usize,
+) -> Result<Evaluation<D>> {
+    let not_finite = Error::NotFinite {
+        at: Location::Newton(iteration),
+    };
+    if !q.iter().all(|x| x.iter().all(|c| c.is_finite())) {
+        return Err(not_finite);
+    }
+    let n = system.n;
+    let mut v = vec![Vector::<D>::zeros(); n];
+    system.velocity.apply_inplace(q, &mut v)?;
+    let minus_sigma = -system.sigma;
+    let mut f = vec![Vector::<D>::zeros(); n + 1];
+    let mut p = vec![Vector::<D>::zeros(); n];
+    for i in 0..n {
+        let k = i + system.first_row;
+        v[i] *= minus_sigma;
+        let (fk, pk) = problem.lagrangian.gradient(&q[k], &v[i], problem.grid.t(k));
+        if !fk.iter().chain(pk.iter()).all(|c| c.is_finite()) {
+            return Err(not_finite);
+        }
+        f[k] = fk;
+        p[i] = pk;
+    }
+    let mut dt_p = vec![Vector::<D>::zeros(); n + 1];
+    system.velocity.apply_transpose_inplace(&p, &mut dt_p)?;
+    let r: Vec<Vector<D>> = (1..n).map(|j| f[j] + dt_p[j] * minus_sigma).collect();
+    if !r.iter().all(|x| x.iter().all(|c| c.is_finite())) {
+        return Err(not_finite);
+    }
+    let scale = 1.0 + max_norm(&f) + system.scale * max_norm(&p);
+    Ok(Evaluation { r, v, scale })
+}
+
+/// Solves `J δ = rhs` to the relative tolerance `eta`: CG, then GMRES when CG breaks down or
+/// runs out of iterations. Accepts a GMRES iterate below [`ETA_MAX`] as an inexact step.
+fn solve_newton_system<const D: usize>(
+    system: &mut FastSystem<D>,
+    rhs: &[f64],
+    delta: &mut [f64],
+    eta: f64,
+    budget: &KrylovBudget,
+    at: Location,
+) -> Result<usize> {
+    let mut options = KrylovOptions {
+        tolerance: eta,
+        max_iterations: budget.cg_iterations,
+        restart: budget.restart,
+    };
+    let cg_failure = match conjugate_gradient(system, rhs, delta, &options) {
+        Ok(stats) => return Ok(stats.iterations),
+        Err(failure) => failure,
+    };
+    options.max_iterations = budget.gmres_iterations;
+    match gmres(system, rhs, delta, &options) {
+        Ok(stats) => Ok(cg_failure.iterations() + stats.iterations),
+        Err(failure) if failure.relative_residual() <= ETA_MAX => {
+            Ok(cg_failure.iterations() + failure.iterations())
+        }
+        Err(failure) => {
+            let (iterations, residual) = match failure {
+                KrylovFailure::Breakdown {
+                    iterations,
+                    relative_residual,
+                }
+                | KrylovFailure::MaxIterations {
+                    iterations,
+                    relative_residual,
+                } => (iterations, relative_residual),
+            };
+            Err(Error::KrylovDidNotConverge {
+                at,
+                iterations,
+                residual,
+            })
+        }
+    }
+}
+
+/// Newton–Krylov on the interior nodes of a Gauss-GLEσ boundary value problem, from `guess`
+/// (already checked: `N + 1` finite nodes, `N ≥ 2`).
+pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
+    problem: &Problem<'_, L, D>,
+    scheme: Scheme,
+    guess: &[Vector<D>],
+    budget: &KrylovBudget,
+) -> Result<Solution<D>> {
+    let n = problem.grid.n();
+    let opts = problem.newton;
+    let mut system = FastSystem::<D>::new(problem);
+    let mut q = guess.to_vec();
+    let mut eval = evaluate(problem, &mut system, &q, 0)?;
+    let unknowns = (n - 1) * D;
+    let mut rhs = vec![0.0; unknowns];
+    let mut delta = vec![0.0; unknowns];
+    let mut eta = ETA_MAX;
+    let mut previous_norm: Option<f64> = None;
+    for iteration in 0..=opts.max_iterations {
+        let at = Location::Newton(iteration);
+        let res = max_norm(&eval.r);
+        if res <= opts.tolerance * eval.scale {
+            return Ok(Solution {
+                scheme,
+                embedding: problem.embedding,
+                grid: problem.grid,
+                q,
+                newton_iterations: iteration,
+                explicit_steps: 0,
+            });
+        }
+        if iteration == opts.max_iterations {
+            break;
+        }
+        for (j, r) in eval.r.iter().enumerate() {
+            rhs[j * D..(j + 1) * D].copy_from_slice(r.as_slice());
+        }
+        let norm = rhs.iter().map(|x| x * x).sum::<f64>().sqrt();
+        // Eisenstat–Walker choice 2 with its safeguard, capped at ETA_MAX; never asking for
+        // more than the Newton tolerance needs (the linear residual then is at most half of it).
+        if let Some(previous) = previous_norm {
+            let ratio = norm / previous;
+            let mut next = 0.9 * ratio * ratio;
+            if 0.9 * eta * eta > 0.1 {
+                next = next.max(0.9 * eta * eta);
+            }
+            eta = next.min(ETA_MAX);
+        }
+        eta = eta.max(0.5 * opts.tolerance * eval.scale / norm).max(1e-13);
+        previous_norm = Some(norm);
+        system.linearize(problem, &q, &eval.v, at)?;
+        solve_newton_system(&mut system, &rhs, &mut delta, eta, budget, at)?;
+        // Backtracking as in the dense path: halve until the max-norm residual decreases (at
+        // most 6 times, then take the shortest step anyway).
+        let mut lambda = 1.0;
+        loop {
+            let trial: Vec<Vector<D>> = (0..=n)
+                .map(|k| {
+                    if k == 0 || k == n {
+                        q[k]
+                    } else {
+                        q[k] - read::<D>(&delta, k - 1) * lambda
+                    }
+                })
+                .collect();
+            let attempt = evaluate(problem, &mut system, &trial, iteration + 1);
+            let accept = match &attempt {
+                Ok(e) => max_norm(&e.r) < res || lambda < 1.0 / 32.0,
+                Err(_) => lambda < 1.0 / 32.0,
+            };
+            if accept {
+                eval = attempt?;
+                q = trial;
+                break;
+            }
+            lambda *= 0.5;
+        }
+    }
+    Err(Error::NewtonDidNotConverge {
+        at: Location::Newton(opts.max_iterations),
+        iterations: opts.max_iterations,
+        residual: max_norm(&eval.r),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::embedding::Embedding;
+    use crate::grid::Grid;
+    use nalgebra::DMatrix;
+
+    /// `L = ½(1 + x₀²)v₀² + ½v₁² + sin(t) x₁ v₀ + x₀ v₀ v₁ − cos x₀ − x₁⁴/4`.
+    struct Mixed;
+    impl Lagrangian<2> for Mixed {
+        fn value(&self, x: &Vector<2>, v: &Vector<2>, t: f64) -> f64 {
+            0.5 * (1.0 + x[0] * x[0]) * v[0] * v[0]
+                + 0.5 * v[1] * v[1]
+                + t.sin() * x[1] * v[0]
+                + x[0] * v[0] * v[1]
+                - x[0].cos()
+                - 0.25 * x[1].powi(4)
+        }
+        fn gradient(&self, x: &Vector<2>, v: &Vector<2>, t: f64) -> (Vector<2>, Vector<2>) {
+            (
+                Vector::<2>::new(
+                    x[0] * v[0] * v[0] + v[0] * v[1] + x[0].sin(),
+                    t.sin() * v[0] - x[1].powi(3),
+                ),
+                Vector::<2>::new(
+                    (1.0 + x[0] * x[0]) * v[0] + t.sin() * x[1] + x[0] * v[1],
+                    v[1] + x[0] * v[0],
+                ),
+            )
+        }
+        fn hessian(&self, x: &Vector<2>, v: &Vector<2>, t: f64) -> Hessian<2> {
+            Hessian {
+                xx: Matrix::<2>::new(v[0] * v[0] + x[0].cos(), 0.0, 0.0, -3.0 * x[1] * x[1]),
+                xv: Matrix::<2>::new(2.0 * x[0] * v[0] + v[1], v[0], t.sin(), 0.0),
+                vv: Matrix::<2>::new(1.0 + x[0] * x[0], x[0], x[0], 1.0),
+            }
+        }
+    }
+
+    fn curve(n: usize) -> Vec<Vector<2>> {
+        (0..=n)
+            .map(|k| {
+                let t = k as f64;
+                Vector::<2>::new((0.7 * t).sin(), 0.5 * (1.3 * t).cos())
+            })
+            .collect()
+    }
+
+    /// The matrix-free `J δ` and the residual by FFT equal the assembled dense Jacobian and the
+    /// dense residual, for both sides.
+    #[test]
+    fn matrix_free_jacobian_and_residual_match_the_dense_ones() {
+        let n = 13;
+        let grid = Grid::new(0.2, 1.5, n).unwrap();
+        for side in [Side::Backward, Side::Forward] {
+            let embedding = Embedding::grunwald_letnikov(side, 0.6).unwrap();
+            let problem = Problem::new(&Mixed, grid, embedding);
+            let q = curve(n);
+            let mut system = FastSystem::<2>::new(&problem);
+            let eval = evaluate(&problem, &mut system, &q, 0).unwrap();
+            let dense_r = problem.residual(Scheme::Variational, &q).unwrap();
+            for (a, b) in eval.r.iter().zip(&dense_r) {
+                assert!((a - b).amax() < 1e-12, "{side:?}: {a} vs {b}");
+            }
+            system
+                .linearize(&problem, &q, &eval.v, Location::Newton(0))
+                .unwrap();
+            let pw = problem.pointwise(&q).unwrap();
+            let m = (n - 1) * 2;
+            let mut jac = DMatrix::<f64>::zeros(m, m);
+            problem.assemble_jacobian(Scheme::Variational, &q, &pw, &mut jac);
+            let x: Vec<f64> = (0..m).map(|i| ((3 * i + 1) as f64).sin()).collect();
+            let mut y = vec![0.0; m];
+            system.apply(&x, &mut y);
+            let want = &jac * nalgebra::DVector::from_vec(x.clone());
+            for i in 0..m {
+                assert!(
+                    (y[i] - want[i]).abs() < 1e-11 * want.amax(),
+                    "{side:?} row {i}: {} vs {}",
+                    y[i],
+                    want[i]
+                );
+            }
+        }
+    }
+
+    /// `P⁻¹` inverts `D_aᵀ V D_a` exactly (V from constant `L_vv`): `P⁻¹ P x = x`.
+    #[test]
+    fn preconditioner_inverts_the_kinetic_part_on_the_square_block() {
+        struct Free;
+        impl Lagrangian<1> for Free {
+            fn value(&self, _x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
+                v[0] * v[0]
+            }
+            fn gradient(&self, _x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
+                (Vector::<1>::zeros(), *v * 2.0)
+            }
+            fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
+                Hessian {
+                    xx: Matrix::<1>::zeros(),
+                    xv: Matrix::<1>::zeros(),
+                    vv: Matrix::<1>::new(2.0),
+                }
+            }
+        }
+        let n = 17;
+        let grid = Grid::new(0.0, 1.0, n).unwrap();
+        for side in [Side::Backward, Side::Forward] {
+            let embedding = Embedding::grunwald_letnikov(side, 0.45).unwrap();
+            let problem = Problem::new(&Free, grid, embedding);
+            let q: Vec<Vector<1>> = (0..=n).map(|k| Vector::<1>::new(k as f64)).collect();
+            let mut system = FastSystem::<1>::new(&problem);
+            let eval = evaluate(&problem, &mut system, &q, 0).unwrap();
+            system
+                .linearize(&problem, &q, &eval.v, Location::Newton(0))
+                .unwrap();
+            // P = D_aᵀ V D_a with D_a the interior rows and columns of D = −σΔ.
+            let m = n - 1;
+            let mut p = DMatrix::<f64>::zeros(m, m);
+            let sigma = side.sign();
+            for a in 1..n {
+                for b in 1..n {
+                    let mut acc = 0.0;
+                    for k in 1..n {
+                        let d = |j| {
+                            problem
+                                .velocity
+                                .row_entries(k)
+                                .find(|&(jj, _)| jj == j)
+                                .map_or(0.0, |(_, c)| -sigma * c)
+                        };
+                        acc += d(a) * 2.0 * d(b);
+                    }
+                    p[(a - 1, b - 1)] = acc;
+                }
+            }
+            let x: Vec<f64> = (0..m).map(|i| (i as f64 * 0.37).cos()).collect();
+            let px = &p * nalgebra::DVector::from_vec(x.clone());
+            let mut z = vec![0.0; m];
+            system.precondition(px.as_slice(), &mut z);
+            for i in 0..m {
+                assert!(
+                    (z[i] - x[i]).abs() < 1e-10,
+                    "{side:?} {i}: {} vs {}",
+                    z[i],
+                    x[i]
+                );
+            }
+        }
+    }
+
+    /// A Krylov budget too small for the system is a typed error, never a returned curve.
+    #[test]
+    fn an_exhausted_krylov_budget_is_a_typed_error() {
+        let n = 200;
+        let grid = Grid::new(0.0, 1.0, n).unwrap();
+        let embedding = Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap();
+        let problem = Problem::new(&Mixed, grid, embedding);
+        let guess: Vec<Vector<2>> = (0..=n)
+            .map(|k| Vector::<2>::new(k as f64 / n as f64, 0.0))
+            .collect();
+        let budget = KrylovBudget {
+            cg_iterations: 1,
+            gmres_iterations: 1,
+            restart: 1,
+        };
+        let err = solve(&problem, Scheme::Variational, &guess, &budget).unwrap_err();
+        assert!(
+            matches!(
+                err,
+                Error::KrylovDidNotConverge {
+                    at: Location::Newton(0),
+                    ..
+                }
+            ),
+            "{err:?}"
+        );
+    }
+
+    /// `L = ½v² − 72x²`: `J = DᵀD − 144` is indefinite. CG must report the breakdown, and the
+    /// Newton system is still solved (by GMRES) to the asked tolerance.
+    #[test]
+    fn cg_breaks_down_on_an_indefinite_jacobian_and_gmres_takes_over() {
+        struct Oscillator;
+        impl Lagrangian<1> for Oscillator {
+            fn value(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
+                0.5 * v[0] * v[0] - 72.0 * x[0] * x[0]
+            }
+            fn gradient(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
+                (Vector::<1>::new(-144.0 * x[0]), *v)
+            }
+            fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
+                Hessian {
+                    xx: Matrix::<1>::new(-144.0),
+                    xv: Matrix::<1>::zeros(),
+                    vv: Matrix::<1>::identity(),
+                }
+            }
+        }
+        let n = 300;
+        let grid = Grid::new(0.0, 1.0, n).unwrap();
+        for side in [Side::Backward, Side::Forward] {
+            let embedding = Embedding::grunwald_letnikov(side, 0.7).unwrap();
+            let problem = Problem::new(&Oscillator, grid, embedding);
+            let q: Vec<Vector<1>> = (0..=n)
+                .map(|k| Vector::<1>::new(0.3 - 1.3 * k as f64 / n as f64))
+                .collect();
+            let mut system = FastSystem::<1>::new(&problem);
+            let eval = evaluate(&problem, &mut system, &q, 0).unwrap();
+            system
+                .linearize(&problem, &q, &eval.v, Location::Newton(0))
+                .unwrap();
+            let rhs: Vec<f64> = eval.r.iter().map(|r| r[0]).collect();
+            let mut delta = vec![0.0; n - 1];
+            let options = KrylovOptions {
+                tolerance: 1e-10,
+                max_iterations: 300,
+                restart: 30,
+            };
+            let cg = conjugate_gradient(&mut system, &rhs, &mut delta, &options);
+            assert!(matches!(cg, Err(KrylovFailure::Breakdown { .. })), "{cg:?}");
+            let at = Location::Newton(0);
+            solve_newton_system(
+                &mut system,
+                &rhs,
+                &mut delta,
+                1e-10,
+                &KrylovBudget::default(),
+                at,
+            )
+            .unwrap();
+            let mut j_delta = vec![0.0; n - 1];
+            system.apply(&delta, &mut j_delta);
+            let gap: f64 = rhs
+                .iter()
+                .zip(&j_delta)
+                .map(|(a, b)| (a - b) * (a - b))
+                .sum();
+            let norm: f64 = rhs.iter().map(|a| a * a).sum();
+            assert!(
+                (gap / norm).sqrt() <= 1e-10,
+                "{side:?}: {:e}",
+                (gap / norm).sqrt()
+            );
+        }
+    }
+}

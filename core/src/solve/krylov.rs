@@ -1,0 +1,440 @@
+//! Preconditioned Krylov solvers for `A x = b` given only products: conjugate gradients for
+//! symmetric positive definite `A` and restarted GMRES(m) for everything else.
+//!
+//! Both stop when `‖b − A x‖₂ ≤ tolerance · ‖b‖₂` and start from `x = 0`.
+//!
+//! - [`conjugate_gradient`]: with an SPD preconditioner `M ≈ A⁻¹`,
+//!   `α = (r·z)/(p·Ap)`, `x += α p`, `r −= α Ap`, `z = M r`, `β = (r·z)_new/(r·z)`,
+//!   `p = z + β p`. It reports [`KrylovFailure::Breakdown`] as soon as a curvature `p·Ap` or
+//!   `r·z` is not positive (an indefinite `A` or `M`), rather than continue on a meaningless
+//!   recurrence.
+//! - [`gmres`]: right-preconditioned, `A M y = b`, `x = M y`; Arnoldi with modified
+//!   Gram–Schmidt and Givens rotations, restarted every `restart` iterations. It needs only a
+//!   nonsingular `A`.
+//!
+//! # Example
+//!
+//! ```
+//! use varembed::solve::krylov::{KrylovOptions, KrylovSystem, conjugate_gradient, gmres};
+//! /// The 1-D Laplacian tridiag(−1, 2, −1), preconditioned by its diagonal.
+//! struct Laplacian(usize);
+//! impl KrylovSystem for Laplacian {
+//!     fn len(&self) -> usize { self.0 }
+//!     fn apply(&mut self, x: &[f64], y: &mut [f64]) {
+//!         for i in 0..self.0 {
+//!             let left = if i > 0 { x[i - 1] } else { 0.0 };
+//!             let right = if i + 1 < self.0 { x[i + 1] } else { 0.0 };
+//!             y[i] = 2.0 * x[i] - left - right;
+//!         }
+//!     }
+//!     fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
+//!         for (z, r) in z.iter_mut().zip(r) { *z = 0.5 * r; }
+//!     }
+//! }
+//! let b = vec![1.0; 20];
+//! let options = KrylovOptions { tolerance: 1e-10, max_iterations: 100, restart: 30 };
+//! let mut x = vec![0.0; 20];
+//! let cg = conjugate_gradient(&mut Laplacian(20), &b, &mut x, &options).unwrap();
+//! assert!(cg.iterations <= 20 && cg.relative_residual <= 1e-10);
+//! let mut y = vec![0.0; 20];
+//! gmres(&mut Laplacian(20), &b, &mut y, &options).unwrap();
+//! assert!(x.iter().zip(&y).all(|(a, b)| (a - b).abs() < 1e-8));
+//! ```
+//!
+//! ## Reference
+//!
+//! Y. Saad, *Iterative Methods for Sparse Linear Systems*, 2nd ed., Algorithms 9.1 (PCG) and
+//! 9.5 (right-preconditioned GMRES).
+
+/// A linear system known through products: `y = A x` and `z = M r` with `M ≈ A⁻¹`.
+pub trait KrylovSystem {
+    /// The number of unknowns.
+    fn len(&self) -> usize;
+    /// Whether there are no unknowns.
+    fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// `y = A x`.
+    fn apply(&mut self, x: &[f64], y: &mut [f64]);
+    /// `z = M r`.
+    fn precondition(&mut self, r: &[f64], z: &mut [f64]);
+}
+
+/// Stopping rule and sizes of the Krylov solvers.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KrylovOptions {
+    /// Relative residual `‖b − A x‖₂ / ‖b‖₂` to reach.
+    pub tolerance: f64,
+    /// Products with `A` before giving up.
+    pub max_iterations: usize,
+    /// GMRES restart length `m` (memory: `m + 1` vectors).
+    pub restart: usize,
+}
+
+/// A converged solve.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct KrylovStats {
+    /// Products with `A`.
+    pub iterations: usize,
+    /// `‖b − A x‖₂ / ‖b‖₂` reached.
+    pub relative_residual: f64,
+}
+
+/// Why a Krylov solve stopped short; `x` then holds the last iterate.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum KrylovFailure {
+    /// CG met a non-positive curvature `p·Ap ≤ 0` or `r·z ≤ 0` (or a non-finite value).
+    Breakdown {
+        /// Products with `A` so far.
+        iterations: usize,
+        /// Relative residual of the last iterate.
+        relative_residual: f64,
+    },
+    /// The iteration budget ran out (or GMRES stagnated).
+    MaxIterations {
+        /// Products with `A`.
+        iterations: usize,
+        /// Relative residual of the last iterate.
+        relative_residual: f64,
+    },
+}
+
+impl KrylovFailure {
+    /// Products with `A` made.
+    pub fn iterations(&self) -> usize {
+        match *self {
+            KrylovFailure::Breakdown { iterations, .. }
+            | KrylovFailure::MaxIterations { iterations, .. } => iterations,
+        }
+    }
+    /// Relative residual of the last iterate.
+    pub fn relative_residual(&self) -> f64 {
+        match *self {
+            KrylovFailure::Breakdown {
+                relative_residual, ..
+            }
+            | KrylovFailure::MaxIterations {
+                relative_residual, ..
+            } => relative_residual,
+        }
+    }
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+fn norm(a: &[f64]) -> f64 {
+    dot(a, a).sqrt()
+}
+
+/// Preconditioned conjugate gradients for SPD `A` (and SPD `M`); `x` is overwritten.
+pub fn conjugate_gradient(
+    system: &mut impl KrylovSystem,
+    b: &[f64],
+    x: &mut [f64],
+    options: &KrylovOptions,
+) -> Result<KrylovStats, KrylovFailure> {
+    let n = system.len();
+    x.fill(0.0);
+    let b_norm = norm(b);
+    if b_norm == 0.0 {
+        return Ok(KrylovStats {
+            iterations: 0,
+            relative_residual: 0.0,
+        });
+    }
+    let mut r = b.to_vec();
+    let mut z = vec![0.0; n];
+    let mut ap = vec![0.0; n];
+    system.precondition(&r, &mut z);
+    let mut p = z.clone();
+    let mut rz = dot(&r, &z);
+    let mut relative = 1.0;
+    for iteration in 1..=options.max_iterations {
+        let breakdown = |relative_residual| KrylovFailure::Breakdown {
+            iterations: iteration - 1,
+            relative_residual,
+        };
+        if !(rz > 0.0 && rz.is_finite()) {
+            return Err(breakdown(relative));
+        }
+        system.apply(&p, &mut ap);
+        let curvature = dot(&p, &ap);
+        if !(curvature > 0.0 && curvature.is_finite()) {
+            return Err(breakdown(relative));
+        }
+        let step = rz / curvature;
+        for i in 0..n {
+            x[i] += step * p[i];
+            r[i] -= step * ap[i];
+        }
+        relative = norm(&r) / b_norm;
+        if relative <= options.tolerance {
+            return Ok(KrylovStats {
+                iterations: iteration,
+                relative_residual: relative,
+            });
+        }
+        system.precondition(&r, &mut z);
+        let rz_new = dot(&r, &z);
+        let beta = rz_new / rz;
+        rz = rz_new;
+        for i in 0..n {
+            p[i] = z[i] + beta * p[i];
+        }
+    }
+    Err(KrylovFailure::MaxIterations {
+        iterations: options.max_iterations,
+        relative_residual: relative,
+    })
+}
+
+/// Right-preconditioned restarted GMRES(m); `x` is overwritten.
+pub fn gmres(
+    system: &mut impl KrylovSystem,
+    b: &[f64],
+    x: &mut [f64],
+    options: &KrylovOptions,
+) -> Result<KrylovStats, KrylovFailure> {
+    let n = system.len();
+    x.fill(0.0);
+    let b_norm = norm(b);
+    if b_norm == 0.0 {
+        return Ok(KrylovStats {
+            iterations: 0,
+            relative_residual: 0.0,
+        });
+    }
+    let m = options.restart.clamp(1, n.max(1));
+    let mut r = b.to_vec();
+    let mut w = vec![0.0; n];
+    let mut z = vec![0.0; n];
+    let mut basis: Vec<Vec<f64>> = Vec::with_capacity(m + 1);
+    let mut iterations = 0;
+    let mut relative = 1.0;
+    while iterations < options.max_iterations {
+        // r = b − A x
+        system.apply(x, &mut w);
+        for i in 0..n {
+            r[i] = b[i] - w[i];
+        }
+        let beta = norm(&r);
+        relative = beta / b_norm;
+        if relative <= options.tolerance {
+            return Ok(KrylovStats {
+                iterations,
+                relative_residual: relative,
+            });
+        }
+        if !beta.is_finite() {
+            break;
+        }
+        basis.clear();
+        basis.push(r.iter().map(|v| v / beta).collect());
+        // Hessenberg columns, rotated as they come; g = β e₁ rotated.
+        let mut hess: Vec<Vec<f64>> = Vec::with_capacity(m);
+        let mut rotations: Vec<(f64, f64)> = Vec::with_capacity(m);
+        let mut g = vec![0.0; m + 1];
+        g[0] = beta;
+        let mut inner = 0;
+        while inner < m && iterations < options.max_iterations {
+            system.precondition(&basis[inner], &mut z);
+            system.apply(&z, &mut w);
+            iterations += 1;
+            let mut h = vec![0.0; inner + 2];
+            for (j, v) in basis.iter().enumerate() {
+                h[j] = dot(&w, v);
+                for i in 0..n {
+                    w[i] -= h[j] * v[i];
+                }
+            }
+            h[inner + 1] = norm(&w);
+            for (j, &(c, s)) in rotations.iter().enumerate() {
+                let (a, b) = (h[j], h[j + 1]);
+                h[j] = c * a + s * b;
+                h[j + 1] = -s * a + c * b;
+            }
+            let (a, b) = (h[inner], h[inner + 1]);
+            let rho = a.hypot(b);
+            let (c, s) = if rho == 0.0 {
+                (1.0, 0.0)
+            } else {
+                (a / rho, b / rho)
+            };
+            h[inner] = rho;
+            h[inner + 1] = 0.0;
+            g[inner + 1] = -s * g[inner];
+            g[inner] *= c;
+            rotations.push((c, s));
+            let next_norm = norm(&w);
+            hess.push(h);
+            inner += 1;
+            relative = g[inner].abs() / b_norm;
+            if relative <= options.tolerance || next_norm == 0.0 || !relative.is_finite() {
+                break;
+            }
+            basis.push(w.iter().map(|v| v / next_norm).collect());
+        }
+        // Solve the triangular system R y = g and update x += M (V y).
+        let mut y = vec![0.0; inner];
+        for i in (0..inner).rev() {
+            let mut acc = g[i];
+            for j in i + 1..inner {
+                acc -= hess[j][i] * y[j];
+            }
+            y[i] = if hess[i][i] != 0.0 {
+                acc / hess[i][i]
+            } else {
+                0.0
+            };
+        }
+        w.fill(0.0);
+        for (j, yj) in y.iter().enumerate() {
+            for i in 0..n {
+                w[i] += yj * basis[j][i];
+            }
+        }
+        system.precondition(&w, &mut z);
+        let before = relative;
+        for i in 0..n {
+            x[i] += z[i];
+        }
+        if !x.iter().all(|v| v.is_finite()) {
+            break;
+        }
+        // A restart that reduced nothing will not reduce anything next time either.
+        if inner == m && before >= 0.999 * (beta / b_norm) {
+            break;
+        }
+    }
+    system.apply(x, &mut w);
+    let true_residual = b
+        .iter()
+        .zip(&w)
+        .map(|(b, w)| (b - w) * (b - w))
+        .sum::<f64>()
+        .sqrt()
+        / b_norm;
+    if true_residual <= options.tolerance {
+        return Ok(KrylovStats {
+            iterations,
+            relative_residual: true_residual,
+        });
+    }
+    Err(KrylovFailure::MaxIterations {
+        iterations,
+        relative_residual: if true_residual.is_finite() {
+            true_residual
+        } else {
+            relative
+        },
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A dense symmetric matrix with a Jacobi preconditioner.
+    struct Dense {
+        a: Vec<Vec<f64>>,
+        jacobi: bool,
+    }
+    impl KrylovSystem for Dense {
+        fn len(&self) -> usize {
+            self.a.len()
+        }
+        fn apply(&mut self, x: &[f64], y: &mut [f64]) {
+            for (yi, row) in y.iter_mut().zip(&self.a) {
+                *yi = dot(row, x);
+            }
+        }
+        fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
+            for i in 0..r.len() {
+                z[i] = if self.jacobi {
+                    r[i] / self.a[i][i].abs()
+                } else {
+                    r[i]
+                };
+            }
+        }
+    }
+
+    /// `tridiag(−1, 2 + shift, −1)`: SPD for `shift > −2(1 − cos(π/(n+1)))`, indefinite below.
+    fn shifted_laplacian(n: usize, shift: f64) -> Dense {
+        let mut a = vec![vec![0.0; n]; n];
+        for i in 0..n {
+            a[i][i] = 2.0 + shift;
+            if i > 0 {
+                a[i][i - 1] = -1.0;
+                a[i - 1][i] = -1.0;
+            }
+        }
+        Dense { a, jacobi: true }
+    }
+
+    fn residual(system: &mut Dense, b: &[f64], x: &[f64]) -> f64 {
+        let mut y = vec![0.0; b.len()];
+        system.apply(x, &mut y);
+        norm(&b.iter().zip(&y).map(|(b, y)| b - y).collect::<Vec<_>>()) / norm(b)
+    }
+
+    const OPTIONS: KrylovOptions = KrylovOptions {
+        tolerance: 1e-10,
+        max_iterations: 400,
+        restart: 20,
+    };
+
+    #[test]
+    fn cg_solves_spd_and_reports_indefinite_breakdown() {
+        let n = 60;
+        let b: Vec<f64> = (0..n).map(|i| ((i * 3) as f64).sin() + 0.1).collect();
+        let mut x = vec![0.0; n];
+        let mut spd = shifted_laplacian(n, 0.01);
+        let stats = conjugate_gradient(&mut spd, &b, &mut x, &OPTIONS).unwrap();
+        assert!(residual(&mut spd, &b, &x) <= 1e-10, "{stats:?}");
+        // Shifted well below the smallest eigenvalue: indefinite, CG must stop and say so.
+        let mut indefinite = shifted_laplacian(n, -1.0);
+        let failure = conjugate_gradient(&mut indefinite, &b, &mut x, &OPTIONS).unwrap_err();
+        assert!(
+            matches!(failure, KrylovFailure::Breakdown { .. }),
+            "{failure:?}"
+        );
+    }
+
+    #[test]
+    fn gmres_solves_the_indefinite_system_cg_cannot() {
+        let n = 60;
+        let b: Vec<f64> = (0..n).map(|i| ((i * 3) as f64).cos()).collect();
+        let mut system = shifted_laplacian(n, -1.0);
+        system.jacobi = false;
+        let mut x = vec![0.0; n];
+        let options = KrylovOptions {
+            max_iterations: 2000,
+            restart: 60,
+            ..OPTIONS
+        };
+        let stats = gmres(&mut system, &b, &mut x, &options).unwrap();
+        let r = residual(&mut system, &b, &x);
+        assert!(r <= 1e-10, "{stats:?}, true residual {r:e}");
+    }
+
+    #[test]
+    fn gmres_reports_an_exhausted_budget_with_the_true_residual() {
+        let n = 200;
+        let b = vec![1.0; n];
+        let mut system = shifted_laplacian(n, -1.0);
+        system.jacobi = false;
+        let mut x = vec![0.0; n];
+        let options = KrylovOptions {
+            max_iterations: 5,
+            restart: 3,
+            ..OPTIONS
+        };
+        let failure = gmres(&mut system, &b, &mut x, &options).unwrap_err();
+        let r = residual(&mut system, &b, &x);
+        assert!(failure.relative_residual() > 1e-10);
+        assert!((failure.relative_residual() - r).abs() <= 1e-12 * r.max(1.0));
+    }
+}
