@@ -48,6 +48,7 @@ use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
 use crate::problem::{Problem, Scheme};
 use crate::solve::Solution;
 use crate::solve::krylov::{KrylovFailure, KrylovOptions, KrylovSystem, conjugate_gradient, gmres};
+use crate::solve::newton::at_round_off;
 use crate::toeplitz::TriangularToeplitz;
 use crate::weights::grunwald_letnikov_inverse;
 use rustfft::num_complex::Complex;
@@ -149,6 +150,22 @@ impl<const D: usize> FastSystem<D> {
             nodes: vec![Vector::<D>::zeros(); n + 1],
             interior: vec![Vector::<D>::zeros(); n - 1],
         }
+    }
+
+    /// A bound on `‖J‖∞` from the last linearisation: with `‖D‖∞ ≤ 2h^{−α}` (the
+    /// Grünwald–Letnikov weights have `Σ|α_r| ≤ 2`),
+    /// `‖J‖∞ ≤ max‖L_xx‖ + 4h^{−α} max‖L_xv‖ + 4h^{−2α} max‖L_vv‖`. Zero before the first one.
+    fn jacobian_bound(&self) -> f64 {
+        let norm = |m: &Matrix<D>| {
+            m.row_iter()
+                .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
+                .fold(0.0, f64::max)
+        };
+        let s = self.scale;
+        self.hessians
+            .iter()
+            .map(|h| norm(&h.xx) + 4.0 * s * norm(&h.xv) + 4.0 * s * s * norm(&h.vv))
+            .fold(0.0, f64::max)
     }
 
     /// Hessians and preconditioner blocks at `q` (with `v` the velocities on the rows).
@@ -380,10 +397,15 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
     let mut delta = vec![0.0; unknowns];
     let mut eta = ETA_MAX;
     let mut previous_norm: Option<f64> = None;
+    let mut previous_res = f64::INFINITY;
     for iteration in 0..=opts.max_iterations {
         let at = Location::Newton(iteration);
         let res = max_norm(&eval.r);
-        if res <= opts.tolerance * eval.scale {
+        // The same rule as the dense path: tolerance, or stagnation at the round-off floor
+        // (with the Jacobian's norm bounded, since it is never assembled here).
+        let floor = at_round_off(res, previous_res, system.jacobian_bound(), max_norm(&q));
+        previous_res = res;
+        if res <= opts.tolerance * eval.scale || floor {
             return Ok(Solution {
                 scheme,
                 embedding: problem.embedding,
