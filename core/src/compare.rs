@@ -15,8 +15,8 @@ use crate::error::Result;
 use crate::grid::Grid;
 use crate::lagrangian::{IntoVector, Lagrangian, Vector};
 use crate::problem::{Problem, Scheme};
-use crate::solve::Solution;
 use crate::solve::ivp::Start;
+use crate::solve::{Solution, max_norm};
 use std::fmt;
 use std::time::{Duration, Instant};
 
@@ -270,10 +270,6 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             }
         })
     }
-}
-
-fn max_norm<const D: usize>(x: &[Vector<D>]) -> f64 {
-    x.iter().fold(0.0, |m, v| m.max(v.amax()))
 }
 
 impl<const D: usize> fmt::Display for Comparison<D> {

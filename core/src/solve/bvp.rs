@@ -14,7 +14,8 @@ use crate::solve::fractional::{
     self, DENSE_FALLBACK_LIMIT, DENSE_LIMIT, FractionalSolver, KrylovBudget,
 };
 use crate::solve::linear::{BandedMatrix, solve_dense};
-use crate::solve::newton::at_round_off;
+use crate::solve::max_norm;
+use crate::solve::newton::{at_round_off, backtrack};
 use nalgebra::{DMatrix, DVector};
 
 impl<const D: usize> BlockSink<D> for BandedMatrix {
@@ -135,33 +136,12 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             if iteration == opts.max_iterations {
                 break;
             }
-            // Backtracking: halve the step until the residual decreases (at most 6 times, then
-            // take the shortest step anyway and let the iteration count decide).
-            let mut lambda = 1.0;
-            loop {
-                let trial: Vec<Vector<D>> = (0..=n)
-                    .map(|k| {
-                        if k == 0 || k == n {
-                            q[k]
-                        } else {
-                            q[k] - Vector::<D>::from_column_slice(&rhs[(k - 1) * D..k * D]) * lambda
-                        }
-                    })
-                    .collect();
-                let attempt = self.residual_and_pointwise(scheme, &trial, iteration + 1);
-                let accept = match &attempt {
-                    Ok((rt, _)) => max_norm(rt) < res || lambda < 1.0 / 32.0,
-                    Err(_) => lambda < 1.0 / 32.0,
-                };
-                if accept {
-                    (r, pw) = attempt?;
-                    previous = res;
-                    res = max_norm(&r);
-                    q = trial;
-                    break;
-                }
-                lambda *= 0.5;
-            }
+            let (trial, (rt, pt), rest) = backtrack(&q, &rhs, res, |trial| {
+                let (rt, pt) = self.residual_and_pointwise(scheme, trial, iteration + 1)?;
+                let res = max_norm(&rt);
+                Ok(((rt, pt), res))
+            })?;
+            (q, r, pw, previous, res) = (trial, rt, pt, res, rest);
         }
         Err(Error::NewtonDidNotConverge {
             at: Location::Newton(opts.max_iterations),
@@ -187,8 +167,4 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         debug_assert_eq!(r.len(), self.grid.n() - 1, "every scheme has N − 1 rows");
         Ok((r, pw))
     }
-}
-
-fn max_norm<const D: usize>(x: &[Vector<D>]) -> f64 {
-    x.iter().fold(0.0, |m, v| m.max(v.amax()))
 }

@@ -48,7 +48,8 @@ use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
 use crate::problem::{Problem, Scheme};
 use crate::solve::Solution;
 use crate::solve::krylov::{KrylovFailure, KrylovOptions, KrylovSystem, conjugate_gradient, gmres};
-use crate::solve::newton::at_round_off;
+use crate::solve::max_norm;
+use crate::solve::newton::{at_round_off, backtrack};
 use crate::toeplitz::TriangularToeplitz;
 use crate::weights::grunwald_letnikov_inverse;
 use rustfft::num_complex::Complex;
@@ -292,10 +293,6 @@ struct Evaluation<const D: usize> {
     scale: f64,
 }
 
-fn max_norm<const D: usize>(x: &[Vector<D>]) -> f64 {
-    x.iter().fold(0.0, |m, v| m.max(v.amax()))
-}
-
 fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
     problem: &Problem<'_, L, D>,
     system: &mut FastSystem<D>,
@@ -436,31 +433,12 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
         previous_norm = Some(norm);
         system.linearize(problem, &q, &eval.v, at)?;
         solve_newton_system(&mut system, &rhs, &mut delta, eta, budget, at)?;
-        // Backtracking as in the dense path: halve until the max-norm residual decreases (at
-        // most 6 times, then take the shortest step anyway).
-        let mut lambda = 1.0;
-        loop {
-            let trial: Vec<Vector<D>> = (0..=n)
-                .map(|k| {
-                    if k == 0 || k == n {
-                        q[k]
-                    } else {
-                        q[k] - read::<D>(&delta, k - 1) * lambda
-                    }
-                })
-                .collect();
-            let attempt = evaluate(problem, &mut system, &trial, iteration + 1);
-            let accept = match &attempt {
-                Ok(e) => max_norm(&e.r) < res || lambda < 1.0 / 32.0,
-                Err(_) => lambda < 1.0 / 32.0,
-            };
-            if accept {
-                eval = attempt?;
-                q = trial;
-                break;
-            }
-            lambda *= 0.5;
-        }
+        let (trial, next, _) = backtrack(&q, &delta, res, |trial| {
+            let e = evaluate(problem, &mut system, trial, iteration + 1)?;
+            let res = max_norm(&e.r);
+            Ok((e, res))
+        })?;
+        (q, eval) = (trial, next);
     }
     Err(Error::NewtonDidNotConverge {
         at: Location::Newton(opts.max_iterations),

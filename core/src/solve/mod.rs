@@ -13,6 +13,11 @@ use crate::grid::Grid;
 use crate::lagrangian::Vector;
 use crate::problem::Scheme;
 
+/// Max-norm of a list of points.
+pub(crate) fn max_norm<const D: usize>(x: &[Vector<D>]) -> f64 {
+    x.iter().fold(0.0, |m, v| m.max(v.amax()))
+}
+
 /// A discrete curve computed by a solver, with how it was computed.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Solution<const D: usize> {

@@ -121,3 +121,35 @@ pub(crate) fn solve_step<const D: usize, L: Lagrangian<D> + ?Sized>(
     }
     Err(diverged(options.max_iterations, residual))
 }
+
+/// The line search of the global (boundary value) Newton iterations: tries `q − λ δ` on the
+/// interior nodes (`δ` flattened, node `k` at `δ[(k−1)d..kd]`) for `λ = 1, ½, ¼, …` and accepts
+/// the first trial whose max-norm residual is below `residual`. Below `λ = 1/32` it takes the
+/// shortest step anyway and lets the iteration count decide (an error evaluating that last trial
+/// is returned). `evaluate` gives a trial's evaluation and its residual max-norm.
+pub(crate) fn backtrack<const D: usize, E>(
+    q: &[Vector<D>],
+    delta: &[f64],
+    residual: f64,
+    mut evaluate: impl FnMut(&[Vector<D>]) -> Result<(E, f64)>,
+) -> Result<(Vec<Vector<D>>, E, f64)> {
+    let n = q.len() - 1;
+    let mut lambda = 1.0;
+    loop {
+        let trial: Vec<Vector<D>> = (0..=n)
+            .map(|k| {
+                if k == 0 || k == n {
+                    q[k]
+                } else {
+                    q[k] - Vector::<D>::from_column_slice(&delta[(k - 1) * D..k * D]) * lambda
+                }
+            })
+            .collect();
+        let last = lambda < 1.0 / 32.0;
+        match evaluate(&trial) {
+            Ok((eval, res)) if res < residual || last => return Ok((trial, eval, res)),
+            Err(e) if last => return Err(e),
+            _ => lambda *= 0.5,
+        }
+    }
+}
