@@ -1,0 +1,32 @@
+//! The tour: every scene of varembed solved by both schemes, compared, swept over `N`, and
+//! written up as a report folder (markdown and SVG). `main.rs` is the command line; this
+//! library is what the tour's tests drive.
+//!
+//! One scene per file under [`scenes`]; [`ivp_scene`] is the shared run of an initial value
+//! scene; [`reference`] computes the independent reference solutions; [`plot`] and [`report`]
+//! write the figures and the summary.
+#![deny(missing_docs)]
+
+pub mod ivp_scene;
+pub mod plot;
+pub mod reference;
+pub mod report;
+pub mod scene;
+pub mod scenes;
+
+use scene::{Context, SceneReport};
+
+/// Runs every scene in order, handing each report to `done` as it finishes.
+pub fn run_tour(
+    cx: &Context,
+    mut done: impl FnMut(&SceneReport),
+) -> varembed::Result<Vec<SceneReport>> {
+    let mut reports = Vec::new();
+    for (name, run) in scenes::ALL {
+        cx.progress.set_message(name);
+        let report = run(cx)?;
+        done(&report);
+        reports.push(report);
+    }
+    Ok(reports)
+}

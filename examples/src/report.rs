@@ -1,0 +1,134 @@
+//! The report folder: one markdown summary (`README.md`) and the SVG figures of every scene.
+
+use crate::plot;
+use crate::scene::SceneReport;
+use std::error::Error;
+use std::fmt::Write as _;
+use std::fs;
+use std::path::Path;
+
+/// The markers between which [`update_section`] replaces text.
+pub const SUMMARY_START: &str = "<!-- tour-summary:start -->";
+/// See [`SUMMARY_START`].
+pub const SUMMARY_END: &str = "<!-- tour-summary:end -->";
+
+/// The file name of a scene's work–precision figure.
+pub fn work_precision_file(scene: &SceneReport) -> String {
+    format!("{}-work-precision.svg", scene.name)
+}
+
+/// The summary table: per scene and scheme, the finest `N` of the sweep, its error and wall
+/// time, and the observed orders `log₂(e_N / e_{2N})` over the last four sizes
+/// (`N, 2N, 4N, 8N` with `8N` the finest).
+pub fn summary_table(scenes: &[SceneReport]) -> String {
+    let mut s = String::from(
+        "| scene | scheme | N | max error | orders (last 4 N) | time (s) |\n\
+         | --- | --- | ---: | ---: | --- | ---: |\n",
+    );
+    for scene in scenes {
+        for line in &scene.sweep {
+            let Some(last) = line.points.last() else {
+                continue;
+            };
+            let orders = line.orders();
+            let tail = &orders[orders.len().saturating_sub(3)..];
+            let orders: Vec<String> = tail.iter().map(|o| format!("{o:.2}")).collect();
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {:.2e} | {} | {:.2e} |",
+                scene.title,
+                line.label,
+                last.n,
+                last.error,
+                orders.join(", "),
+                last.seconds
+            );
+        }
+    }
+    s
+}
+
+/// Writes every figure and `README.md` into `dir` (created if needed); returns the summary
+/// table.
+pub fn write(dir: &Path, scenes: &[SceneReport], header: &str) -> Result<String, Box<dyn Error>> {
+    fs::create_dir_all(dir)?;
+    let table = summary_table(scenes);
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "# varembed: the tour\n\n{header}\n\n## Summary\n\n{table}"
+    );
+    for scene in scenes {
+        let wp = work_precision_file(scene);
+        plot::work_precision(
+            dir,
+            &wp,
+            &format!("{}: work–precision ({})", scene.title, scene.reference),
+            &scene.sweep,
+        )?;
+        for figure in &scene.figures {
+            plot::linear(dir, figure)?;
+        }
+        let _ = writeln!(md, "## {}\n", scene.title);
+        for note in &scene.notes {
+            let _ = writeln!(md, "{note}\n");
+        }
+        let _ = writeln!(md, "Errors against: {}.\n", scene.reference);
+        let _ = writeln!(md, "![work–precision]({wp})\n");
+        for figure in &scene.figures {
+            let _ = writeln!(md, "![{}]({})\n", figure.title, figure.file);
+        }
+        let _ = writeln!(
+            md,
+            "Sweep (error, time in s, and the observed order from the previous N):\n"
+        );
+        let _ = writeln!(md, "| scheme | N | max error | time (s) | order |");
+        let _ = writeln!(md, "| --- | ---: | ---: | ---: | ---: |");
+        for line in &scene.sweep {
+            let orders = line.orders();
+            for (i, p) in line.points.iter().enumerate() {
+                let order = if i == 0 {
+                    String::new()
+                } else {
+                    format!("{:.2}", orders[i - 1])
+                };
+                let _ = writeln!(
+                    md,
+                    "| {} | {} | {:.3e} | {:.2e} | {order} |",
+                    line.label, p.n, p.error, p.seconds
+                );
+            }
+        }
+        for line in &scene.sweep {
+            for (n, e) in &line.failures {
+                let _ = writeln!(md, "\n- {} failed at N = {n}: {e}", line.label);
+            }
+        }
+        let _ = writeln!(md, "\nComparison tables:\n\n```text");
+        for t in &scene.tables {
+            let _ = writeln!(md, "{t}\n");
+        }
+        let _ = writeln!(md, "```\n");
+    }
+    fs::write(dir.join("README.md"), md)?;
+    Ok(table)
+}
+
+/// Replaces the text between [`SUMMARY_START`] and [`SUMMARY_END`] in `file` with `content`.
+/// Errors if the markers are missing (the file is left untouched).
+pub fn update_section(file: &Path, content: &str) -> Result<(), Box<dyn Error>> {
+    let text = fs::read_to_string(file)?;
+    let (Some(start), Some(end)) = (text.find(SUMMARY_START), text.find(SUMMARY_END)) else {
+        return Err(format!("{} lacks the tour summary markers", file.display()).into());
+    };
+    if end < start {
+        return Err(format!("{}: tour summary markers out of order", file.display()).into());
+    }
+    let updated = format!(
+        "{}{SUMMARY_START}\n{content}{}",
+        &text[..start],
+        &text[end..]
+    );
+    fs::write(file, updated)?;
+    Ok(())
+}

@@ -1,0 +1,26 @@
+//! The scenes of the tour, one per file. Each writes its Lagrangian with `#[lagrangian]` and
+//! models only what it needs.
+
+pub mod damped;
+pub mod double_pendulum;
+pub mod fractional;
+pub mod harmonic;
+pub mod kepler;
+pub mod parametric;
+pub mod pendulum;
+
+use crate::scene::{Context, SceneReport};
+
+/// A scene's entry point.
+pub type Run = fn(&Context) -> varembed::Result<SceneReport>;
+
+/// Every scene, in the order of the report.
+pub const ALL: [(&str, Run); 7] = [
+    ("harmonic oscillator", harmonic::run),
+    ("pendulum", pendulum::run),
+    ("Kepler, e = 0.9", kepler::run),
+    ("double pendulum", double_pendulum::run),
+    ("parametric oscillator", parametric::run),
+    ("q̈ + q̇ + q = 0", damped::run),
+    ("fractional BVP", fractional::run),
+];
