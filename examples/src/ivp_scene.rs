@@ -216,7 +216,7 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
         };
         Figure {
             file: format!("{}-trajectory.svg", self.name),
-            title: format!("{}: {} , N = {}", self.title, c.embedding, grid.n()),
+            title: format!("{}: {}, N = {}", self.title, c.embedding, grid.n()),
             x_label: x_label.to_string(),
             y_label: y_label.to_string(),
             series,

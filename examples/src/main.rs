@@ -16,7 +16,8 @@ use varembed_examples::scene::{Context, Mode};
 const USAGE: &str = "usage: varembed-tour [--quick] [--out DIR]";
 
 fn main() -> Result<(), Box<dyn Error>> {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..");
+    let manifest = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let root = manifest.parent().unwrap_or(&manifest).to_path_buf();
     let mut mode = Mode::Full;
     let mut out = None;
     let mut args = std::env::args().skip(1);
