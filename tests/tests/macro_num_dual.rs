@@ -107,7 +107,10 @@ fn double_pendulum_derivatives_match_num_dual() {
         let v = random_vec(&mut rng, 8.0);
         let t = rng.random_range(-1.0..1.0);
         let (lm, ld) = (model.value(&x, &v, t), dual.value(&x, &v, t));
-        assert!((lm - ld).abs() <= TOL * ld.abs().max(1.0), "L: {lm:e} vs {ld:e}");
+        assert!(
+            (lm - ld).abs() <= TOL * ld.abs().max(1.0),
+            "L: {lm:e} vs {ld:e}"
+        );
         let (mf, mp) = model.gradient(&x, &v, t);
         let (df, dp) = dual.gradient(&x, &v, t);
         close("∂L/∂x", &mf, &df, 1.0);
