@@ -1,0 +1,159 @@
+//! An independent oracle for `#[lagrangian]` (issue 5b): the double pendulum's derivatives and
+//! step kernels from the macro against the same Lagrangian differentiated by num-dual's
+//! (hyper-)dual numbers, at random points and random parameters, to 1e-12.
+
+use nalgebra::{SMatrix, SVector};
+use num_dual::DualNum;
+use rand::rngs::StdRng;
+use rand::{Rng, SeedableRng};
+use varembed::{Hessian, Lagrangian, StepKind, StepTimes, Vector, lagrangian};
+
+#[lagrangian]
+fn double_pendulum(x: [f64; 2], v: [f64; 2], m1: f64, m2: f64, l1: f64, l2: f64, g: f64) -> f64 {
+    let kinetic = 0.5 * (m1 + m2) * l1 * l1 * v[0] * v[0]
+        + 0.5 * m2 * l2 * l2 * v[1] * v[1]
+        + m2 * l1 * l2 * v[0] * v[1] * (x[0] - x[1]).cos();
+    let potential = -(m1 + m2) * g * l1 * x[0].cos() - m2 * g * l2 * x[1].cos();
+    kinetic - potential
+}
+
+/// The same Lagrangian, generic over num-dual's number types.
+fn double_pendulum_dual<T: DualNum<Primitive = f64> + Copy>(
+    p: &DoublePendulum,
+    x: [T; 2],
+    v: [T; 2],
+) -> T {
+    let DoublePendulum { m1, m2, l1, l2, g } = *p;
+    let kinetic = v[0] * v[0] * (0.5 * (m1 + m2) * l1 * l1)
+        + v[1] * v[1] * (0.5 * m2 * l2 * l2)
+        + v[0] * v[1] * (x[0] - x[1]).cos() * (m2 * l1 * l2);
+    let potential = -x[0].cos() * ((m1 + m2) * g * l1) - x[1].cos() * (m2 * g * l2);
+    kinetic - potential
+}
+
+/// Derivatives from num-dual only; the step kernels are the trait's defaults.
+struct NumDualDoublePendulum(DoublePendulum);
+
+fn stack(x: &Vector<2>, v: &Vector<2>) -> SVector<f64, 4> {
+    SVector::<f64, 4>::new(x[0], x[1], v[0], v[1])
+}
+
+impl Lagrangian<2> for NumDualDoublePendulum {
+    fn value(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> f64 {
+        double_pendulum_dual(&self.0, [x[0], x[1]], [v[0], v[1]])
+    }
+    fn gradient(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> (Vector<2>, Vector<2>) {
+        let (_, grad) = num_dual::gradient(
+            |z| double_pendulum_dual(&self.0, [z[0], z[1]], [z[2], z[3]]),
+            &stack(x, v),
+        );
+        (
+            grad.fixed_rows::<2>(0).into_owned(),
+            grad.fixed_rows::<2>(2).into_owned(),
+        )
+    }
+    fn hessian(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> Hessian<2> {
+        let (_, _, hess) = num_dual::hessian(
+            |z| double_pendulum_dual(&self.0, [z[0], z[1]], [z[2], z[3]]),
+            &stack(x, v),
+        );
+        Hessian {
+            xx: hess.fixed_view::<2, 2>(0, 0).into_owned(),
+            xv: hess.fixed_view::<2, 2>(0, 2).into_owned(),
+            vv: hess.fixed_view::<2, 2>(2, 2).into_owned(),
+        }
+    }
+}
+
+const TOL: f64 = 1e-12;
+
+/// Entry-wise `|a − b| ≤ TOL · max(scale, |b|)`.
+fn close<const R: usize, const C: usize>(
+    what: &str,
+    a: &SMatrix<f64, R, C>,
+    b: &SMatrix<f64, R, C>,
+    scale: f64,
+) {
+    for (i, (x, y)) in a.iter().zip(b.iter()).enumerate() {
+        assert!(
+            (x - y).abs() <= TOL * y.abs().max(scale),
+            "{what}[{i}]: macro {x:e}, num-dual {y:e}"
+        );
+    }
+}
+
+fn random_model(rng: &mut StdRng) -> DoublePendulum {
+    DoublePendulum {
+        m1: rng.random_range(0.2..3.0),
+        m2: rng.random_range(0.2..3.0),
+        l1: rng.random_range(0.2..2.0),
+        l2: rng.random_range(0.2..2.0),
+        g: rng.random_range(0.5..20.0),
+    }
+}
+
+fn random_vec(rng: &mut StdRng, scale: f64) -> Vector<2> {
+    Vector::<2>::from_fn(|_, _| rng.random_range(-scale..scale))
+}
+
+#[test]
+fn double_pendulum_derivatives_match_num_dual() {
+    let mut rng = StdRng::seed_from_u64(5);
+    for _ in 0..500 {
+        let model = random_model(&mut rng);
+        let dual = NumDualDoublePendulum(model);
+        // Angles over several turns, velocities of a chaotic run.
+        let x = random_vec(&mut rng, 10.0);
+        let v = random_vec(&mut rng, 8.0);
+        let t = rng.random_range(-1.0..1.0);
+        let (lm, ld) = (model.value(&x, &v, t), dual.value(&x, &v, t));
+        assert!(
+            (lm - ld).abs() <= TOL * ld.abs().max(1.0),
+            "L: {lm:e} vs {ld:e}"
+        );
+        let (mf, mp) = model.gradient(&x, &v, t);
+        let (df, dp) = dual.gradient(&x, &v, t);
+        close("∂L/∂x", &mf, &df, 1.0);
+        close("∂L/∂v", &mp, &dp, 1.0);
+        let (mh, dh) = (model.hessian(&x, &v, t), dual.hessian(&x, &v, t));
+        close("L_xx", &mh.xx, &dh.xx, 1.0);
+        close("L_xv", &mh.xv, &dh.xv, 1.0);
+        close("L_vv", &mh.vv, &dh.vv, 1.0);
+    }
+}
+
+#[test]
+fn double_pendulum_step_kernels_match_num_dual() {
+    let mut rng = StdRng::seed_from_u64(6);
+    for _ in 0..200 {
+        let model = random_model(&mut rng);
+        let dual = NumDualDoublePendulum(model);
+        let h = rng.random_range(1e-3..0.1);
+        let t_a = rng.random_range(-1.0..1.0);
+        let times = StepTimes {
+            h,
+            t_a,
+            t_b: t_a + h,
+            t_y: t_a + 2.0 * h,
+        };
+        let a = random_vec(&mut rng, 3.0);
+        let b = a + random_vec(&mut rng, 5.0 * h);
+        let y = b + random_vec(&mut rng, 5.0 * h);
+        for kind in [
+            StepKind::VariationalBackward,
+            StepKind::VariationalForward,
+            StepKind::DirectBackward,
+            StepKind::DirectForward,
+        ] {
+            let mm = model.step_momentum(kind, &a, &b, &times);
+            let dm = dual.step_momentum(kind, &a, &b, &times);
+            close(&format!("{kind:?} momentum"), &mm, &dm, 1.0 + dm.amax());
+            // The kernels subtract terms of size |π| and |L_vv|/h: the tolerance is relative
+            // to those sizes.
+            let (mr, mj) = model.step_residual(kind, &b, &y, &dm, &times);
+            let (dr, dj) = dual.step_residual(kind, &b, &y, &dm, &times);
+            close(&format!("{kind:?} residual"), &mr, &dr, 1.0 + dm.amax());
+            close(&format!("{kind:?} jacobian"), &mj, &dj, 1.0 + dj.amax());
+        }
+    }
+}
