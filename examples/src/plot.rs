@@ -3,7 +3,7 @@
 //! system font library.
 
 use crate::scene::{Figure, SweepLine};
-use plotters::coord::Shift;
+use plotters::coord::{CoordTranslate, Shift};
 use plotters::prelude::*;
 use std::error::Error;
 use std::path::Path;
@@ -64,6 +64,21 @@ fn canvas(path: &Path) -> Result<DrawingArea<SVGBackend<'_>, Shift>, Box<dyn Err
     Ok(root)
 }
 
+/// Draws the legend and writes the file.
+fn finish<'a, CT: CoordTranslate>(
+    chart: &mut ChartContext<'a, SVGBackend<'a>, CT>,
+    root: &DrawingArea<SVGBackend<'a>, Shift>,
+) -> Result<(), Box<dyn Error>> {
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .draw()?;
+    root.present()?;
+    Ok(())
+}
+
 /// Draws a figure with linear axes into `dir/figure.file`.
 pub fn linear(dir: &Path, figure: &Figure) -> Result<(), Box<dyn Error>> {
     let path = dir.join(&figure.file);
@@ -90,14 +105,7 @@ pub fn linear(dir: &Path, figure: &Figure) -> Result<(), Box<dyn Error>> {
             .label(series.label.as_str())
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()?;
-    root.present()?;
-    Ok(())
+    finish(&mut chart, &root)
 }
 
 /// Draws the work–precision figure of a sweep (error against wall time, log–log, one line per
@@ -140,12 +148,5 @@ pub fn work_precision(
             .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
         chart.draw_series(xy.iter().map(|&p| Circle::new(p, 3, colour(i).filled())))?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()?;
-    root.present()?;
-    Ok(())
+    finish(&mut chart, &root)
 }
