@@ -81,12 +81,7 @@ fn check_kernels<const D: usize>(
     for _ in 0..200 {
         let h = rng.random_range(0.01..0.2);
         let t_a = rng.random_range(-1.0..2.0);
-        let times = StepTimes {
-            h,
-            t_a,
-            t_b: t_a + h,
-            t_y: t_a + 2.0 * h,
-        };
+        let times = StepTimes::new(h, t_a, t_a + h, t_a + 2.0 * h);
         let a = center + random_vec::<D>(rng, 1.0);
         let b = a + random_vec::<D>(rng, 2.0 * h);
         let y = b + random_vec::<D>(rng, 2.0 * h);

@@ -6,7 +6,7 @@ use crate::error::{Error, Location, Result};
 use crate::lagrangian::{IntoVector, Lagrangian, StepKind, StepTimes, Vector};
 use crate::problem::{Problem, Scheme};
 use crate::solve::Solution;
-use crate::solve::newton::solve_step;
+use crate::solve::newton::{newton_step, solve_step};
 
 /// How an initial value problem gets its second node `Q_1` from `q(a)` and `q̇(a)`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -64,12 +64,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         };
         let (grid, h) = (&self.grid, self.grid.h());
         let (_, pi0) = self.lagrangian.gradient(&q0, &v0, grid.t(0));
-        let times = StepTimes {
-            h,
-            t_a: grid.t(0) - h,
-            t_b: grid.t(0),
-            t_y: grid.t(1),
-        };
+        let times = StepTimes::new(h, grid.t(0) - h, grid.t(0), grid.t(1));
         let guess = q0 + v0 * h;
         solve_step(
             self.lagrangian,
@@ -165,47 +160,20 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         check_finite("Q_1", &q1)?;
         let grid = self.grid;
         let n_steps = grid.n();
-        let h = grid.h();
         let mut q = Vec::with_capacity(n_steps + 1);
         q.push(q0);
         if n_steps >= 1 {
             q.push(q1);
         }
-        let (mut iterations, mut explicit_steps) = (0, 0);
-        for n in 2..=n_steps {
-            let (a, b) = (q[n - 2], q[n - 1]);
-            let times = StepTimes {
-                h,
-                t_a: grid.t(n - 2),
-                t_b: grid.t(n - 1),
-                t_y: grid.t(n),
-            };
-            if (n - 2) % STABILITY_CHECK_INTERVAL == 0 {
-                self.check_stability(kind, &a, &b, &times, n)?;
-            }
-            let momentum = self.lagrangian.step_momentum(kind, &a, &b, &times);
-            let guess = b * 2.0 - a;
-            let (y, its) = solve_step(
-                self.lagrangian,
-                kind,
-                &b,
-                &momentum,
-                &times,
-                guess,
-                n,
-                &self.newton,
-            )?;
-            if !y.iter().all(|c| c.is_finite()) {
-                return Err(Error::NotFinite {
-                    at: Location::Step(n),
-                });
-            }
-            if its == 0 {
-                explicit_steps += 1;
-            }
-            iterations += its;
-            q.push(y);
-        }
+        // One copy of the loop per kind, each with a constant `kind`: the kernels' `match kind`
+        // then folds away and the step inlines into a straight-line loop body.
+        use StepKind::*;
+        let (iterations, explicit_steps) = match kind {
+            VariationalBackward => self.recurrence(VariationalBackward, &mut q)?,
+            VariationalForward => self.recurrence(VariationalForward, &mut q)?,
+            DirectBackward => self.recurrence(DirectBackward, &mut q)?,
+            DirectForward => self.recurrence(DirectForward, &mut q)?,
+        };
         Ok(Solution {
             scheme,
             embedding: self.embedding,
@@ -214,6 +182,77 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             newton_iterations: iterations,
             explicit_steps,
         })
+    }
+
+    /// Appends `Q_2..=Q_N` to `q = [Q_0, Q_1]`; returns the Newton iterations and the steps
+    /// that took none.
+    ///
+    /// The two previous nodes live in locals rather than being read back from `q` (a load
+    /// right after the store of the same node would put store forwarding on the critical path
+    /// of every step), and `1/h` is computed once.
+    #[inline(always)]
+    fn recurrence(&self, kind: StepKind, q: &mut Vec<Vector<D>>) -> Result<(usize, usize)> {
+        let grid = self.grid;
+        let n_steps = grid.n();
+        if n_steps < 2 {
+            return Ok((0, 0));
+        }
+        let (h, inv_h) = (grid.h(), 1.0 / grid.h());
+        let explicit = self.lagrangian.step_is_affine(kind);
+        let (mut a, mut b) = (q[0], q[1]);
+        let (mut iterations, mut explicit_steps) = (0, 0);
+        for n in 2..=n_steps {
+            let times = StepTimes {
+                h,
+                inv_h,
+                t_a: grid.t(n - 2),
+                t_b: grid.t(n - 1),
+                t_y: grid.t(n),
+            };
+            if (n - 2) % STABILITY_CHECK_INTERVAL == 0 {
+                self.check_stability(kind, a, b, times, n)?;
+            }
+            let momentum = self.lagrangian.step_momentum(kind, &a, &b, &times);
+            let closed_form = if explicit {
+                self.lagrangian.step_explicit(kind, &b, &momentum, &times)
+            } else {
+                None
+            };
+            let y = match closed_form {
+                Some(y) => {
+                    explicit_steps += 1;
+                    y
+                }
+                // Not affine, or a singular / non-finite closed form: Newton decides (and
+                // reports the singular Jacobian or the non-finite value at step n).
+                None => {
+                    let guess = b * 2.0 - a;
+                    let (y, its) = newton_step(
+                        self.lagrangian,
+                        kind,
+                        &b,
+                        &momentum,
+                        &times,
+                        guess,
+                        n,
+                        &self.newton,
+                    )?;
+                    if its == 0 {
+                        explicit_steps += 1;
+                    }
+                    iterations += its;
+                    y
+                }
+            };
+            if !y.iter().all(|c| c.is_finite()) {
+                return Err(Error::NotFinite {
+                    at: Location::Step(n),
+                });
+            }
+            q.push(y);
+            (a, b) = (b, y);
+        }
+        Ok((iterations, explicit_steps))
     }
 }
 
@@ -231,14 +270,20 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// the scheme shows as a real eigenvalue below `−1` (for Störmer–Verlet, trace
     /// `2 − h²U″ < −2`, i.e. `ωh > 2`) or as an eigenvalue of modulus ≥ 2 (perturbations
     /// doubling every step): both are reported as [`Error::Unstable`].
+    ///
+    /// The state comes by value: the stepping loop keeps its nodes in registers, which taking
+    /// their address for this (rare) call would prevent.
+    #[cold]
+    #[inline(never)]
     fn check_stability(
         &self,
         kind: StepKind,
-        a: &Vector<D>,
-        b: &Vector<D>,
-        times: &StepTimes,
+        a: Vector<D>,
+        b: Vector<D>,
+        times: StepTimes,
         n: usize,
     ) -> Result<()> {
+        let (a, b, times) = (&a, &b, &times);
         let map = |a: &Vector<D>, b: &Vector<D>| -> Result<Vector<D>> {
             let momentum = self.lagrangian.step_momentum(kind, a, b, times);
             let guess = b * 2.0 - a;
