@@ -81,16 +81,17 @@ pub enum Explicit {
     Singular,
 }
 
-/// Ratio below which a pivot of a constant step matrix counts as zero: the same criterion as
-/// `varembed::solve::linear::solve_small`, so a matrix is singular here exactly when it would
-/// be singular there.
+/// Ratio below which a pivot of a constant step matrix counts as zero: the criterion of
+/// `varembed::solve::linear::solve_small` (relative to the largest entry, same pivot order), so
+/// a matrix is singular here when `J = M/h` would be singular there, up to the rounding of the
+/// division by `h`.
 const SINGULAR_RATIO: f64 = 1e-14;
 
 /// The inverse of the row-major `dim × dim` matrix `m` by Gauss–Jordan elimination with partial
 /// pivoting; `None` when it is not finite or singular by [`SINGULAR_RATIO`].
 pub fn invert(m: &[f64], dim: usize) -> Option<Vec<f64>> {
     let norm = m.iter().fold(0.0f64, |acc, x| acc.max(x.abs()));
-    if !norm.is_finite() || norm == 0.0 {
+    if m.iter().any(|x| !x.is_finite()) || norm == 0.0 {
         return None;
     }
     let mut a = m.to_vec();
@@ -98,9 +99,14 @@ pub fn invert(m: &[f64], dim: usize) -> Option<Vec<f64>> {
         .map(|k| if k / dim == k % dim { 1.0 } else { 0.0 })
         .collect();
     for col in 0..dim {
-        let piv = (col..dim)
-            .max_by(|&r, &s| a[r * dim + col].abs().total_cmp(&a[s * dim + col].abs()))
-            .expect("col < dim");
+        // The first row of largest magnitude, as in `solve_small`.
+        let piv = (col..dim).fold(col, |best, r| {
+            if a[r * dim + col].abs() > a[best * dim + col].abs() {
+                r
+            } else {
+                best
+            }
+        });
         if a[piv * dim + col].abs() <= SINGULAR_RATIO * norm {
             return None;
         }

@@ -375,6 +375,7 @@ fn invert_matches_solve_small_criterion() {
     // Singular to the relative threshold 1e-14, not finite, zero.
     assert!(codegen::invert(&[1.0, 1.0, 1.0, 1.0 + 1e-15], 2).is_none());
     assert!(codegen::invert(&[1.0, f64::INFINITY, 0.0, 1.0], 2).is_none());
+    assert!(codegen::invert(&[1.0, f64::NAN, 0.0, 1.0], 2).is_none());
     assert!(codegen::invert(&[0.0], 1).is_none());
 }
 
