@@ -88,18 +88,45 @@ pub enum StepKind {
     DirectForward,
 }
 
-/// Grid data a step kernel needs: the step `h` and the times of the three nodes
+/// Grid data a step kernel needs: the step `h`, its inverse, and the times of the three nodes
 /// `t_{n−2}, t_{n−1}, t_n` (taken from the grid, so they match [`crate::Grid::t`] exactly).
+///
+/// The kernels form velocities as `(b − a) · inv_h`: a multiplication, where a division by `h`
+/// would sit on the critical path of every step of an explicit run. Build it with
+/// [`StepTimes::new`], which sets `inv_h = 1/h`.
+///
+/// # Example
+///
+/// ```
+/// let times = varembed::StepTimes::new(0.25, 1.0, 1.25, 1.5);
+/// assert_eq!(times.inv_h, 4.0);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StepTimes {
     /// Step size `h`.
     pub h: f64,
+    /// `1/h`, as computed by [`StepTimes::new`] (the kernels rely on the two agreeing).
+    pub inv_h: f64,
     /// `t_{n−2}`, the time of the oldest node `a`.
     pub t_a: f64,
     /// `t_{n−1}`, the time of the middle node `b`.
     pub t_b: f64,
     /// `t_n`, the time of the newest node `y`.
     pub t_y: f64,
+}
+
+impl StepTimes {
+    /// The step data for step size `h` and node times `t_a`, `t_b`, `t_y`, with
+    /// `inv_h = 1/h`.
+    pub const fn new(h: f64, t_a: f64, t_b: f64, t_y: f64) -> Self {
+        StepTimes {
+            h,
+            inv_h: 1.0 / h,
+            t_a,
+            t_b,
+            t_y,
+        }
+    }
 }
 
 /// A Lagrangian `L(x, v, t)` on `R^D × R^D × R`.
@@ -161,7 +188,7 @@ pub trait Lagrangian<const D: usize> {
         times: &StepTimes,
     ) -> Vector<D> {
         let h = times.h;
-        let v = (b - a) / h;
+        let v = (b - a) * times.inv_h;
         match kind {
             StepKind::VariationalBackward => {
                 let (f, p) = self.gradient(b, &v, times.t_b);
@@ -187,7 +214,7 @@ pub trait Lagrangian<const D: usize> {
         times: &StepTimes,
     ) -> (Vector<D>, Matrix<D>) {
         let h = times.h;
-        let v = (y - b) / h;
+        let v = (y - b) * times.inv_h;
         match kind {
             StepKind::VariationalBackward => {
                 let (_, p) = self.gradient(y, &v, times.t_y);

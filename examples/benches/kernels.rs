@@ -46,12 +46,7 @@ impl<const D: usize, L: Lagrangian<D>> Lagrangian<D> for Generic<L> {
     }
 }
 
-const TIMES: StepTimes = StepTimes {
-    h: 0.01,
-    t_a: 1.0,
-    t_b: 1.01,
-    t_y: 1.02,
-};
+const TIMES: StepTimes = StepTimes::new(0.01, 1.0, 1.01, 1.02);
 
 fn bench_model<const D: usize>(
     c: &mut Criterion,

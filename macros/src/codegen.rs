@@ -60,8 +60,74 @@ pub struct Lowered {
     pub residual: Vec<Vec<Id>>,
     /// Per kind: whether the step is affine in `y` with a constant Jacobian.
     pub affine: Vec<bool>,
-    /// Per affine kind: residual and Jacobian at `y = b`, i.e. with `V = 0`.
-    pub explicit: Vec<Option<Vec<Id>>>,
+    /// Per affine kind: how its closed-form update is computed.
+    pub explicit: Vec<Option<Explicit>>,
+}
+
+/// The closed-form update `y = b − J⁻¹ G(b)` of an affine step (`G`, `J` at `y = b`, i.e. with
+/// `V = 0`). `J` has the form `M/h` with `M = L_vv + h K` (`K` the other blocks of the row of
+/// the module docs of `varembed::lagrangian`), so `J⁻¹ = h M⁻¹`: written that way the `1/h`
+/// cancels symbolically and no division is left on the step's critical path.
+pub enum Explicit {
+    /// `dy = (h M⁻¹) G(b)` entry by entry (`M⁻¹` folded when `M` is a constant matrix, `h/m`
+    /// when `d = 1`). With `check`, a non-finite `dy` gives `None` (the scalar case of
+    /// `solve_small`: `m = 0` shows as an infinite or NaN `dy`).
+    ClosedForm { dy: Vec<Id>, check: bool },
+    /// `G(b)` (`D` entries) and `J` (row-major), solved at run time by `solve_small`: `M`
+    /// depends on the model's constants or on `b`, and `d > 1`.
+    Solve(Vec<Id>),
+    /// `M` is a constant singular matrix (by the `solve_small` criterion): no closed form, so
+    /// the solver runs Newton, which reports the singular Jacobian.
+    Singular,
+}
+
+/// Ratio below which a pivot of a constant step matrix counts as zero: the criterion of
+/// `varembed::solve::linear::solve_small` (relative to the largest entry, same pivot order), so
+/// a matrix is singular here when `J = M/h` would be singular there, up to the rounding of the
+/// division by `h`.
+const SINGULAR_RATIO: f64 = 1e-14;
+
+/// The inverse of the row-major `dim × dim` matrix `m` by Gauss–Jordan elimination with partial
+/// pivoting; `None` when it is not finite or singular by [`SINGULAR_RATIO`].
+pub fn invert(m: &[f64], dim: usize) -> Option<Vec<f64>> {
+    let norm = m.iter().fold(0.0f64, |acc, x| acc.max(x.abs()));
+    if m.iter().any(|x| !x.is_finite()) || norm == 0.0 {
+        return None;
+    }
+    let mut a = m.to_vec();
+    let mut inv: Vec<f64> = (0..dim * dim)
+        .map(|k| if k / dim == k % dim { 1.0 } else { 0.0 })
+        .collect();
+    for col in 0..dim {
+        // The first row of largest magnitude, as in `solve_small`.
+        let piv = (col..dim).fold(col, |best, r| {
+            if a[r * dim + col].abs() > a[best * dim + col].abs() {
+                r
+            } else {
+                best
+            }
+        });
+        if a[piv * dim + col].abs() <= SINGULAR_RATIO * norm {
+            return None;
+        }
+        for c in 0..dim {
+            a.swap(piv * dim + c, col * dim + c);
+            inv.swap(piv * dim + c, col * dim + c);
+        }
+        let p = a[col * dim + col];
+        for c in 0..dim {
+            a[col * dim + c] /= p;
+            inv[col * dim + c] /= p;
+        }
+        for r in (0..dim).filter(|&r| r != col) {
+            let l = a[r * dim + col];
+            for c in 0..dim {
+                a[r * dim + c] -= l * a[col * dim + c];
+                inv[r * dim + c] -= l * inv[col * dim + c];
+            }
+        }
+    }
+    Some(inv)
 }
 
 /// Builds the derivatives and the step-kernel expressions.
@@ -143,18 +209,72 @@ pub fn lower(model: &mut Model) -> Lowered {
 
     let mut explicit = Vec::new();
     for (k, roots) in residual.iter().enumerate() {
-        if affine[k] {
-            let mut memo = HashMap::new();
-            let zero_v = |v: Var| matches!(v, Var::V(_)).then_some(0.0);
-            explicit.push(Some(
-                roots
-                    .iter()
-                    .map(|&r| g.substitute(r, &zero_v, &mut memo))
-                    .collect(),
-            ));
-        } else {
+        if !affine[k] {
             explicit.push(None);
+            continue;
         }
+        let mut memo = HashMap::new();
+        let zero_v = |v: Var| matches!(v, Var::V(_)).then_some(0.0);
+        let at_b: Vec<Id> = roots
+            .iter()
+            .map(|&r| g.substitute(r, &zero_v, &mut memo))
+            .collect();
+        // M = h J, from the blocks (the Jacobian rows of `residual` above, times h).
+        let m: Vec<Id> = (0..dim * dim)
+            .map(|e| {
+                let (i, j) = (e / dim, e % dim);
+                let (xx, xv, vv, vx) = (
+                    d.xx[i * dim + j],
+                    d.xv[i * dim + j],
+                    d.vv[i * dim + j],
+                    d.xv[j * dim + i],
+                );
+                let rest = match Kind::ALL[k] {
+                    Kind::VariationalBackward => vx,
+                    Kind::VariationalForward => g.neg(xv),
+                    Kind::DirectBackward => {
+                        let xxh = g.mul(xx, h);
+                        let s = g.sub(vx, xxh);
+                        g.sub(s, xv)
+                    }
+                    Kind::DirectForward => g.num(0.0),
+                };
+                let h_rest = g.mul(h, rest);
+                let entry = g.add(vv, h_rest);
+                g.substitute(entry, &zero_v, &mut memo)
+            })
+            .collect();
+        let constant: Option<Vec<f64>> = m.iter().map(|&e| g.num_value(e)).collect();
+        let dy = |g: &mut Graph, factor: &dyn Fn(&mut Graph, usize, usize) -> Id| -> Vec<Id> {
+            (0..dim)
+                .map(|i| {
+                    (0..dim).fold(g.num(0.0), |acc, j| {
+                        let f = factor(g, i, j);
+                        let term = g.mul(f, at_b[j]);
+                        g.add(acc, term)
+                    })
+                })
+                .collect()
+        };
+        let update = match constant {
+            Some(values) => match invert(&values, dim) {
+                // h M⁻¹ is loop-invariant: the step is a product with the residual.
+                Some(inv) => Explicit::ClosedForm {
+                    dy: dy(g, &|g, i, j| {
+                        let c = g.num(inv[i * dim + j]);
+                        g.mul(h, c)
+                    }),
+                    check: dim == 1,
+                },
+                None => Explicit::Singular,
+            },
+            None if dim == 1 => Explicit::ClosedForm {
+                dy: dy(g, &|g, _, _| g.div(h, m[0])),
+                check: true,
+            },
+            None => Explicit::Solve(at_b),
+        };
+        explicit.push(Some(update));
     }
     Lowered {
         d,
@@ -430,7 +550,9 @@ fn step_leaf<'a>(
     }
 }
 
-/// `let h = times.h; let v0 = (new[0] - old[0]) / h; …` for the velocities the roots use.
+/// `let h = times.h;` when the roots use `h`, and `let inv_h = times.inv_h;
+/// let v0 = (new[0] - old[0]) * inv_h; …` for the velocities they use (a product: a division
+/// by `h` would sit on the critical path of every step).
 fn velocity_lets(g: &Graph, roots: &[Id], old: &Ident, new: &Ident) -> TokenStream {
     let vars = vars_used(g, roots);
     let vs: Vec<usize> = vars
@@ -440,14 +562,14 @@ fn velocity_lets(g: &Graph, roots: &[Id], old: &Ident, new: &Ident) -> TokenStre
             _ => None,
         })
         .collect();
-    let needs_h = !vs.is_empty() || vars.contains(&Var::H);
-    let h = needs_h.then(|| quote!(let h = times.h;));
+    let h = vars.contains(&Var::H).then(|| quote!(let h = times.h;));
+    let inv_h = (!vs.is_empty()).then(|| quote!(let inv_h = times.inv_h;));
     let lets = vs.iter().map(|&i| {
         let name = format_ident!("v{}", i);
         let i = index(i);
-        quote!(let #name = (#new[#i] - #old[#i]) / h;)
+        quote!(let #name = (#new[#i] - #old[#i]) * inv_h;)
     });
-    quote!(#h #(#lets)*)
+    quote!(#h #inv_h #(#lets)*)
 }
 
 /// A `Vector<D>` from its entries.
@@ -721,8 +843,12 @@ fn step_kernels(model: &Model, low: &Lowered) -> TokenStream {
     // step_explicit: y = b − J⁻¹ G(b), with G and J evaluated at y = b (so v = 0).
     let arms = Kind::ALL.iter().enumerate().map(|(k, kind)| {
         let path = kind.path();
-        let Some(roots) = &low.explicit[k] else {
-            return quote!(#path => ::core::option::Option::None,);
+        let roots = match &low.explicit[k] {
+            None | Some(Explicit::Singular) => {
+                return quote!(#path => ::core::option::Option::None,);
+            }
+            Some(Explicit::ClosedForm { dy, .. }) => dy,
+            Some(Explicit::Solve(at_b)) => at_b,
         };
         let t = if kind.right() { &t_y } else { &t_b };
         let leaf = step_leaf(consts, &b, t);
@@ -730,30 +856,47 @@ fn step_kernels(model: &Model, low: &Lowered) -> TokenStream {
         let r = Render::new(g, &plan, &leaf);
         let lets = velocity_lets(g, roots, &b, &b);
         let temps = r.temps();
-        if dim == 1 {
-            // The scalar case of `solve_small`, inlined: same test, same result.
-            let (res, j) = (r.root(roots[0]), r.root(roots[1]));
-            let out = vector(1, &[quote!(b[0] - dy)]);
-            quote!(#path => {
-                #lets #temps
-                let r: f64 = #res;
-                let j: f64 = #j;
-                let dy = r / j;
-                if j != 0.0 && dy.is_finite() {
-                    ::core::option::Option::Some(#out)
+        match &low.explicit[k] {
+            Some(Explicit::ClosedForm { check, .. }) => {
+                let names: Vec<Ident> = (0..dim).map(|i| format_ident!("dy{}", i)).collect();
+                let values = roots.iter().map(|&i| r.root(i));
+                let ys: Vec<TokenStream> = names
+                    .iter()
+                    .enumerate()
+                    .map(|(i, dy)| {
+                        let i = index(i);
+                        quote!(#b[#i] - #dy)
+                    })
+                    .collect();
+                let some = vector(dim, &ys);
+                let some = quote!(::core::option::Option::Some(#some));
+                let out = if *check {
+                    quote! {
+                        if #(#names.is_finite())&&* {
+                            #some
+                        } else {
+                            ::core::option::Option::None
+                        }
+                    }
                 } else {
-                    ::core::option::Option::None
-                }
-            })
-        } else {
-            let res: Vec<TokenStream> = roots[..dim].iter().map(|&i| r.root(i)).collect();
-            let res = vector(dim, &res);
-            let m = matrix(g, &r, &jac, dim, &roots[dim..]);
-            quote!(#path => {
-                #lets #temps #m
-                let r = #res;
-                ::varembed::solve::linear::solve_small(&#jac, &r).map(|dy| b - dy)
-            })
+                    some
+                };
+                quote!(#path => {
+                    #lets #temps
+                    #(let #names: f64 = #values;)*
+                    #out
+                })
+            }
+            _ => {
+                let res: Vec<TokenStream> = roots[..dim].iter().map(|&i| r.root(i)).collect();
+                let res = vector(dim, &res);
+                let m = matrix(g, &r, &jac, dim, &roots[dim..]);
+                quote!(#path => {
+                    #lets #temps #m
+                    let r = #res;
+                    ::varembed::solve::linear::solve_small(&#jac, &r).map(|dy| b - dy)
+                })
+            }
         }
     });
     let body = quote!(match kind { #(#arms)* });

@@ -5,7 +5,7 @@
 //!
 //! | node | derivative |
 //! | --- | --- |
-//! | `a / b` | `(a' − n·b') / b` |
+//! | `a / b` | `(a' − n·b') / b`; `−n·(1/b)·b'` when `a' = 0` (one division fewer in series) |
 //! | `sin a`, `cos a`, `tan a` | `cos a·a'`, `−sin a·a'`, `(1 + n²)·a'` |
 //! | `asin a`, `acos a`, `atan a` | `a'/√(1 − a²)`, `−a'/√(1 − a²)`, `a'/(1 + a²)` |
 //! | `sinh a`, `cosh a`, `tanh a` | `cosh a·a'`, `sinh a·a'`, `(1 − n²)·a'` |
@@ -60,8 +60,19 @@ impl Differentiator {
                 g.add(l, r)
             }
             Node::Div(a, b) => {
-                let nb = g.mul(id, d(b));
-                let num = g.sub(d(a), nb);
+                let (da, db) = (d(a), d(b));
+                if g.is_num(da, 0.0) && !g.is_num(db, 0.0) {
+                    // `(c/b)' = −n·(1/b)·b'`: the general rule would divide `n·b'` by `b`, a
+                    // second division in series after the one inside `b'` (e.g. `√u`'s), where
+                    // this form computes `1/b` alongside (it is `n` itself when `c = 1`).
+                    let one = g.num(1.0);
+                    let inv = g.div(one, b);
+                    let scale = g.mul(id, inv);
+                    let t = g.mul(scale, db);
+                    return g.neg(t);
+                }
+                let nb = g.mul(id, db);
+                let num = g.sub(da, nb);
                 g.div(num, b)
             }
             Node::Neg(a) => g.neg(d(a)),

@@ -277,6 +277,108 @@ fn double_pendulum_expansion_snapshot() {
     check_snapshot("double_pendulum", double_pendulum_item());
 }
 
+/// Kepler's generated code: a constant `L_vv = I`, so the explicit update is `b + h π` with no
+/// division and no linear solve.
+#[test]
+fn kepler_expansion_snapshot() {
+    check_snapshot("kepler", kepler_item());
+}
+
+fn kepler_item() -> TokenStream {
+    quote! {
+        /// Kepler problem, `μ = 1`.
+        fn kepler(x: [f64; 2], v: [f64; 2]) -> f64 {
+            0.5 * (v[0] * v[0] + v[1] * v[1]) + 1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt()
+        }
+    }
+}
+
+/// Whether a division is reachable from `roots`.
+fn has_division(g: &Graph, roots: &[Id]) -> bool {
+    g.reachable(roots)
+        .into_iter()
+        .any(|id| matches!(g.node(id), Node::Div(..)))
+}
+
+#[test]
+fn explicit_update_inverts_a_constant_matrix_at_compile_time() {
+    use codegen::{Explicit, Kind};
+    let kind = |k: Kind| Kind::ALL.iter().position(|&x| x == k).unwrap();
+    let vb = kind(Kind::VariationalBackward);
+
+    // L_vv = I: dy = h·(−π), division-free; the direct backward step is not affine.
+    let mut model = parse::parse(quote!(), kepler_item()).unwrap();
+    let low = codegen::lower(&mut model);
+    let Some(Explicit::ClosedForm { dy, check: false }) = &low.explicit[vb] else {
+        panic!("Kepler: a closed form without a run-time check expected");
+    };
+    assert!(!has_division(&model.graph, dy));
+    let env = |v: Var| match v {
+        Var::H => 0.25,
+        Var::M(i) => [3.0, -5.0][i],
+        _ => f64::NAN,
+    };
+    assert_eq!(model.graph.eval_many(dy, &env), vec![-0.75, 1.25]);
+    assert!(low.explicit[kind(Kind::DirectBackward)].is_none());
+
+    // L_vv = [[2, 1], [1, 2]]: dy = h M⁻¹ (−π) with M⁻¹ folded to numbers.
+    let item = quote! {
+        fn coupled(x: [f64; 2], v: [f64; 2]) -> f64 {
+            v[0] * v[0] + v[0] * v[1] + v[1] * v[1] - x[0].cos() * x[1]
+        }
+    };
+    let mut model = parse::parse(quote!(), item).unwrap();
+    let low = codegen::lower(&mut model);
+    let Some(Explicit::ClosedForm { dy, .. }) = &low.explicit[vb] else {
+        panic!("coupled: a closed form expected");
+    };
+    assert!(!has_division(&model.graph, dy));
+    let got = model.graph.eval_many(dy, &env);
+    // −h M⁻¹ π with M⁻¹ = [[2, −1], [−1, 2]]/3.
+    let want = [-0.25 * (2.0 * 3.0 + 5.0) / 3.0, -0.25 * (-3.0 - 10.0) / 3.0];
+    for (g, w) in got.iter().zip(want) {
+        assert!((g - w).abs() <= 1e-15 * w.abs(), "{got:?} vs {want:?}");
+    }
+
+    // L_vv = diag(1, 0), singular: no closed form (Newton reports the singular Jacobian).
+    let item = quote! {
+        fn constrained(x: [f64; 2], v: [f64; 2]) -> f64 {
+            0.5 * v[0] * v[0] + x[0].cos() - x[1] * x[1]
+        }
+    };
+    let mut model = parse::parse(quote!(), item).unwrap();
+    let low = codegen::lower(&mut model);
+    assert!(matches!(low.explicit[vb], Some(Explicit::Singular)));
+
+    // A model constant in L_vv (d = 1): h/m, a loop-invariant quotient, times the residual.
+    let mut model = parse::parse(quote!(), pendulum_item()).unwrap();
+    let low = codegen::lower(&mut model);
+    assert!(matches!(
+        low.explicit[vb],
+        Some(Explicit::ClosedForm { check: true, .. })
+    ));
+}
+
+#[test]
+fn invert_matches_solve_small_criterion() {
+    let inv = codegen::invert(&[2.0, 1.0, 1.0, 2.0], 2).unwrap();
+    let want = [2.0 / 3.0, -1.0 / 3.0, -1.0 / 3.0, 2.0 / 3.0];
+    for (g, w) in inv.iter().zip(want) {
+        assert!((g - w).abs() <= 1e-15, "{inv:?}");
+    }
+    // Partial pivoting: a zero leading entry is fine.
+    assert_eq!(
+        codegen::invert(&[0.0, 2.0, 4.0, 0.0], 2).unwrap(),
+        vec![0.0, 0.25, 0.5, 0.0]
+    );
+    assert_eq!(codegen::invert(&[4.0], 1).unwrap(), vec![0.25]);
+    // Singular to the relative threshold 1e-14, not finite, zero.
+    assert!(codegen::invert(&[1.0, 1.0, 1.0, 1.0 + 1e-15], 2).is_none());
+    assert!(codegen::invert(&[1.0, f64::INFINITY, 0.0, 1.0], 2).is_none());
+    assert!(codegen::invert(&[1.0, f64::NAN, 0.0, 1.0], 2).is_none());
+    assert!(codegen::invert(&[0.0], 1).is_none());
+}
+
 fn double_pendulum_item() -> TokenStream {
     quote! {
         /// Double pendulum.

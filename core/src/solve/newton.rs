@@ -60,14 +60,32 @@ pub(crate) fn solve_step<const D: usize, L: Lagrangian<D> + ?Sized>(
     n: usize,
     options: &NewtonOptions,
 ) -> Result<(Vector<D>, usize)> {
-    let at = Location::Step(n);
     if let Some(y) = lagrangian.step_explicit(kind, b, momentum, times) {
         return if y.iter().all(|c| c.is_finite()) {
             Ok((y, 0))
         } else {
-            Err(Error::NotFinite { at })
+            Err(Error::NotFinite {
+                at: Location::Step(n),
+            })
         };
     }
+    newton_step(lagrangian, kind, b, momentum, times, guess, n, options)
+}
+
+/// The Newton iteration of [`solve_step`], without trying the closed-form update first (for a
+/// caller that has tried it already).
+#[allow(clippy::too_many_arguments)] // the step's data, each a different thing
+pub(crate) fn newton_step<const D: usize, L: Lagrangian<D> + ?Sized>(
+    lagrangian: &L,
+    kind: StepKind,
+    b: &Vector<D>,
+    momentum: &Vector<D>,
+    times: &StepTimes,
+    guess: Vector<D>,
+    n: usize,
+    options: &NewtonOptions,
+) -> Result<(Vector<D>, usize)> {
+    let at = Location::Step(n);
     if !momentum.iter().all(|c| c.is_finite()) {
         return Err(Error::NotFinite { at });
     }

@@ -125,8 +125,9 @@ impl ::varembed::Lagrangian<2> for DoublePendulum {
         match kind {
             ::varembed::StepKind::VariationalBackward => {
                 let h = times.h;
-                let v0 = (b[0] - a[0]) / h;
-                let v1 = (b[1] - a[1]) / h;
+                let inv_h = times.inv_h;
+                let v0 = (b[0] - a[0]) * inv_h;
+                let v1 = (b[1] - a[1]) * inv_h;
                 let e0 = self.m1 + self.m2;
                 let e1 = self.m2 * self.l1 * self.l2;
                 let e2 = e1 * v0;
@@ -143,9 +144,9 @@ impl ::varembed::Lagrangian<2> for DoublePendulum {
                 ])
             }
             ::varembed::StepKind::VariationalForward => {
-                let h = times.h;
-                let v0 = (b[0] - a[0]) / h;
-                let v1 = (b[1] - a[1]) / h;
+                let inv_h = times.inv_h;
+                let v0 = (b[0] - a[0]) * inv_h;
+                let v1 = (b[1] - a[1]) * inv_h;
                 let e0 = self.m2 * self.l1 * self.l2;
                 let e1 = (a[0] - a[1]).cos();
                 ::varembed::Vector::<
@@ -157,9 +158,9 @@ impl ::varembed::Lagrangian<2> for DoublePendulum {
                 ])
             }
             ::varembed::StepKind::DirectBackward => {
-                let h = times.h;
-                let v0 = (b[0] - a[0]) / h;
-                let v1 = (b[1] - a[1]) / h;
+                let inv_h = times.inv_h;
+                let v0 = (b[0] - a[0]) * inv_h;
+                let v1 = (b[1] - a[1]) * inv_h;
                 let e0 = self.m2 * self.l1 * self.l2;
                 let e1 = (b[0] - b[1]).cos();
                 ::varembed::Vector::<
@@ -172,8 +173,9 @@ impl ::varembed::Lagrangian<2> for DoublePendulum {
             }
             ::varembed::StepKind::DirectForward => {
                 let h = times.h;
-                let v0 = (b[0] - a[0]) / h;
-                let v1 = (b[1] - a[1]) / h;
+                let inv_h = times.inv_h;
+                let v0 = (b[0] - a[0]) * inv_h;
+                let v1 = (b[1] - a[1]) * inv_h;
                 let e0 = self.m1 + self.m2;
                 let e1 = self.m2 * self.l1 * self.l2;
                 let e2 = e1 * v0;
@@ -203,8 +205,9 @@ impl ::varembed::Lagrangian<2> for DoublePendulum {
         match kind {
             ::varembed::StepKind::VariationalBackward => {
                 let h = times.h;
-                let v0 = (y[0] - b[0]) / h;
-                let v1 = (y[1] - b[1]) / h;
+                let inv_h = times.inv_h;
+                let v0 = (y[0] - b[0]) * inv_h;
+                let v1 = (y[1] - b[1]) * inv_h;
                 let e0 = 0.5 * (self.m1 + self.m2) * self.l1 * self.l1;
                 let e1 = 0.5 * self.m2 * self.l2 * self.l2;
                 let e2 = self.m2 * self.l1 * self.l2;
@@ -233,8 +236,9 @@ impl ::varembed::Lagrangian<2> for DoublePendulum {
             }
             ::varembed::StepKind::VariationalForward => {
                 let h = times.h;
-                let v0 = (y[0] - b[0]) / h;
-                let v1 = (y[1] - b[1]) / h;
+                let inv_h = times.inv_h;
+                let v0 = (y[0] - b[0]) * inv_h;
+                let v1 = (y[1] - b[1]) * inv_h;
                 let e0 = self.m1 + self.m2;
                 let e1 = 0.5 * e0 * self.l1 * self.l1;
                 let e2 = 0.5 * self.m2 * self.l2 * self.l2;
@@ -269,8 +273,9 @@ impl ::varembed::Lagrangian<2> for DoublePendulum {
             }
             ::varembed::StepKind::DirectBackward => {
                 let h = times.h;
-                let v0 = (y[0] - b[0]) / h;
-                let v1 = (y[1] - b[1]) / h;
+                let inv_h = times.inv_h;
+                let v0 = (y[0] - b[0]) * inv_h;
+                let v1 = (y[1] - b[1]) * inv_h;
                 let e0 = self.m1 + self.m2;
                 let e1 = 0.5 * e0 * self.l1 * self.l1;
                 let e2 = 0.5 * self.m2 * self.l2 * self.l2;
@@ -309,8 +314,9 @@ impl ::varembed::Lagrangian<2> for DoublePendulum {
             }
             ::varembed::StepKind::DirectForward => {
                 let h = times.h;
-                let v0 = (y[0] - b[0]) / h;
-                let v1 = (y[1] - b[1]) / h;
+                let inv_h = times.inv_h;
+                let v0 = (y[0] - b[0]) * inv_h;
+                let v1 = (y[1] - b[1]) * inv_h;
                 let e0 = 0.5 * (self.m1 + self.m2) * self.l1 * self.l1;
                 let e1 = 0.5 * self.m2 * self.l2 * self.l2;
                 let e2 = self.m2 * self.l1 * self.l2;

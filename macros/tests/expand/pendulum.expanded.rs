@@ -65,7 +65,8 @@ impl ::varembed::Lagrangian<1> for Pendulum {
         match kind {
             ::varembed::StepKind::VariationalBackward => {
                 let h = times.h;
-                let v0 = (b[0] - a[0]) / h;
+                let inv_h = times.inv_h;
+                let v0 = (b[0] - a[0]) * inv_h;
                 ::varembed::Vector::<
                     1,
                 >::from([
@@ -73,18 +74,19 @@ impl ::varembed::Lagrangian<1> for Pendulum {
                 ])
             }
             ::varembed::StepKind::VariationalForward => {
-                let h = times.h;
-                let v0 = (b[0] - a[0]) / h;
+                let inv_h = times.inv_h;
+                let v0 = (b[0] - a[0]) * inv_h;
                 ::varembed::Vector::<1>::from([2.0 * (0.5 * self.l * self.l * v0)])
             }
             ::varembed::StepKind::DirectBackward => {
-                let h = times.h;
-                let v0 = (b[0] - a[0]) / h;
+                let inv_h = times.inv_h;
+                let v0 = (b[0] - a[0]) * inv_h;
                 ::varembed::Vector::<1>::from([2.0 * (0.5 * self.l * self.l * v0)])
             }
             ::varembed::StepKind::DirectForward => {
                 let h = times.h;
-                let v0 = (b[0] - a[0]) / h;
+                let inv_h = times.inv_h;
+                let v0 = (b[0] - a[0]) * inv_h;
                 ::varembed::Vector::<
                     1,
                 >::from([
@@ -105,7 +107,8 @@ impl ::varembed::Lagrangian<1> for Pendulum {
         match kind {
             ::varembed::StepKind::VariationalBackward => {
                 let h = times.h;
-                let v0 = (y[0] - b[0]) / h;
+                let inv_h = times.inv_h;
+                let v0 = (y[0] - b[0]) * inv_h;
                 let e0 = 0.5 * self.l * self.l;
                 let mut jac = ::varembed::Matrix::<1>::zeros();
                 jac[(0, 0)] = 2.0 * e0 / h;
@@ -113,7 +116,8 @@ impl ::varembed::Lagrangian<1> for Pendulum {
             }
             ::varembed::StepKind::VariationalForward => {
                 let h = times.h;
-                let v0 = (y[0] - b[0]) / h;
+                let inv_h = times.inv_h;
+                let v0 = (y[0] - b[0]) * inv_h;
                 let e0 = 0.5 * self.l * self.l;
                 let mut jac = ::varembed::Matrix::<1>::zeros();
                 jac[(0, 0)] = 2.0 * e0 / h;
@@ -128,7 +132,8 @@ impl ::varembed::Lagrangian<1> for Pendulum {
             }
             ::varembed::StepKind::DirectBackward => {
                 let h = times.h;
-                let v0 = (y[0] - b[0]) / h;
+                let inv_h = times.inv_h;
+                let v0 = (y[0] - b[0]) * inv_h;
                 let e0 = 0.5 * self.l * self.l;
                 let e1 = self.g * self.l;
                 let mut jac = ::varembed::Matrix::<1>::zeros();
@@ -142,7 +147,8 @@ impl ::varembed::Lagrangian<1> for Pendulum {
             }
             ::varembed::StepKind::DirectForward => {
                 let h = times.h;
-                let v0 = (y[0] - b[0]) / h;
+                let inv_h = times.inv_h;
+                let v0 = (y[0] - b[0]) * inv_h;
                 let e0 = 0.5 * self.l * self.l;
                 let mut jac = ::varembed::Matrix::<1>::zeros();
                 jac[(0, 0)] = 2.0 * e0 / h;
@@ -169,12 +175,10 @@ impl ::varembed::Lagrangian<1> for Pendulum {
         match kind {
             ::varembed::StepKind::VariationalBackward => {
                 let h = times.h;
-                let r: f64 = -momentum[0];
-                let j: f64 = 2.0 * (0.5 * self.l * self.l) / h;
-                let dy = r / j;
-                if j != 0.0 && dy.is_finite() {
+                let dy0: f64 = -(h / (2.0 * (0.5 * self.l * self.l)) * momentum[0]);
+                if dy0.is_finite() {
                     ::core::option::Option::Some(
-                        ::varembed::Vector::<1>::from([b[0] - dy]),
+                        ::varembed::Vector::<1>::from([b[0] - dy0]),
                     )
                 } else {
                     ::core::option::Option::None
@@ -182,12 +186,11 @@ impl ::varembed::Lagrangian<1> for Pendulum {
             }
             ::varembed::StepKind::VariationalForward => {
                 let h = times.h;
-                let r: f64 = self.g * self.l * b[0].sin() * h - momentum[0];
-                let j: f64 = 2.0 * (0.5 * self.l * self.l) / h;
-                let dy = r / j;
-                if j != 0.0 && dy.is_finite() {
+                let dy0: f64 = h / (2.0 * (0.5 * self.l * self.l))
+                    * (self.g * self.l * b[0].sin() * h - momentum[0]);
+                if dy0.is_finite() {
                     ::core::option::Option::Some(
-                        ::varembed::Vector::<1>::from([b[0] - dy]),
+                        ::varembed::Vector::<1>::from([b[0] - dy0]),
                     )
                 } else {
                     ::core::option::Option::None
@@ -196,12 +199,10 @@ impl ::varembed::Lagrangian<1> for Pendulum {
             ::varembed::StepKind::DirectBackward => ::core::option::Option::None,
             ::varembed::StepKind::DirectForward => {
                 let h = times.h;
-                let r: f64 = -momentum[0];
-                let j: f64 = 2.0 * (0.5 * self.l * self.l) / h;
-                let dy = r / j;
-                if j != 0.0 && dy.is_finite() {
+                let dy0: f64 = -(h / (2.0 * (0.5 * self.l * self.l)) * momentum[0]);
+                if dy0.is_finite() {
                     ::core::option::Option::Some(
-                        ::varembed::Vector::<1>::from([b[0] - dy]),
+                        ::varembed::Vector::<1>::from([b[0] - dy0]),
                     )
                 } else {
                     ::core::option::Option::None
