@@ -162,12 +162,7 @@ fn implicit_step(c: &mut Criterion) {
     );
     let value = generated.value(&x, &v, 0.0);
     assert!((value - num_dual_all_in_one(&PARAMS, &x, &v).0).abs() <= 1e-12 * value.abs());
-    let times = StepTimes {
-        h,
-        t_a: 0.5 - h,
-        t_b: 0.5,
-        t_y: 0.5 + h,
-    };
+    let times = StepTimes::new(h, 0.5 - h, 0.5, 0.5 + h);
     let momentum = generated.step_momentum(KIND, &a, &b, &times);
     let y = b * 2.0 - a;
     let (gr, gj) = generated.step_residual(KIND, &b, &y, &momentum, &times);

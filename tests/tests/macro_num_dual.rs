@@ -130,12 +130,7 @@ fn double_pendulum_step_kernels_match_num_dual() {
         let dual = NumDualDoublePendulum(model);
         let h = rng.random_range(1e-3..0.1);
         let t_a = rng.random_range(-1.0..1.0);
-        let times = StepTimes {
-            h,
-            t_a,
-            t_b: t_a + h,
-            t_y: t_a + 2.0 * h,
-        };
+        let times = StepTimes::new(h, t_a, t_a + h, t_a + 2.0 * h);
         let a = random_vec(&mut rng, 3.0);
         let b = a + random_vec(&mut rng, 5.0 * h);
         let y = b + random_vec(&mut rng, 5.0 * h);
