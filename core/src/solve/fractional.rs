@@ -52,7 +52,6 @@ use crate::solve::max_norm;
 use crate::solve::newton::{at_round_off, backtrack};
 use crate::toeplitz::TriangularToeplitz;
 use crate::weights::grunwald_letnikov_inverse;
-use rustfft::num_complex::Complex;
 
 /// Which linear algebra solves the Newton systems of a fractional (Gauss-GLEσ) boundary value
 /// problem. Set with [`Problem::with_fractional_solver`].
@@ -128,8 +127,9 @@ impl<const D: usize> FastSystem<D> {
         let n = problem.grid.n();
         let velocity = FftOperator::new(&problem.velocity);
         let g = grunwald_letnikov_inverse(problem.velocity.alpha(), n - 1);
-        // Same FFT length as the operator (order N + 1 ≥ N − 1), so both share one workspace.
-        let inverse = TriangularToeplitz::with_fft_len(&g, velocity.fft_len());
+        // Same FFT length and plans as the operator (order N + 1 ≥ N − 1), so both share one
+        // workspace and one set of twiddle tables.
+        let inverse = velocity.toeplitz().with_same_plans(&g);
         let zero = Hessian {
             xx: Matrix::<D>::zeros(),
             xv: Matrix::<D>::zeros(),
@@ -202,20 +202,14 @@ impl<const D: usize> FastSystem<D> {
         Ok(())
     }
 
-    /// `out = Gᵀ x` (transpose) or `G x`, component pairs packed.
+    /// `out = Gᵀ x` (transpose) or `G x`, one real product per component.
     fn mul_inverse(&mut self, transpose: bool, x: &[Vector<D>], out: &mut [Vector<D>]) {
-        for c in (0..D).step_by(2) {
-            let pair = c + 1 < D;
+        for c in 0..D {
             self.inverse.mul_with(
                 transpose,
                 self.velocity.workspace_mut(),
-                |k| Complex::new(x[k][c], if pair { x[k][c + 1] } else { 0.0 }),
-                |k, y| {
-                    out[k][c] = y.re;
-                    if pair {
-                        out[k][c + 1] = y.im;
-                    }
-                },
+                |k| x[k][c],
+                |k, y| out[k][c] = y,
             );
         }
     }
