@@ -11,7 +11,8 @@
 //! `ĉ` is computed once, when the matrix is built. All vectors are real, so the transforms are
 //! real-to-complex and complex-to-real FFTs ([`realfft`]): a length-`L` real transform is one
 //! complex FFT of length `L/2` plus an `O(L)` pass, half the work and half the memory of a
-//! complex FFT of length `L`. `L` is even, `L = 2K` with `K ≥ M` 5-smooth ([`fft_len`]).
+//! complex FFT of length `L`. `L` is even, `L = 2K` with `K ≥ M` a product of small primes
+//! ([`fft_len`]).
 //!
 //! # Example
 //!
@@ -81,11 +82,10 @@ impl Workspace {
     }
 }
 
-/// The smallest 5-smooth number (`2^a 3^b 5^c`) that is at least `k ≥ 1`.
+/// The smallest `2^a 3^b 5^c ≥ k ≥ 1` with `c ≤ 2`.
 fn smooth(k: usize) -> usize {
     let mut best = k.next_power_of_two();
-    let mut p5 = 1;
-    while p5 < best {
+    for p5 in [1, 5, 25] {
         let mut p35 = p5;
         while p35 < best {
             // The smallest power of two that lifts p35 to at least `k`.
@@ -96,15 +96,19 @@ fn smooth(k: usize) -> usize {
             best = best.min(len);
             p35 *= 3;
         }
-        p5 *= 5;
     }
     best
 }
 
-/// The FFT length used for order `m`: `L = 2K` with `K` the smallest 5-smooth number
-/// (`2^a 3^b 5^c`) that is at least `m`, so `L ≥ 2m − 1` and the real transform runs on a complex
-/// FFT of length `K`. rustfft has fast butterflies for these radices, and a 5-smooth `K` is within
-/// a few percent of `m` where a power of two can be almost twice as long.
+/// The FFT length used for order `m`: `L = 2K` with `K` the smallest `2^a 3^b 5^c ≥ m` with
+/// `c ≤ 2`, so `L ≥ 2m − 1` and the real transform runs on a complex FFT of length `K`.
+///
+/// rustfft has fast butterflies for these radices, and such a `K` is within 15% of `m` where a
+/// power of two can be almost twice as long. Factors of 5 are capped because at large `K`, where
+/// the FFT is bound by memory bandwidth, each radix-5 pass is one more sweep over the buffer:
+/// measured on the benchmark machine (real transform of length `2K`), `K = 1 012 500 = 2²3⁴5⁵`
+/// takes 12.0 ms, `K = 1 036 800 = 2⁹3⁴5²` 10.3 ms; `K = 10 125 = 3⁴5³` 0.044 ms,
+/// `K = 10 240 = 2¹¹5` 0.037 ms.
 pub fn fft_len(m: usize) -> usize {
     2 * smooth(m.max(1))
 }
@@ -313,6 +317,7 @@ mod tests {
                 }
             }
             assert_eq!(odd, 1, "{l}");
+            assert!(!(l / 2).is_multiple_of(125), "{l} has 5³");
             assert!(
                 l <= 2 * m - 1 + (2 * m - 1) / 8 + 8,
                 "{m}: {l} is not tight"

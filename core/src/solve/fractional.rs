@@ -8,7 +8,8 @@
 //!
 //! `J = L_xx + L_xv D + Dᵀ L_vx + Dᵀ L_vv D`,
 //!
-//! never formed: `J δ` costs two FFT products (`a = D δ`, then `Dᵀ(L_vx δ + L_vv a)`).
+//! never formed: `J δ` costs two FFT products (`a = D δ`, then `Dᵀ(L_vx δ + L_vv a)`), and
+//! inside CG only one (below).
 //!
 //! **Preconditioner.** On the interior columns, the rows of `D` that belong to interior nodes
 //! form a square triangular Toeplitz matrix `D_a = s·T` (σ = −: `T` lower-triangular with the
@@ -23,6 +24,12 @@
 //! two triangular Toeplitz products by FFT. `P` is symmetric positive definite when every `L_vv`
 //! is; `P⁻¹ J = I + P⁻¹(L_xx + L_xv D + Dᵀ L_vx + rank d)`, and since `D_a` grows like `h^{−α}`
 //! the remainder is a compact perturbation: the iteration counts stay flat as `N` grows.
+//!
+//! **One FFT product less per CG iteration.** The preconditioner's middle vector
+//! `V⁻¹ D_a⁻ᵀ r` is `D_a z` for its output `z`, and CG's directions are `p = z + β p`, so the
+//! square-block rows of `D p` are carried along the recurrence (`D_a p = D_a z + β D_a p`,
+//! [`KrylovSystem::image_len`]); the extra row is one dot product. A CG iteration then costs
+//! three FFT products (`Dᵀ b`, and the two of `P⁻¹`) instead of four, with the same iterates.
 //!
 //! **Linear solves.** Conjugate gradients first (`J` is symmetric); when `J` is indefinite
 //! (a potential whose `L_xx` outweighs the kinetic term), CG breaks down and GMRES(m) takes
@@ -115,6 +122,9 @@ struct FastSystem<const D: usize> {
     hessians: Vec<Hessian<D>>,
     /// `L_vv⁻¹` at the interior nodes `1..N−1` (entry `j − 1`).
     vv_inverse: Vec<Matrix<D>>,
+    /// The row of `D` outside the square block `D_a`, on the interior columns: `e_j` at entry
+    /// `j − 1` (`e_j = h^{−α} w_{N−j}` for σ = −, row `N`; `e_j = −h^{−α} w_j` for σ = +, row 0).
+    extra: Vec<f64>,
     full: Vec<Vector<D>>,
     rows: Vec<Vector<D>>,
     rows_b: Vec<Vector<D>>,
@@ -135,6 +145,12 @@ impl<const D: usize> FastSystem<D> {
             xv: Matrix::<D>::zeros(),
             vv: Matrix::<D>::zeros(),
         };
+        let scale = problem.velocity.scale();
+        let w = problem.velocity.weights();
+        let extra = match problem.embedding.side() {
+            Side::Backward => (1..n).map(|j| scale * w[n - j]).collect(),
+            Side::Forward => (1..n).map(|j| -scale * w[j]).collect(),
+        };
         FastSystem {
             n,
             sigma: problem.embedding.side().sign(),
@@ -145,6 +161,7 @@ impl<const D: usize> FastSystem<D> {
             inverse,
             hessians: vec![zero; n],
             vv_inverse: vec![Matrix::<D>::identity(); n - 1],
+            extra,
             full: vec![Vector::<D>::zeros(); n + 1],
             rows: vec![Vector::<D>::zeros(); n],
             rows_b: vec![Vector::<D>::zeros(); n],
@@ -226,22 +243,66 @@ impl<const D: usize> KrylovSystem for FastSystem<D> {
 
     /// `J δ` with `a = D δ`, `b = L_vx δ + L_vv a` (on the rows), `J δ = L_xx δ + L_xv a + Dᵀ b`.
     fn apply(&mut self, x: &[f64], y: &mut [f64]) {
+        self.jacobian_product(x, None, y);
+    }
+
+    /// `z = P⁻¹ r = s⁻² G V⁻¹ Gᵀ r` (σ = −) or `s⁻² Gᵀ V⁻¹ G r` (σ = +).
+    fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
+        self.precondition_into(r, z, None);
+    }
+
+    /// The images are `D_a x` (`N − 1` interior rows).
+    fn image_len(&self) -> usize {
+        self.len()
+    }
+
+    /// `P⁻¹ r = D_a⁻¹ V⁻¹ D_a⁻ᵀ r`: the middle vector `V⁻¹ D_a⁻ᵀ r` is `D_a z`.
+    fn precondition_with_image(&mut self, r: &[f64], z: &mut [f64], image: &mut [f64]) {
+        self.precondition_into(r, z, Some(image));
+    }
+
+    /// `J x` with the interior rows of `a = D x` taken from `image` (one FFT product, `Dᵀ b`).
+    fn apply_with_image(&mut self, x: &[f64], image: &[f64], y: &mut [f64]) {
+        self.jacobian_product(x, Some(image), y);
+    }
+}
+
+impl<const D: usize> FastSystem<D> {
+    /// `y = J x`; `a = D x` by FFT, or, given `image = D_a x`, from it and the one extra row.
+    fn jacobian_product(&mut self, x: &[f64], image: Option<&[f64]>, y: &mut [f64]) {
         let n = self.n;
         self.full[0] = Vector::<D>::zeros();
         self.full[n] = Vector::<D>::zeros();
         for j in 1..n {
             self.full[j] = read(x, j - 1);
         }
-        self.velocity
-            .apply_inplace(&self.full, &mut self.rows)
-            .expect("buffers sized for the grid");
         let minus_sigma = -self.sigma;
+        match image {
+            Some(image) => {
+                // Rows 1..N−1 are the square block; the extra row is N (σ = −) or 0 (σ = +).
+                let mut extra = Vector::<D>::zeros();
+                for j in 1..n {
+                    extra += self.full[j] * self.extra[j - 1];
+                }
+                let extra_row = if self.first_row == 1 { n - 1 } else { 0 };
+                for j in 1..n {
+                    self.rows[j - self.first_row] = read(image, j - 1);
+                }
+                self.rows[extra_row] = extra;
+            }
+            None => {
+                self.velocity
+                    .apply_inplace(&self.full, &mut self.rows)
+                    .expect("buffers sized for the grid");
+                for a in self.rows.iter_mut() {
+                    *a *= minus_sigma;
+                }
+            }
+        }
         for i in 0..n {
             let k = i + self.first_row;
             let h = &self.hessians[i];
-            let a = self.rows[i] * minus_sigma;
-            self.rows[i] = a;
-            self.rows_b[i] = h.xv.transpose() * self.full[k] + h.vv * a;
+            self.rows_b[i] = h.xv.transpose() * self.full[k] + h.vv * self.rows[i];
         }
         self.velocity
             .apply_transpose_inplace(&self.rows_b, &mut self.nodes)
@@ -254,8 +315,10 @@ impl<const D: usize> KrylovSystem for FastSystem<D> {
         }
     }
 
-    /// `z = P⁻¹ r = s⁻² G V⁻¹ Gᵀ r` (σ = −) or `s⁻² Gᵀ V⁻¹ G r` (σ = +).
-    fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
+    /// `z = P⁻¹ r`, and `D_a z` into `image` if asked. With `D_a = −σ s A` (`A = T` for σ = −,
+    /// `Tᵀ` for σ = +) and `A⁻¹ = G` or `Gᵀ`: `middle = s⁻² V⁻¹ A⁻ᵀ r`, `z = A⁻¹ middle`, and
+    /// `D_a z = −σ s · middle`.
+    fn precondition_into(&mut self, r: &[f64], z: &mut [f64], image: Option<&mut [f64]>) {
         let m = self.n - 1;
         let mut input = std::mem::take(&mut self.interior);
         for j in 0..m {
@@ -268,6 +331,13 @@ impl<const D: usize> KrylovSystem for FastSystem<D> {
         for j in 0..m {
             middle[j] = self.vv_inverse[j] * middle[j] * s2;
         }
+        if let Some(image) = image {
+            let factor = -self.sigma * self.scale;
+            for j in 0..m {
+                let v = middle[j] * factor;
+                image[j * D..(j + 1) * D].copy_from_slice(v.as_slice());
+            }
+        }
         self.mul_inverse(!first_transposed, &middle[..m], &mut input);
         for j in 0..m {
             z[j * D..(j + 1) * D].copy_from_slice(input[j].as_slice());
@@ -276,7 +346,6 @@ impl<const D: usize> KrylovSystem for FastSystem<D> {
         self.nodes = middle;
     }
 }
-
 /// The residual at an iterate, with what the Jacobian needs.
 struct Evaluation<const D: usize> {
     /// `r_j`, `j = 1..N−1`.
@@ -303,25 +372,36 @@ fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
     let mut v = vec![Vector::<D>::zeros(); n];
     system.velocity.apply_inplace(q, &mut v)?;
     let minus_sigma = -system.sigma;
-    let mut f = vec![Vector::<D>::zeros(); n + 1];
-    let mut p = vec![Vector::<D>::zeros(); n];
+    // r starts as f on the interior nodes; p goes in the rows' buffer (no allocation per call).
+    let mut r = vec![Vector::<D>::zeros(); n - 1];
+    let mut p = std::mem::take(&mut system.rows_b);
+    let mut f_max = 0.0f64;
     for i in 0..n {
         let k = i + system.first_row;
         v[i] *= minus_sigma;
         let (fk, pk) = problem.lagrangian.gradient(&q[k], &v[i], problem.grid.t(k));
         if !fk.iter().chain(pk.iter()).all(|c| c.is_finite()) {
+            system.rows_b = p;
             return Err(not_finite);
         }
-        f[k] = fk;
+        f_max = f_max.max(fk.amax());
+        if (1..n).contains(&k) {
+            r[k - 1] = fk;
+        }
         p[i] = pk;
     }
-    let mut dt_p = vec![Vector::<D>::zeros(); n + 1];
-    system.velocity.apply_transpose_inplace(&p, &mut dt_p)?;
-    let r: Vec<Vector<D>> = (1..n).map(|j| f[j] + dt_p[j] * minus_sigma).collect();
+    let mut dt_p = std::mem::take(&mut system.nodes);
+    let applied = system.velocity.apply_transpose_inplace(&p, &mut dt_p);
+    for (j, rj) in r.iter_mut().enumerate() {
+        *rj += dt_p[j + 1] * minus_sigma;
+    }
+    let scale = 1.0 + f_max + system.scale * max_norm(&p);
+    system.rows_b = p;
+    system.nodes = dt_p;
+    applied?;
     if !r.iter().all(|x| x.iter().all(|c| c.is_finite())) {
         return Err(not_finite);
     }
-    let scale = 1.0 + max_norm(&f) + system.scale * max_norm(&p);
     Ok(Evaluation { r, v, scale })
 }
 
@@ -522,6 +602,53 @@ mod tests {
                     "{side:?} row {i}: {} vs {}",
                     y[i],
                     want[i]
+                );
+            }
+        }
+    }
+
+    /// The preconditioner's by-product is `D_a z`, and `J z` from it equals `J z` by FFT.
+    #[test]
+    fn preconditioner_images_are_the_square_block_products() {
+        let n = 23;
+        let grid = Grid::new(0.2, 1.5, n).unwrap();
+        for side in [Side::Backward, Side::Forward] {
+            let embedding = Embedding::grunwald_letnikov(side, 0.55).unwrap();
+            let problem = Problem::new(&Mixed, grid, embedding);
+            let q = curve(n);
+            let mut system = FastSystem::<2>::new(&problem);
+            let eval = evaluate(&problem, &mut system, &q, 0).unwrap();
+            system
+                .linearize(&problem, &q, &eval.v, Location::Newton(0))
+                .unwrap();
+            let m = (n - 1) * 2;
+            let r: Vec<f64> = (0..m).map(|i| ((5 * i + 2) as f64).cos()).collect();
+            let (mut z, mut image) = (vec![0.0; m], vec![0.0; m]);
+            system.precondition_with_image(&r, &mut z, &mut image);
+            // D z on the rows of the interior nodes, D = −σΔ.
+            let mut full = vec![Vector::<2>::zeros(); n + 1];
+            for j in 1..n {
+                full[j] = read(&z, j - 1);
+            }
+            let dz = problem.velocity.apply(&full).unwrap();
+            for j in 1..n {
+                let want = dz[j - problem.velocity.first_row()] * -side.sign();
+                let got = read::<2>(&image, j - 1);
+                assert!(
+                    (got - want).amax() < 1e-12 * (1.0 + want.amax()),
+                    "{side:?} {j}"
+                );
+            }
+            let (mut a, mut b) = (vec![0.0; m], vec![0.0; m]);
+            system.apply(&z, &mut a);
+            system.apply_with_image(&z, &image, &mut b);
+            let scale = a.iter().fold(0.0f64, |s, x| s.max(x.abs()));
+            for i in 0..m {
+                assert!(
+                    (a[i] - b[i]).abs() < 1e-12 * scale,
+                    "{side:?} {i}: {} vs {}",
+                    a[i],
+                    b[i]
                 );
             }
         }
