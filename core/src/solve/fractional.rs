@@ -13,22 +13,36 @@
 //!
 //! **Preconditioner.** On the interior columns, the rows of `D` that belong to interior nodes
 //! form a square triangular Toeplitz matrix `D_a = s·T` (σ = −: `T` lower-triangular with the
-//! Grünwald–Letnikov weights `w`, `s = h^{−α}`; σ = +: `D_a = −s Tᵀ`); `D` has one row more (row
-//! `N` for σ = −, row `0` for σ = +). The preconditioner is `P = D_aᵀ V D_a`, with `V` the block
-//! diagonal of the `L_vv` at the interior nodes: the `L_vv` part of `J` minus the rank-`d` term of
-//! the extra row. The inverse of `T` is the lower-triangular Toeplitz matrix `G` of the weights
+//! Grünwald–Letnikov weights `w`, `s = h^{−α}`; σ = +: `D_a = −s Tᵀ`); `D` has one row more, `E`
+//! (row `N` for σ = −, row `0` for σ = +, with `L_vv` block `H_e` there). With `V` the block
+//! diagonal of the `L_vv` at the interior nodes, the whole `L_vv` part of `J` is
+//!
+//! `P' = Dᵀ L_vv D = P + Eᵀ H_e E`,  `P = D_aᵀ V D_a`.
+//!
+//! The inverse of `T` is the lower-triangular Toeplitz matrix `G` of the weights
 //! `g_r = Γ(r+α)/(Γ(α) r!)` ([`grunwald_letnikov_inverse`]), so
 //!
 //! `P⁻¹ = s⁻² G V⁻¹ Gᵀ` (σ = −),  `P⁻¹ = s⁻² Gᵀ V⁻¹ G` (σ = +),
 //!
-//! two triangular Toeplitz products by FFT. `P` is symmetric positive definite when every `L_vv`
-//! is; `P⁻¹ J = I + P⁻¹(L_xx + L_xv D + Dᵀ L_vx + rank d)`, and since `D_a` grows like `h^{−α}`
-//! the remainder is a compact perturbation: the iteration counts stay flat as `N` grows.
+//! two triangular Toeplitz products by FFT, and the rank-`d` row is added by Woodbury:
+//!
+//! `P'⁻¹ = P⁻¹ − U (I + H_e E U)⁻¹ H_e E P⁻¹`,  `U = P⁻¹ Eᵀ`,
+//!
+//! `O(N d²)` per application once `U` is known. `U` costs `d²` products per Newton step, since
+//! `D_a⁻ᵀ Eᵀ` has a closed form: `T G = I` makes it `−(g_{N−1}, …, g_1)` for σ = − and
+//! `−(g_1, …, g_{N−1})` for σ = +. Without this term `P⁻¹J` had one outlying eigenvalue
+//! `E P⁻¹ Eᵀ ≈ Σ_{r<N} g_r² ∝ N^{2α−1}` (about 350 at `N = 10⁶`, α = 0.7), which CG resolves
+//! with extra iterations that grew with `N`. Now `P'` is symmetric positive definite when every
+//! `L_vv` is, `P'⁻¹ J = I + P'⁻¹(L_xx + L_xv D + Dᵀ L_vx)`, and since `D_a` grows like `h^{−α}`
+//! the remainder is a compact perturbation: the iteration counts stay flat as `N` grows (on the
+//! benchmark pendulum: 1, 2, 4 and 2–3 CG iterations in the four Newton steps at every
+//! `N = 10⁴ … 10⁶`).
 //!
 //! **One FFT product less per CG iteration.** The preconditioner's middle vector
-//! `V⁻¹ D_a⁻ᵀ r` is `D_a z` for its output `z`, and CG's directions are `p = z + β p`, so the
-//! square-block rows of `D p` are carried along the recurrence (`D_a p = D_a z + β D_a p`,
-//! [`KrylovSystem::image_len`]); the extra row is one dot product. A CG iteration then costs
+//! `V⁻¹ D_a⁻ᵀ r` is `D_a` of `P⁻¹ r`, and `D_a U` is known, so the preconditioner yields `D_a z`
+//! for its output `z`; CG's directions are `p = z + β p`, so the square-block rows of `D p` are
+//! carried along the recurrence (`D_a p = D_a z + β D_a p`, [`KrylovSystem::image_len`]); the
+//! extra row is one dot product. A CG iteration then costs
 //! three FFT products (`Dᵀ b`, and the two of `P⁻¹`) instead of four, with the same iterates.
 //!
 //! **Linear solves.** Conjugate gradients first (`J` is symmetric); when `J` is indefinite
@@ -46,7 +60,8 @@
 //!
 //! S. C. Eisenstat and H. F. Walker, *Choosing the forcing terms in an inexact Newton method*,
 //! SIAM J. Sci. Comput. 17 (1996) (choice 2). Triangular Toeplitz inverses: D. Bini,
-//! *Parallel solution of certain Toeplitz linear systems*, SIAM J. Comput. 13 (1984).
+//! *Parallel solution of certain Toeplitz linear systems*, SIAM J. Comput. 13 (1984). Woodbury:
+//! G. H. Golub and C. F. Van Loan, *Matrix Computations*, 4th ed., §2.1.4.
 
 use crate::embedding::Side;
 use crate::error::{Error, Location, Result};
@@ -105,6 +120,15 @@ impl Default for KrylovBudget {
 /// nonlinear one is still a descent step of an inexact Newton method.
 const ETA_MAX: f64 = 0.1;
 
+/// `P'⁻¹ = P⁻¹ − U K (E P⁻¹)` for `P' = P + Eᵀ H_e E` (Woodbury), `E` the extra row of `D`
+/// (`e_j I` blocks), `H_e` its `L_vv`: `U = P⁻¹ Eᵀ` (blocks `u_j`), `K = (I + H_e E U)⁻¹ H_e`.
+struct Correction<const D: usize> {
+    u: Vec<Matrix<D>>,
+    /// `D_a U`, for the images.
+    du: Vec<Matrix<D>>,
+    k: Matrix<D>,
+}
+
 /// The Newton system at one iterate: Hessians at the quadrature rows, the preconditioner's
 /// blocks, and the FFT machinery with its buffers (allocated once per solve).
 struct FastSystem<const D: usize> {
@@ -118,6 +142,9 @@ struct FastSystem<const D: usize> {
     velocity: FftOperator,
     /// `G`, the inverse of the lower-triangular GL Toeplitz matrix, order `N − 1`.
     inverse: TriangularToeplitz,
+    /// `D_a⁻ᵀ e` in closed form (module docs): `−g_{N−1−p}` (σ = −) or `−g_{p+1}` (σ = +) at
+    /// position `p = j − 1`.
+    extra_solved: Vec<f64>,
     /// Hessians at the rows `first_row..first_row + N`.
     hessians: Vec<Hessian<D>>,
     /// `L_vv⁻¹` at the interior nodes `1..N−1` (entry `j − 1`).
@@ -125,6 +152,8 @@ struct FastSystem<const D: usize> {
     /// The row of `D` outside the square block `D_a`, on the interior columns: `e_j` at entry
     /// `j − 1` (`e_j = h^{−α} w_{N−j}` for σ = −, row `N`; `e_j = −h^{−α} w_j` for σ = +, row 0).
     extra: Vec<f64>,
+    /// The extra row's term in the preconditioner (module docs), when it can be formed.
+    correction: Option<Correction<D>>,
     full: Vec<Vector<D>>,
     rows: Vec<Vector<D>>,
     rows_b: Vec<Vector<D>>,
@@ -136,10 +165,16 @@ impl<const D: usize> FastSystem<D> {
     fn new<L: Lagrangian<D> + ?Sized>(problem: &Problem<'_, L, D>) -> Self {
         let n = problem.grid.n();
         let velocity = FftOperator::new(&problem.velocity);
-        let g = grunwald_letnikov_inverse(problem.velocity.alpha(), n - 1);
+        // g_0..g_{N−1}: G (order N − 1) uses the first N − 1, D_a⁻ᵀ e also g_{N−1}.
+        let g_all = grunwald_letnikov_inverse(problem.velocity.alpha(), n);
+        let g = &g_all[..n - 1];
+        let extra_solved = match problem.embedding.side() {
+            Side::Backward => (0..n - 1).map(|p| -g_all[n - 1 - p]).collect(),
+            Side::Forward => (0..n - 1).map(|p| -g_all[p + 1]).collect(),
+        };
         // Same FFT length and plans as the operator (order N + 1 ≥ N − 1), so both share one
         // workspace and one set of twiddle tables.
-        let inverse = velocity.toeplitz().with_same_plans(&g);
+        let inverse = velocity.toeplitz().with_same_plans(g);
         let zero = Hessian {
             xx: Matrix::<D>::zeros(),
             xv: Matrix::<D>::zeros(),
@@ -159,9 +194,11 @@ impl<const D: usize> FastSystem<D> {
             first_row: problem.velocity.first_row(),
             velocity,
             inverse,
+            extra_solved,
             hessians: vec![zero; n],
             vv_inverse: vec![Matrix::<D>::identity(); n - 1],
             extra,
+            correction: None,
             full: vec![Vector::<D>::zeros(); n + 1],
             rows: vec![Vector::<D>::zeros(); n],
             rows_b: vec![Vector::<D>::zeros(); n],
@@ -216,7 +253,44 @@ impl<const D: usize> FastSystem<D> {
                 }
             });
         }
+        self.update_correction();
         Ok(())
+    }
+
+    /// [`Correction`] at the current linearisation: `U = P⁻¹Eᵀ = D_a⁻¹ V⁻¹ (D_a⁻ᵀ Eᵀ)`, with
+    /// `D_a⁻ᵀ Eᵀ` in closed form, so `d²` FFT products; `D_a U = V⁻¹ D_a⁻ᵀ Eᵀ` comes free.
+    fn update_correction(&mut self) {
+        self.correction = None;
+        let m = self.n - 1;
+        let mut u = vec![Matrix::<D>::zeros(); m];
+        let mut du = vec![Matrix::<D>::zeros(); m];
+        let mut middle = vec![Vector::<D>::zeros(); m];
+        let mut solved = vec![Vector::<D>::zeros(); m];
+        let g_transposed = self.side == Side::Forward;
+        let factor = -self.sigma / self.scale;
+        for c in 0..D {
+            for j in 0..m {
+                middle[j] = self.vv_inverse[j].column(c) * self.extra_solved[j];
+                du[j].set_column(c, &middle[j]);
+            }
+            self.mul_inverse(g_transposed, &middle, &mut solved);
+            for j in 0..m {
+                u[j].set_column(c, &(solved[j] * factor));
+            }
+        }
+        let mut eu = Matrix::<D>::zeros();
+        for (e, uj) in self.extra.iter().zip(&u) {
+            eu += uj * *e;
+        }
+        let extra_row = if self.first_row == 1 { self.n - 1 } else { 0 };
+        let h_e = self.hessians[extra_row].vv;
+        let k = (Matrix::<D>::identity() + h_e * eu)
+            .try_inverse()
+            .map(|inv| inv * h_e)
+            .filter(|k| k.iter().all(|c| c.is_finite()));
+        if let Some(k) = k {
+            self.correction = Some(Correction { u, du, k });
+        }
     }
 
     /// `out = Gᵀ x` (transpose) or `G x`, one real product per component.
@@ -318,7 +392,7 @@ impl<const D: usize> FastSystem<D> {
     /// `z = P⁻¹ r`, and `D_a z` into `image` if asked. With `D_a = −σ s A` (`A = T` for σ = −,
     /// `Tᵀ` for σ = +) and `A⁻¹ = G` or `Gᵀ`: `middle = s⁻² V⁻¹ A⁻ᵀ r`, `z = A⁻¹ middle`, and
     /// `D_a z = −σ s · middle`.
-    fn precondition_into(&mut self, r: &[f64], z: &mut [f64], image: Option<&mut [f64]>) {
+    fn precondition_into(&mut self, r: &[f64], z: &mut [f64], mut image: Option<&mut [f64]>) {
         let m = self.n - 1;
         let mut input = std::mem::take(&mut self.interior);
         for j in 0..m {
@@ -331,7 +405,7 @@ impl<const D: usize> FastSystem<D> {
         for j in 0..m {
             middle[j] = self.vv_inverse[j] * middle[j] * s2;
         }
-        if let Some(image) = image {
+        if let Some(image) = image.as_deref_mut() {
             let factor = -self.sigma * self.scale;
             for j in 0..m {
                 let v = middle[j] * factor;
@@ -342,10 +416,28 @@ impl<const D: usize> FastSystem<D> {
         for j in 0..m {
             z[j * D..(j + 1) * D].copy_from_slice(input[j].as_slice());
         }
+        if let Some(corr) = &self.correction {
+            let mut ez = Vector::<D>::zeros();
+            for (e, zj) in self.extra.iter().zip(&input[..m]) {
+                ez += zj * *e;
+            }
+            let c = corr.k * ez;
+            for j in 0..m {
+                let zj = input[j] - corr.u[j] * c;
+                z[j * D..(j + 1) * D].copy_from_slice(zj.as_slice());
+            }
+            if let Some(image) = image {
+                for j in 0..m {
+                    let v = read::<D>(image, j) - corr.du[j] * c;
+                    image[j * D..(j + 1) * D].copy_from_slice(v.as_slice());
+                }
+            }
+        }
         self.interior = input;
         self.nodes = middle;
     }
 }
+
 /// The residual at an iterate, with what the Jacobian needs.
 struct Evaluation<const D: usize> {
     /// `r_j`, `j = 1..N−1`.
@@ -654,22 +746,24 @@ mod tests {
         }
     }
 
-    /// `P⁻¹` inverts `D_aᵀ V D_a` exactly (V from constant `L_vv`): `P⁻¹ P x = x`.
+    /// The preconditioner inverts the whole kinetic part `P' = Dᵀ L_vv D` (the square block and
+    /// the extra row, `L_vv` varying along the grid): `P'⁻¹ P' x = x`.
     #[test]
-    fn preconditioner_inverts_the_kinetic_part_on_the_square_block() {
+    fn preconditioner_inverts_the_whole_kinetic_part() {
+        /// `L = (1 + t) v²`.
         struct Free;
         impl Lagrangian<1> for Free {
-            fn value(&self, _x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
-                v[0] * v[0]
+            fn value(&self, _x: &Vector<1>, v: &Vector<1>, t: f64) -> f64 {
+                (1.0 + t) * v[0] * v[0]
             }
-            fn gradient(&self, _x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
-                (Vector::<1>::zeros(), *v * 2.0)
+            fn gradient(&self, _x: &Vector<1>, v: &Vector<1>, t: f64) -> (Vector<1>, Vector<1>) {
+                (Vector::<1>::zeros(), *v * (2.0 * (1.0 + t)))
             }
-            fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
+            fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, t: f64) -> Hessian<1> {
                 Hessian {
                     xx: Matrix::<1>::zeros(),
                     xv: Matrix::<1>::zeros(),
-                    vv: Matrix::<1>::new(2.0),
+                    vv: Matrix::<1>::new(2.0 * (1.0 + t)),
                 }
             }
         }
@@ -684,14 +778,15 @@ mod tests {
             system
                 .linearize(&problem, &q, &eval.v, Location::Newton(0))
                 .unwrap();
-            // P = D_aᵀ V D_a with D_a the interior rows and columns of D = −σΔ.
+            assert!(system.correction.is_some());
+            // P' = Σ_k D[k, ·]ᵀ L_vv(t_k) D[k, ·] over every row k of D = −σΔ.
             let m = n - 1;
             let mut p = DMatrix::<f64>::zeros(m, m);
             let sigma = side.sign();
             for a in 1..n {
                 for b in 1..n {
                     let mut acc = 0.0;
-                    for k in 1..n {
+                    for k in problem.velocity.rows() {
                         let d = |j| {
                             problem
                                 .velocity
@@ -699,7 +794,7 @@ mod tests {
                                 .find(|&(jj, _)| jj == j)
                                 .map_or(0.0, |(_, c)| -sigma * c)
                         };
-                        acc += d(a) * 2.0 * d(b);
+                        acc += d(a) * 2.0 * (1.0 + grid.t(k)) * d(b);
                     }
                     p[(a - 1, b - 1)] = acc;
                 }
@@ -711,6 +806,57 @@ mod tests {
             for i in 0..m {
                 assert!(
                     (z[i] - x[i]).abs() < 1e-10,
+                    "{side:?} {i}: {} vs {}",
+                    z[i],
+                    x[i]
+                );
+            }
+        }
+    }
+
+    /// The same with `d = 2` and full `L_vv` blocks (the Woodbury term is a 2 × 2 system).
+    #[test]
+    fn preconditioner_inverts_the_kinetic_part_with_blocks() {
+        let n = 15;
+        let grid = Grid::new(0.2, 1.5, n).unwrap();
+        for side in [Side::Backward, Side::Forward] {
+            let embedding = Embedding::grunwald_letnikov(side, 0.6).unwrap();
+            let problem = Problem::new(&Mixed, grid, embedding);
+            let q = curve(n);
+            let mut system = FastSystem::<2>::new(&problem);
+            let eval = evaluate(&problem, &mut system, &q, 0).unwrap();
+            system
+                .linearize(&problem, &q, &eval.v, Location::Newton(0))
+                .unwrap();
+            assert!(system.correction.is_some());
+            let m = n - 1;
+            let mut p = DMatrix::<f64>::zeros(2 * m, 2 * m);
+            let sigma = side.sign();
+            for (i, k) in problem.velocity.rows().enumerate() {
+                let vv = system.hessians[i].vv;
+                let d = |j| {
+                    problem
+                        .velocity
+                        .row_entries(k)
+                        .find(|&(jj, _)| jj == j)
+                        .map_or(0.0, |(_, c)| -sigma * c)
+                };
+                for a in 1..n {
+                    for b in 1..n {
+                        let block = vv * (d(a) * d(b));
+                        for (r, c) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                            p[(2 * (a - 1) + r, 2 * (b - 1) + c)] += block[(r, c)];
+                        }
+                    }
+                }
+            }
+            let x: Vec<f64> = (0..2 * m).map(|i| (i as f64 * 0.37).cos()).collect();
+            let px = &p * nalgebra::DVector::from_vec(x.clone());
+            let mut z = vec![0.0; 2 * m];
+            system.precondition(px.as_slice(), &mut z);
+            for i in 0..2 * m {
+                assert!(
+                    (z[i] - x[i]).abs() < 1e-9,
                     "{side:?} {i}: {} vs {}",
                     z[i],
                     x[i]
