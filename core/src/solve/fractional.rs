@@ -84,8 +84,10 @@ pub enum FractionalSolver {
     /// [`DENSE_FALLBACK_LIMIT`] unknowns, the problem is solved again by dense LU.
     #[default]
     Auto,
-    /// Always dense LU: `O((N d)²)` memory and `O((N d)³)` time per Newton iteration. The
-    /// reference the fast path is tested against.
+    /// Always dense LU: `O((N d)²)` memory and `O((N d)³)` time per Newton iteration (its
+    /// residual, like [`Problem::residual`], goes by FFT above
+    /// [`FFT_OPERATOR_THRESHOLD`](crate::problem::FFT_OPERATOR_THRESHOLD)). The reference the
+    /// fast path is tested against: the assembled Jacobian and LU share nothing with it.
     Dense,
     /// Always the FFT Newton–Krylov path (module docs), without dense fallback.
     Fast,
