@@ -7,8 +7,8 @@
 //! - `Δ_− Q = h^{−α} (T Q)[1..=N]`, `Δ_−ᵀ W = h^{−α} Tᵀ (0, W_1, …, W_N)`;
 //! - `Δ_+ Q = h^{−α} (Tᵀ Q)[0..N]`, `Δ_+ᵀ W = h^{−α} T (W_0, …, W_{N−1}, 0)`.
 //!
-//! The `D` components of the points are multiplied two at a time (packed as one complex
-//! vector). The FFT of `w` is computed once, when the operator is built.
+//! Each of the `D` components is one real product. The FFT of `w` is computed once, when the
+//! operator is built, and the buffers of the products are kept with it.
 //!
 //! # Example
 //!
@@ -28,7 +28,6 @@ use crate::error::Result;
 use crate::lagrangian::Vector;
 use crate::operator::{Operator, check_len};
 use crate::toeplitz::{TriangularToeplitz, Workspace};
-use rustfft::num_complex::Complex;
 
 /// `Δ_σ` or `Δ^α_σ` (an `N × (N + 1)` matrix) with products by FFT.
 #[derive(Clone, Debug)]
@@ -64,12 +63,18 @@ impl FftOperator {
         self.n
     }
 
+    /// The Toeplitz matrix of the weights, whose plans other matrices can share
+    /// ([`TriangularToeplitz::with_same_plans`]).
+    pub(crate) fn toeplitz(&self) -> &TriangularToeplitz {
+        &self.toeplitz
+    }
+
     /// The buffers of the products, to share with other matrices of the same FFT length.
     pub(crate) fn workspace_mut(&mut self) -> &mut Workspace {
         &mut self.ws
     }
 
-    /// The FFT length (at least `2N + 1`).
+    /// The FFT length (at least `2N + 2`).
     pub fn fft_len(&self) -> usize {
         self.toeplitz.fft_len()
     }
@@ -88,15 +93,14 @@ impl FftOperator {
             Side::Forward => (true, 0),
         };
         let (n, s) = (self.n, self.scale);
-        for c in (0..D).step_by(2) {
-            let pair = c + 1 < D;
+        for c in 0..D {
             self.toeplitz.mul_with(
                 transpose,
                 &mut self.ws,
-                |k| pack(&q[k], c, pair),
+                |k| q[k][c],
                 |k, y| {
                     if k >= shift && k - shift < n {
-                        unpack(&mut out[k - shift], c, pair, y * s);
+                        out[k - shift][c] = y * s;
                     }
                 },
             );
@@ -117,19 +121,18 @@ impl FftOperator {
             Side::Forward => (false, 0),
         };
         let (n, s) = (self.n, self.scale);
-        for c in (0..D).step_by(2) {
-            let pair = c + 1 < D;
+        for c in 0..D {
             self.toeplitz.mul_with(
                 transpose,
                 &mut self.ws,
                 |k| {
                     if k >= shift && k - shift < n {
-                        pack(&w[k - shift], c, pair)
+                        w[k - shift][c]
                     } else {
-                        Complex::new(0.0, 0.0)
+                        0.0
                     }
                 },
-                |k, y| unpack(&mut out[k], c, pair, y * s),
+                |k, y| out[k][c] = y * s,
             );
         }
         Ok(())
@@ -147,16 +150,5 @@ impl FftOperator {
         let mut out = vec![Vector::<D>::zeros(); self.n + 1];
         self.apply_transpose_inplace(w, &mut out)?;
         Ok(out)
-    }
-}
-
-fn pack<const D: usize>(x: &Vector<D>, c: usize, pair: bool) -> Complex<f64> {
-    Complex::new(x[c], if pair { x[c + 1] } else { 0.0 })
-}
-
-fn unpack<const D: usize>(x: &mut Vector<D>, c: usize, pair: bool, y: Complex<f64>) {
-    x[c] = y.re;
-    if pair {
-        x[c + 1] = y.im;
     }
 }

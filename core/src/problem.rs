@@ -1,14 +1,26 @@
 //! [`Problem`]: a Lagrangian, a grid and an embedding; the two residual paths, the action, and
 //! the Jacobian of the global system.
+//!
+//! The Grünwald–Letnikov operators are dense: on grids of more than [`FFT_OPERATOR_THRESHOLD`]
+//! steps, [`Problem::velocity`], [`Problem::residual`], [`Problem::action`] and
+//! [`Problem::energy`] (and so [`compare`](crate::compare) and the dense-LU Newton's residual)
+//! apply them by FFT ([`FftOperator`], `O(N log N)`) instead of the `O(N²)` loops of
+//! [`Operator`]. The two routes agree to round-off (tested above the threshold).
 
 use crate::embedding::{Embedding, EmbeddingKind, variational_rows};
 use crate::error::{Error, Location, Result};
+use crate::fft_operator::FftOperator;
 use crate::grid::Grid;
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::operator::{Operator, check_len};
 use crate::solve::fractional::FractionalSolver;
 use crate::solve::newton::NewtonOptions;
 use std::ops::RangeInclusive;
+
+/// Grids with more steps than this apply the fractional operators by FFT in [`Problem`]'s
+/// residuals, velocity, action and energy (module docs). Below it the dense loops cost less
+/// than planning the FFT (at `N = 256` a dense product is about 3·10⁴ multiply–adds).
+pub const FFT_OPERATOR_THRESHOLD: usize = 256;
 
 /// A discrete curve from a flat array `[Q_0[0], …, Q_0[D−1], Q_1[0], …]`.
 ///
@@ -88,6 +100,8 @@ pub struct Problem<'l, L: ?Sized, const D: usize> {
     pub(crate) adjoint: Operator,
     pub(crate) newton: NewtonOptions,
     pub(crate) fractional_solver: FractionalSolver,
+    /// [`FFT_OPERATOR_THRESHOLD`] (tests raise it to force the dense loops).
+    pub(crate) fft_threshold: usize,
 }
 
 /// `V`, `f = ∂L/∂x`, `p = ∂L/∂v` at the quadrature nodes, stored by node index `0..=N` (the one
@@ -114,6 +128,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
             adjoint: embedding.adjoint_operator(&grid),
             newton: NewtonOptions::default(),
             fractional_solver: FractionalSolver::default(),
+            fft_threshold: FFT_OPERATOR_THRESHOLD,
         }
     }
 
@@ -193,11 +208,34 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
         self.check_curve(q)?;
         let sign = -self.embedding.side().sign();
         Ok(self
-            .velocity
-            .apply(q)?
+            .apply_operator(&self.velocity, q)?
             .into_iter()
             .map(|v| v * sign)
             .collect())
+    }
+
+    /// Whether `op` is applied by FFT: a fractional (dense) operator on a grid of more than
+    /// [`FFT_OPERATOR_THRESHOLD`] steps.
+    fn by_fft(&self, op: &Operator) -> bool {
+        op.weights().len() > 2 && self.grid.n() > self.fft_threshold
+    }
+
+    /// `op Q` ([`Operator::apply`]), by FFT when [`by_fft`](Self::by_fft).
+    fn apply_operator(&self, op: &Operator, q: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
+        if self.by_fft(op) {
+            FftOperator::new(op).apply(q)
+        } else {
+            op.apply(q)
+        }
+    }
+
+    /// `opᵀ W` ([`Operator::apply_transpose`]), by FFT when [`by_fft`](Self::by_fft).
+    fn apply_operator_transpose(&self, op: &Operator, w: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
+        if self.by_fft(op) {
+            FftOperator::new(op).apply_transpose(w)
+        } else {
+            op.apply_transpose(w)
+        }
     }
 
     /// The residual of `scheme` at `Q` (`N + 1` nodes), one entry per row of
@@ -298,9 +336,18 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
                 .map(|k| pw.f[k] + self.velocity.apply_row(&pw.p, k) * sigma)
                 .collect(),
             // −σ d_{−σ} ↦ −σ Δ_{−σ} (Δ^α_{−σ}) in the asymmetric / fractional Euler–Lagrange.
-            EmbeddingKind::Asymmetric | EmbeddingKind::GrunwaldLetnikov { .. } => rows
+            EmbeddingKind::Asymmetric => rows
                 .map(|k| pw.f[k] - self.adjoint.apply_row(&pw.p, k) * sigma)
                 .collect(),
+            // The same for all rows at once (the rows 1..=N−1 are rows of Δ^α_{−σ} either way).
+            EmbeddingKind::GrunwaldLetnikov { .. } => {
+                let first = self.adjoint.first_row();
+                let adjoint_p = self
+                    .apply_operator(&self.adjoint, &pw.p)
+                    .expect("p has one value per node");
+                rows.map(|k| pw.f[k] - adjoint_p[k - first] * sigma)
+                    .collect()
+            }
         }
     }
 
@@ -310,8 +357,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
         let n = self.grid.n();
         let p_rows: Vec<Vector<D>> = self.embedding.quadrature_rows(n).map(|k| pw.p[k]).collect();
         let dt_p = self
-            .velocity
-            .apply_transpose(&p_rows)
+            .apply_operator_transpose(&self.velocity, &p_rows)
             .expect("p has one value per quadrature row");
         variational_rows(n)
             .map(|j| pw.f[j] - dt_p[j] * sigma)
@@ -425,6 +471,49 @@ mod tests {
                 xx: Matrix::<2>::new(v[0] * v[0] + x[0].cos(), 0.0, 0.0, -3.0 * x[1] * x[1]),
                 xv: Matrix::<2>::new(2.0 * x[0] * v[0] + v[1], v[0], t.sin(), 0.0),
                 vv: Matrix::<2>::new(1.0 + x[0] * x[0], x[0], x[0], 1.0),
+            }
+        }
+    }
+
+    /// Above [`FFT_OPERATOR_THRESHOLD`] the fractional operators go by FFT: velocity, both
+    /// residuals, action and energy equal the dense loops' to round-off, for both sides.
+    #[test]
+    fn fft_route_matches_the_dense_loops_above_the_threshold() {
+        let n = 3 * FFT_OPERATOR_THRESHOLD + 7;
+        let grid = Grid::new(0.1, 1.3, n).unwrap();
+        let q: Vec<Vector<2>> = (0..=n)
+            .map(|k| {
+                let t = k as f64 / n as f64;
+                Vector::<2>::new((5.0 * t).sin(), (3.0 * t).cos() - 0.5)
+            })
+            .collect();
+        let close = |a: &[Vector<2>], b: &[Vector<2>], what: &str| {
+            assert_eq!(a.len(), b.len());
+            let scale = 1.0 + b.iter().fold(0.0f64, |m, x| m.max(x.amax()));
+            for (k, (x, y)) in a.iter().zip(b).enumerate() {
+                assert!((x - y).amax() <= 1e-12 * scale, "{what} {k}: {x} vs {y}");
+            }
+        };
+        for side in [Side::Backward, Side::Forward] {
+            let embedding = Embedding::grunwald_letnikov(side, 0.65).unwrap();
+            let fast = Problem::new(&Mixed, grid, embedding);
+            let mut dense = Problem::new(&Mixed, grid, embedding);
+            dense.fft_threshold = usize::MAX;
+            assert!(fast.by_fft(&fast.velocity) && !dense.by_fft(&dense.velocity));
+            close(
+                &fast.velocity(&q).unwrap(),
+                &dense.velocity(&q).unwrap(),
+                "V",
+            );
+            for scheme in [Scheme::Direct, Scheme::Variational] {
+                let (a, b) = (fast.residual(scheme, &q), dense.residual(scheme, &q));
+                close(&a.unwrap(), &b.unwrap(), &format!("{side:?} {scheme:?}"));
+            }
+            let (a, b) = (fast.action(&q).unwrap(), dense.action(&q).unwrap());
+            assert!((a - b).abs() <= 1e-13 * (1.0 + b.abs()), "{a} vs {b}");
+            let (a, b) = (fast.energy(&q).unwrap(), dense.energy(&q).unwrap());
+            for (x, y) in a.iter().zip(&b) {
+                assert!((x - y).abs() <= 1e-12 * (1.0 + y.abs()), "{x} vs {y}");
             }
         }
     }

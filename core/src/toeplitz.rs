@@ -8,9 +8,11 @@
 //!
 //! `T x = IFFT(ĉ · x̂)[0..M]`,  `Tᵀ x = IFFT(conj(ĉ) · x̂)[0..M]` (`c` real).
 //!
-//! `ĉ` is computed once, when the matrix is built. Because `c` is real, two real vectors `a`,
-//! `b` are multiplied at once by packing them into `a + i b`: the real and imaginary parts of
-//! the product are `T a` and `T b`.
+//! `ĉ` is computed once, when the matrix is built. All vectors are real, so the transforms are
+//! real-to-complex and complex-to-real FFTs ([`realfft`]): a length-`L` real transform is one
+//! complex FFT of length `L/2` plus an `O(L)` pass, half the work and half the memory of a
+//! complex FFT of length `L`. `L` is even, `L = 2K` with `K ≥ M` a product of small primes
+//! ([`fft_len`]).
 //!
 //! # Example
 //!
@@ -18,83 +20,97 @@
 //! use varembed::toeplitz::{TriangularToeplitz, Workspace};
 //! let t = TriangularToeplitz::new(&[1.0, -1.0, 0.5]);
 //! let mut ws = Workspace::new(&t);
-//! let (mut ta, mut tb) = (vec![0.0; 3], vec![0.0; 3]);
-//! t.mul_pair(false, &mut ws, &[1.0, 2.0, 3.0], Some(&[0.0, 1.0, 0.0]), &mut ta, Some(&mut tb));
+//! let (mut ta, mut tta) = (vec![0.0; 3], vec![0.0; 3]);
+//! t.mul(false, &mut ws, &[1.0, 2.0, 3.0], &mut ta);
+//! t.mul(true, &mut ws, &[1.0, 2.0, 3.0], &mut tta);
 //! // T = [[1, 0, 0], [−1, 1, 0], [0.5, −1, 1]]
 //! for (x, y) in ta.iter().zip([1.0, 1.0, 1.5]) { assert!((x - y).abs() < 1e-14); }
-//! for (x, y) in tb.iter().zip([0.0, 1.0, -1.0]) { assert!((x - y).abs() < 1e-14); }
+//! for (x, y) in tta.iter().zip([0.5, -1.0, 3.0]) { assert!((x - y).abs() < 1e-14); }
 //! ```
 //!
 //! ## Reference
 //!
 //! R. M. Gray, *Toeplitz and circulant matrices: a review*, §4 (circulant embedding).
+//! H. V. Sorensen et al., *Real-valued fast Fourier transform algorithms*, IEEE Trans. ASSP 35
+//! (1987) (the real transform through a half-length complex one).
 
-use rustfft::num_complex::Complex;
-use rustfft::{Fft, FftPlanner};
+use realfft::num_complex::Complex;
+use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use std::sync::Arc;
 
 /// A lower-triangular Toeplitz matrix of order `M` (and its transpose), applied by FFT.
 #[derive(Clone)]
 pub struct TriangularToeplitz {
     order: usize,
-    /// `FFT(c zero-padded to L) / L` (the `1/L` of the inverse FFT folded in).
+    /// `FFT(c zero-padded to L) / L`, the `L/2 + 1` non-negative frequencies (the `1/L` of the
+    /// inverse FFT folded in).
     spectrum: Vec<Complex<f64>>,
-    forward: Arc<dyn Fft<f64>>,
-    inverse: Arc<dyn Fft<f64>>,
+    forward: Arc<dyn RealToComplex<f64>>,
+    inverse: Arc<dyn ComplexToReal<f64>>,
 }
 
 impl std::fmt::Debug for TriangularToeplitz {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("TriangularToeplitz")
             .field("order", &self.order)
-            .field("fft_len", &self.spectrum.len())
+            .field("fft_len", &self.fft_len())
             .finish()
     }
 }
 
-/// The buffers one product needs (`2L` complex numbers plus the FFT's scratch); built once and
-/// reused, so that a product allocates nothing.
+/// The buffers one product needs (`L` reals, `L/2 + 1` complex numbers and the FFTs' scratch);
+/// built once and reused, so that a product allocates nothing.
 #[derive(Clone, Debug)]
 pub struct Workspace {
-    buffer: Vec<Complex<f64>>,
+    real: Vec<f64>,
+    spectrum: Vec<Complex<f64>>,
     scratch: Vec<Complex<f64>>,
 }
 
 impl Workspace {
-    /// Buffers large enough for `matrix` (and for any matrix of the same FFT length).
+    /// Buffers for `matrix` (and for any matrix of the same FFT length).
     pub fn new(matrix: &TriangularToeplitz) -> Self {
         let scratch = matrix
             .forward
-            .get_inplace_scratch_len()
-            .max(matrix.inverse.get_inplace_scratch_len());
+            .get_scratch_len()
+            .max(matrix.inverse.get_scratch_len());
         Workspace {
-            buffer: vec![Complex::new(0.0, 0.0); matrix.fft_len()],
+            real: vec![0.0; matrix.fft_len()],
+            spectrum: vec![Complex::new(0.0, 0.0); matrix.spectrum.len()],
             scratch: vec![Complex::new(0.0, 0.0); scratch],
         }
     }
 }
 
-/// The FFT length used for order `m`: the smallest 5-smooth number (`2^a 3^b 5^c`) that is at
-/// least `2m − 1`. rustfft has fast butterflies for these radices, and a 5-smooth length is
-/// within a few percent of `2m − 1` where a power of two can be almost twice as long.
-pub fn fft_len(m: usize) -> usize {
-    let need = (2 * m).saturating_sub(1).max(1);
-    let mut best = need.next_power_of_two();
-    let mut p5 = 1;
-    while p5 < best {
+/// The smallest `2^a 3^b 5^c ≥ k ≥ 1` with `c ≤ 2`.
+fn smooth(k: usize) -> usize {
+    let mut best = k.next_power_of_two();
+    for p5 in [1, 5, 25] {
         let mut p35 = p5;
         while p35 < best {
-            // The smallest power of two that lifts p35 to at least `need`.
+            // The smallest power of two that lifts p35 to at least `k`.
             let mut len = p35;
-            while len < need {
+            while len < k {
                 len *= 2;
             }
             best = best.min(len);
             p35 *= 3;
         }
-        p5 *= 5;
     }
     best
+}
+
+/// The FFT length used for order `m`: `L = 2K` with `K` the smallest `2^a 3^b 5^c ≥ m` with
+/// `c ≤ 2`, so `L ≥ 2m − 1` and the real transform runs on a complex FFT of length `K`.
+///
+/// rustfft has fast butterflies for these radices, and such a `K` is within 15% of `m` where a
+/// power of two can be almost twice as long. Factors of 5 are capped because at large `K`, where
+/// the FFT is bound by memory bandwidth, each radix-5 pass is one more sweep over the buffer:
+/// measured on the benchmark machine (real transform of length `2K`), `K = 1 012 500 = 2²3⁴5⁵`
+/// takes 12.0 ms, `K = 1 036 800 = 2⁹3⁴5²` 10.3 ms; `K = 10 125 = 3⁴5³` 0.044 ms,
+/// `K = 10 240 = 2¹¹5` 0.037 ms.
+pub fn fft_len(m: usize) -> usize {
+    2 * smooth(m.max(1))
 }
 
 impl TriangularToeplitz {
@@ -103,23 +119,45 @@ impl TriangularToeplitz {
         Self::with_fft_len(column, fft_len(column.len()))
     }
 
-    /// The same, padded to a given FFT length `len ≥ 2·column.len() − 1` (so that several
-    /// matrices can share a [`Workspace`]); a shorter `len` is raised to [`fft_len`].
+    /// The same, padded to at least a given FFT length (so that several matrices can share a
+    /// [`Workspace`]); the length used is [`fft_len`] of `max(len/2, column.len())`.
     pub fn with_fft_len(column: &[f64], len: usize) -> Self {
-        let order = column.len();
-        let len = len.max(fft_len(order));
-        let mut planner = FftPlanner::<f64>::new();
+        let len = fft_len(column.len().max(len.div_ceil(2)));
+        let mut planner = RealFftPlanner::<f64>::new();
         let forward = planner.plan_fft_forward(len);
         let inverse = planner.plan_fft_inverse(len);
-        let mut spectrum = vec![Complex::new(0.0, 0.0); len];
+        Self::with_plans(column, forward, inverse)
+    }
+
+    /// Another matrix of the same FFT length, sharing this one's FFT plans (their twiddle
+    /// tables) and [`Workspace`]s.
+    ///
+    /// # Panics
+    ///
+    /// If `column` is longer than half the FFT length (an internal misuse, never user input).
+    pub fn with_same_plans(&self, column: &[f64]) -> Self {
+        assert!(2 * column.len() <= self.fft_len(), "column too long");
+        Self::with_plans(column, self.forward.clone(), self.inverse.clone())
+    }
+
+    fn with_plans(
+        column: &[f64],
+        forward: Arc<dyn RealToComplex<f64>>,
+        inverse: Arc<dyn ComplexToReal<f64>>,
+    ) -> Self {
+        let len = forward.len();
         let inv_len = 1.0 / len as f64;
-        for (s, &c) in spectrum.iter_mut().zip(column) {
-            *s = Complex::new(c * inv_len, 0.0);
+        let mut padded = vec![0.0; len];
+        for (p, &c) in padded.iter_mut().zip(column) {
+            *p = c * inv_len;
         }
-        let mut scratch = vec![Complex::new(0.0, 0.0); forward.get_inplace_scratch_len()];
-        forward.process_with_scratch(&mut spectrum, &mut scratch);
+        let mut spectrum = forward.make_output_vec();
+        let mut scratch = forward.make_scratch_vec();
+        forward
+            .process_with_scratch(&mut padded, &mut spectrum, &mut scratch)
+            .expect("buffers made by the plan");
         TriangularToeplitz {
-            order,
+            order: column.len(),
             spectrum,
             forward,
             inverse,
@@ -133,70 +171,64 @@ impl TriangularToeplitz {
 
     /// The FFT length `L`.
     pub fn fft_len(&self) -> usize {
-        self.spectrum.len()
+        self.forward.len()
     }
 
     /// The general product: `out(k, (T x)_k)` (or `Tᵀ x` when `transpose`) for `k = 0..M`,
-    /// where the input is `x_k = input(k)` for `k = 0..M`, two real vectors packed as
-    /// `re + i im`.
+    /// where the input is `x_k = input(k)` for `k = 0..M`.
     ///
     /// # Panics
     ///
-    /// If `ws` was built for a shorter FFT length (an internal misuse, never user input).
+    /// If `ws` was built for another FFT length (an internal misuse, never user input).
     pub fn mul_with(
         &self,
         transpose: bool,
         ws: &mut Workspace,
-        mut input: impl FnMut(usize) -> Complex<f64>,
-        mut out: impl FnMut(usize, Complex<f64>),
+        mut input: impl FnMut(usize) -> f64,
+        mut out: impl FnMut(usize, f64),
     ) {
-        let len = self.fft_len();
-        let buffer = &mut ws.buffer[..len];
-        for (k, b) in buffer.iter_mut().enumerate() {
-            *b = if k < self.order {
-                input(k)
-            } else {
-                Complex::new(0.0, 0.0)
-            };
+        let (head, tail) = ws.real.split_at_mut(self.order);
+        for (k, b) in head.iter_mut().enumerate() {
+            *b = input(k);
         }
-        self.forward.process_with_scratch(buffer, &mut ws.scratch);
+        // The real transform uses its input as scratch: the padding is written every time.
+        tail.fill(0.0);
+        self.forward
+            .process_with_scratch(&mut ws.real, &mut ws.spectrum, &mut ws.scratch)
+            .expect("workspace built for this FFT length");
         if transpose {
-            for (b, s) in buffer.iter_mut().zip(&self.spectrum) {
+            for (b, s) in ws.spectrum.iter_mut().zip(&self.spectrum) {
                 *b *= s.conj();
             }
         } else {
-            for (b, s) in buffer.iter_mut().zip(&self.spectrum) {
+            for (b, s) in ws.spectrum.iter_mut().zip(&self.spectrum) {
                 *b *= s;
             }
         }
-        self.inverse.process_with_scratch(buffer, &mut ws.scratch);
-        for (k, b) in buffer[..self.order].iter().enumerate() {
+        // The zero and Nyquist frequencies of a real vector's product are real; a non-finite input
+        // could leave a NaN there, which the inverse transform rejects (the NaN still propagates
+        // through the real parts).
+        let last = ws.spectrum.len() - 1;
+        ws.spectrum[0].im = 0.0;
+        ws.spectrum[last].im = 0.0;
+        self.inverse
+            .process_with_scratch(&mut ws.spectrum, &mut ws.real, &mut ws.scratch)
+            .expect("workspace built for this FFT length");
+        for (k, b) in ws.real[..self.order].iter().enumerate() {
             out(k, *b);
         }
     }
 
-    /// `T a` (or `Tᵀ a`) into `ta`, and the same for `b` into `tb` when both are given, in one
-    /// complex FFT pair. Slices shorter than `M` are padded with zeros (inputs) or cut (outputs).
-    pub fn mul_pair(
-        &self,
-        transpose: bool,
-        ws: &mut Workspace,
-        a: &[f64],
-        b: Option<&[f64]>,
-        ta: &mut [f64],
-        mut tb: Option<&mut [f64]>,
-    ) {
-        let get = |x: &[f64], k: usize| x.get(k).copied().unwrap_or(0.0);
+    /// `T x` (or `Tᵀ x`) into `y`. A slice `x` shorter than `M` is padded with zeros, a longer `y`
+    /// is left alone past `M` (and a shorter one cut).
+    pub fn mul(&self, transpose: bool, ws: &mut Workspace, x: &[f64], y: &mut [f64]) {
         self.mul_with(
             transpose,
             ws,
-            |k| Complex::new(get(a, k), b.map_or(0.0, |b| get(b, k))),
-            |k, y| {
-                if let Some(t) = ta.get_mut(k) {
-                    *t = y.re;
-                }
-                if let Some(t) = tb.as_deref_mut().and_then(|tb| tb.get_mut(k)) {
-                    *t = y.im;
+            |k| x.get(k).copied().unwrap_or(0.0),
+            |k, v| {
+                if let Some(t) = y.get_mut(k) {
+                    *t = v;
                 }
             },
         );
@@ -232,7 +264,8 @@ mod tests {
             let mut ws = Workspace::new(&t);
             for transpose in [false, true] {
                 let (mut ta, mut tb) = (vec![0.0; m], vec![0.0; m]);
-                t.mul_pair(transpose, &mut ws, &a, Some(&b), &mut ta, Some(&mut tb));
+                t.mul(transpose, &mut ws, &a, &mut ta);
+                t.mul(transpose, &mut ws, &b, &mut tb);
                 for (got, want) in [
                     (ta, dense(&c, &a, transpose)),
                     (tb, dense(&c, &b, transpose)),
@@ -246,11 +279,37 @@ mod tests {
         }
     }
 
+    /// A matrix sharing another's plans (and workspace) multiplies like one built alone.
+    #[test]
+    fn shared_plans_give_the_same_products() {
+        let m = 40;
+        let c: Vec<f64> = (0..m).map(|r| 1.0 / (1.0 + r as f64)).collect();
+        let x: Vec<f64> = (0..m).map(|r| ((r * 3) as f64).sin()).collect();
+        let host = TriangularToeplitz::new(&vec![1.0; m + 7]);
+        let shared = host.with_same_plans(&c);
+        assert_eq!(shared.fft_len(), host.fft_len());
+        let alone = TriangularToeplitz::new(&c);
+        let mut ws = Workspace::new(&host);
+        let mut ws_alone = Workspace::new(&alone);
+        for transpose in [false, true] {
+            let (mut a, mut b) = (vec![0.0; m], vec![0.0; m]);
+            shared.mul(transpose, &mut ws, &x, &mut a);
+            alone.mul(transpose, &mut ws_alone, &x, &mut b);
+            let want = dense(&c, &x, transpose);
+            for ((a, b), w) in a.iter().zip(&b).zip(&want) {
+                assert!(
+                    (a - w).abs() < 1e-13 && (b - w).abs() < 1e-13,
+                    "{a} {b} {w}"
+                );
+            }
+        }
+    }
+
     #[test]
     fn fft_lengths_are_long_enough_smooth_and_tight() {
         for m in 1..2000 {
             let l = fft_len(m);
-            assert!(l >= 2 * m - 1);
+            assert!(l >= 2 * m - 1 && l.is_multiple_of(2));
             let mut odd = l >> l.trailing_zeros();
             for p in [3, 5] {
                 while odd.is_multiple_of(p) {
@@ -258,6 +317,7 @@ mod tests {
                 }
             }
             assert_eq!(odd, 1, "{l}");
+            assert!(!(l / 2).is_multiple_of(125), "{l} has 5³");
             assert!(
                 l <= 2 * m - 1 + (2 * m - 1) / 8 + 8,
                 "{m}: {l} is not tight"

@@ -8,21 +8,42 @@
 //!
 //! `J = L_xx + L_xv D + Dᵀ L_vx + Dᵀ L_vv D`,
 //!
-//! never formed: `J δ` costs two FFT products (`a = D δ`, then `Dᵀ(L_vx δ + L_vv a)`).
+//! never formed: `J δ` costs two FFT products (`a = D δ`, then `Dᵀ(L_vx δ + L_vv a)`), and
+//! inside CG only one (below).
 //!
 //! **Preconditioner.** On the interior columns, the rows of `D` that belong to interior nodes
 //! form a square triangular Toeplitz matrix `D_a = s·T` (σ = −: `T` lower-triangular with the
-//! Grünwald–Letnikov weights `w`, `s = h^{−α}`; σ = +: `D_a = −s Tᵀ`); `D` has one row more (row
-//! `N` for σ = −, row `0` for σ = +). The preconditioner is `P = D_aᵀ V D_a`, with `V` the block
-//! diagonal of the `L_vv` at the interior nodes: the `L_vv` part of `J` minus the rank-`d` term of
-//! the extra row. The inverse of `T` is the lower-triangular Toeplitz matrix `G` of the weights
+//! Grünwald–Letnikov weights `w`, `s = h^{−α}`; σ = +: `D_a = −s Tᵀ`); `D` has one row more, `E`
+//! (row `N` for σ = −, row `0` for σ = +, with `L_vv` block `H_e` there). With `V` the block
+//! diagonal of the `L_vv` at the interior nodes, the whole `L_vv` part of `J` is
+//!
+//! `P' = Dᵀ L_vv D = P + Eᵀ H_e E`,  `P = D_aᵀ V D_a`.
+//!
+//! The inverse of `T` is the lower-triangular Toeplitz matrix `G` of the weights
 //! `g_r = Γ(r+α)/(Γ(α) r!)` ([`grunwald_letnikov_inverse`]), so
 //!
 //! `P⁻¹ = s⁻² G V⁻¹ Gᵀ` (σ = −),  `P⁻¹ = s⁻² Gᵀ V⁻¹ G` (σ = +),
 //!
-//! two triangular Toeplitz products by FFT. `P` is symmetric positive definite when every `L_vv`
-//! is; `P⁻¹ J = I + P⁻¹(L_xx + L_xv D + Dᵀ L_vx + rank d)`, and since `D_a` grows like `h^{−α}`
-//! the remainder is a compact perturbation: the iteration counts stay flat as `N` grows.
+//! two triangular Toeplitz products by FFT, and the rank-`d` row is added by Woodbury:
+//!
+//! `P'⁻¹ = P⁻¹ − U (I + H_e E U)⁻¹ H_e E P⁻¹`,  `U = P⁻¹ Eᵀ`,
+//!
+//! `O(N d²)` per application once `U` is known. `U` costs `d²` products per Newton step, since
+//! `D_a⁻ᵀ Eᵀ` has a closed form: `T G = I` makes it `−(g_{N−1}, …, g_1)` for σ = − and
+//! `−(g_1, …, g_{N−1})` for σ = +. Without this term `P⁻¹J` had one outlying eigenvalue
+//! `E P⁻¹ Eᵀ ≈ Σ_{r<N} g_r² ∝ N^{2α−1}` (about 350 at `N = 10⁶`, α = 0.7), which CG resolves
+//! with extra iterations that grew with `N`. Now `P'` is symmetric positive definite when every
+//! `L_vv` is, `P'⁻¹ J = I + P'⁻¹(L_xx + L_xv D + Dᵀ L_vx)`, and since `D_a` grows like `h^{−α}`
+//! the remainder is a compact perturbation: the iteration counts stay flat as `N` grows (on the
+//! benchmark pendulum: 1, 2, 4 and 2–3 CG iterations in the four Newton steps at every
+//! `N = 10⁴ … 10⁶`).
+//!
+//! **One FFT product less per CG iteration.** The preconditioner's middle vector
+//! `V⁻¹ D_a⁻ᵀ r` is `D_a` of `P⁻¹ r`, and `D_a U` is known, so the preconditioner yields `D_a z`
+//! for its output `z`; CG's directions are `p = z + β p`, so the square-block rows of `D p` are
+//! carried along the recurrence (`D_a p = D_a z + β D_a p`, [`KrylovSystem::image_len`]); the
+//! extra row is one dot product. A CG iteration then costs
+//! three FFT products (`Dᵀ b`, and the two of `P⁻¹`) instead of four, with the same iterates.
 //!
 //! **Linear solves.** Conjugate gradients first (`J` is symmetric); when `J` is indefinite
 //! (a potential whose `L_xx` outweighs the kinetic term), CG breaks down and GMRES(m) takes
@@ -39,7 +60,8 @@
 //!
 //! S. C. Eisenstat and H. F. Walker, *Choosing the forcing terms in an inexact Newton method*,
 //! SIAM J. Sci. Comput. 17 (1996) (choice 2). Triangular Toeplitz inverses: D. Bini,
-//! *Parallel solution of certain Toeplitz linear systems*, SIAM J. Comput. 13 (1984).
+//! *Parallel solution of certain Toeplitz linear systems*, SIAM J. Comput. 13 (1984). Woodbury:
+//! G. H. Golub and C. F. Van Loan, *Matrix Computations*, 4th ed., §2.1.4.
 
 use crate::embedding::Side;
 use crate::error::{Error, Location, Result};
@@ -52,7 +74,6 @@ use crate::solve::max_norm;
 use crate::solve::newton::{at_round_off, backtrack};
 use crate::toeplitz::TriangularToeplitz;
 use crate::weights::grunwald_letnikov_inverse;
-use rustfft::num_complex::Complex;
 
 /// Which linear algebra solves the Newton systems of a fractional (Gauss-GLEσ) boundary value
 /// problem. Set with [`Problem::with_fractional_solver`].
@@ -63,8 +84,10 @@ pub enum FractionalSolver {
     /// [`DENSE_FALLBACK_LIMIT`] unknowns, the problem is solved again by dense LU.
     #[default]
     Auto,
-    /// Always dense LU: `O((N d)²)` memory and `O((N d)³)` time per Newton iteration. The
-    /// reference the fast path is tested against.
+    /// Always dense LU: `O((N d)²)` memory and `O((N d)³)` time per Newton iteration (its
+    /// residual, like [`Problem::residual`], goes by FFT above
+    /// [`FFT_OPERATOR_THRESHOLD`](crate::problem::FFT_OPERATOR_THRESHOLD)). The reference the
+    /// fast path is tested against: the assembled Jacobian and LU share nothing with it.
     Dense,
     /// Always the FFT Newton–Krylov path (module docs), without dense fallback.
     Fast,
@@ -99,6 +122,15 @@ impl Default for KrylovBudget {
 /// nonlinear one is still a descent step of an inexact Newton method.
 const ETA_MAX: f64 = 0.1;
 
+/// `P'⁻¹ = P⁻¹ − U K (E P⁻¹)` for `P' = P + Eᵀ H_e E` (Woodbury), `E` the extra row of `D`
+/// (`e_j I` blocks), `H_e` its `L_vv`: `U = P⁻¹ Eᵀ` (blocks `u_j`), `K = (I + H_e E U)⁻¹ H_e`.
+struct Correction<const D: usize> {
+    u: Vec<Matrix<D>>,
+    /// `D_a U`, for the images.
+    du: Vec<Matrix<D>>,
+    k: Matrix<D>,
+}
+
 /// The Newton system at one iterate: Hessians at the quadrature rows, the preconditioner's
 /// blocks, and the FFT machinery with its buffers (allocated once per solve).
 struct FastSystem<const D: usize> {
@@ -112,10 +144,18 @@ struct FastSystem<const D: usize> {
     velocity: FftOperator,
     /// `G`, the inverse of the lower-triangular GL Toeplitz matrix, order `N − 1`.
     inverse: TriangularToeplitz,
+    /// `D_a⁻ᵀ e` in closed form (module docs): `−g_{N−1−p}` (σ = −) or `−g_{p+1}` (σ = +) at
+    /// position `p = j − 1`.
+    extra_solved: Vec<f64>,
     /// Hessians at the rows `first_row..first_row + N`.
     hessians: Vec<Hessian<D>>,
     /// `L_vv⁻¹` at the interior nodes `1..N−1` (entry `j − 1`).
     vv_inverse: Vec<Matrix<D>>,
+    /// The row of `D` outside the square block `D_a`, on the interior columns: `e_j` at entry
+    /// `j − 1` (`e_j = h^{−α} w_{N−j}` for σ = −, row `N`; `e_j = −h^{−α} w_j` for σ = +, row 0).
+    extra: Vec<f64>,
+    /// The extra row's term in the preconditioner (module docs), when it can be formed.
+    correction: Option<Correction<D>>,
     full: Vec<Vector<D>>,
     rows: Vec<Vector<D>>,
     rows_b: Vec<Vector<D>>,
@@ -127,13 +167,26 @@ impl<const D: usize> FastSystem<D> {
     fn new<L: Lagrangian<D> + ?Sized>(problem: &Problem<'_, L, D>) -> Self {
         let n = problem.grid.n();
         let velocity = FftOperator::new(&problem.velocity);
-        let g = grunwald_letnikov_inverse(problem.velocity.alpha(), n - 1);
-        // Same FFT length as the operator (order N + 1 ≥ N − 1), so both share one workspace.
-        let inverse = TriangularToeplitz::with_fft_len(&g, velocity.fft_len());
+        // g_0..g_{N−1}: G (order N − 1) uses the first N − 1, D_a⁻ᵀ e also g_{N−1}.
+        let g_all = grunwald_letnikov_inverse(problem.velocity.alpha(), n);
+        let g = &g_all[..n - 1];
+        let extra_solved = match problem.embedding.side() {
+            Side::Backward => (0..n - 1).map(|p| -g_all[n - 1 - p]).collect(),
+            Side::Forward => (0..n - 1).map(|p| -g_all[p + 1]).collect(),
+        };
+        // Same FFT length and plans as the operator (order N + 1 ≥ N − 1), so both share one
+        // workspace and one set of twiddle tables.
+        let inverse = velocity.toeplitz().with_same_plans(g);
         let zero = Hessian {
             xx: Matrix::<D>::zeros(),
             xv: Matrix::<D>::zeros(),
             vv: Matrix::<D>::zeros(),
+        };
+        let scale = problem.velocity.scale();
+        let w = problem.velocity.weights();
+        let extra = match problem.embedding.side() {
+            Side::Backward => (1..n).map(|j| scale * w[n - j]).collect(),
+            Side::Forward => (1..n).map(|j| -scale * w[j]).collect(),
         };
         FastSystem {
             n,
@@ -143,8 +196,11 @@ impl<const D: usize> FastSystem<D> {
             first_row: problem.velocity.first_row(),
             velocity,
             inverse,
+            extra_solved,
             hessians: vec![zero; n],
             vv_inverse: vec![Matrix::<D>::identity(); n - 1],
+            extra,
+            correction: None,
             full: vec![Vector::<D>::zeros(); n + 1],
             rows: vec![Vector::<D>::zeros(); n],
             rows_b: vec![Vector::<D>::zeros(); n],
@@ -199,23 +255,54 @@ impl<const D: usize> FastSystem<D> {
                 }
             });
         }
+        self.update_correction();
         Ok(())
     }
 
-    /// `out = Gᵀ x` (transpose) or `G x`, component pairs packed.
+    /// [`Correction`] at the current linearisation: `U = P⁻¹Eᵀ = D_a⁻¹ V⁻¹ (D_a⁻ᵀ Eᵀ)`, with
+    /// `D_a⁻ᵀ Eᵀ` in closed form, so `d²` FFT products; `D_a U = V⁻¹ D_a⁻ᵀ Eᵀ` comes free.
+    fn update_correction(&mut self) {
+        self.correction = None;
+        let m = self.n - 1;
+        let mut u = vec![Matrix::<D>::zeros(); m];
+        let mut du = vec![Matrix::<D>::zeros(); m];
+        let mut middle = vec![Vector::<D>::zeros(); m];
+        let mut solved = vec![Vector::<D>::zeros(); m];
+        let g_transposed = self.side == Side::Forward;
+        let factor = -self.sigma / self.scale;
+        for c in 0..D {
+            for j in 0..m {
+                middle[j] = self.vv_inverse[j].column(c) * self.extra_solved[j];
+                du[j].set_column(c, &middle[j]);
+            }
+            self.mul_inverse(g_transposed, &middle, &mut solved);
+            for j in 0..m {
+                u[j].set_column(c, &(solved[j] * factor));
+            }
+        }
+        let mut eu = Matrix::<D>::zeros();
+        for (e, uj) in self.extra.iter().zip(&u) {
+            eu += uj * *e;
+        }
+        let extra_row = if self.first_row == 1 { self.n - 1 } else { 0 };
+        let h_e = self.hessians[extra_row].vv;
+        let k = (Matrix::<D>::identity() + h_e * eu)
+            .try_inverse()
+            .map(|inv| inv * h_e)
+            .filter(|k| k.iter().all(|c| c.is_finite()));
+        if let Some(k) = k {
+            self.correction = Some(Correction { u, du, k });
+        }
+    }
+
+    /// `out = Gᵀ x` (transpose) or `G x`, one real product per component.
     fn mul_inverse(&mut self, transpose: bool, x: &[Vector<D>], out: &mut [Vector<D>]) {
-        for c in (0..D).step_by(2) {
-            let pair = c + 1 < D;
+        for c in 0..D {
             self.inverse.mul_with(
                 transpose,
                 self.velocity.workspace_mut(),
-                |k| Complex::new(x[k][c], if pair { x[k][c + 1] } else { 0.0 }),
-                |k, y| {
-                    out[k][c] = y.re;
-                    if pair {
-                        out[k][c + 1] = y.im;
-                    }
-                },
+                |k| x[k][c],
+                |k, y| out[k][c] = y,
             );
         }
     }
@@ -232,22 +319,66 @@ impl<const D: usize> KrylovSystem for FastSystem<D> {
 
     /// `J δ` with `a = D δ`, `b = L_vx δ + L_vv a` (on the rows), `J δ = L_xx δ + L_xv a + Dᵀ b`.
     fn apply(&mut self, x: &[f64], y: &mut [f64]) {
+        self.jacobian_product(x, None, y);
+    }
+
+    /// `z = P⁻¹ r = s⁻² G V⁻¹ Gᵀ r` (σ = −) or `s⁻² Gᵀ V⁻¹ G r` (σ = +).
+    fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
+        self.precondition_into(r, z, None);
+    }
+
+    /// The images are `D_a x` (`N − 1` interior rows).
+    fn image_len(&self) -> usize {
+        self.len()
+    }
+
+    /// `P⁻¹ r = D_a⁻¹ V⁻¹ D_a⁻ᵀ r`: the middle vector `V⁻¹ D_a⁻ᵀ r` is `D_a z`.
+    fn precondition_with_image(&mut self, r: &[f64], z: &mut [f64], image: &mut [f64]) {
+        self.precondition_into(r, z, Some(image));
+    }
+
+    /// `J x` with the interior rows of `a = D x` taken from `image` (one FFT product, `Dᵀ b`).
+    fn apply_with_image(&mut self, x: &[f64], image: &[f64], y: &mut [f64]) {
+        self.jacobian_product(x, Some(image), y);
+    }
+}
+
+impl<const D: usize> FastSystem<D> {
+    /// `y = J x`; `a = D x` by FFT, or, given `image = D_a x`, from it and the one extra row.
+    fn jacobian_product(&mut self, x: &[f64], image: Option<&[f64]>, y: &mut [f64]) {
         let n = self.n;
         self.full[0] = Vector::<D>::zeros();
         self.full[n] = Vector::<D>::zeros();
         for j in 1..n {
             self.full[j] = read(x, j - 1);
         }
-        self.velocity
-            .apply_inplace(&self.full, &mut self.rows)
-            .expect("buffers sized for the grid");
         let minus_sigma = -self.sigma;
+        match image {
+            Some(image) => {
+                // Rows 1..N−1 are the square block; the extra row is N (σ = −) or 0 (σ = +).
+                let mut extra = Vector::<D>::zeros();
+                for j in 1..n {
+                    extra += self.full[j] * self.extra[j - 1];
+                }
+                let extra_row = if self.first_row == 1 { n - 1 } else { 0 };
+                for j in 1..n {
+                    self.rows[j - self.first_row] = read(image, j - 1);
+                }
+                self.rows[extra_row] = extra;
+            }
+            None => {
+                self.velocity
+                    .apply_inplace(&self.full, &mut self.rows)
+                    .expect("buffers sized for the grid");
+                for a in self.rows.iter_mut() {
+                    *a *= minus_sigma;
+                }
+            }
+        }
         for i in 0..n {
             let k = i + self.first_row;
             let h = &self.hessians[i];
-            let a = self.rows[i] * minus_sigma;
-            self.rows[i] = a;
-            self.rows_b[i] = h.xv.transpose() * self.full[k] + h.vv * a;
+            self.rows_b[i] = h.xv.transpose() * self.full[k] + h.vv * self.rows[i];
         }
         self.velocity
             .apply_transpose_inplace(&self.rows_b, &mut self.nodes)
@@ -260,8 +391,10 @@ impl<const D: usize> KrylovSystem for FastSystem<D> {
         }
     }
 
-    /// `z = P⁻¹ r = s⁻² G V⁻¹ Gᵀ r` (σ = −) or `s⁻² Gᵀ V⁻¹ G r` (σ = +).
-    fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
+    /// `z = P⁻¹ r`, and `D_a z` into `image` if asked. With `D_a = −σ s A` (`A = T` for σ = −,
+    /// `Tᵀ` for σ = +) and `A⁻¹ = G` or `Gᵀ`: `middle = s⁻² V⁻¹ A⁻ᵀ r`, `z = A⁻¹ middle`, and
+    /// `D_a z = −σ s · middle`.
+    fn precondition_into(&mut self, r: &[f64], z: &mut [f64], mut image: Option<&mut [f64]>) {
         let m = self.n - 1;
         let mut input = std::mem::take(&mut self.interior);
         for j in 0..m {
@@ -274,9 +407,33 @@ impl<const D: usize> KrylovSystem for FastSystem<D> {
         for j in 0..m {
             middle[j] = self.vv_inverse[j] * middle[j] * s2;
         }
+        if let Some(image) = image.as_deref_mut() {
+            let factor = -self.sigma * self.scale;
+            for j in 0..m {
+                let v = middle[j] * factor;
+                image[j * D..(j + 1) * D].copy_from_slice(v.as_slice());
+            }
+        }
         self.mul_inverse(!first_transposed, &middle[..m], &mut input);
         for j in 0..m {
             z[j * D..(j + 1) * D].copy_from_slice(input[j].as_slice());
+        }
+        if let Some(corr) = &self.correction {
+            let mut ez = Vector::<D>::zeros();
+            for (e, zj) in self.extra.iter().zip(&input[..m]) {
+                ez += zj * *e;
+            }
+            let c = corr.k * ez;
+            for j in 0..m {
+                let zj = input[j] - corr.u[j] * c;
+                z[j * D..(j + 1) * D].copy_from_slice(zj.as_slice());
+            }
+            if let Some(image) = image {
+                for j in 0..m {
+                    let v = read::<D>(image, j) - corr.du[j] * c;
+                    image[j * D..(j + 1) * D].copy_from_slice(v.as_slice());
+                }
+            }
         }
         self.interior = input;
         self.nodes = middle;
@@ -309,25 +466,36 @@ fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
     let mut v = vec![Vector::<D>::zeros(); n];
     system.velocity.apply_inplace(q, &mut v)?;
     let minus_sigma = -system.sigma;
-    let mut f = vec![Vector::<D>::zeros(); n + 1];
-    let mut p = vec![Vector::<D>::zeros(); n];
+    // r starts as f on the interior nodes; p goes in the rows' buffer (no allocation per call).
+    let mut r = vec![Vector::<D>::zeros(); n - 1];
+    let mut p = std::mem::take(&mut system.rows_b);
+    let mut f_max = 0.0f64;
     for i in 0..n {
         let k = i + system.first_row;
         v[i] *= minus_sigma;
         let (fk, pk) = problem.lagrangian.gradient(&q[k], &v[i], problem.grid.t(k));
         if !fk.iter().chain(pk.iter()).all(|c| c.is_finite()) {
+            system.rows_b = p;
             return Err(not_finite);
         }
-        f[k] = fk;
+        f_max = f_max.max(fk.amax());
+        if (1..n).contains(&k) {
+            r[k - 1] = fk;
+        }
         p[i] = pk;
     }
-    let mut dt_p = vec![Vector::<D>::zeros(); n + 1];
-    system.velocity.apply_transpose_inplace(&p, &mut dt_p)?;
-    let r: Vec<Vector<D>> = (1..n).map(|j| f[j] + dt_p[j] * minus_sigma).collect();
+    let mut dt_p = std::mem::take(&mut system.nodes);
+    let applied = system.velocity.apply_transpose_inplace(&p, &mut dt_p);
+    for (j, rj) in r.iter_mut().enumerate() {
+        *rj += dt_p[j + 1] * minus_sigma;
+    }
+    let scale = 1.0 + f_max + system.scale * max_norm(&p);
+    system.rows_b = p;
+    system.nodes = dt_p;
+    applied?;
     if !r.iter().all(|x| x.iter().all(|c| c.is_finite())) {
         return Err(not_finite);
     }
-    let scale = 1.0 + max_norm(&f) + system.scale * max_norm(&p);
     Ok(Evaluation { r, v, scale })
 }
 
@@ -533,22 +701,71 @@ mod tests {
         }
     }
 
-    /// `P⁻¹` inverts `D_aᵀ V D_a` exactly (V from constant `L_vv`): `P⁻¹ P x = x`.
+    /// The preconditioner's by-product is `D_a z`, and `J z` from it equals `J z` by FFT.
     #[test]
-    fn preconditioner_inverts_the_kinetic_part_on_the_square_block() {
+    fn preconditioner_images_are_the_square_block_products() {
+        let n = 23;
+        let grid = Grid::new(0.2, 1.5, n).unwrap();
+        for side in [Side::Backward, Side::Forward] {
+            let embedding = Embedding::grunwald_letnikov(side, 0.55).unwrap();
+            let problem = Problem::new(&Mixed, grid, embedding);
+            let q = curve(n);
+            let mut system = FastSystem::<2>::new(&problem);
+            let eval = evaluate(&problem, &mut system, &q, 0).unwrap();
+            system
+                .linearize(&problem, &q, &eval.v, Location::Newton(0))
+                .unwrap();
+            let m = (n - 1) * 2;
+            let r: Vec<f64> = (0..m).map(|i| ((5 * i + 2) as f64).cos()).collect();
+            let (mut z, mut image) = (vec![0.0; m], vec![0.0; m]);
+            system.precondition_with_image(&r, &mut z, &mut image);
+            // D z on the rows of the interior nodes, D = −σΔ.
+            let mut full = vec![Vector::<2>::zeros(); n + 1];
+            for j in 1..n {
+                full[j] = read(&z, j - 1);
+            }
+            let dz = problem.velocity.apply(&full).unwrap();
+            for j in 1..n {
+                let want = dz[j - problem.velocity.first_row()] * -side.sign();
+                let got = read::<2>(&image, j - 1);
+                assert!(
+                    (got - want).amax() < 1e-12 * (1.0 + want.amax()),
+                    "{side:?} {j}"
+                );
+            }
+            let (mut a, mut b) = (vec![0.0; m], vec![0.0; m]);
+            system.apply(&z, &mut a);
+            system.apply_with_image(&z, &image, &mut b);
+            let scale = a.iter().fold(0.0f64, |s, x| s.max(x.abs()));
+            for i in 0..m {
+                assert!(
+                    (a[i] - b[i]).abs() < 1e-12 * scale,
+                    "{side:?} {i}: {} vs {}",
+                    a[i],
+                    b[i]
+                );
+            }
+        }
+    }
+
+    /// The preconditioner inverts the whole kinetic part `P' = Dᵀ L_vv D` (the square block and
+    /// the extra row, `L_vv` varying along the grid): `P'⁻¹ P' x = x`.
+    #[test]
+    fn preconditioner_inverts_the_whole_kinetic_part() {
+        /// `L = (1 + t) v²`.
         struct Free;
         impl Lagrangian<1> for Free {
-            fn value(&self, _x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
-                v[0] * v[0]
+            fn value(&self, _x: &Vector<1>, v: &Vector<1>, t: f64) -> f64 {
+                (1.0 + t) * v[0] * v[0]
             }
-            fn gradient(&self, _x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
-                (Vector::<1>::zeros(), *v * 2.0)
+            fn gradient(&self, _x: &Vector<1>, v: &Vector<1>, t: f64) -> (Vector<1>, Vector<1>) {
+                (Vector::<1>::zeros(), *v * (2.0 * (1.0 + t)))
             }
-            fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
+            fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, t: f64) -> Hessian<1> {
                 Hessian {
                     xx: Matrix::<1>::zeros(),
                     xv: Matrix::<1>::zeros(),
-                    vv: Matrix::<1>::new(2.0),
+                    vv: Matrix::<1>::new(2.0 * (1.0 + t)),
                 }
             }
         }
@@ -563,14 +780,15 @@ mod tests {
             system
                 .linearize(&problem, &q, &eval.v, Location::Newton(0))
                 .unwrap();
-            // P = D_aᵀ V D_a with D_a the interior rows and columns of D = −σΔ.
+            assert!(system.correction.is_some());
+            // P' = Σ_k D[k, ·]ᵀ L_vv(t_k) D[k, ·] over every row k of D = −σΔ.
             let m = n - 1;
             let mut p = DMatrix::<f64>::zeros(m, m);
             let sigma = side.sign();
             for a in 1..n {
                 for b in 1..n {
                     let mut acc = 0.0;
-                    for k in 1..n {
+                    for k in problem.velocity.rows() {
                         let d = |j| {
                             problem
                                 .velocity
@@ -578,7 +796,7 @@ mod tests {
                                 .find(|&(jj, _)| jj == j)
                                 .map_or(0.0, |(_, c)| -sigma * c)
                         };
-                        acc += d(a) * 2.0 * d(b);
+                        acc += d(a) * 2.0 * (1.0 + grid.t(k)) * d(b);
                     }
                     p[(a - 1, b - 1)] = acc;
                 }
@@ -590,6 +808,57 @@ mod tests {
             for i in 0..m {
                 assert!(
                     (z[i] - x[i]).abs() < 1e-10,
+                    "{side:?} {i}: {} vs {}",
+                    z[i],
+                    x[i]
+                );
+            }
+        }
+    }
+
+    /// The same with `d = 2` and full `L_vv` blocks (the Woodbury term is a 2 × 2 system).
+    #[test]
+    fn preconditioner_inverts_the_kinetic_part_with_blocks() {
+        let n = 15;
+        let grid = Grid::new(0.2, 1.5, n).unwrap();
+        for side in [Side::Backward, Side::Forward] {
+            let embedding = Embedding::grunwald_letnikov(side, 0.6).unwrap();
+            let problem = Problem::new(&Mixed, grid, embedding);
+            let q = curve(n);
+            let mut system = FastSystem::<2>::new(&problem);
+            let eval = evaluate(&problem, &mut system, &q, 0).unwrap();
+            system
+                .linearize(&problem, &q, &eval.v, Location::Newton(0))
+                .unwrap();
+            assert!(system.correction.is_some());
+            let m = n - 1;
+            let mut p = DMatrix::<f64>::zeros(2 * m, 2 * m);
+            let sigma = side.sign();
+            for (i, k) in problem.velocity.rows().enumerate() {
+                let vv = system.hessians[i].vv;
+                let d = |j| {
+                    problem
+                        .velocity
+                        .row_entries(k)
+                        .find(|&(jj, _)| jj == j)
+                        .map_or(0.0, |(_, c)| -sigma * c)
+                };
+                for a in 1..n {
+                    for b in 1..n {
+                        let block = vv * (d(a) * d(b));
+                        for (r, c) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                            p[(2 * (a - 1) + r, 2 * (b - 1) + c)] += block[(r, c)];
+                        }
+                    }
+                }
+            }
+            let x: Vec<f64> = (0..2 * m).map(|i| (i as f64 * 0.37).cos()).collect();
+            let px = &p * nalgebra::DVector::from_vec(x.clone());
+            let mut z = vec![0.0; 2 * m];
+            system.precondition(px.as_slice(), &mut z);
+            for i in 0..2 * m {
+                assert!(
+                    (z[i] - x[i]).abs() < 1e-9,
                     "{side:?} {i}: {} vs {}",
                     z[i],
                     x[i]

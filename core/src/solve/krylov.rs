@@ -5,7 +5,10 @@
 //!
 //! - [`conjugate_gradient`]: with an SPD preconditioner `M ≈ A⁻¹`,
 //!   `α = (r·z)/(p·Ap)`, `x += α p`, `r −= α Ap`, `z = M r`, `β = (r·z)_new/(r·z)`,
-//!   `p = z + β p`. It reports [`KrylovFailure::Breakdown`] as soon as a curvature `p·Ap` or
+//!   `p = z + β p`. A system whose products need `C p` for some linear `C`, and whose
+//!   preconditioner yields `C z` as a by-product, has it carried along the recurrence
+//!   (`C p = C z + β C p`, [`KrylovSystem::image_len`]) instead of computed again. It reports
+//!   [`KrylovFailure::Breakdown`] as soon as a curvature `p·Ap` or
 //!   `r·z` is not positive (an indefinite `A` or `M`), rather than continue on a meaningless
 //!   recurrence.
 //! - [`gmres`]: right-preconditioned, `A M y = b`, `x = M y`; Arnoldi with modified
@@ -58,6 +61,23 @@ pub trait KrylovSystem {
     fn apply(&mut self, x: &[f64], y: &mut [f64]);
     /// `z = M r`.
     fn precondition(&mut self, r: &[f64], z: &mut [f64]);
+
+    /// The length of the images `C x` (for a linear map `C` of the system's choosing) that
+    /// [`apply_with_image`](Self::apply_with_image) can use instead of computing them; 0 (the
+    /// default) when the system has none.
+    fn image_len(&self) -> usize {
+        0
+    }
+    /// `z = M r`, and `C z` into `image` when the preconditioner yields it as a by-product.
+    fn precondition_with_image(&mut self, r: &[f64], z: &mut [f64], image: &mut [f64]) {
+        let _ = image;
+        self.precondition(r, z);
+    }
+    /// `y = A x`, given `image = C x`.
+    fn apply_with_image(&mut self, x: &[f64], image: &[f64], y: &mut [f64]) {
+        let _ = image;
+        self.apply(x, y);
+    }
 }
 
 /// Stopping rule and sizes of the Krylov solvers.
@@ -147,8 +167,10 @@ pub fn conjugate_gradient(
     let mut r = b.to_vec();
     let mut z = vec![0.0; n];
     let mut ap = vec![0.0; n];
-    system.precondition(&r, &mut z);
+    let mut z_image = vec![0.0; system.image_len()];
+    system.precondition_with_image(&r, &mut z, &mut z_image);
     let mut p = z.clone();
+    let mut p_image = z_image.clone();
     let mut rz = dot(&r, &z);
     let mut relative = 1.0;
     for iteration in 1..=options.max_iterations {
@@ -159,7 +181,7 @@ pub fn conjugate_gradient(
         if !(rz > 0.0 && rz.is_finite()) {
             return Err(breakdown(relative));
         }
-        system.apply(&p, &mut ap);
+        system.apply_with_image(&p, &p_image, &mut ap);
         let curvature = dot(&p, &ap);
         if !(curvature > 0.0 && curvature.is_finite()) {
             return Err(breakdown(relative));
@@ -176,12 +198,15 @@ pub fn conjugate_gradient(
                 relative_residual: relative,
             });
         }
-        system.precondition(&r, &mut z);
+        system.precondition_with_image(&r, &mut z, &mut z_image);
         let rz_new = dot(&r, &z);
         let beta = rz_new / rz;
         rz = rz_new;
         for i in 0..n {
             p[i] = z[i] + beta * p[i];
+        }
+        for (pi, zi) in p_image.iter_mut().zip(&z_image) {
+            *pi = zi + beta * *pi;
         }
     }
     Err(KrylovFailure::MaxIterations {
