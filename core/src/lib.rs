@@ -23,6 +23,8 @@ pub mod ode;
 pub mod operator;
 pub mod problem;
 pub mod solve;
+#[cfg(test)]
+mod test_models;
 pub mod toeplitz;
 pub mod weights;
 
