@@ -207,11 +207,15 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
     pub fn velocity(&self, q: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
         self.check_curve(q)?;
         let sign = -self.embedding.side().sign();
-        Ok(self
-            .apply_operator(&self.velocity, q)?
-            .into_iter()
-            .map(|v| v * sign)
-            .collect())
+        // By FFT, through the curve's differences: as accurate as the dense loops, where the
+        // plain FFT product's error would be amplified into the residual rows (see
+        // [`FftOperator`]'s docs, "the difference form").
+        let v = if self.by_fft(&self.velocity) {
+            FftOperator::new(&self.velocity).apply_by_differences(q)?
+        } else {
+            self.velocity.apply(q)?
+        };
+        Ok(v.into_iter().map(|v| v * sign).collect())
     }
 
     /// Whether `op` is applied by FFT: a fractional (dense) operator on a grid of more than
