@@ -1,0 +1,74 @@
+//! The double pendulum twice: from `#[lagrangian]`, and with every derivative from num-dual's
+//! (hyper-)dual numbers. Shared by `benches/implicit_step.rs` (the speed of the two, issue 5b)
+//! and `tests/macro_num_dual.rs` (their agreement), so both measure the same model.
+
+use nalgebra::SVector;
+use num_dual::DualNum;
+use varembed::{Hessian, Lagrangian, Vector, lagrangian};
+
+/// Double pendulum: configuration-dependent mass matrix.
+#[lagrangian]
+pub fn double_pendulum(
+    x: [f64; 2],
+    v: [f64; 2],
+    m1: f64,
+    m2: f64,
+    l1: f64,
+    l2: f64,
+    g: f64,
+) -> f64 {
+    let kinetic = 0.5 * (m1 + m2) * l1 * l1 * v[0] * v[0]
+        + 0.5 * m2 * l2 * l2 * v[1] * v[1]
+        + m2 * l1 * l2 * v[0] * v[1] * (x[0] - x[1]).cos();
+    let potential = -(m1 + m2) * g * l1 * x[0].cos() - m2 * g * l2 * x[1].cos();
+    kinetic - potential
+}
+
+/// The same Lagrangian for num-dual, generic over the (hyper-)dual number type.
+pub fn double_pendulum_dual<T: DualNum<Primitive = f64> + Copy>(
+    p: &DoublePendulum,
+    x: [T; 2],
+    v: [T; 2],
+) -> T {
+    let DoublePendulum { m1, m2, l1, l2, g } = *p;
+    let kinetic = v[0] * v[0] * (0.5 * (m1 + m2) * l1 * l1)
+        + v[1] * v[1] * (0.5 * m2 * l2 * l2)
+        + v[0] * v[1] * (x[0] - x[1]).cos() * (m2 * l1 * l2);
+    let potential = -x[0].cos() * ((m1 + m2) * g * l1) - x[1].cos() * (m2 * g * l2);
+    kinetic - potential
+}
+
+/// The double pendulum with every derivative from num-dual.
+pub struct NumDualDoublePendulum(pub DoublePendulum);
+
+/// `z = (x, v)`, the variables num-dual differentiates in.
+pub fn stack(x: &Vector<2>, v: &Vector<2>) -> SVector<f64, 4> {
+    SVector::<f64, 4>::new(x[0], x[1], v[0], v[1])
+}
+
+impl Lagrangian<2> for NumDualDoublePendulum {
+    fn value(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> f64 {
+        double_pendulum_dual(&self.0, [x[0], x[1]], [v[0], v[1]])
+    }
+    fn gradient(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> (Vector<2>, Vector<2>) {
+        let (_, grad) = num_dual::gradient(
+            |z| double_pendulum_dual(&self.0, [z[0], z[1]], [z[2], z[3]]),
+            &stack(x, v),
+        );
+        (
+            grad.fixed_rows::<2>(0).into_owned(),
+            grad.fixed_rows::<2>(2).into_owned(),
+        )
+    }
+    fn hessian(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> Hessian<2> {
+        let (_, _, hess) = num_dual::hessian(
+            |z| double_pendulum_dual(&self.0, [z[0], z[1]], [z[2], z[3]]),
+            &stack(x, v),
+        );
+        Hessian {
+            xx: hess.fixed_view::<2, 2>(0, 0).into_owned(),
+            xv: hess.fixed_view::<2, 2>(0, 2).into_owned(),
+            vv: hess.fixed_view::<2, 2>(2, 2).into_owned(),
+        }
+    }
+}
