@@ -635,6 +635,19 @@ mod tests {
 
     use crate::test_models::Mixed;
 
+    /// The fast system at `q`: its residual evaluated and its Jacobian linearised there.
+    fn linearized<L: Lagrangian<D>, const D: usize>(
+        problem: &Problem<'_, L, D>,
+        q: &[Vector<D>],
+    ) -> (FastSystem<D>, Evaluation<D>) {
+        let mut system = FastSystem::<D>::new(problem);
+        let eval = evaluate(problem, &mut system, q, 0).unwrap();
+        system
+            .linearize(problem, q, &eval.v, Location::Newton(0))
+            .unwrap();
+        (system, eval)
+    }
+
     fn curve(n: usize) -> Vec<Vector<2>> {
         (0..=n)
             .map(|k| {
@@ -654,15 +667,11 @@ mod tests {
             let embedding = Embedding::grunwald_letnikov(side, 0.6).unwrap();
             let problem = Problem::new(&Mixed, grid, embedding);
             let q = curve(n);
-            let mut system = FastSystem::<2>::new(&problem);
-            let eval = evaluate(&problem, &mut system, &q, 0).unwrap();
+            let (mut system, eval) = linearized(&problem, &q);
             let dense_r = problem.residual(Scheme::Variational, &q).unwrap();
             for (a, b) in eval.r.iter().zip(&dense_r) {
                 assert!((a - b).amax() < 1e-12, "{side:?}: {a} vs {b}");
             }
-            system
-                .linearize(&problem, &q, &eval.v, Location::Newton(0))
-                .unwrap();
             let pw = problem.pointwise(&q).unwrap();
             let m = (n - 1) * 2;
             let mut jac = DMatrix::<f64>::zeros(m, m);
@@ -691,11 +700,7 @@ mod tests {
             let embedding = Embedding::grunwald_letnikov(side, 0.55).unwrap();
             let problem = Problem::new(&Mixed, grid, embedding);
             let q = curve(n);
-            let mut system = FastSystem::<2>::new(&problem);
-            let eval = evaluate(&problem, &mut system, &q, 0).unwrap();
-            system
-                .linearize(&problem, &q, &eval.v, Location::Newton(0))
-                .unwrap();
+            let (mut system, _) = linearized(&problem, &q);
             let m = (n - 1) * 2;
             let r: Vec<f64> = (0..m).map(|i| ((5 * i + 2) as f64).cos()).collect();
             let (mut z, mut image) = (vec![0.0; m], vec![0.0; m]);
@@ -756,11 +761,7 @@ mod tests {
             let embedding = Embedding::grunwald_letnikov(side, 0.45).unwrap();
             let problem = Problem::new(&Free, grid, embedding);
             let q: Vec<Vector<1>> = (0..=n).map(|k| Vector::<1>::new(k as f64)).collect();
-            let mut system = FastSystem::<1>::new(&problem);
-            let eval = evaluate(&problem, &mut system, &q, 0).unwrap();
-            system
-                .linearize(&problem, &q, &eval.v, Location::Newton(0))
-                .unwrap();
+            let (mut system, _) = linearized(&problem, &q);
             assert!(system.correction.is_some());
             // P' = Σ_k D[k, ·]ᵀ L_vv(t_k) D[k, ·] over every row k of D = −σΔ.
             let m = n - 1;
@@ -806,11 +807,7 @@ mod tests {
             let embedding = Embedding::grunwald_letnikov(side, 0.6).unwrap();
             let problem = Problem::new(&Mixed, grid, embedding);
             let q = curve(n);
-            let mut system = FastSystem::<2>::new(&problem);
-            let eval = evaluate(&problem, &mut system, &q, 0).unwrap();
-            system
-                .linearize(&problem, &q, &eval.v, Location::Newton(0))
-                .unwrap();
+            let (mut system, _) = linearized(&problem, &q);
             assert!(system.correction.is_some());
             let m = n - 1;
             let mut p = DMatrix::<f64>::zeros(2 * m, 2 * m);
@@ -904,11 +901,7 @@ mod tests {
             let q: Vec<Vector<1>> = (0..=n)
                 .map(|k| Vector::<1>::new(0.3 - 1.3 * k as f64 / n as f64))
                 .collect();
-            let mut system = FastSystem::<1>::new(&problem);
-            let eval = evaluate(&problem, &mut system, &q, 0).unwrap();
-            system
-                .linearize(&problem, &q, &eval.v, Location::Newton(0))
-                .unwrap();
+            let (mut system, eval) = linearized(&problem, &q);
             let rhs: Vec<f64> = eval.r.iter().map(|r| r[0]).collect();
             let mut delta = vec![0.0; n - 1];
             let options = KrylovOptions {
