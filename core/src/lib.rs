@@ -46,3 +46,33 @@ pub use varembed_macros::lagrangian;
 #[doc = include_str!("../../README.md")]
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
+
+/// The pages of `docs/`, their code blocks compiled and run as doctests.
+#[doc = include_str!("../../docs/README.md")]
+#[cfg(doctest)]
+pub struct DocsIndex;
+
+/// `docs/conventions.md`.
+#[doc = include_str!("../../docs/conventions.md")]
+#[cfg(doctest)]
+pub struct DocsConventions;
+
+/// `docs/schemes.md`.
+#[doc = include_str!("../../docs/schemes.md")]
+#[cfg(doctest)]
+pub struct DocsSchemes;
+
+/// `docs/solvers.md`.
+#[doc = include_str!("../../docs/solvers.md")]
+#[cfg(doctest)]
+pub struct DocsSolvers;
+
+/// `docs/macro.md`.
+#[doc = include_str!("../../docs/macro.md")]
+#[cfg(doctest)]
+pub struct DocsMacro;
+
+/// `docs/architecture.md`.
+#[doc = include_str!("../../docs/architecture.md")]
+#[cfg(doctest)]
+pub struct DocsArchitecture;
