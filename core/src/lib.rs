@@ -11,6 +11,21 @@
 //! Euler–Lagrange) or to the functional (the **variational** scheme: the critical points of the
 //! discrete action `S_h(Q) = h Σ_{k∈I_σ} L(Q_k, V_k, t_k)`). The embedding is **coherent** when the
 //! two roads meet. Gauss-FDEσ is not coherent; its asymmetric version and Gauss-GLEσ are.
+//!
+//! # Conventions
+//!
+//! The conventions these docs use — index ranges, signs, the schemes, the solvers — are
+//! written out, with derivations and compiled examples, in the repository's `docs/` folder:
+//!
+//! - `docs/conventions.md`: the grid, the side σ ([`Side`]), the operators `Δ_±` and
+//!   `Δ^α_±` with their exact index ranges, the quadrature rows `I_σ`, `f_k` and `p_k`;
+//! - `docs/schemes.md`: the direct and the variational scheme of each [`Embedding`], their rows,
+//!   coherence, Störmer–Verlet, the general direct embedding;
+//! - `docs/solvers.md`: initial value problems (the starts, the step kernels, when a step is
+//!   explicit), boundary value problems (banded Newton; dense LU and FFT Newton–Krylov for the
+//!   fractional embeddings), the typed errors;
+//! - `docs/macro.md`: what [`#[lagrangian]`](macro@lagrangian) accepts and generates;
+//! - `docs/architecture.md`: the workspace, the module graph, where the tests live.
 #![deny(missing_docs)]
 
 pub mod compare;
@@ -46,3 +61,33 @@ pub use varembed_macros::lagrangian;
 #[doc = include_str!("../../README.md")]
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
+
+/// The pages of `docs/`, their code blocks compiled and run as doctests.
+#[doc = include_str!("../../docs/README.md")]
+#[cfg(doctest)]
+pub struct DocsIndex;
+
+/// `docs/conventions.md`.
+#[doc = include_str!("../../docs/conventions.md")]
+#[cfg(doctest)]
+pub struct DocsConventions;
+
+/// `docs/schemes.md`.
+#[doc = include_str!("../../docs/schemes.md")]
+#[cfg(doctest)]
+pub struct DocsSchemes;
+
+/// `docs/solvers.md`.
+#[doc = include_str!("../../docs/solvers.md")]
+#[cfg(doctest)]
+pub struct DocsSolvers;
+
+/// `docs/macro.md`.
+#[doc = include_str!("../../docs/macro.md")]
+#[cfg(doctest)]
+pub struct DocsMacro;
+
+/// `docs/architecture.md`.
+#[doc = include_str!("../../docs/architecture.md")]
+#[cfg(doctest)]
+pub struct DocsArchitecture;
