@@ -2,7 +2,9 @@
 //!
 //! Three checks:
 //!
-//! 1. The `use` below names every public item, so removing or renaming one fails to compile.
+//! 1. The `use` below names every public item, so removing or renaming one fails to compile;
+//!    [`auto_traits`] keeps the types `Send` and `Sync` (a problem can be shared between
+//!    threads), which no signature shows.
 //! 2. The crate root's public items (parsed from `core/src/lib.rs`) are exactly [`ROOT`], and the
 //!    crate's front page lists exactly those (so a new re-export is also documented there).
 //! 3. The signature of every public item and of every public method, associated constant and
@@ -18,6 +20,18 @@ use varembed::{
     NewtonOptions, Problem, Reference, Result, Scheme, SchemeReport, Side, Solution, Start, Vector,
     curve_from_flat, lagrangian,
 };
+
+/// Compiles only while the public types keep their auto traits.
+#[allow(dead_code)]
+fn auto_traits<L: Lagrangian<2> + Sync + 'static>() {
+    fn shared<T: Send + Sync>() {}
+    shared::<Problem<'static, L, 2>>();
+    shared::<Solution<2>>();
+    shared::<Comparison<2>>();
+    shared::<Error>();
+    shared::<Embedding>();
+    shared::<Grid>();
+}
 
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
