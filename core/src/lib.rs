@@ -34,7 +34,10 @@
 //! `docs/macro.md`, and how the modules depend on each other in `docs/architecture.md`.
 #![deny(missing_docs)]
 
-// The modules from the bottom up: each imports only modules above it in this list.
+// Imports go one way. From the bottom up, each module imports only modules before it:
+// lagrangian, error, side, weights, toeplitz, grid, linalg, options, operator, fft_operator,
+// embedding, ode, discretisation, solve (krylov, newton, solution, fractional, bvp, ivp),
+// problem, compare.
 mod compare;
 mod discretisation;
 mod embedding;
