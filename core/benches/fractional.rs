@@ -1,4 +1,4 @@
-//! Issue 5(c): the fractional BVP solve time against N, fast path vs dense LU, in one run.
+//! The fractional BVP solve time against N, fast path vs dense LU, in one run.
 //!
 //! Pendulum `L = ½v² + cos x`, Gauss-GLE− with α = 0.7 on `[0, 1]`, `Q_0 = 0`, `Q_N = 1`.
 //! Three solves side by side: dense LU, the fast path at the default Newton tolerance (1e-12
@@ -12,9 +12,11 @@
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
+use varembed::__private::fft_operator::FftOperator;
+use varembed::__private::operator::Operator;
 use varembed::{
-    Embedding, FftOperator, FractionalSolver, Grid, Hessian, Lagrangian, Matrix, NewtonOptions,
-    Operator, Problem, Scheme, Side, Vector,
+    Embedding, FractionalSolver, Grid, Hessian, Lagrangian, Matrix, NewtonOptions, Problem, Scheme,
+    Side, Vector,
 };
 
 /// `L = ½v² + cos x`.

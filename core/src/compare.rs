@@ -1,22 +1,14 @@
-//! [`Comparison`]: the direct and the variational scheme of one embedding side by side.
-//!
-//! Per scheme: the solution, the residual of the *other* scheme on it (zero to round-off
-//! exactly when the embedding is coherent), the error against a reference (an exact solution or
-//! an independently computed curve, named in the table), the energy `E = v·∂L/∂v − L` along
-//! the run and its largest deviation from its first value, the observed order of convergence,
-//! Newton iterations and wall time; and the largest distance between the two solutions.
-//!
-//! The observed order comes from two more solves on `2N` and `4N` steps:
-//! `log₂(e_N / e_{2N})` with the errors against the reference when there is one, otherwise the
-//! self-convergence estimate `log₂(‖Q_N − Q_{2N}‖ / ‖Q_{2N} − Q_{4N}‖)` (max-norm over the nodes
-//! of the coarse grid).
+//! [`Comparison`]: the direct and the variational scheme of one embedding side by side, run
+//! through [`Problem`]'s solvers.
 
+use crate::embedding::Scheme;
 use crate::error::Result;
 use crate::grid::Grid;
 use crate::lagrangian::{IntoVector, Lagrangian, Vector};
-use crate::problem::{Problem, Scheme};
+use crate::linalg::max_norm;
+use crate::problem::Problem;
 use crate::solve::ivp::Start;
-use crate::solve::{Solution, max_norm};
+use crate::solve::solution::Solution;
 use std::fmt;
 use std::time::{Duration, Instant};
 
@@ -87,13 +79,24 @@ pub struct SchemeReport<const D: usize> {
     pub energy: Vec<f64>,
     /// `max_k |E_k − E_first|`.
     pub energy_deviation: f64,
-    /// Observed order of convergence (see the [module docs](self)), if asked for.
+    /// Observed order of convergence (see [`Comparison`]), if asked for.
     pub order: Option<f64>,
     /// Wall time of the solve on `N` steps.
     pub wall_time: Duration,
 }
 
 /// The direct and variational schemes of one problem, side by side; `Display` prints a table.
+///
+/// Per scheme: the solution, the residual of the *other* scheme on it (zero to round-off
+/// exactly when the embedding is coherent), the error against a reference (an exact solution or
+/// an independently computed curve, named in the table), the energy `E = v·∂L/∂v − L` along
+/// the run and its largest deviation from its first value, the observed order of convergence,
+/// Newton iterations and wall time; and the largest distance between the two solutions.
+///
+/// The observed order comes from two more solves on `2N` and `4N` steps:
+/// `log₂(e_N / e_{2N})` with the errors against the reference when there is one, otherwise the
+/// self-convergence estimate `log₂(‖Q_N − Q_{2N}‖ / ‖Q_{2N} − Q_{4N}‖)` (max-norm over the nodes
+/// of the coarse grid).
 #[derive(Clone, Debug)]
 pub struct Comparison<const D: usize> {
     /// What was solved: "initial value problem" or "boundary value problem".
@@ -169,11 +172,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             let start = Instant::now();
             let solution = solve(self, scheme)?;
             let wall_time = start.elapsed();
-            let other = match scheme {
-                Scheme::Direct => Scheme::Variational,
-                Scheme::Variational => Scheme::Direct,
-            };
-            let residual_of_other = max_norm(&self.residual(other, &solution.q)?);
+            let residual_of_other = max_norm(&self.residual(scheme.other(), &solution.q)?);
             let error = options
                 .reference
                 .curve()
@@ -206,8 +205,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             .unwrap_or(f64::NAN);
         Ok(Comparison {
             kind,
-            embedding: self.embedding.to_string(),
-            grid: self.grid,
+            embedding: self.embedding().to_string(),
+            grid: *self.grid(),
             reference: options.reference.name().to_string(),
             direct,
             variational,
@@ -215,21 +214,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         })
     }
 
-    /// `E_k = V_k·∂L/∂v(Q_k, V_k, t_k) − L(Q_k, V_k, t_k)` on the quadrature nodes `I_σ`.
-    pub fn energy(&self, q: &[Vector<D>]) -> Result<Vec<f64>> {
-        let v = self.velocity(q)?;
-        Ok(self
-            .embedding
-            .quadrature_rows(self.grid.n())
-            .zip(&v)
-            .map(|(k, vk)| self.lagrangian.energy(&q[k], vk, self.grid.t(k)))
-            .collect())
-    }
-
     fn error_against(&self, q: &[Vector<D>], reference: &dyn Fn(f64) -> Vector<D>) -> f64 {
         q.iter()
             .enumerate()
-            .map(|(k, x)| (x - reference(self.grid.t(k))).amax())
+            .map(|(k, x)| (x - reference(self.grid().t(k))).amax())
             .fold(0.0, f64::max)
     }
 
@@ -240,12 +228,11 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         options: &CompareOptions<'_, D>,
         solve: &impl Fn(&Problem<'_, L, D>, Scheme) -> Result<Solution<D>>,
     ) -> Result<f64> {
-        let n = self.grid.n();
+        let grid = *self.grid();
+        let n = grid.n();
         let refine = |factor: usize| -> Result<Solution<D>> {
-            let grid = Grid::new(self.grid.a(), self.grid.b(), n * factor)?;
-            let problem =
-                Problem::new(self.lagrangian, grid, self.embedding).with_newton(self.newton);
-            solve(&problem, scheme)
+            let finer = Grid::new(grid.a(), grid.b(), n * factor)?;
+            solve(&self.on_grid(finer), scheme)
         };
         let fine = refine(2)?;
         // Max over the coarse nodes of |a_k − b_{k·stride}|.
@@ -259,7 +246,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             Some(q) => {
                 let e_coarse = self.error_against(&coarse.q, q);
                 let e_fine = (0..=n)
-                    .map(|k| (fine.q[2 * k] - q(self.grid.t(k))).amax())
+                    .map(|k| (fine.q[2 * k] - q(grid.t(k))).amax())
                     .fold(0.0, f64::max);
                 (e_coarse / e_fine).log2()
             }

@@ -1,40 +1,39 @@
-//! Discrete embeddings: which velocity operator, which quadrature rows, which direct scheme.
+//! Discrete embeddings and their two schemes: which velocity operator, which quadrature rows,
+//! which rows each scheme's equations sit on.
 
 use crate::error::{Error, Result};
 use crate::grid::Grid;
 use crate::operator::Operator;
+use crate::side::Side;
 use std::fmt;
 use std::ops::RangeInclusive;
 
-/// The side σ of an embedding.
+/// Which discrete scheme of an embedding.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Side {
-    /// σ = −: backward differences, Gauss quadrature on `I_− = {1..N}`.
-    Backward,
-    /// σ = +: forward differences, Gauss quadrature on `I_+ = {0..N−1}`.
-    Forward,
+pub enum Scheme {
+    /// The direct embedding of the Euler–Lagrange equation: the embedding's operators
+    /// substituted into `∂_x L − d/dt ∂_v L = 0`.
+    Direct,
+    /// The variational integrator: the critical points of the discrete action `S_h`.
+    Variational,
 }
 
-impl Side {
-    /// σ as a number: −1 for [`Side::Backward`], +1 for [`Side::Forward`].
-    pub fn sign(self) -> f64 {
+impl Scheme {
+    /// The other scheme of the same embedding.
+    pub(crate) fn other(self) -> Scheme {
         match self {
-            Side::Backward => -1.0,
-            Side::Forward => 1.0,
+            Scheme::Direct => Scheme::Variational,
+            Scheme::Variational => Scheme::Direct,
         }
     }
-    /// The other side, −σ.
-    pub fn opposite(self) -> Side {
-        match self {
-            Side::Backward => Side::Forward,
-            Side::Forward => Side::Backward,
-        }
-    }
-    fn symbol(self) -> char {
-        match self {
-            Side::Backward => '−',
-            Side::Forward => '+',
-        }
+}
+
+impl fmt::Display for Scheme {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Scheme::Direct => "direct",
+            Scheme::Variational => "variational",
+        })
     }
 }
 
@@ -143,13 +142,13 @@ impl Embedding {
     }
 
     /// The operator `Δ_σ` (or `Δ^α_σ`): the velocity is `V = −σ Δ_σ Q` on the quadrature rows.
-    pub fn velocity_operator(&self, grid: &Grid) -> Operator {
+    pub(crate) fn velocity_operator(&self, grid: &Grid) -> Operator {
         self.operator(self.side, grid)
     }
 
     /// The operator `Δ_{−σ}` (or `Δ^α_{−σ}`) that the direct scheme of the coherent
     /// embeddings applies to `p`.
-    pub fn adjoint_operator(&self, grid: &Grid) -> Operator {
+    pub(crate) fn adjoint_operator(&self, grid: &Grid) -> Operator {
         self.operator(self.side.opposite(), grid)
     }
 
@@ -171,8 +170,9 @@ impl Embedding {
         }
     }
 
-    /// The rows of the direct scheme (DESIGN.md's table): Gauss-FDE− `2..=N`, Gauss-FDE+
-    /// `0..=N−2`, the coherent embeddings `1..=N−1`. Always `N − 1` rows (empty when `N = 1`).
+    /// The rows of the direct scheme (the table in `docs/schemes.md`): Gauss-FDE− `2..=N`,
+    /// Gauss-FDE+ `0..=N−2`, the coherent embeddings `1..=N−1`. Always `N − 1` rows (empty when
+    /// `N = 1`).
     #[allow(clippy::reversed_empty_ranges)] // an empty range is the right answer for N = 1
     pub fn direct_rows(&self, n: usize) -> RangeInclusive<usize> {
         match (self.kind, self.side) {
@@ -180,6 +180,15 @@ impl Embedding {
             (EmbeddingKind::FiniteDifference, Side::Forward) if n >= 2 => 0..=n - 2,
             (EmbeddingKind::FiniteDifference, Side::Forward) => 1..=0,
             _ => variational_rows(n),
+        }
+    }
+
+    /// The nodes `k` of the equations of `scheme` on a grid of `n` steps: the direct rows
+    /// above, or the interior nodes `1..=N−1` for the variational scheme.
+    pub(crate) fn scheme_rows(&self, scheme: Scheme, n: usize) -> RangeInclusive<usize> {
+        match scheme {
+            Scheme::Direct => self.direct_rows(n),
+            Scheme::Variational => variational_rows(n),
         }
     }
 }

@@ -102,7 +102,7 @@ pub enum Error {
     },
     /// The recurrence is numerically unstable at this step size: its linearisation has an
     /// eigenvalue `λ` that is real and below `−1` (the sawtooth mode of an under-resolved step)
-    /// or of modulus at least 2 (see [`Problem::solve_ivp`](crate::Problem::solve_ivp)).
+    /// or of modulus at least 2 (see `Problem::solve_ivp`).
     #[error("the scheme is unstable at {at}: its step map has the eigenvalue {re:.4} {im:+.4}i")]
     Unstable {
         /// Where the check ran.
@@ -115,8 +115,7 @@ pub enum Error {
     /// The Krylov solver of the fractional fast path (conjugate gradients, then GMRES) did not
     /// solve a Newton system `J δ = r` to the forcing tolerance: the Jacobian is (nearly)
     /// singular or so indefinite that the preconditioner cannot tame it. Solve with
-    /// [`FractionalSolver::Dense`](crate::FractionalSolver::Dense) for small `N`, or from a
-    /// better initial guess.
+    /// `FractionalSolver::Dense` for small `N`, or from a better initial guess.
     #[error(
         "the Krylov solver did not converge at {at} after {iterations} iterations: relative linear residual {residual:.3e}"
     )]
@@ -139,3 +138,16 @@ pub enum Error {
 
 /// `Result` with [`Error`](enum@Error).
 pub type Result<T> = std::result::Result<T, Error>;
+
+/// [`Error::WrongLength`] unless `found == expected`.
+pub(crate) fn check_len(what: &'static str, expected: usize, found: usize) -> Result<()> {
+    if expected == found {
+        Ok(())
+    } else {
+        Err(Error::WrongLength {
+            what,
+            expected,
+            found,
+        })
+    }
+}

@@ -15,10 +15,11 @@
 //! An FFT product is accurate to about `ε log L` times the size of its *input*, while `Δ^α Q`
 //! of a smooth curve is `h^α` times smaller than `Q` (the weights sum to about zero). Those
 //! rounding errors are not smooth, and the Euler–Lagrange rows amplify them by `h^{−α}` once
-//! more: on the pendulum of issue 5 at `N = 10⁵` they made `Problem::residual` wrong by 11
-//! times the residual of the exact solution rounded to doubles (1.7e-8 against 1.5e-9,
-//! `tests/residual_floor.rs`); through the differences, by 0.2 times. So for a curve the product is
-//! taken through the curve's differences instead, which are `h` times smaller than its nodes:
+//! more: on the pendulum `L = ½v² + cos x` under Gauss-GLE− (α = 0.7) at `N = 10⁵` they made
+//! `Problem::residual` wrong by 11 times the residual of the exact solution rounded to doubles
+//! (1.7e-8 against 1.5e-9, measured by the integration test `residual_floor.rs`); through the
+//! differences, by 0.2 times. So for a curve the product is taken through the curve's
+//! differences instead, which are `h` times smaller than its nodes:
 //! the generating function of the weights factors as `(1 − z)^α = (1 − z)^{α−1} (1 − z)`, so
 //! `T = T' B` with `B` the first difference and `T'` the Toeplitz matrix of the weights of
 //! `(1 − z)^{α−1}` ([`grunwald_letnikov_inverse`] at `1 − α`), and
@@ -30,24 +31,11 @@
 //! ([`FftOperator::apply_by_differences`]). For a rough vector the differences are as large as
 //! the nodes and `T'`'s weights sum to about `N^{1−α}`, so the Jacobian products of the Krylov
 //! solvers keep the plain form.
-//!
-//! # Example
-//!
-//! ```
-//! use varembed::{FftOperator, Grid, Operator, Side, Vector};
-//! let grid = Grid::new(0.0, 1.0, 50)?;
-//! let op = Operator::grunwald_letnikov(Side::Backward, 0.6, &grid)?;
-//! let mut fast = FftOperator::new(&op);
-//! let q: Vec<Vector<1>> = (0..=50).map(|k| Vector::<1>::new((k as f64).sin())).collect();
-//! let (a, b) = (op.apply(&q)?, fast.apply(&q)?);
-//! assert!(a.iter().zip(&b).all(|(x, y)| (x - y).amax() < 1e-12));
-//! # Ok::<(), varembed::Error>(())
-//! ```
 
-use crate::embedding::Side;
-use crate::error::Result;
+use crate::error::{Result, check_len};
 use crate::lagrangian::Vector;
-use crate::operator::{Operator, check_len};
+use crate::operator::Operator;
+use crate::side::Side;
 use crate::toeplitz::{TriangularToeplitz, Workspace};
 use crate::weights::grunwald_letnikov_inverse;
 
@@ -235,5 +223,23 @@ impl FftOperator {
         let mut out = vec![Vector::<D>::zeros(); self.n + 1];
         self.apply_transpose_inplace(w, &mut out)?;
         Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid::Grid;
+
+    #[test]
+    fn products_equal_the_dense_loops() {
+        let grid = Grid::new(0.0, 1.0, 50).unwrap();
+        let op = Operator::grunwald_letnikov(Side::Backward, 0.6, &grid).unwrap();
+        let mut fast = FftOperator::new(&op);
+        let q: Vec<Vector<1>> = (0..=50)
+            .map(|k| Vector::<1>::new((k as f64).sin()))
+            .collect();
+        let (a, b) = (op.apply(&q).unwrap(), fast.apply(&q).unwrap());
+        assert!(a.iter().zip(&b).all(|(x, y)| (x - y).amax() < 1e-12));
     }
 }

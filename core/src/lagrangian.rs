@@ -75,7 +75,8 @@ pub struct Hessian<const D: usize> {
     pub vv: Matrix<D>,
 }
 
-/// Which classical scheme a step kernel advances (see the [module docs](self)).
+/// Which classical scheme a step kernel advances (see the step tables of `Lagrangian`'s
+/// module).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum StepKind {
     /// Variational integrator of Gauss-FDE− (σ = −).
@@ -98,7 +99,7 @@ pub enum StepKind {
 /// # Example
 ///
 /// ```
-/// let times = varembed::StepTimes::new(0.25, 1.0, 1.25, 1.5);
+/// let times = varembed::__private::step::StepTimes::new(0.25, 1.0, 1.25, 1.5);
 /// assert_eq!(times.inv_h, 4.0);
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -179,7 +180,7 @@ pub trait Lagrangian<const D: usize> {
     }
 
     /// The momentum `π` that the step for `Q_n` must reproduce, from `a = Q_{n−2}`,
-    /// `b = Q_{n−1}` (see the [module docs](self)).
+    /// `b = Q_{n−1}` (see the step tables of this trait's module).
     fn step_momentum(
         &self,
         kind: StepKind,
@@ -265,7 +266,7 @@ pub trait Lagrangian<const D: usize> {
         }
         // Affine: G(y) = G(b) + J (y − b) exactly, so one Newton step from b is the solution.
         let (r, j) = self.step_residual(kind, b, b, momentum, times);
-        crate::solve::linear::solve_small(&j, &r).map(|dy| b - dy)
+        crate::linalg::solve_small(&j, &r).map(|dy| b - dy)
     }
 }
 

@@ -10,20 +10,19 @@
 //! The discrete operator depends on how `O` is *written*, not only on what it is (the paper's
 //! `d/dt ∘ sin` versus `cos(·) d/dt`): each [`Term`] is embedded as given.
 
-use crate::embedding::Side;
-use crate::error::{Error, Location, Result};
+use crate::error::{Error, Location, Result, check_len};
 use crate::grid::Grid;
-use crate::lagrangian::Vector;
-use crate::operator::check_len;
-use crate::solve::linear::solve_small;
-use crate::solve::newton::NewtonOptions;
+use crate::lagrangian::{Matrix, Vector};
+use crate::linalg::solve_small;
+use crate::options::NewtonOptions;
+use crate::side::Side;
 use std::ops::RangeInclusive;
 
 type Coefficient<'a, const D: usize> = Box<dyn Fn(&Vector<D>, f64) -> f64 + 'a>;
 type Inner<'a, const D: usize> = Box<dyn Fn(&Vector<D>, f64) -> Vector<D> + 'a>;
 
 /// One term `f(q, t) · (d/dt)^order [g(q, t)]`.
-pub struct Term<'a, const D: usize> {
+struct Term<'a, const D: usize> {
     order: usize,
     f: Coefficient<'a, D>,
     g: Inner<'a, D>,
@@ -37,8 +36,7 @@ pub struct Term<'a, const D: usize> {
 /// `(Q_k − 2Q_{k−1} + Q_{k−2})/h² + (Q_k − Q_{k−1})/h + Q_k = 0`, `k = 2..=N`.
 ///
 /// ```
-/// use varembed::{Grid, Side, Vector};
-/// use varembed::ode::DifferentialOperator;
+/// use varembed::{DifferentialOperator, Grid, Side, Vector};
 ///
 /// let op = DifferentialOperator::<1>::new().linear(2, 1.0).linear(1, 1.0).linear(0, 1.0);
 /// let grid = Grid::new(0.0, 1.0, 10)?;
@@ -221,7 +219,7 @@ impl<const D: usize> DirectEmbedding<'_, '_, D> {
                     converged = true;
                     break;
                 }
-                let mut jac = crate::Matrix::<D>::zeros();
+                let mut jac = Matrix::<D>::zeros();
                 for j in 0..D {
                     let y = q[newest][j];
                     let step = 1e-6 * (1.0 + y.abs());

@@ -10,10 +10,10 @@
 //! Values "on the rows" (the result of `apply`, the argument of `apply_transpose`) are stored
 //! by position: entry `i` belongs to row `k = i + first_row`.
 
-use crate::embedding::Side;
-use crate::error::{Error, Result};
+use crate::error::{Error, Result, check_len};
 use crate::grid::Grid;
 use crate::lagrangian::Vector;
+use crate::side::Side;
 use crate::weights::grunwald_letnikov;
 use std::ops::RangeInclusive;
 
@@ -146,18 +146,6 @@ impl Operator {
             }
         }
         Ok(out)
-    }
-}
-
-pub(crate) fn check_len(what: &'static str, expected: usize, found: usize) -> Result<()> {
-    if expected == found {
-        Ok(())
-    } else {
-        Err(Error::WrongLength {
-            what,
-            expected,
-            found,
-        })
     }
 }
 

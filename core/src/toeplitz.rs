@@ -14,20 +14,6 @@
 //! complex FFT of length `L`. `L` is even, `L = 2K` with `K ≥ M` a product of small primes
 //! ([`fft_len`]).
 //!
-//! # Example
-//!
-//! ```
-//! use varembed::toeplitz::{TriangularToeplitz, Workspace};
-//! let t = TriangularToeplitz::new(&[1.0, -1.0, 0.5]);
-//! let mut ws = Workspace::new(&t);
-//! let (mut ta, mut tta) = (vec![0.0; 3], vec![0.0; 3]);
-//! t.mul(false, &mut ws, &[1.0, 2.0, 3.0], &mut ta);
-//! t.mul(true, &mut ws, &[1.0, 2.0, 3.0], &mut tta);
-//! // T = [[1, 0, 0], [−1, 1, 0], [0.5, −1, 1]]
-//! for (x, y) in ta.iter().zip([1.0, 1.0, 1.5]) { assert!((x - y).abs() < 1e-14); }
-//! for (x, y) in tta.iter().zip([0.5, -1.0, 3.0]) { assert!((x - y).abs() < 1e-14); }
-//! ```
-//!
 //! ## Reference
 //!
 //! R. M. Gray, *Toeplitz and circulant matrices: a review*, §4 (circulant embedding).
@@ -251,6 +237,22 @@ mod tests {
                     .sum()
             })
             .collect()
+    }
+
+    #[test]
+    fn small_products_are_the_matrix_products() {
+        let t = TriangularToeplitz::new(&[1.0, -1.0, 0.5]);
+        let mut ws = Workspace::new(&t);
+        let (mut ta, mut tta) = (vec![0.0; 3], vec![0.0; 3]);
+        t.mul(false, &mut ws, &[1.0, 2.0, 3.0], &mut ta);
+        t.mul(true, &mut ws, &[1.0, 2.0, 3.0], &mut tta);
+        // T = [[1, 0, 0], [−1, 1, 0], [0.5, −1, 1]]
+        for (x, y) in ta.iter().zip([1.0, 1.0, 1.5]) {
+            assert!((x - y).abs() < 1e-14);
+        }
+        for (x, y) in tta.iter().zip([0.5, -1.0, 3.0]) {
+            assert!((x - y).abs() < 1e-14);
+        }
     }
 
     #[test]

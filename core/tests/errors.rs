@@ -3,10 +3,9 @@
 
 mod common;
 use common::{Oscillator, Pendulum, v1};
-use varembed::ode::DifferentialOperator;
 use varembed::{
-    Embedding, Error, Grid, Hessian, Lagrangian, Location, Matrix, NewtonOptions, Problem, Scheme,
-    Side, Vector, curve_from_flat,
+    DifferentialOperator, Embedding, Error, Grid, Hessian, Lagrangian, Location, Matrix,
+    NewtonOptions, Problem, Scheme, Side, Vector, curve_from_flat,
 };
 
 #[test]

@@ -3,7 +3,9 @@
 
 mod common;
 use common::Rng;
-use varembed::{FftOperator, Grid, Operator, Side, Vector};
+use varembed::__private::fft_operator::FftOperator;
+use varembed::__private::operator::Operator;
+use varembed::{Grid, Side, Vector};
 
 fn relative_gap<const D: usize>(fast: &[Vector<D>], dense: &[Vector<D>]) -> f64 {
     assert_eq!(fast.len(), dense.len());

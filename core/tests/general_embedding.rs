@@ -3,8 +3,7 @@
 
 mod common;
 use common::{Rng, v1};
-use varembed::ode::DifferentialOperator;
-use varembed::{Grid, Side};
+use varembed::{DifferentialOperator, Grid, Side};
 
 /// Exact solution with `q(0) = 1`, `q̇(0) = 0`: `e^{−t/2}(cos ωt + sin(ωt)/(2ω))`, `ω = √3/2`.
 fn exact(t: f64) -> f64 {

@@ -111,7 +111,7 @@ impl varembed::Lagrangian<1> for AffineOscillator {
     ) -> varembed::Hessian<1> {
         self.0.hessian(x, v, t)
     }
-    fn step_is_affine(&self, _kind: varembed::StepKind) -> bool {
+    fn step_is_affine(&self, _kind: varembed::__private::step::StepKind) -> bool {
         true
     }
 }

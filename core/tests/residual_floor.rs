@@ -29,7 +29,7 @@
 
 mod common;
 use common::{Pendulum, Rng};
-use varembed::toeplitz::{TriangularToeplitz, Workspace};
+use varembed::__private::toeplitz::{TriangularToeplitz, Workspace};
 use varembed::{
     Embedding, Grid, Hessian, Lagrangian, Matrix, NewtonOptions, Problem, Scheme, Side, Vector,
 };
@@ -111,7 +111,7 @@ fn dot2(terms: impl Iterator<Item = (Dd, Dd)>) -> Dd {
 /// the double-precision floor (module docs).
 struct Oracle {
     n: usize,
-    /// `h^{−α}` as [`varembed::Operator`] computes it (the problem's definition of the scale).
+    /// `h^{−α}` as `Operator` computes it (the problem's definition of the scale).
     scale: f64,
     /// The Grünwald–Letnikov weights `α_0..α_N`, in double-double.
     weights: Vec<Dd>,

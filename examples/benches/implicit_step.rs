@@ -16,7 +16,8 @@ use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use nalgebra::{SMatrix, SVector};
-use varembed::{Embedding, Grid, Lagrangian, Problem, Scheme, Side, StepKind, StepTimes, Vector};
+use varembed::__private::step::{StepKind, StepTimes};
+use varembed::{Embedding, Grid, Lagrangian, Problem, Scheme, Side, Vector};
 
 #[path = "../shared/num_dual_double_pendulum.rs"]
 mod model;

@@ -8,7 +8,8 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use varembed::{Hessian, Lagrangian, StepKind, StepTimes, Vector, lagrangian};
+use varembed::__private::step::{StepKind, StepTimes};
+use varembed::{Hessian, Lagrangian, Vector, lagrangian};
 
 /// Planar pendulum.
 #[lagrangian]

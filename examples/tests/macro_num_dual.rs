@@ -5,7 +5,8 @@
 use nalgebra::SMatrix;
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
-use varembed::{Lagrangian, StepKind, StepTimes, Vector};
+use varembed::__private::step::{StepKind, StepTimes};
+use varembed::{Lagrangian, Vector};
 
 #[path = "../shared/num_dual_double_pendulum.rs"]
 mod model;

@@ -7,7 +7,8 @@
 
 use rand::rngs::StdRng;
 use rand::{Rng, SeedableRng};
-use varembed::{Hessian, Lagrangian, Matrix, StepKind, StepTimes, Vector, lagrangian};
+use varembed::__private::step::{StepKind, StepTimes};
+use varembed::{Hessian, Lagrangian, Matrix, Vector, lagrangian};
 
 const KINDS: [StepKind; 4] = [
     StepKind::VariationalBackward,

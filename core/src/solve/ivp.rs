@@ -1,16 +1,16 @@
 //! Initial value problems of the classical embeddings: a three-point recurrence, one
 //! `d`-dimensional solve per step.
 
-use crate::embedding::EmbeddingKind;
+use crate::embedding::{EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
 use nalgebra::allocator::Allocator;
 use nalgebra::linalg::Schur;
 use nalgebra::{Complex, DefaultAllocator, DimDiff, DimSub, OMatrix, U1};
 
 use crate::lagrangian::{IntoVector, Lagrangian, Matrix, StepKind, StepTimes, Vector};
-use crate::problem::{Problem, Scheme};
-use crate::solve::Solution;
+use crate::problem::Problem;
 use crate::solve::newton::{newton_step, solve_step};
+use crate::solve::solution::Solution;
 
 /// How an initial value problem gets its second node `Q_1` from `q(a)` and `q̇(a)`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -33,12 +33,12 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// three-point recurrence (every node talks to every other) and gives
     /// [`Error::Unsupported`]: solve it as a boundary value problem.
     pub fn step_kind(&self, scheme: Scheme) -> Result<StepKind> {
-        use crate::embedding::Side::{Backward, Forward};
-        let side = self.embedding.side();
-        match (self.embedding.kind(), scheme, side) {
+        use crate::side::Side::{Backward, Forward};
+        let side = self.embedding().side();
+        match (self.embedding().kind(), scheme, side) {
             (EmbeddingKind::GrunwaldLetnikov { .. }, _, _) => Err(Error::Unsupported {
                 operation: "an initial value problem",
-                embedding: self.embedding.to_string(),
+                embedding: self.embedding().to_string(),
             }),
             (EmbeddingKind::FiniteDifference, Scheme::Direct, Backward) => {
                 Ok(StepKind::DirectBackward)
@@ -62,23 +62,23 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         let (q0, v0) = (q0.into_vector(), v0.into_vector());
         check_finite("q(a)", &q0)?;
         check_finite("q̇(a)", &v0)?;
-        let kind = match self.embedding.side() {
-            crate::Side::Backward => StepKind::VariationalBackward,
-            crate::Side::Forward => StepKind::VariationalForward,
+        let kind = match self.embedding().side() {
+            crate::side::Side::Backward => StepKind::VariationalBackward,
+            crate::side::Side::Forward => StepKind::VariationalForward,
         };
-        let (grid, h) = (&self.grid, self.grid.h());
-        let (_, pi0) = self.lagrangian.gradient(&q0, &v0, grid.t(0));
+        let (grid, h) = (self.grid(), self.grid().h());
+        let (_, pi0) = self.lagrangian().gradient(&q0, &v0, grid.t(0));
         let times = StepTimes::new(h, grid.t(0) - h, grid.t(0), grid.t(1));
         let guess = q0 + v0 * h;
         solve_step(
-            self.lagrangian,
+            self.lagrangian(),
             kind,
             &q0,
             &pi0,
             &times,
             guess,
             1,
-            &self.newton,
+            self.newton_options(),
         )
         .map(|(q1, _)| q1)
     }
@@ -98,17 +98,17 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         let (q0, v0) = (q0.into_vector(), v0.into_vector());
         check_finite("q(a)", &q0)?;
         check_finite("q̇(a)", &v0)?;
-        let (t, h) = (self.grid.t(0), self.grid.h());
-        let (f, _) = self.lagrangian.gradient(&q0, &v0, t);
-        let hs = self.lagrangian.hessian(&q0, &v0, t);
+        let (t, h) = (self.grid().t(0), self.grid().h());
+        let (f, _) = self.lagrangian().gradient(&q0, &v0, t);
+        let hs = self.lagrangian().hessian(&q0, &v0, t);
         let dt = 1e-5 * (1.0 + t.abs());
-        let p_t = (self.lagrangian.gradient(&q0, &v0, t + dt).1
-            - self.lagrangian.gradient(&q0, &v0, t - dt).1)
+        let p_t = (self.lagrangian().gradient(&q0, &v0, t + dt).1
+            - self.lagrangian().gradient(&q0, &v0, t - dt).1)
             / (2.0 * dt);
         let rhs = f - hs.xv.transpose() * v0 - p_t;
         let at = Location::Step(1);
-        let acceleration = crate::solve::linear::solve_small(&hs.vv, &rhs)
-            .ok_or(Error::SingularJacobian { at })?;
+        let acceleration =
+            crate::linalg::solve_small(&hs.vv, &rhs).ok_or(Error::SingularJacobian { at })?;
         let q1 = q0 + v0 * h + acceleration * (0.5 * h * h);
         if q1.iter().all(|c| c.is_finite()) {
             Ok(q1)
@@ -162,7 +162,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         let (q0, q1) = (q0.into_vector(), q1.into_vector());
         check_finite("Q_0", &q0)?;
         check_finite("Q_1", &q1)?;
-        let grid = self.grid;
+        let grid = *self.grid();
         let n_steps = grid.n();
         let mut q = Vec::with_capacity(n_steps + 1);
         q.push(q0);
@@ -180,7 +180,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         };
         Ok(Solution {
             scheme,
-            embedding: self.embedding,
+            embedding: *self.embedding(),
             grid,
             q,
             newton_iterations: iterations,
@@ -196,13 +196,13 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// of every step), and `1/h` is computed once.
     #[inline(always)]
     fn recurrence(&self, kind: StepKind, q: &mut Vec<Vector<D>>) -> Result<(usize, usize)> {
-        let grid = self.grid;
+        let grid = *self.grid();
         let n_steps = grid.n();
         if n_steps < 2 {
             return Ok((0, 0));
         }
         let (h, inv_h) = (grid.h(), 1.0 / grid.h());
-        let explicit = self.lagrangian.step_is_affine(kind);
+        let explicit = self.lagrangian().step_is_affine(kind);
         let (mut a, mut b) = (q[0], q[1]);
         let (mut iterations, mut explicit_steps) = (0, 0);
         for n in 2..=n_steps {
@@ -216,9 +216,9 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             if (n - 2) % STABILITY_CHECK_INTERVAL == 0 {
                 self.check_stability(kind, a, b, times, n)?;
             }
-            let momentum = self.lagrangian.step_momentum(kind, &a, &b, &times);
+            let momentum = self.lagrangian().step_momentum(kind, &a, &b, &times);
             let closed_form = if explicit {
-                self.lagrangian.step_explicit(kind, &b, &momentum, &times)
+                self.lagrangian().step_explicit(kind, &b, &momentum, &times)
             } else {
                 None
             };
@@ -232,14 +232,14 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
                 None => {
                     let guess = b * 2.0 - a;
                     let (y, its) = newton_step(
-                        self.lagrangian,
+                        self.lagrangian(),
                         kind,
                         &b,
                         &momentum,
                         &times,
                         guess,
                         n,
-                        &self.newton,
+                        self.newton_options(),
                     )?;
                     if its == 0 {
                         explicit_steps += 1;
@@ -292,17 +292,17 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     ) -> Result<()> {
         let (a, b, times) = (&a, &b, &times);
         let map = |a: &Vector<D>, b: &Vector<D>| -> Result<Vector<D>> {
-            let momentum = self.lagrangian.step_momentum(kind, a, b, times);
+            let momentum = self.lagrangian().step_momentum(kind, a, b, times);
             let guess = b * 2.0 - a;
             solve_step(
-                self.lagrangian,
+                self.lagrangian(),
                 kind,
                 b,
                 &momentum,
                 times,
                 guess,
                 n,
-                &self.newton,
+                self.newton_options(),
             )
             .map(|(y, _)| y)
         };

@@ -15,35 +15,6 @@
 //!   Gram–Schmidt and Givens rotations, restarted every `restart` iterations. It needs only a
 //!   nonsingular `A`.
 //!
-//! # Example
-//!
-//! ```
-//! use varembed::solve::krylov::{KrylovOptions, KrylovSystem, conjugate_gradient, gmres};
-//! /// The 1-D Laplacian tridiag(−1, 2, −1), preconditioned by its diagonal.
-//! struct Laplacian(usize);
-//! impl KrylovSystem for Laplacian {
-//!     fn len(&self) -> usize { self.0 }
-//!     fn apply(&mut self, x: &[f64], y: &mut [f64]) {
-//!         for i in 0..self.0 {
-//!             let left = if i > 0 { x[i - 1] } else { 0.0 };
-//!             let right = if i + 1 < self.0 { x[i + 1] } else { 0.0 };
-//!             y[i] = 2.0 * x[i] - left - right;
-//!         }
-//!     }
-//!     fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
-//!         for (z, r) in z.iter_mut().zip(r) { *z = 0.5 * r; }
-//!     }
-//! }
-//! let b = vec![1.0; 20];
-//! let options = KrylovOptions { tolerance: 1e-10, max_iterations: 100, restart: 30 };
-//! let mut x = vec![0.0; 20];
-//! let cg = conjugate_gradient(&mut Laplacian(20), &b, &mut x, &options).unwrap();
-//! assert!(cg.iterations <= 20 && cg.relative_residual <= 1e-10);
-//! let mut y = vec![0.0; 20];
-//! gmres(&mut Laplacian(20), &b, &mut y, &options).unwrap();
-//! assert!(x.iter().zip(&y).all(|(a, b)| (a - b).abs() < 1e-8));
-//! ```
-//!
 //! ## Reference
 //!
 //! Y. Saad, *Iterative Methods for Sparse Linear Systems*, 2nd ed., Algorithms 9.1 (PCG) and
@@ -403,6 +374,42 @@ mod tests {
         let mut y = vec![0.0; b.len()];
         system.apply(x, &mut y);
         norm(&b.iter().zip(&y).map(|(b, y)| b - y).collect::<Vec<_>>()) / norm(b)
+    }
+
+    /// The 1-D Laplacian `tridiag(−1, 2, −1)` preconditioned by its diagonal, written as a
+    /// user of the trait would: CG and GMRES reach the tolerance and agree.
+    #[test]
+    fn cg_and_gmres_solve_the_laplacian() {
+        struct Laplacian(usize);
+        impl KrylovSystem for Laplacian {
+            fn len(&self) -> usize {
+                self.0
+            }
+            fn apply(&mut self, x: &[f64], y: &mut [f64]) {
+                for i in 0..self.0 {
+                    let left = if i > 0 { x[i - 1] } else { 0.0 };
+                    let right = if i + 1 < self.0 { x[i + 1] } else { 0.0 };
+                    y[i] = 2.0 * x[i] - left - right;
+                }
+            }
+            fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
+                for (z, r) in z.iter_mut().zip(r) {
+                    *z = 0.5 * r;
+                }
+            }
+        }
+        let b = vec![1.0; 20];
+        let options = KrylovOptions {
+            tolerance: 1e-10,
+            max_iterations: 100,
+            restart: 30,
+        };
+        let mut x = vec![0.0; 20];
+        let cg = conjugate_gradient(&mut Laplacian(20), &b, &mut x, &options).unwrap();
+        assert!(cg.iterations <= 20 && cg.relative_residual <= 1e-10);
+        let mut y = vec![0.0; 20];
+        gmres(&mut Laplacian(20), &b, &mut y, &options).unwrap();
+        assert!(x.iter().zip(&y).all(|(a, b)| (a - b).abs() < 1e-8));
     }
 
     const OPTIONS: KrylovOptions = KrylovOptions {

@@ -1,30 +1,10 @@
-//! Newton's method: options, and the `d`-dimensional step solve of the initial value problems.
+//! Newton's method: the `d`-dimensional step solve of the initial value problems, and the
+//! stopping rule and line search of the global systems.
 
 use crate::error::{Error, Location, Result};
 use crate::lagrangian::{Lagrangian, StepKind, StepTimes, Vector};
-use crate::solve::linear::solve_small;
-
-/// Stopping rule of Newton's method.
-///
-/// A step of an initial value problem has converged when the max-norm of its residual
-/// `G(y) − π` (in momentum units) is at most `tolerance · (1 + ‖π‖∞)`. The global system of a
-/// boundary value problem has converged when its max-norm residual is at most
-/// `tolerance · (1 + ‖f‖∞ + h^{−α} ‖p‖∞)`, the size of the terms each row balances.
-///
-/// Either has also converged when the residual is down to the round-off it cannot go below,
-/// [`ROUND_OFF_FLOOR`]` · ε · ‖J‖∞ · ‖y‖∞` (with `J` the Jacobian and `y` the unknowns): the
-/// velocity `(y − b)/h` loses `ε|y|/h` to cancellation, which `J ∼ L_vv/h` carries into the
-/// residual, so with small `h` and large coordinates no tolerance below that is reachable.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct NewtonOptions {
-    /// Relative tolerance (default `1e-12`).
-    pub tolerance: f64,
-    /// Iterations before giving up with [`Error::NewtonDidNotConverge`] (default 50).
-    pub max_iterations: usize,
-}
-
-/// Multiple of `ε ‖J‖∞ ‖y‖∞` below which a residual is round-off (see [`NewtonOptions`]).
-pub const ROUND_OFF_FLOOR: f64 = 64.0;
+use crate::linalg::solve_small;
+use crate::options::NewtonOptions;
 
 /// Whether Newton has stagnated at round-off: `residual` is within the round-off level of a
 /// system with Jacobian max-norm `jacobian` at unknowns of max-norm `unknowns`, *and* the last
@@ -32,16 +12,8 @@ pub const ROUND_OFF_FLOOR: f64 = 64.0;
 /// the residual still falls, iterating goes on: the solution error is `cond(J)` times the
 /// residual, so stopping early at the floor would cost accuracy.
 pub(crate) fn at_round_off(residual: f64, previous: f64, jacobian: f64, unknowns: f64) -> bool {
-    residual <= ROUND_OFF_FLOOR * f64::EPSILON * jacobian * unknowns && residual > 0.5 * previous
-}
-
-impl Default for NewtonOptions {
-    fn default() -> Self {
-        NewtonOptions {
-            tolerance: 1e-12,
-            max_iterations: 50,
-        }
-    }
+    residual <= NewtonOptions::ROUND_OFF_FLOOR * f64::EPSILON * jacobian * unknowns
+        && residual > 0.5 * previous
 }
 
 /// Solves the step equation `G(y) = π` of `kind` for the newest node `Q_n` (index `n`, for the

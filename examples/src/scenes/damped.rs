@@ -2,7 +2,8 @@
 //! `e^{−t/2}(cos ωt + sin ωt / (2ω))`, `ω = √3/2`, reached two ways:
 //!
 //! - through the general direct embedding of the operator as written
-//!   (`O = d²/dt² + d/dt + 1` under FDE±, [`varembed::ode`]), which needs no Lagrangian;
+//!   (`O = d²/dt² + d/dt + 1` under FDE±, [`varembed::DifferentialOperator`]), which needs no
+//!   Lagrangian;
 //! - as the Euler–Lagrange equation of `L = eᵗ(½v² − ½x²)` (`d/dt(eᵗ q̇) + eᵗ q = eᵗ(q̈ + q̇ + q)`),
 //!   with the direct and variational schemes of Gauss-FDE−.
 //!
@@ -13,8 +14,7 @@
 use crate::ivp_scene::{IvpScene, Trajectory, max_error, standard_variants};
 use crate::reference::ReferenceCurve;
 use crate::scene::{Context, SceneReport, SweepLine, SweepPoint, doubling};
-use varembed::ode::DifferentialOperator;
-use varembed::{Embedding, Grid, Problem, Side, Vector, lagrangian};
+use varembed::{DifferentialOperator, Embedding, Grid, Problem, Side, Vector, lagrangian};
 
 /// `L = eᵗ(½v² − ½x²)`, whose Euler–Lagrange equation is `eᵗ(q̈ + q̇ + q) = 0`.
 #[lagrangian]

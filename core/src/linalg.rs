@@ -1,7 +1,23 @@
-//! Linear solves: the `d × d` step systems, the banded (block-tridiagonal) Jacobian of the
-//! classical boundary value problems, and dense LU for the fractional reference path.
+//! Small dense and banded linear algebra: the `d × d` step systems, the banded
+//! (block-tridiagonal) Jacobian of the classical boundary value problems, dense LU for the
+//! fractional reference path, and the max-norm every stopping rule measures with.
 
 use crate::lagrangian::{Matrix, Vector};
+
+/// Max-norm of a list of points.
+pub fn max_norm<const D: usize>(x: &[Vector<D>]) -> f64 {
+    x.iter().fold(0.0, |m, v| m.max(v.amax()))
+}
+
+/// Block `j` of a vector of `D`-blocks stored flat, `x[jD..(j+1)D]`.
+pub fn block<const D: usize>(x: &[f64], j: usize) -> Vector<D> {
+    Vector::<D>::from_column_slice(&x[j * D..(j + 1) * D])
+}
+
+/// Sets block `j` of a vector of `D`-blocks stored flat.
+pub fn set_block<const D: usize>(x: &mut [f64], j: usize, v: &Vector<D>) {
+    x[j * D..(j + 1) * D].copy_from_slice(v.as_slice());
+}
 
 /// A pivot smaller than this times the largest entry of its column block is treated as zero:
 /// the matrix is numerically singular and the caller reports a typed error.
@@ -10,7 +26,7 @@ const SINGULAR_RATIO: f64 = 1e-14;
 /// Solves `A x = b` for a `D × D` block by Gaussian elimination with partial pivoting.
 /// `None` when `A` is singular (to the relative threshold `1e-14` of its largest entry) or
 /// not finite. The solution itself may overflow: callers check it (that is a
-/// [`NotFinite`](crate::Error::NotFinite), not a singular matrix).
+/// [`NotFinite`](crate::error::Error::NotFinite), not a singular matrix).
 pub fn solve_small<const D: usize>(a: &Matrix<D>, b: &Vector<D>) -> Option<Vector<D>> {
     if D == 1 {
         // The scalar case is the hot path of every d = 1 Newton step.

@@ -1,0 +1,485 @@
+//! [`Discretisation`]: a Lagrangian on a grid under a discrete embedding, with what every solver
+//! evaluates on it: the discrete velocity, the residuals of the two schemes (computed by
+//! separate code, so that comparing them is the coherence test), the action and energy, and the
+//! Jacobian of the global system.
+//!
+//! The Grünwald–Letnikov operators are dense: on grids of more than
+//! [`FFT_OPERATOR_THRESHOLD`] steps they are applied by FFT ([`FftOperator`], `O(N log N)`)
+//! instead of the `O(N²)` loops of [`Operator`]. The FFT forms are built on first use and kept,
+//! so repeated evaluations (a comparison, the dense-LU Newton's residuals) plan and transform
+//! the weights once. The two routes agree to round-off (tested below).
+
+use crate::embedding::{Embedding, EmbeddingKind, Scheme};
+use crate::error::{Error, Location, Result, check_len};
+use crate::fft_operator::FftOperator;
+use crate::grid::Grid;
+use crate::lagrangian::{Lagrangian, Matrix, Vector};
+use crate::operator::Operator;
+use crate::options::FFT_OPERATOR_THRESHOLD;
+use std::ops::RangeInclusive;
+use std::sync::{Mutex, OnceLock, PoisonError};
+
+/// An operator's FFT form, built on first use. Its products need scratch buffers, so it sits
+/// behind a lock: a discretisation shared between threads stays usable, its FFT products
+/// taking turns.
+#[derive(Default)]
+struct FftCache(OnceLock<Mutex<FftOperator>>);
+
+impl FftCache {
+    fn with<R>(&self, op: &Operator, f: impl FnOnce(&mut FftOperator) -> R) -> R {
+        let cell = self.0.get_or_init(|| Mutex::new(FftOperator::new(op)));
+        // The buffers carry nothing from one product to the next, so a product that panicked
+        // leaves nothing behind to distrust.
+        let mut fft = cell.lock().unwrap_or_else(PoisonError::into_inner);
+        f(&mut fft)
+    }
+}
+
+/// A Lagrangian on a grid under an embedding, with the embedding's two operators.
+pub(crate) struct Discretisation<'l, L: ?Sized, const D: usize> {
+    lagrangian: &'l L,
+    grid: Grid,
+    embedding: Embedding,
+    /// `Δ_σ` (or `Δ^α_σ`).
+    velocity: Operator,
+    /// `Δ_{−σ}` (or `Δ^α_{−σ}`).
+    adjoint: Operator,
+    velocity_fft: FftCache,
+    adjoint_fft: FftCache,
+    /// [`FFT_OPERATOR_THRESHOLD`] (tests raise it to force the dense loops).
+    fft_threshold: usize,
+}
+
+/// `V`, `f = ∂L/∂x`, `p = ∂L/∂v` at the quadrature nodes, stored by node index `0..=N` (the one
+/// node outside `I_σ` holds zeros and is never read by a valid row).
+pub(crate) struct Pointwise<const D: usize> {
+    pub v: Vec<Vector<D>>,
+    pub f: Vec<Vector<D>>,
+    pub p: Vec<Vector<D>>,
+}
+
+impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
+    /// `lagrangian` on `grid` under `embedding`.
+    pub(crate) fn new(lagrangian: &'l L, grid: Grid, embedding: Embedding) -> Self {
+        Discretisation {
+            lagrangian,
+            grid,
+            embedding,
+            velocity: embedding.velocity_operator(&grid),
+            adjoint: embedding.adjoint_operator(&grid),
+            velocity_fft: FftCache::default(),
+            adjoint_fft: FftCache::default(),
+            fft_threshold: FFT_OPERATOR_THRESHOLD,
+        }
+    }
+
+    pub(crate) fn lagrangian(&self) -> &'l L {
+        self.lagrangian
+    }
+    pub(crate) fn grid(&self) -> &Grid {
+        &self.grid
+    }
+    pub(crate) fn embedding(&self) -> &Embedding {
+        &self.embedding
+    }
+    /// `Δ_σ` (or `Δ^α_σ`), whose rows give `V = −σ Δ_σ Q`.
+    pub(crate) fn velocity_operator(&self) -> &Operator {
+        &self.velocity
+    }
+
+    /// A copy of the FFT form of `Δ_σ` (planned and transformed once per discretisation), for a
+    /// solver that keeps it with buffers of its own for a whole solve.
+    pub(crate) fn velocity_fft(&self) -> FftOperator {
+        self.velocity_fft.with(&self.velocity, |fft| fft.clone())
+    }
+
+    /// The nodes `k` of the equations of `scheme`; entry `i` of a residual is row
+    /// `rows.start() + i`.
+    pub(crate) fn rows(&self, scheme: Scheme) -> RangeInclusive<usize> {
+        self.embedding.scheme_rows(scheme, self.grid.n())
+    }
+
+    /// `N + 1` finite nodes, or the typed error.
+    pub(crate) fn check_curve(&self, q: &[Vector<D>]) -> Result<()> {
+        check_len("discrete curve Q", self.grid.n() + 1, q.len())?;
+        match q.iter().position(|x| !x.iter().all(|c| c.is_finite())) {
+            Some(k) => Err(Error::NonFiniteInput {
+                what: format!("Q_{k} = {:?}", q[k].as_slice()),
+            }),
+            None => Ok(()),
+        }
+    }
+
+    /// Whether the operators are applied by FFT: fractional (dense) operators on a grid of more
+    /// than [`FFT_OPERATOR_THRESHOLD`] steps.
+    fn by_fft(&self) -> bool {
+        self.embedding.is_fractional() && self.grid.n() > self.fft_threshold
+    }
+
+    /// The discrete velocity `V = −σ Δ_σ Q` (or `−σ Δ^α_σ Q`) on the quadrature rows `I_σ`.
+    pub(crate) fn velocity(&self, q: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
+        self.check_curve(q)?;
+        let sign = -self.embedding.side().sign();
+        // By FFT, through the curve's differences: as accurate as the dense loops, where the
+        // plain FFT product's error would be amplified into the residual rows (see
+        // `FftOperator`'s docs, "the difference form").
+        let v = if self.by_fft() {
+            self.velocity_fft
+                .with(&self.velocity, |fft| fft.apply_by_differences(q))?
+        } else {
+            self.velocity.apply(q)?
+        };
+        Ok(v.into_iter().map(|v| v * sign).collect())
+    }
+
+    /// `Δ_{−σ} p` on all `N + 1` nodes' values, by FFT when [`by_fft`](Self::by_fft).
+    fn apply_adjoint(&self, p: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
+        if self.by_fft() {
+            self.adjoint_fft.with(&self.adjoint, |fft| fft.apply(p))
+        } else {
+            self.adjoint.apply(p)
+        }
+    }
+
+    /// `Δ_σᵀ w` for values `w` on the rows, by FFT when [`by_fft`](Self::by_fft).
+    fn apply_velocity_transpose(&self, w: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
+        if self.by_fft() {
+            self.velocity_fft
+                .with(&self.velocity, |fft| fft.apply_transpose(w))
+        } else {
+            self.velocity.apply_transpose(w)
+        }
+    }
+
+    /// The residual of `scheme` at `Q` (`N + 1` nodes), one entry per row of
+    /// [`rows`](Self::rows).
+    pub(crate) fn residual(&self, scheme: Scheme, q: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
+        let pw = self.pointwise(q)?;
+        Ok(self.residual_from(scheme, &pw))
+    }
+
+    /// The residual of `scheme` from the values at the nodes.
+    pub(crate) fn residual_from(&self, scheme: Scheme, pw: &Pointwise<D>) -> Vec<Vector<D>> {
+        match scheme {
+            Scheme::Direct => self.direct_residual(pw),
+            Scheme::Variational => self.variational_residual(pw),
+        }
+    }
+
+    /// The discrete action `S_h(Q) = h Σ_{k∈I_σ} L(Q_k, V_k, t_k)`.
+    pub(crate) fn action(&self, q: &[Vector<D>]) -> Result<f64> {
+        let v = self.velocity(q)?;
+        let mut s = 0.0;
+        for (k, vk) in self.embedding.quadrature_rows(self.grid.n()).zip(&v) {
+            s += self.lagrangian.value(&q[k], vk, self.grid.t(k));
+        }
+        let s = s * self.grid.h();
+        if s.is_finite() {
+            Ok(s)
+        } else {
+            Err(self.first_non_finite(q, &v))
+        }
+    }
+
+    /// `E_k = V_k·∂L/∂v(Q_k, V_k, t_k) − L(Q_k, V_k, t_k)` on the quadrature nodes `I_σ`.
+    pub(crate) fn energy(&self, q: &[Vector<D>]) -> Result<Vec<f64>> {
+        let v = self.velocity(q)?;
+        Ok(self
+            .embedding
+            .quadrature_rows(self.grid.n())
+            .zip(&v)
+            .map(|(k, vk)| self.lagrangian.energy(&q[k], vk, self.grid.t(k)))
+            .collect())
+    }
+
+    /// Which node made the Lagrangian non-finite (for the error message).
+    fn first_non_finite(&self, q: &[Vector<D>], v: &[Vector<D>]) -> Error {
+        let rows = self.embedding.quadrature_rows(self.grid.n());
+        let k = rows
+            .clone()
+            .zip(v)
+            .find(|(k, vk)| {
+                !self
+                    .lagrangian
+                    .value(&q[*k], vk, self.grid.t(*k))
+                    .is_finite()
+            })
+            .map_or(*rows.start(), |(k, _)| k);
+        Error::NotFinite {
+            at: Location::Node(k),
+        }
+    }
+
+    /// `V`, `f` and `p` at the quadrature nodes of `Q`.
+    pub(crate) fn pointwise(&self, q: &[Vector<D>]) -> Result<Pointwise<D>> {
+        let v_rows = self.velocity(q)?;
+        let n = self.grid.n();
+        let mut pw = Pointwise {
+            v: vec![Vector::<D>::zeros(); n + 1],
+            f: vec![Vector::<D>::zeros(); n + 1],
+            p: vec![Vector::<D>::zeros(); n + 1],
+        };
+        for (k, vk) in self.embedding.quadrature_rows(n).zip(v_rows) {
+            let (f, p) = self.lagrangian.gradient(&q[k], &vk, self.grid.t(k));
+            if !(f.iter().chain(p.iter()).all(|c| c.is_finite())) {
+                return Err(Error::NotFinite {
+                    at: Location::Node(k),
+                });
+            }
+            pw.v[k] = vk;
+            pw.f[k] = f;
+            pw.p[k] = p;
+        }
+        Ok(pw)
+    }
+
+    /// The direct path: the embedding's operators applied to `p` row by row.
+    fn direct_residual(&self, pw: &Pointwise<D>) -> Vec<Vector<D>> {
+        let sigma = self.embedding.side().sign();
+        let rows = self.rows(Scheme::Direct);
+        match self.embedding.kind() {
+            // d/dt ↦ −σΔ_σ in ∂_x L − d/dt ∂_v L.
+            EmbeddingKind::FiniteDifference => rows
+                .map(|k| pw.f[k] + self.velocity.apply_row(&pw.p, k) * sigma)
+                .collect(),
+            // −σ d_{−σ} ↦ −σ Δ_{−σ} (Δ^α_{−σ}) in the asymmetric / fractional Euler–Lagrange.
+            EmbeddingKind::Asymmetric => rows
+                .map(|k| pw.f[k] - self.adjoint.apply_row(&pw.p, k) * sigma)
+                .collect(),
+            // The same for all rows at once (the rows 1..=N−1 are rows of Δ^α_{−σ} either way).
+            EmbeddingKind::GrunwaldLetnikov { .. } => {
+                let first = self.adjoint.first_row();
+                let adjoint_p = self.apply_adjoint(&pw.p).expect("p has one value per node");
+                rows.map(|k| pw.f[k] - adjoint_p[k - first] * sigma)
+                    .collect()
+            }
+        }
+    }
+
+    /// The variational path: `f + Dᵀ p` on the interior nodes, `D = −σ Δ_σ`.
+    fn variational_residual(&self, pw: &Pointwise<D>) -> Vec<Vector<D>> {
+        let sigma = self.embedding.side().sign();
+        let n = self.grid.n();
+        let p_rows: Vec<Vector<D>> = self.embedding.quadrature_rows(n).map(|k| pw.p[k]).collect();
+        let dt_p = self
+            .apply_velocity_transpose(&p_rows)
+            .expect("p has one value per quadrature row");
+        self.rows(Scheme::Variational)
+            .map(|j| pw.f[j] - dt_p[j] * sigma)
+            .collect()
+    }
+
+    /// The Jacobian of [`residual`](Self::residual) with respect to the interior nodes
+    /// `Q_1..Q_{N−1}`, block by block: `add(i, j − 1, block)` adds `block` to
+    /// `∂r_{rows[i]}/∂Q_j` (a block may come in several parts).
+    ///
+    /// Every scheme's row is `r_k = f_k + Σ_m B[k, m] p_m` with `V = D Q`, `D = −σΔ_σ`, so
+    /// `∂r_k/∂Q_j = δ_kj L_xx + L_xv D[k, j] + Σ_m B[k, m] (δ_mj L_vx + L_vv D[m, j])`.
+    /// For the variational scheme `B = Dᵀ`, read by columns of `Δ_σ`; this gives the symmetric
+    /// `L_xx + L_xv D + Dᵀ L_vx + Dᵀ L_vv D`.
+    pub(crate) fn assemble_jacobian(
+        &self,
+        scheme: Scheme,
+        q: &[Vector<D>],
+        pw: &Pointwise<D>,
+        mut add: impl FnMut(usize, usize, &Matrix<D>),
+    ) {
+        let n = self.grid.n();
+        let sigma = self.embedding.side().sign();
+        let hess: Vec<Option<_>> = (0..=n)
+            .map(|k| {
+                self.embedding
+                    .quadrature_rows(n)
+                    .contains(&k)
+                    .then(|| self.lagrangian.hessian(&q[k], &pw.v[k], self.grid.t(k)))
+            })
+            .collect();
+        let unknown = |j: usize| (1..n).contains(&j);
+        // D[m, j] = −σ Δ_σ[m, j].
+        let d_row = |m: usize| {
+            self.velocity
+                .row_entries(m)
+                .map(move |(j, c)| (j, -sigma * c))
+        };
+        for (i, k) in self.rows(scheme).enumerate() {
+            let hk = hess[k].as_ref().expect("rows lie in I_σ");
+            if unknown(k) {
+                add(i, k - 1, &hk.xx);
+            }
+            for (j, c) in d_row(k) {
+                if unknown(j) {
+                    add(i, j - 1, &(hk.xv * c));
+                }
+            }
+            let b_entries: Vec<(usize, f64)> = match (scheme, self.embedding.kind()) {
+                (Scheme::Direct, EmbeddingKind::FiniteDifference) => self
+                    .velocity
+                    .row_entries(k)
+                    .map(|(m, c)| (m, sigma * c))
+                    .collect(),
+                (Scheme::Direct, _) => self
+                    .adjoint
+                    .row_entries(k)
+                    .map(|(m, c)| (m, -sigma * c))
+                    .collect(),
+                (Scheme::Variational, _) => self
+                    .velocity
+                    .column_entries(k)
+                    .map(|(m, c)| (m, -sigma * c))
+                    .collect(),
+            };
+            for (m, b) in b_entries {
+                let hm = hess[m].as_ref().expect("B only reaches nodes of I_σ");
+                if unknown(m) {
+                    add(i, m - 1, &(hm.xv.transpose() * b));
+                }
+                for (j, c) in d_row(m) {
+                    if unknown(j) {
+                        add(i, j - 1, &(hm.vv * (b * c)));
+                    }
+                }
+            }
+        }
+    }
+
+    /// The Jacobian of [`assemble_jacobian`](Self::assemble_jacobian) as a dense matrix.
+    #[cfg(test)]
+    pub(crate) fn dense_jacobian(
+        &self,
+        scheme: Scheme,
+        q: &[Vector<D>],
+        pw: &Pointwise<D>,
+    ) -> nalgebra::DMatrix<f64> {
+        let size = (self.grid.n() - 1) * D;
+        let mut jac = nalgebra::DMatrix::<f64>::zeros(size, size);
+        self.assemble_jacobian(scheme, q, pw, |i, j, block| {
+            let mut view = jac.view_mut((i * D, j * D), (D, D));
+            view += block;
+        });
+        jac
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::side::Side;
+    use crate::test_models::Mixed;
+
+    /// Above [`FFT_OPERATOR_THRESHOLD`] the fractional operators go by FFT: velocity, both
+    /// residuals, action and energy equal the dense loops' to round-off, for both sides.
+    #[test]
+    fn fft_route_matches_the_dense_loops_above_the_threshold() {
+        let n = 3 * FFT_OPERATOR_THRESHOLD + 7;
+        let grid = Grid::new(0.1, 1.3, n).unwrap();
+        let q: Vec<Vector<2>> = (0..=n)
+            .map(|k| {
+                let t = k as f64 / n as f64;
+                Vector::<2>::new((5.0 * t).sin(), (3.0 * t).cos() - 0.5)
+            })
+            .collect();
+        let close = |a: &[Vector<2>], b: &[Vector<2>], what: &str| {
+            assert_eq!(a.len(), b.len());
+            let scale = 1.0 + b.iter().fold(0.0f64, |m, x| m.max(x.amax()));
+            for (k, (x, y)) in a.iter().zip(b).enumerate() {
+                assert!((x - y).amax() <= 1e-12 * scale, "{what} {k}: {x} vs {y}");
+            }
+        };
+        for side in [Side::Backward, Side::Forward] {
+            let embedding = Embedding::grunwald_letnikov(side, 0.65).unwrap();
+            let fast = Discretisation::new(&Mixed, grid, embedding);
+            let mut dense = Discretisation::new(&Mixed, grid, embedding);
+            dense.fft_threshold = usize::MAX;
+            assert!(fast.by_fft() && !dense.by_fft());
+            close(
+                &fast.velocity(&q).unwrap(),
+                &dense.velocity(&q).unwrap(),
+                "V",
+            );
+            for scheme in [Scheme::Direct, Scheme::Variational] {
+                let (a, b) = (fast.residual(scheme, &q), dense.residual(scheme, &q));
+                close(&a.unwrap(), &b.unwrap(), &format!("{side:?} {scheme:?}"));
+            }
+            let (a, b) = (fast.action(&q).unwrap(), dense.action(&q).unwrap());
+            assert!((a - b).abs() <= 1e-13 * (1.0 + b.abs()), "{a} vs {b}");
+            let (a, b) = (fast.energy(&q).unwrap(), dense.energy(&q).unwrap());
+            for (x, y) in a.iter().zip(&b) {
+                assert!((x - y).abs() <= 1e-12 * (1.0 + y.abs()), "{x} vs {y}");
+            }
+        }
+    }
+
+    /// The FFT forms are built by the first evaluation that needs them and then kept; the dense
+    /// loops never build them.
+    #[test]
+    fn fft_forms_are_built_once_and_only_when_used() {
+        let n = FFT_OPERATOR_THRESHOLD + 1;
+        let q: Vec<Vector<2>> = (0..=n)
+            .map(|k| Vector::<2>::new((0.01 * k as f64).sin(), 0.5))
+            .collect();
+        let embedding = Embedding::grunwald_letnikov(Side::Backward, 0.6).unwrap();
+        let fast = Discretisation::new(&Mixed, Grid::new(0.0, 1.0, n).unwrap(), embedding);
+        assert!(fast.velocity_fft.0.get().is_none() && fast.adjoint_fft.0.get().is_none());
+        fast.residual(Scheme::Variational, &q).unwrap();
+        let built = fast.velocity_fft.0.get().map(|m| m as *const _);
+        assert!(built.is_some() && fast.adjoint_fft.0.get().is_none());
+        fast.residual(Scheme::Direct, &q).unwrap();
+        fast.action(&q).unwrap();
+        assert_eq!(fast.velocity_fft.0.get().map(|m| m as *const _), built);
+        assert!(fast.adjoint_fft.0.get().is_some());
+
+        let small = Grid::new(0.0, 1.0, FFT_OPERATOR_THRESHOLD).unwrap();
+        let dense = Discretisation::new(&Mixed, small, embedding);
+        dense
+            .residual(Scheme::Direct, &q[..=FFT_OPERATOR_THRESHOLD])
+            .unwrap();
+        dense
+            .residual(Scheme::Variational, &q[..=FFT_OPERATOR_THRESHOLD])
+            .unwrap();
+        assert!(dense.velocity_fft.0.get().is_none() && dense.adjoint_fft.0.get().is_none());
+    }
+
+    /// The assembled Jacobian equals central differences of the residual, for every scheme of
+    /// every embedding (so Newton's quadratic convergence rests on the right matrix).
+    #[test]
+    fn jacobian_matches_finite_differences_of_the_residual() {
+        let n = 9;
+        let grid = Grid::new(0.1, 1.0, n).unwrap();
+        let mut embeddings = Vec::new();
+        for side in [Side::Backward, Side::Forward] {
+            embeddings.push(Embedding::finite_difference(side));
+            embeddings.push(Embedding::asymmetric(side));
+            embeddings.push(Embedding::grunwald_letnikov(side, 0.6).unwrap());
+        }
+        let q: Vec<Vector<2>> = (0..=n)
+            .map(|k| Vector::<2>::new((k as f64 * 0.7).sin(), (k as f64 * 0.3).cos() - 0.5))
+            .collect();
+        for embedding in embeddings {
+            let disc = Discretisation::new(&Mixed, grid, embedding);
+            for scheme in [Scheme::Direct, Scheme::Variational] {
+                let pw = disc.pointwise(&q).unwrap();
+                let jac = disc.dense_jacobian(scheme, &q, &pw);
+                let eps = 1e-6;
+                for j in 1..n {
+                    for c in 0..2 {
+                        let (mut plus, mut minus) = (q.clone(), q.clone());
+                        plus[j][c] += eps;
+                        minus[j][c] -= eps;
+                        let rp = disc.residual(scheme, &plus).unwrap();
+                        let rm = disc.residual(scheme, &minus).unwrap();
+                        for i in 0..n - 1 {
+                            for a in 0..2 {
+                                let fd = (rp[i][a] - rm[i][a]) / (2.0 * eps);
+                                let exact = jac[(i * 2 + a, (j - 1) * 2 + c)];
+                                assert!(
+                                    (fd - exact).abs() <= 1e-6 * (1.0 + fd.abs()),
+                                    "{embedding} {scheme}: d r_{i}[{a}] / d Q_{j}[{c}] = {exact} vs {fd}"
+                                );
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,96 @@
+//! Solver settings: the stopping rule of Newton's method, the linear solver of the fractional
+//! boundary value problems and its Krylov budget, and the sizes at which the algorithms switch.
+
+/// Stopping rule of Newton's method.
+///
+/// A step of an initial value problem has converged when the max-norm of its residual
+/// `G(y) − π` (in momentum units) is at most `tolerance · (1 + ‖π‖∞)`. The global system of a
+/// boundary value problem has converged when its max-norm residual is at most
+/// `tolerance · (1 + ‖f‖∞ + h^{−α} ‖p‖∞)`, the size of the terms each row balances.
+///
+/// Either has also converged when the residual is down to the round-off it cannot go below,
+/// [`ROUND_OFF_FLOOR`](Self::ROUND_OFF_FLOOR)` · ε · ‖J‖∞ · ‖y‖∞` (with `J` the Jacobian and
+/// `y` the unknowns): the velocity `(y − b)/h` loses `ε|y|/h` to cancellation, which
+/// `J ∼ L_vv/h` carries into the residual, so with small `h` and large coordinates no tolerance
+/// below that is reachable.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NewtonOptions {
+    /// Relative tolerance (default `1e-12`).
+    pub tolerance: f64,
+    /// Iterations before giving up with
+    /// [`Error::NewtonDidNotConverge`](crate::error::Error::NewtonDidNotConverge) (default 50).
+    pub max_iterations: usize,
+}
+
+impl NewtonOptions {
+    /// Multiple of `ε ‖J‖∞ ‖y‖∞` below which a residual is round-off (see [`NewtonOptions`]).
+    pub const ROUND_OFF_FLOOR: f64 = 64.0;
+}
+
+impl Default for NewtonOptions {
+    fn default() -> Self {
+        NewtonOptions {
+            tolerance: 1e-12,
+            max_iterations: 50,
+        }
+    }
+}
+
+/// Which linear algebra solves the Newton systems of a fractional (Gauss-GLEσ) boundary value
+/// problem. Set with `Problem::with_fractional_solver`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum FractionalSolver {
+    /// Dense LU when the system is small (`(N − 1)·d ≤`
+    /// [`DENSE_LIMIT`](Self::DENSE_LIMIT)), the fast path otherwise; when the fast path's Krylov
+    /// solver fails on a system of at most [`DENSE_FALLBACK_LIMIT`](Self::DENSE_FALLBACK_LIMIT)
+    /// unknowns, the problem is solved again by dense LU.
+    #[default]
+    Auto,
+    /// Always dense LU: `O((N d)²)` memory and `O((N d)³)` time per Newton iteration (its
+    /// residual, like `Problem::residual`, goes by FFT on grids of more than 256 steps). The
+    /// reference the fast path is tested against: the assembled Jacobian and LU share nothing
+    /// with it.
+    Dense,
+    /// Always the FFT Newton–Krylov path (`O(N log N)` per iteration, `O(N)` memory), without
+    /// dense fallback.
+    Fast,
+}
+
+impl FractionalSolver {
+    /// Unknowns `(N − 1)·d` up to which [`FractionalSolver::Auto`] uses dense LU.
+    pub const DENSE_LIMIT: usize = 400;
+    /// Unknowns up to which [`FractionalSolver::Auto`] falls back to dense LU when the Krylov
+    /// solver fails.
+    pub const DENSE_FALLBACK_LIMIT: usize = 1500;
+}
+
+/// Grids with more steps than this apply the dense fractional operators by FFT in the
+/// residuals, velocity, action and energy. Below it the dense loops cost less than planning the
+/// FFT (at `N = 256` a dense product is about 3·10⁴ multiply–adds).
+pub(crate) const FFT_OPERATOR_THRESHOLD: usize = 256;
+
+/// Iteration budgets of the Krylov solvers (per Newton system of the fractional fast path).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct KrylovBudget {
+    pub cg_iterations: usize,
+    pub gmres_iterations: usize,
+    pub restart: usize,
+}
+
+impl Default for KrylovBudget {
+    fn default() -> Self {
+        KrylovBudget {
+            cg_iterations: 300,
+            gmres_iterations: 300,
+            restart: 30,
+        }
+    }
+}
+
+/// Everything the boundary value solvers are told besides the discretisation.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct SolverOptions {
+    pub newton: NewtonOptions,
+    pub fractional: FractionalSolver,
+    pub krylov: KrylovBudget,
+}

@@ -1,0 +1,312 @@
+use super::residual::Evaluation;
+use super::*;
+use crate::embedding::Embedding;
+use crate::grid::Grid;
+use crate::lagrangian::{Hessian, Matrix};
+use crate::linalg::block;
+use crate::side::Side;
+use crate::solve::krylov::KrylovSystem;
+use crate::test_models::Mixed;
+use nalgebra::DMatrix;
+
+/// The fast system at `q`: its residual evaluated and its Jacobian linearised there.
+fn linearized<L: Lagrangian<D>, const D: usize>(
+    disc: &Discretisation<'_, L, D>,
+    q: &[Vector<D>],
+) -> (FastSystem<D>, Evaluation<D>) {
+    let mut system = FastSystem::<D>::new(disc.velocity_operator(), disc.velocity_fft());
+    let eval = evaluate(disc, &mut system, q, 0).unwrap();
+    system
+        .linearize(disc, q, &eval.v, Location::Newton(0))
+        .unwrap();
+    (system, eval)
+}
+
+fn curve(n: usize) -> Vec<Vector<2>> {
+    (0..=n)
+        .map(|k| {
+            let t = k as f64;
+            Vector::<2>::new((0.7 * t).sin(), 0.5 * (1.3 * t).cos())
+        })
+        .collect()
+}
+
+/// The matrix-free `J δ` and the residual by FFT equal the assembled dense Jacobian and the
+/// dense residual, for both sides.
+#[test]
+fn matrix_free_jacobian_and_residual_match_the_dense_ones() {
+    let n = 13;
+    let grid = Grid::new(0.2, 1.5, n).unwrap();
+    for side in [Side::Backward, Side::Forward] {
+        let embedding = Embedding::grunwald_letnikov(side, 0.6).unwrap();
+        let disc = Discretisation::new(&Mixed, grid, embedding);
+        let q = curve(n);
+        let (mut system, eval) = linearized(&disc, &q);
+        let dense_r = disc.residual(Scheme::Variational, &q).unwrap();
+        for (a, b) in eval.r.iter().zip(&dense_r) {
+            assert!((a - b).amax() < 1e-12, "{side:?}: {a} vs {b}");
+        }
+        let pw = disc.pointwise(&q).unwrap();
+        let m = (n - 1) * 2;
+        let jac = disc.dense_jacobian(Scheme::Variational, &q, &pw);
+        let x: Vec<f64> = (0..m).map(|i| ((3 * i + 1) as f64).sin()).collect();
+        let mut y = vec![0.0; m];
+        system.apply(&x, &mut y);
+        let want = &jac * nalgebra::DVector::from_vec(x.clone());
+        for i in 0..m {
+            assert!(
+                (y[i] - want[i]).abs() < 1e-11 * want.amax(),
+                "{side:?} row {i}: {} vs {}",
+                y[i],
+                want[i]
+            );
+        }
+    }
+}
+
+/// The preconditioner's by-product is `D_a z`, and `J z` from it equals `J z` by FFT.
+#[test]
+fn preconditioner_images_are_the_square_block_products() {
+    let n = 23;
+    let grid = Grid::new(0.2, 1.5, n).unwrap();
+    for side in [Side::Backward, Side::Forward] {
+        let embedding = Embedding::grunwald_letnikov(side, 0.55).unwrap();
+        let disc = Discretisation::new(&Mixed, grid, embedding);
+        let q = curve(n);
+        let (mut system, _) = linearized(&disc, &q);
+        let m = (n - 1) * 2;
+        let r: Vec<f64> = (0..m).map(|i| ((5 * i + 2) as f64).cos()).collect();
+        let (mut z, mut image) = (vec![0.0; m], vec![0.0; m]);
+        system.precondition_with_image(&r, &mut z, &mut image);
+        // D z on the rows of the interior nodes, D = −σΔ.
+        let mut full = vec![Vector::<2>::zeros(); n + 1];
+        for j in 1..n {
+            full[j] = block(&z, j - 1);
+        }
+        let dz = disc.velocity_operator().apply(&full).unwrap();
+        for j in 1..n {
+            let want = dz[j - disc.velocity_operator().first_row()] * -side.sign();
+            let got = block::<2>(&image, j - 1);
+            assert!(
+                (got - want).amax() < 1e-12 * (1.0 + want.amax()),
+                "{side:?} {j}"
+            );
+        }
+        let (mut a, mut b) = (vec![0.0; m], vec![0.0; m]);
+        system.apply(&z, &mut a);
+        system.apply_with_image(&z, &image, &mut b);
+        let scale = a.iter().fold(0.0f64, |s, x| s.max(x.abs()));
+        for i in 0..m {
+            assert!(
+                (a[i] - b[i]).abs() < 1e-12 * scale,
+                "{side:?} {i}: {} vs {}",
+                a[i],
+                b[i]
+            );
+        }
+    }
+}
+
+/// The preconditioner inverts the whole kinetic part `P' = Dᵀ L_vv D` (the square block and
+/// the extra row, `L_vv` varying along the grid): `P'⁻¹ P' x = x`.
+#[test]
+fn preconditioner_inverts_the_whole_kinetic_part() {
+    /// `L = (1 + t) v²`.
+    struct Free;
+    impl Lagrangian<1> for Free {
+        fn value(&self, _x: &Vector<1>, v: &Vector<1>, t: f64) -> f64 {
+            (1.0 + t) * v[0] * v[0]
+        }
+        fn gradient(&self, _x: &Vector<1>, v: &Vector<1>, t: f64) -> (Vector<1>, Vector<1>) {
+            (Vector::<1>::zeros(), *v * (2.0 * (1.0 + t)))
+        }
+        fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, t: f64) -> Hessian<1> {
+            Hessian {
+                xx: Matrix::<1>::zeros(),
+                xv: Matrix::<1>::zeros(),
+                vv: Matrix::<1>::new(2.0 * (1.0 + t)),
+            }
+        }
+    }
+    let n = 17;
+    let grid = Grid::new(0.0, 1.0, n).unwrap();
+    for side in [Side::Backward, Side::Forward] {
+        let embedding = Embedding::grunwald_letnikov(side, 0.45).unwrap();
+        let disc = Discretisation::new(&Free, grid, embedding);
+        let q: Vec<Vector<1>> = (0..=n).map(|k| Vector::<1>::new(k as f64)).collect();
+        let (mut system, _) = linearized(&disc, &q);
+        assert!(system.preconditioner.correction.is_some());
+        // P' = Σ_k D[k, ·]ᵀ L_vv(t_k) D[k, ·] over every row k of D = −σΔ.
+        let m = n - 1;
+        let mut p = DMatrix::<f64>::zeros(m, m);
+        let sigma = side.sign();
+        for a in 1..n {
+            for b in 1..n {
+                let mut acc = 0.0;
+                for k in disc.velocity_operator().rows() {
+                    let d = |j| {
+                        disc.velocity_operator()
+                            .row_entries(k)
+                            .find(|&(jj, _)| jj == j)
+                            .map_or(0.0, |(_, c)| -sigma * c)
+                    };
+                    acc += d(a) * 2.0 * (1.0 + grid.t(k)) * d(b);
+                }
+                p[(a - 1, b - 1)] = acc;
+            }
+        }
+        let x: Vec<f64> = (0..m).map(|i| (i as f64 * 0.37).cos()).collect();
+        let px = &p * nalgebra::DVector::from_vec(x.clone());
+        let mut z = vec![0.0; m];
+        system.precondition(px.as_slice(), &mut z);
+        for i in 0..m {
+            assert!(
+                (z[i] - x[i]).abs() < 1e-10,
+                "{side:?} {i}: {} vs {}",
+                z[i],
+                x[i]
+            );
+        }
+    }
+}
+
+/// The same with `d = 2` and full `L_vv` blocks (the Woodbury term is a 2 × 2 system).
+#[test]
+fn preconditioner_inverts_the_kinetic_part_with_blocks() {
+    let n = 15;
+    let grid = Grid::new(0.2, 1.5, n).unwrap();
+    for side in [Side::Backward, Side::Forward] {
+        let embedding = Embedding::grunwald_letnikov(side, 0.6).unwrap();
+        let disc = Discretisation::new(&Mixed, grid, embedding);
+        let q = curve(n);
+        let (mut system, _) = linearized(&disc, &q);
+        assert!(system.preconditioner.correction.is_some());
+        let m = n - 1;
+        let mut p = DMatrix::<f64>::zeros(2 * m, 2 * m);
+        let sigma = side.sign();
+        for (i, k) in disc.velocity_operator().rows().enumerate() {
+            let vv = system.hessians[i].vv;
+            let d = |j| {
+                disc.velocity_operator()
+                    .row_entries(k)
+                    .find(|&(jj, _)| jj == j)
+                    .map_or(0.0, |(_, c)| -sigma * c)
+            };
+            for a in 1..n {
+                for b in 1..n {
+                    let block = vv * (d(a) * d(b));
+                    for (r, c) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                        p[(2 * (a - 1) + r, 2 * (b - 1) + c)] += block[(r, c)];
+                    }
+                }
+            }
+        }
+        let x: Vec<f64> = (0..2 * m).map(|i| (i as f64 * 0.37).cos()).collect();
+        let px = &p * nalgebra::DVector::from_vec(x.clone());
+        let mut z = vec![0.0; 2 * m];
+        system.precondition(px.as_slice(), &mut z);
+        for i in 0..2 * m {
+            assert!(
+                (z[i] - x[i]).abs() < 1e-9,
+                "{side:?} {i}: {} vs {}",
+                z[i],
+                x[i]
+            );
+        }
+    }
+}
+
+/// A Krylov budget too small for the system is a typed error, never a returned curve.
+#[test]
+fn an_exhausted_krylov_budget_is_a_typed_error() {
+    let n = 200;
+    let grid = Grid::new(0.0, 1.0, n).unwrap();
+    let embedding = Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap();
+    let disc = Discretisation::new(&Mixed, grid, embedding);
+    let guess: Vec<Vector<2>> = (0..=n)
+        .map(|k| Vector::<2>::new(k as f64 / n as f64, 0.0))
+        .collect();
+    let options = SolverOptions {
+        krylov: KrylovBudget {
+            cg_iterations: 1,
+            gmres_iterations: 1,
+            restart: 1,
+        },
+        ..SolverOptions::default()
+    };
+    let err = solve(&disc, &options, Scheme::Variational, &guess).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            Error::KrylovDidNotConverge {
+                at: Location::Newton(0),
+                ..
+            }
+        ),
+        "{err:?}"
+    );
+}
+
+/// `L = ½v² − 72x²`: `J = DᵀD − 144` is indefinite. CG must report the breakdown, and the
+/// Newton system is still solved (by GMRES) to the asked tolerance.
+#[test]
+fn cg_breaks_down_on_an_indefinite_jacobian_and_gmres_takes_over() {
+    struct Oscillator;
+    impl Lagrangian<1> for Oscillator {
+        fn value(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
+            0.5 * v[0] * v[0] - 72.0 * x[0] * x[0]
+        }
+        fn gradient(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
+            (Vector::<1>::new(-144.0 * x[0]), *v)
+        }
+        fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
+            Hessian {
+                xx: Matrix::<1>::new(-144.0),
+                xv: Matrix::<1>::zeros(),
+                vv: Matrix::<1>::identity(),
+            }
+        }
+    }
+    let n = 300;
+    let grid = Grid::new(0.0, 1.0, n).unwrap();
+    for side in [Side::Backward, Side::Forward] {
+        let embedding = Embedding::grunwald_letnikov(side, 0.7).unwrap();
+        let disc = Discretisation::new(&Oscillator, grid, embedding);
+        let q: Vec<Vector<1>> = (0..=n)
+            .map(|k| Vector::<1>::new(0.3 - 1.3 * k as f64 / n as f64))
+            .collect();
+        let (mut system, eval) = linearized(&disc, &q);
+        let rhs: Vec<f64> = eval.r.iter().map(|r| r[0]).collect();
+        let mut delta = vec![0.0; n - 1];
+        let options = KrylovOptions {
+            tolerance: 1e-10,
+            max_iterations: 300,
+            restart: 30,
+        };
+        let cg = conjugate_gradient(&mut system, &rhs, &mut delta, &options);
+        assert!(matches!(cg, Err(KrylovFailure::Breakdown { .. })), "{cg:?}");
+        let at = Location::Newton(0);
+        solve_newton_system(
+            &mut system,
+            &rhs,
+            &mut delta,
+            1e-10,
+            &KrylovBudget::default(),
+            at,
+        )
+        .unwrap();
+        let mut j_delta = vec![0.0; n - 1];
+        system.apply(&delta, &mut j_delta);
+        let gap: f64 = rhs
+            .iter()
+            .zip(&j_delta)
+            .map(|(a, b)| (a - b) * (a - b))
+            .sum();
+        let norm: f64 = rhs.iter().map(|a| a * a).sum();
+        assert!(
+            (gap / norm).sqrt() <= 1e-10,
+            "{side:?}: {:e}",
+            (gap / norm).sqrt()
+        );
+    }
+}
