@@ -1,8 +1,25 @@
-//! [`Comparison`]: the direct and the variational scheme of one embedding side by side, run
-//! through [`Problem`]'s solvers.
+//! [`Comparison`]: the direct and the variational scheme of one embedding side by side; and
+//! [`Convergence`]: one scheme solved on `N, 2N, 4N, …` steps, with the error, wall time and
+//! observed order of every grid.
+//!
+//! Per scheme a comparison reports: the solution, the residual of the *other* scheme on it
+//! (zero to round-off exactly when the embedding is coherent), the error against a reference (an
+//! exact solution or an independently computed curve, named in the table), the energy
+//! `E = v·∂L/∂v − L` along the run and its largest deviation from its first value, the observed
+//! order of convergence, Newton iterations and wall time; and the largest distance between the
+//! two solutions.
+//!
+//! The observed order has one definition, [`observed_order`]: between successive grids of a
+//! doubling run it is `log₂(e_N / e_{2N})`, with `e` the error against the reference when there
+//! is one, otherwise the self-convergence estimate `e_N = ‖Q_N − Q_{2N}‖` (max-norm over the
+//! nodes of the coarser grid), so that `log₂(‖Q_N − Q_{2N}‖ / ‖Q_{2N} − Q_{4N}‖)`. A comparison's
+//! order therefore needs solves on `2N` (and `4N` without a reference). A comparison is built
+//! from two [`Convergence`] runs ([`Problem::compare_runs`], which solves nothing), so a caller
+//! that sweeps `N` anyway (the tour's work–precision report) reads its tables off the sweep's
+//! own solutions, and the order in a table is the sweep's order at that `N`.
 
 use crate::embedding::Scheme;
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::grid::Grid;
 use crate::lagrangian::{IntoVector, Lagrangian, Vector};
 use crate::linalg::max_norm;
@@ -11,6 +28,69 @@ use crate::solve::ivp::Start;
 use crate::solve::solution::Solution;
 use std::fmt;
 use std::time::{Duration, Instant};
+
+/// The observed order of convergence between a coarse grid of `n_coarse` steps with error
+/// `e_coarse` and a finer one of `n_fine` steps with error `e_fine`:
+///
+/// `p = log₂(e_coarse / e_fine) / log₂(n_fine / n_coarse)`,
+///
+/// which is `log₂(e_N / e_{2N})` when the fine grid has twice the steps (an error `C hᵖ` gives
+/// exactly `p`). The errors are whatever measures the distance to the solution: the error
+/// against a reference, or a self-convergence estimate (see the [module docs](self)).
+///
+/// # Example
+///
+/// ```
+/// use varembed::compare::observed_order;
+/// // The error falls by 4 when N doubles: second order.
+/// assert_eq!(observed_order((100, 0.5), (200, 0.125)), 2.0);
+/// // Skipping a grid (N to 4N) does not change the order of a clean power law.
+/// assert_eq!(observed_order((100, 0.5), (400, 0.03125)), 2.0);
+/// ```
+pub fn observed_order((n_coarse, e_coarse): (usize, f64), (n_fine, e_fine): (usize, f64)) -> f64 {
+    (e_coarse / e_fine).log2() / (n_fine as f64 / n_coarse as f64).log2()
+}
+
+/// [`observed_order`] between each pair of successive entries of `(N, e)`, ordered by
+/// increasing `N`: one order fewer than entries.
+pub fn observed_orders(errors: &[(usize, f64)]) -> Vec<f64> {
+    errors
+        .windows(2)
+        .map(|w| observed_order(w[0], w[1]))
+        .collect()
+}
+
+/// `max_k |Q_k − q(t_k)|∞`: the error of the discrete curve `q` on `grid` against `reference`.
+pub fn max_error<const D: usize>(
+    grid: &Grid,
+    q: &[Vector<D>],
+    reference: impl Fn(f64) -> Vector<D>,
+) -> f64 {
+    q.iter()
+        .enumerate()
+        .map(|(k, x)| (x - reference(grid.t(k))).amax())
+        .fold(0.0, f64::max)
+}
+
+/// `max_k |coarse_k − fine_{k·s}|∞` over the nodes of the coarse curve, `s` the refinement
+/// factor; `None` when the fine grid is not a refinement of the coarse one.
+fn distance_on_coarse_nodes<const D: usize>(
+    coarse: &[Vector<D>],
+    fine: &[Vector<D>],
+) -> Option<f64> {
+    let (n, m) = (coarse.len() - 1, fine.len() - 1);
+    if n == 0 || m % n != 0 {
+        return None;
+    }
+    let stride = m / n;
+    Some(
+        coarse
+            .iter()
+            .enumerate()
+            .map(|(k, x)| (x - fine[k * stride]).amax())
+            .fold(0.0, f64::max),
+    )
+}
 
 /// What errors are measured against.
 #[derive(Clone, Copy)]
@@ -45,14 +125,16 @@ impl<const D: usize> Reference<'_, D> {
     }
 }
 
-/// Options of [`Problem::compare_ivp_with`] and [`Problem::compare_bvp_with`].
+/// Options of the comparisons ([`Problem::compare_ivp_with`], [`Problem::compare_bvp_with`]) and
+/// of the convergence runs ([`Problem::convergence_ivp`], [`Problem::convergence_bvp`]).
 #[derive(Clone, Copy)]
 pub struct CompareOptions<'a, const D: usize> {
     /// The reference for the error column.
     pub reference: Reference<'a, D>,
     /// The start of initial value problems.
     pub start: Start,
-    /// Whether to solve on `2N` and `4N` steps for the observed order.
+    /// Whether a comparison solves on `2N` (and `4N` without a reference) for the observed
+    /// order. Convergence runs ignore it: their number of grids is an argument.
     pub order: bool,
 }
 
@@ -79,7 +161,7 @@ pub struct SchemeReport<const D: usize> {
     pub energy: Vec<f64>,
     /// `max_k |E_k − E_first|`.
     pub energy_deviation: f64,
-    /// Observed order of convergence (see [`Comparison`]), if asked for.
+    /// [`observed_order`] from `N` to the next grid of the run (`2N`), if the run has one.
     pub order: Option<f64>,
     /// Wall time of the solve on `N` steps.
     pub wall_time: Duration,
@@ -115,6 +197,85 @@ pub struct Comparison<const D: usize> {
     pub max_distance: f64,
 }
 
+/// One solved grid of a [`Convergence`] run.
+#[derive(Clone, Debug)]
+pub struct Level<const D: usize> {
+    /// The solution; its grid has the level's `N`.
+    pub solution: Solution<D>,
+    /// Wall time of the solve (measured once: each grid is solved once).
+    pub wall_time: Duration,
+    /// `max_k |Q_k − q(t_k)|∞` against the reference, if there is one.
+    pub error: Option<f64>,
+}
+
+impl<const D: usize> Level<D> {
+    /// The number of steps `N`.
+    pub fn n(&self) -> usize {
+        self.solution.grid.n()
+    }
+}
+
+/// One scheme of one problem solved on `N, 2N, 4N, …` steps over the same interval
+/// ([`Problem::convergence_ivp`], [`Problem::convergence_bvp`]): every solution with its error
+/// and wall time, and the [`observed_order`] between successive grids.
+#[derive(Clone, Debug)]
+pub struct Convergence<const D: usize> {
+    /// What was solved: "initial value problem" or "boundary value problem".
+    pub kind: &'static str,
+    /// The scheme.
+    pub scheme: Scheme,
+    /// Which reference the errors are against ("none" without one).
+    pub reference: String,
+    /// The grids that solved, by increasing `N`.
+    pub levels: Vec<Level<D>>,
+    /// The sizes whose solve failed, with the error (e.g. Newton not converging on a coarse
+    /// grid): reported, not hidden. The orders skip them.
+    pub failures: Vec<(usize, Error)>,
+}
+
+impl<const D: usize> Convergence<D> {
+    /// The level on `n` steps, if it solved.
+    pub fn level(&self, n: usize) -> Option<&Level<D>> {
+        self.levels.iter().find(|level| level.n() == n)
+    }
+
+    /// `(N, e_N)` per level, the errors the orders are computed from: the error against the
+    /// reference, or without one the self-convergence estimate `‖Q_N − Q_{N'}‖` on the nodes
+    /// of the `N` grid, `N'` the next level (so the last level has none).
+    pub fn error_estimates(&self) -> Vec<(usize, f64)> {
+        self.levels
+            .iter()
+            .enumerate()
+            .filter_map(|(i, level)| match level.error {
+                Some(e) => Some((level.n(), e)),
+                None => {
+                    let next = self.levels.get(i + 1)?;
+                    distance_on_coarse_nodes(&level.solution.q, &next.solution.q)
+                        .map(|e| (level.n(), e))
+                }
+            })
+            .collect()
+    }
+
+    /// The [`observed_order`] between each pair of successive [`error_estimates`]
+    /// (`log₂(e_N / e_{2N})` on a run without failures).
+    ///
+    /// [`error_estimates`]: Self::error_estimates
+    pub fn orders(&self) -> Vec<f64> {
+        observed_orders(&self.error_estimates())
+    }
+
+    /// The [`observed_order`] from the level on `n` steps to the next one, if both have an
+    /// error estimate: entry `i` of [`orders`](Self::orders) when `n` is the `i`-th.
+    pub fn order_at(&self, n: usize) -> Option<f64> {
+        let errors = self.error_estimates();
+        let i = errors.iter().position(|&(m, _)| m == n)?;
+        errors
+            .get(i + 1)
+            .map(|&fine| observed_order(errors[i], fine))
+    }
+}
+
 impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// Compares both schemes on the initial value problem `q(a) = q0`, `q̇(a) = v0` (discrete
     /// Legendre start, no reference, observed order by self-convergence).
@@ -134,9 +295,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         options: &CompareOptions<'_, D>,
     ) -> Result<Comparison<D>> {
         let (q0, v0) = (q0.into_vector(), v0.into_vector());
-        self.compare("initial value problem", options, |p, scheme| {
-            p.solve_ivp_with(scheme, q0, v0, options.start)
-        })
+        self.compare(
+            |scheme, levels| self.convergence_ivp(scheme, q0, v0, options, levels),
+            options,
+        )
     }
 
     /// Compares both schemes on the boundary value problem `Q_0 = qa`, `Q_N = qb`.
@@ -156,106 +318,185 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         options: &CompareOptions<'_, D>,
     ) -> Result<Comparison<D>> {
         let (qa, qb) = (qa.into_vector(), qb.into_vector());
-        self.compare("boundary value problem", options, |p, scheme| {
+        self.compare(
+            |scheme, levels| self.convergence_bvp(scheme, qa, qb, options, levels),
+            options,
+        )
+    }
+
+    /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` with `scheme` on
+    /// `N, 2N, …, 2^{levels−1} N` steps (`N` this problem's), with `options.start`, timing each
+    /// solve and measuring its error against `options.reference`. A size that fails is recorded
+    /// in [`Convergence::failures`] and the run goes on.
+    pub fn convergence_ivp(
+        &self,
+        scheme: Scheme,
+        q0: impl IntoVector<D>,
+        v0: impl IntoVector<D>,
+        options: &CompareOptions<'_, D>,
+        levels: usize,
+    ) -> Convergence<D> {
+        let (q0, v0) = (q0.into_vector(), v0.into_vector());
+        self.convergence("initial value problem", scheme, options, levels, |p| {
+            p.solve_ivp_with(scheme, q0, v0, options.start)
+        })
+    }
+
+    /// [`convergence_ivp`](Self::convergence_ivp) for the boundary value problem `Q_0 = qa`,
+    /// `Q_N = qb` (the start is not used).
+    pub fn convergence_bvp(
+        &self,
+        scheme: Scheme,
+        qa: impl IntoVector<D>,
+        qb: impl IntoVector<D>,
+        options: &CompareOptions<'_, D>,
+        levels: usize,
+    ) -> Convergence<D> {
+        let (qa, qb) = (qa.into_vector(), qb.into_vector());
+        self.convergence("boundary value problem", scheme, options, levels, |p| {
             p.solve_bvp(scheme, qa, qb)
         })
     }
 
-    fn compare(
+    /// The comparison at this problem's grid from a run of each scheme that solved it (same
+    /// data and options, e.g. the sweeps of a work–precision report): nothing is solved again,
+    /// the solutions, errors and wall times are the runs', and each order is
+    /// [`Convergence::order_at`] this `N`. Errors if a run failed at this `N` (that failure), or
+    /// is of the wrong scheme, or did not solve this problem's grid and embedding.
+    pub fn compare_runs(
         &self,
-        kind: &'static str,
-        options: &CompareOptions<'_, D>,
-        solve: impl Fn(&Problem<'_, L, D>, Scheme) -> Result<Solution<D>>,
+        direct: &Convergence<D>,
+        variational: &Convergence<D>,
     ) -> Result<Comparison<D>> {
-        let mut reports = Vec::with_capacity(2);
-        for scheme in [Scheme::Direct, Scheme::Variational] {
-            let start = Instant::now();
-            let solution = solve(self, scheme)?;
-            let wall_time = start.elapsed();
-            let residual_of_other = max_norm(&self.residual(scheme.other(), &solution.q)?);
-            let error = options
-                .reference
-                .curve()
-                .map(|q| self.error_against(&solution.q, q));
-            let energy = self.energy(&solution.q)?;
+        let mismatch = |operation| Error::Unsupported {
+            operation,
+            embedding: self.embedding().to_string(),
+        };
+        if direct.reference != variational.reference || direct.kind != variational.kind {
+            return Err(mismatch("a comparison of runs with different data"));
+        }
+        let n = self.grid().n();
+        let report = |run: &Convergence<D>, scheme: Scheme| -> Result<SchemeReport<D>> {
+            if run.scheme != scheme {
+                return Err(mismatch("a comparison of runs of the wrong scheme"));
+            }
+            if let Some((_, e)) = run.failures.iter().find(|(m, _)| *m == n) {
+                return Err(e.clone());
+            }
+            let level = run
+                .level(n)
+                .filter(|l| l.solution.grid == *self.grid() && l.solution.embedding == *self.embedding())
+                .ok_or_else(|| mismatch("a comparison of runs that did not solve this grid"))?;
+            let other = scheme.other();
+            let q = &level.solution.q;
+            let energy = self.energy(q)?;
             let energy_deviation = energy
                 .iter()
                 .map(|e| (e - energy[0]).abs())
                 .fold(0.0, f64::max);
-            let order = if options.order {
-                Some(self.observed_order(scheme, &solution, options, &solve)?)
-            } else {
-                None
-            };
-            reports.push(SchemeReport {
-                solution,
-                residual_of_other,
-                error,
+            Ok(SchemeReport {
+                solution: level.solution.clone(),
+                residual_of_other: max_norm(&self.residual(other, q)?),
+                error: level.error,
                 energy,
                 energy_deviation,
-                order,
-                wall_time,
-            });
-        }
-        let variational = reports.pop().expect("two reports");
-        let direct = reports.pop().expect("two reports");
-        let max_distance = direct
+                order: run.order_at(n),
+                wall_time: level.wall_time,
+            })
+        };
+        let direct_report = report(direct, Scheme::Direct)?;
+        let variational_report = report(variational, Scheme::Variational)?;
+        let max_distance = direct_report
             .solution
-            .max_distance(&variational.solution.q)
+            .max_distance(&variational_report.solution.q)
             .unwrap_or(f64::NAN);
         Ok(Comparison {
-            kind,
+            kind: direct.kind,
             embedding: self.embedding().to_string(),
             grid: *self.grid(),
-            reference: options.reference.name().to_string(),
-            direct,
-            variational,
+            reference: direct.reference.clone(),
+            direct: direct_report,
+            variational: variational_report,
             max_distance,
         })
     }
 
-    fn error_against(&self, q: &[Vector<D>], reference: &dyn Fn(f64) -> Vector<D>) -> f64 {
-        q.iter()
-            .enumerate()
-            .map(|(k, x)| (x - reference(self.grid().t(k))).amax())
-            .fold(0.0, f64::max)
+    /// Both schemes on `N` (and `2N`, `4N` for the order), the first failure being the answer.
+    fn compare(
+        &self,
+        run: impl Fn(Scheme, usize) -> Convergence<D>,
+        options: &CompareOptions<'_, D>,
+    ) -> Result<Comparison<D>> {
+        let levels = match (options.order, options.reference.curve()) {
+            (false, _) => 1,
+            (true, Some(_)) => 2,
+            (true, None) => 3,
+        };
+        let solved = |scheme| {
+            let run = run(scheme, levels);
+            match run.failures.first() {
+                Some((_, e)) => Err(e.clone()),
+                None => Ok(run),
+            }
+        };
+        self.compare_runs(&solved(Scheme::Direct)?, &solved(Scheme::Variational)?)
     }
 
-    fn observed_order(
+    fn convergence(
         &self,
+        kind: &'static str,
         scheme: Scheme,
-        coarse: &Solution<D>,
         options: &CompareOptions<'_, D>,
-        solve: &impl Fn(&Problem<'_, L, D>, Scheme) -> Result<Solution<D>>,
-    ) -> Result<f64> {
+        levels: usize,
+        solve: impl Fn(&Problem<'_, L, D>) -> Result<Solution<D>>,
+    ) -> Convergence<D> {
+        let mut run = Convergence {
+            kind,
+            scheme,
+            reference: options.reference.name().to_string(),
+            levels: Vec::with_capacity(levels),
+            failures: Vec::new(),
+        };
         let grid = *self.grid();
-        let n = grid.n();
-        let refine = |factor: usize| -> Result<Solution<D>> {
-            let finer = Grid::new(grid.a(), grid.b(), n * factor)?;
-            solve(&self.on_grid(finer), scheme)
-        };
-        let fine = refine(2)?;
-        // Max over the coarse nodes of |a_k − b_{k·stride}|.
-        let gap = |a: &[Vector<D>], b: &[Vector<D>], stride: usize| {
-            a.iter()
-                .enumerate()
-                .map(|(k, x)| (x - b[k * stride]).amax())
-                .fold(0.0, f64::max)
-        };
-        Ok(match options.reference.curve() {
-            Some(q) => {
-                let e_coarse = self.error_against(&coarse.q, q);
-                let e_fine = (0..=n)
-                    .map(|k| (fine.q[2 * k] - q(grid.t(k))).amax())
-                    .fold(0.0, f64::max);
-                (e_coarse / e_fine).log2()
+        let (a, b, n0) = (grid.a(), grid.b(), grid.n());
+        for j in 0..levels {
+            let n = u32::try_from(j)
+                .ok()
+                .and_then(|j| 1usize.checked_shl(j))
+                .and_then(|factor| n0.checked_mul(factor));
+            let Some(n) = n else {
+                let reason = "N·2^j steps do not fit in usize";
+                let failure = Error::InvalidGrid {
+                    a,
+                    b,
+                    n: n0,
+                    reason,
+                };
+                run.failures.push((usize::MAX, failure));
+                break;
+            };
+            let solved = Grid::new(a, b, n).and_then(|grid| {
+                let problem = self.on_grid(grid);
+                let start = Instant::now();
+                let solution = solve(&problem)?;
+                Ok((solution, start.elapsed()))
+            });
+            match solved {
+                Ok((solution, wall_time)) => {
+                    let error = options
+                        .reference
+                        .curve()
+                        .map(|q| max_error(&solution.grid, &solution.q, q));
+                    run.levels.push(Level {
+                        solution,
+                        wall_time,
+                        error,
+                    });
+                }
+                Err(e) => run.failures.push((n, e)),
             }
-            None => {
-                let finest = refine(4)?;
-                let (d_coarse, d_fine) = (gap(&coarse.q, &fine.q, 2), gap(&fine.q, &finest.q, 2));
-                (d_coarse / d_fine).log2()
-            }
-        })
+        }
+        run
     }
 }
 
@@ -297,3 +538,6 @@ impl<const D: usize> fmt::Display for Comparison<D> {
         )
     }
 }
+
+#[cfg(test)]
+mod tests;

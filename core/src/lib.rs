@@ -24,7 +24,9 @@
 //!   implementation from a function.
 //! - Solving: [`Solution`], [`Start`], [`NewtonOptions`], [`FractionalSolver`].
 //! - Comparing the two schemes: [`Comparison`], [`CompareOptions`], [`Reference`],
-//!   [`SchemeReport`].
+//!   [`SchemeReport`]; convergence over `N, 2N, 4N, …`: [`Convergence`], [`Level`], and the one
+//!   definition of the observed order, [`observed_order`] ([`observed_orders`] along a run),
+//!   with [`max_error`] against a reference curve.
 //! - Errors: [`Error`], [`Location`], [`Result`].
 //! - The direct embedding of a general differential operator (no Lagrangian):
 //!   [`DifferentialOperator`], [`DirectEmbedding`].
@@ -68,7 +70,10 @@ mod test_models;
 mod toeplitz;
 mod weights;
 
-pub use compare::{CompareOptions, Comparison, Reference, SchemeReport};
+pub use compare::{
+    CompareOptions, Comparison, Convergence, Level, Reference, SchemeReport, max_error, observed_order,
+    observed_orders,
+};
 pub use embedding::{Embedding, EmbeddingKind, Scheme};
 pub use error::{Error, Location, Result};
 pub use grid::Grid;

@@ -1,8 +1,12 @@
-//! The shared run of an initial value scene: comparison tables at one `N`, trajectories and
-//! energy error of that run, and the work–precision sweep of every scheme over doubling `N`.
+//! The shared run of an initial value scene: the work–precision sweep of every scheme over
+//! doubling `N`, the comparison tables at one `N` (read off the sweep's solutions where the
+//! sweep has them, so each grid is solved once per scheme), and the trajectories and energy
+//! error of the first table.
 
 use crate::reference::ReferenceCurve;
-use crate::scene::{Context, Figure, SceneReport, Series, SweepLine, SweepPoint};
+use crate::scene::{Context, Doubling, Figure, SceneReport, Series, SweepLine};
+use std::borrow::Cow;
+use varembed::Convergence;
 use varembed::{
     CompareOptions, Comparison, Embedding, Grid, Lagrangian, Problem, Reference, Scheme, Side,
     Start, Vector,
@@ -32,7 +36,8 @@ pub struct Variant {
 
 /// The three lines every initial value scene sweeps, all under Gauss-FDE−: the direct scheme
 /// and the variational scheme with the discrete Legendre start (both the paper's schemes as
-/// stated), and the variational scheme with the second-order start (DESIGN.md, Solving).
+/// stated), and the variational scheme with the second-order start (which lets the
+/// Störmer–Verlet recurrence of a separable `L` reach its order 2).
 pub fn standard_variants() -> Vec<Variant> {
     let fde = Embedding::finite_difference(Side::Backward);
     vec![
@@ -57,6 +62,14 @@ pub fn standard_variants() -> Vec<Variant> {
     ]
 }
 
+/// How a start is named in the tables and the solve ledger.
+pub fn start_name(start: Start) -> &'static str {
+    match start {
+        Start::Legendre => "discrete Legendre start",
+        Start::SecondOrder => "second-order start",
+    }
+}
+
 /// An initial value scene: a Lagrangian, an interval, initial data and a reference.
 pub struct IvpScene<'a, L, const D: usize> {
     /// File-name stem.
@@ -77,98 +90,188 @@ pub struct IvpScene<'a, L, const D: usize> {
     pub reference: &'a ReferenceCurve<D>,
     /// Whether `reference` is a closed form (named "exact" in the tables).
     pub exact: bool,
-    /// `N` of the comparison tables, the trajectory and the energy figures.
+    /// `N` of the comparison tables, the trajectory and the energy figures. When the sweep
+    /// holds `N` and `2N` (the order needs both), the tables of the swept schemes are read off
+    /// the sweep's runs.
     pub table_n: usize,
     /// The embeddings compared in tables (Legendre start), then Gauss-FDE− with the
     /// second-order start.
     pub table_embeddings: Vec<Embedding>,
-    /// The doubling `N` of the sweep.
-    pub sweep: Vec<usize>,
+    /// The `N` of the sweep.
+    pub sweep: Doubling,
     /// The lines of the sweep.
     pub variants: Vec<Variant>,
     /// How the trajectory is drawn.
     pub trajectory: Trajectory,
 }
 
+/// Everything an initial value scene solved, as the library returned it.
+pub struct IvpRuns<const D: usize> {
+    /// One run per variant over the sweep's `N`, in the order of the variants.
+    pub sweep: Vec<Convergence<D>>,
+    /// The comparison tables at `table_n` with their start: every table embedding with the
+    /// discrete Legendre start, then Gauss-FDE− with the second-order start.
+    pub tables: Vec<(Start, Comparison<D>)>,
+}
+
+/// Where a table takes the run of one scheme from.
+#[derive(Clone, Copy)]
+enum Source {
+    /// The sweep's run of this variant.
+    Sweep(usize),
+    /// A run of its own on `table_n` and `2 table_n`.
+    Own,
+}
+
 impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
-    /// Runs the tables, the figures and the sweep.
+    /// Runs the sweep and the tables, and builds the report.
     pub fn run(&self, cx: &Context) -> varembed::Result<SceneReport> {
+        Ok(self.report(&self.solve(cx)?))
+    }
+
+    /// The lines of the work–precision sweep alone (no tables).
+    pub fn sweep(&self, cx: &Context) -> varembed::Result<Vec<SweepLine>> {
         let curve = |t: f64| self.reference.q(t);
-        let reference = if self.exact {
-            Reference::Exact(&curve)
-        } else {
-            Reference::Computed {
-                name: &self.reference.name,
-                q: &curve,
-            }
-        };
-        let grid = Grid::new(self.interval.0, self.interval.1, self.table_n)?;
-        let mut tables = Vec::new();
-        let mut first = None;
-        let runs = self
-            .table_embeddings
+        let runs = self.sweep_runs(cx, self.reference(&curve))?;
+        Ok(self.sweep_lines(&runs))
+    }
+
+    /// Solves every variant over the sweep, then the tables: a table's scheme that a variant
+    /// sweeps over `table_n` and `2 table_n` is read off that run, any other gets a run of its
+    /// own on those two grids.
+    pub fn solve(&self, cx: &Context) -> varembed::Result<IvpRuns<D>> {
+        let curve = |t: f64| self.reference.q(t);
+        let reference = self.reference(&curve);
+        let swept = self.sweep.contains(self.table_n) && self.sweep.contains(2 * self.table_n);
+        let plan: Vec<(Embedding, Start, [Source; 2])> = self
+            .table_runs()
+            .map(|(embedding, start)| {
+                let source = |scheme: Scheme| {
+                    let same = |v: &Variant| {
+                        v.embedding == embedding && v.scheme == scheme && v.start == start
+                    };
+                    match self.variants.iter().position(same) {
+                        Some(i) if swept => Source::Sweep(i),
+                        _ => Source::Own,
+                    }
+                };
+                let sources = [source(Scheme::Direct), source(Scheme::Variational)];
+                (embedding, start, sources)
+            })
+            .collect();
+        let own_runs = plan
             .iter()
-            .map(|e| (*e, Start::Legendre))
-            .chain([(
-                Embedding::finite_difference(Side::Backward),
-                Start::SecondOrder,
-            )]);
-        for (embedding, start) in runs {
+            .flat_map(|(_, _, sources)| sources)
+            .filter(|s| matches!(s, Source::Own))
+            .count();
+        cx.progress
+            .inc_length((self.variants.len() * self.sweep.count + 2 * own_runs) as u64);
+        let sweep = self.sweep_runs(cx, reference)?;
+        let table_grid = Grid::new(self.interval.0, self.interval.1, self.table_n)?;
+        let mut tables = Vec::with_capacity(plan.len());
+        for (embedding, start, sources) in plan {
+            let problem = Problem::new(self.lagrangian, table_grid, embedding);
             let options = CompareOptions {
                 reference,
                 start,
                 order: true,
             };
-            let comparison = Problem::new(self.lagrangian, grid, embedding)
-                .compare_ivp_with(self.q0, self.v0, &options)?;
-            let start_name = match start {
-                Start::Legendre => "discrete Legendre start",
-                Start::SecondOrder => "second-order start",
+            let run = |source: Source, scheme: Scheme| match source {
+                Source::Sweep(i) => Cow::Borrowed(&sweep[i]),
+                Source::Own => {
+                    let run = problem.convergence_ivp(scheme, self.q0, self.v0, &options, 2);
+                    cx.record_run(self.name, &describe(embedding, scheme, start), &run);
+                    Cow::Owned(run)
+                }
             };
-            tables.push(format!("{comparison}\n  ({start_name})"));
-            first.get_or_insert(comparison);
+            let direct = run(sources[0], Scheme::Direct);
+            let variational = run(sources[1], Scheme::Variational);
+            let comparison = problem.compare_runs(&direct, &variational)?;
+            tables.push((start, comparison));
         }
-        let first = first.expect("at least one table");
-        let figures = vec![self.trajectory_figure(&first), self.energy_figure(&first)];
-        Ok(SceneReport {
+        Ok(IvpRuns { sweep, tables })
+    }
+
+    /// The report of a solved scene: the tables as text, the sweep's lines, and the trajectory
+    /// and energy figures of the first table.
+    pub fn report(&self, runs: &IvpRuns<D>) -> SceneReport {
+        let tables = runs
+            .tables
+            .iter()
+            .map(|(start, c)| format!("{c}\n  ({})", start_name(*start)))
+            .collect();
+        let first = &runs.tables[0].1;
+        SceneReport {
             name: self.name,
             title: self.title.to_string(),
             notes: self.notes.clone(),
             tables,
             reference: self.reference.name.clone(),
-            sweep: self.sweep(cx)?,
-            figures,
-        })
+            sweep: self.sweep_lines(&runs.sweep),
+            figures: vec![self.trajectory_figure(first), self.energy_figure(first)],
+        }
     }
 
-    /// Every variant over every `N` of the sweep: wall time of the solve and max error.
-    pub fn sweep(&self, cx: &Context) -> varembed::Result<Vec<SweepLine>> {
-        cx.progress
-            .inc_length((self.variants.len() * self.sweep.len()) as u64);
-        let mut lines = Vec::new();
-        for variant in &self.variants {
-            let (mut points, mut failures) = (Vec::new(), Vec::new());
-            for &n in &self.sweep {
-                let grid = Grid::new(self.interval.0, self.interval.1, n)?;
-                let problem = Problem::new(self.lagrangian, grid, variant.embedding);
-                match cx.time(|| {
-                    problem.solve_ivp_with(variant.scheme, self.q0, self.v0, variant.start)
-                }) {
-                    Ok((solution, seconds)) => {
-                        let error = max_error(&grid, &solution.q, |t| self.reference.q(t));
-                        points.push(SweepPoint { n, seconds, error });
-                    }
-                    Err(e) => failures.push((n, e.to_string())),
-                }
-                cx.progress.inc(1);
+    fn reference<'c>(&'c self, curve: &'c dyn Fn(f64) -> Vector<D>) -> Reference<'c, D> {
+        if self.exact {
+            Reference::Exact(curve)
+        } else {
+            Reference::Computed {
+                name: &self.reference.name,
+                q: curve,
             }
-            lines.push(SweepLine {
-                label: variant.label.to_string(),
-                points,
-                failures,
-            });
         }
-        Ok(lines)
+    }
+
+    /// The table embeddings with the Legendre start, then Gauss-FDE− with the second-order
+    /// start.
+    fn table_runs(&self) -> impl Iterator<Item = (Embedding, Start)> + '_ {
+        let second_order = (
+            Embedding::finite_difference(Side::Backward),
+            Start::SecondOrder,
+        );
+        self.table_embeddings
+            .iter()
+            .map(|e| (*e, Start::Legendre))
+            .chain([second_order])
+    }
+
+    fn sweep_runs(
+        &self,
+        cx: &Context,
+        reference: Reference<'_, D>,
+    ) -> varembed::Result<Vec<Convergence<D>>> {
+        let grid = Grid::new(self.interval.0, self.interval.1, self.sweep.n0)?;
+        Ok(self
+            .variants
+            .iter()
+            .map(|variant| {
+                let options = CompareOptions {
+                    reference,
+                    start: variant.start,
+                    order: true,
+                };
+                let problem = Problem::new(self.lagrangian, grid, variant.embedding);
+                let run = problem.convergence_ivp(
+                    variant.scheme,
+                    self.q0,
+                    self.v0,
+                    &options,
+                    self.sweep.count,
+                );
+                let what = describe(variant.embedding, variant.scheme, variant.start);
+                cx.record_run(self.name, &what, &run);
+                run
+            })
+            .collect())
+    }
+
+    fn sweep_lines(&self, runs: &[Convergence<D>]) -> Vec<SweepLine> {
+        self.variants
+            .iter()
+            .zip(runs)
+            .map(|(variant, run)| SweepLine::from_run(variant.label, run))
+            .collect()
     }
 
     fn trajectory_figure(&self, c: &Comparison<D>) -> Figure {
@@ -254,14 +357,7 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
     }
 }
 
-/// `max_k |Q_k − q(t_k)|∞`.
-pub fn max_error<const D: usize>(
-    grid: &Grid,
-    q: &[Vector<D>],
-    reference: impl Fn(f64) -> Vector<D>,
-) -> f64 {
-    q.iter()
-        .enumerate()
-        .map(|(k, x)| (x - reference(grid.t(k))).amax())
-        .fold(0.0, f64::max)
+/// A scheme of an embedding with its start, as the solve ledger names it.
+fn describe(embedding: Embedding, scheme: Scheme, start: Start) -> String {
+    format!("{embedding} {scheme}, {}", start_name(start))
 }

@@ -3,8 +3,9 @@
 //! library is what the tour's tests drive.
 //!
 //! One scene per file under [`scenes`]; [`ivp_scene`] is the shared run of an initial value
-//! scene; [`reference`] computes the independent reference solutions; [`plot`] and [`report`]
-//! write the figures and the summary.
+//! scene; [`reference`](mod@reference) computes the independent reference solutions; [`plot`]
+//! and [`report`] write the figures and the summary. Errors, wall times and observed orders are
+//! the library's ([`varembed::Comparison`], [`varembed::Convergence`]): the tour solves each grid once and formats them.
 #![deny(missing_docs)]
 
 pub mod ivp_scene;

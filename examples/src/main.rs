@@ -42,7 +42,7 @@ fn main() -> Result<(), Box<dyn Error>> {
     let progress = ProgressBar::new(0).with_style(ProgressStyle::with_template(
         "{spinner} {msg:24} [{bar:40}] {pos}/{len} solves ({elapsed})",
     )?);
-    let cx = Context { mode, progress };
+    let cx = Context::new(mode, progress);
     let started = Instant::now();
     let reports = varembed_examples::run_tour(&cx, |scene| {
         cx.progress.suspend(|| {

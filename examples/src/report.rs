@@ -80,7 +80,8 @@ pub fn write(dir: &Path, scenes: &[SceneReport], header: &str) -> Result<String,
         }
         let _ = writeln!(
             md,
-            "Sweep (error, time in s, and the observed order from the previous N):\n"
+            "Sweep (error, wall time of the one solve in s, and the observed order from the \
+             previous N):\n"
         );
         let _ = writeln!(md, "| scheme | N | max error | time (s) | order |");
         let _ = writeln!(md, "| --- | ---: | ---: | ---: | ---: |");

@@ -2,7 +2,8 @@
 //! curves to plot. Nothing here knows about plotting or files.
 
 use indicatif::ProgressBar;
-use std::time::Instant;
+use std::sync::{Mutex, PoisonError};
+use varembed::{Convergence, observed_orders};
 
 /// How much of the tour to run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -14,21 +15,40 @@ pub enum Mode {
     Quick,
 }
 
-/// The run-wide settings and the progress bar the sweeps advance.
+/// One solve of the tour: which scene, which scheme (with its embedding and start) and `N`.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Solve {
+    /// The scene's file-name stem.
+    pub scene: &'static str,
+    /// The scheme, its embedding and start, as text.
+    pub what: String,
+    /// Steps.
+    pub n: usize,
+}
+
+/// The run-wide settings, the progress bar, and the ledger of every solve (so that the tour's
+/// test can check that each grid is solved once: tables are read off the sweeps).
 pub struct Context {
     /// Full or quick.
     pub mode: Mode,
-    /// One tick per solve of a work–precision sweep.
+    /// One tick per solve.
     pub progress: ProgressBar,
+    solves: Mutex<Vec<Solve>>,
 }
 
 impl Context {
-    /// A context whose progress bar draws nothing (tests).
-    pub fn hidden(mode: Mode) -> Self {
+    /// A context drawing on `progress`.
+    pub fn new(mode: Mode, progress: ProgressBar) -> Self {
         Context {
             mode,
-            progress: ProgressBar::hidden(),
+            progress,
+            solves: Mutex::new(Vec::new()),
         }
+    }
+
+    /// A context whose progress bar draws nothing (tests).
+    pub fn hidden(mode: Mode) -> Self {
+        Context::new(mode, ProgressBar::hidden())
     }
 
     /// `full` in full mode, `quick` in quick mode.
@@ -39,29 +59,72 @@ impl Context {
         }
     }
 
-    /// Wall time of `solve` in seconds. In full mode a solve shorter than 20 ms is repeated
-    /// until 50 ms have passed and the fastest run is kept (the minimum is the least noisy
-    /// estimate on a shared machine); quick mode times one run.
-    pub fn time<T, E>(&self, mut solve: impl FnMut() -> Result<T, E>) -> Result<(T, f64), E> {
-        let start = Instant::now();
-        let value = solve()?;
-        let mut best = start.elapsed().as_secs_f64();
-        if self.mode == Mode::Full && best < 0.02 {
-            let budget = Instant::now();
-            while budget.elapsed().as_secs_f64() < 0.05 {
-                let start = Instant::now();
-                solve()?;
-                best = best.min(start.elapsed().as_secs_f64());
-            }
+    /// Records one solve of `scene` and advances the progress bar.
+    pub fn record(&self, scene: &'static str, what: &str, n: usize) {
+        let solve = Solve {
+            scene,
+            what: what.to_string(),
+            n,
+        };
+        self.solves
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .push(solve);
+        self.progress.inc(1);
+    }
+
+    /// Records every size a convergence run attempted (solved or failed).
+    pub fn record_run<const D: usize>(
+        &self,
+        scene: &'static str,
+        what: &str,
+        run: &Convergence<D>,
+    ) {
+        let sizes = run.levels.iter().map(|l| l.n());
+        for n in sizes.chain(run.failures.iter().map(|(n, _)| *n)) {
+            self.record(scene, what, n);
         }
-        Ok((value, best))
+    }
+
+    /// Every solve recorded so far, in order.
+    pub fn solves(&self) -> Vec<Solve> {
+        self.solves
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .clone()
     }
 }
 
-/// `n0, 2 n0, 4 n0, …` (`count` sizes): the sweeps double `N` so that `log₂` of successive error
-/// ratios is the observed order.
-pub fn doubling(n0: usize, count: usize) -> Vec<usize> {
-    (0..count).map(|j| n0 << j).collect()
+/// `N = n0, 2 n0, 4 n0, …` (`count` sizes): the sweeps double `N` so that `log₂` of successive
+/// error ratios is the observed order.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Doubling {
+    /// The coarsest `N`.
+    pub n0: usize,
+    /// How many sizes.
+    pub count: usize,
+}
+
+impl Doubling {
+    /// The sizes, increasing.
+    pub fn sizes(&self) -> Vec<usize> {
+        (0..self.count).map(|j| self.n0 << j).collect()
+    }
+
+    /// The finest `N`.
+    pub fn finest(&self) -> usize {
+        self.n0 << self.count.saturating_sub(1)
+    }
+
+    /// Whether `n` is one of the sizes.
+    pub fn contains(&self, n: usize) -> bool {
+        self.sizes().contains(&n)
+    }
+}
+
+/// `n0, 2 n0, 4 n0, …` (`count` sizes).
+pub fn doubling(n0: usize, count: usize) -> Doubling {
+    Doubling { n0, count }
 }
 
 /// One point of a work–precision sweep.
@@ -69,7 +132,7 @@ pub fn doubling(n0: usize, count: usize) -> Vec<usize> {
 pub struct SweepPoint {
     /// Steps.
     pub n: usize,
-    /// Wall time of the solve, seconds.
+    /// Wall time of the solve (one solve per grid), seconds.
     pub seconds: f64,
     /// Max over the nodes of `|Q_k − q(t_k)|∞` against the scene's reference.
     pub error: f64,
@@ -88,13 +151,38 @@ pub struct SweepLine {
 }
 
 impl SweepLine {
-    /// The observed order between successive points, `ln(e_N / e_{N'}) / ln(N' / N)`
-    /// (`log₂(e_N / e_{2N})` on a doubling sweep).
+    /// The line of a convergence run against a reference: per solved `N`, its wall time and
+    /// error as the library measured them (a level without an error, i.e. a run without a
+    /// reference, gives no point).
+    pub fn from_run<const D: usize>(label: impl Into<String>, run: &Convergence<D>) -> Self {
+        let points = run
+            .levels
+            .iter()
+            .filter_map(|level| {
+                Some(SweepPoint {
+                    n: level.n(),
+                    seconds: level.wall_time.as_secs_f64(),
+                    error: level.error?,
+                })
+            })
+            .collect();
+        SweepLine {
+            label: label.into(),
+            points,
+            failures: run
+                .failures
+                .iter()
+                .map(|(n, e)| (*n, e.to_string()))
+                .collect(),
+        }
+    }
+
+    /// The library's observed order between successive points
+    /// ([`varembed::observed_order`]: `log₂(e_N / e_{2N})` on a doubling sweep), the
+    /// same numbers as the orders of the run the line was read from.
     pub fn orders(&self) -> Vec<f64> {
-        self.points
-            .windows(2)
-            .map(|w| (w[0].error / w[1].error).ln() / (w[1].n as f64 / w[0].n as f64).ln())
-            .collect()
+        let errors: Vec<(usize, f64)> = self.points.iter().map(|p| (p.n, p.error)).collect();
+        observed_orders(&errors)
     }
 }
 

@@ -1,5 +1,6 @@
-//! Observed orders of convergence (issue 4, "must show" 2): `log₂` of the error ratios over
-//! `N, 2N, 4N, 8N` against each scene's exact or independent reference.
+//! Observed orders of convergence of every scene: `log₂` of the error ratios over
+//! `N, 2N, 4N, 8N` against each scene's exact or independent reference (the library's
+//! `observed_order`, as the report prints it).
 //!
 //! - Direct schemes: order 1.
 //! - Variational schemes: order 1 from the discrete Legendre start (as one-step maps they are
@@ -107,9 +108,8 @@ fn non_separable_scenes_are_first_order_on_every_line() {
     let sizes = doubling(4000, 4);
     let mut lines = sweep(damped::scene(&cx, &exact), 4000);
     for side in [Side::Backward, Side::Forward] {
-        lines.push(
-            damped::general_embedding_sweep(&cx, side, &sizes, &exact).expect("the ODE runs"),
-        );
+        lines
+            .push(damped::general_embedding_sweep(&cx, side, sizes, &exact).expect("the ODE runs"));
     }
     assert_standard("q̈ + q̇ + q", &lines, [1.0, 1.0, 1.0]);
     for label in [

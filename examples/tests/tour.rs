@@ -1,10 +1,13 @@
-//! The tour's quick mode end to end: every scene runs, every number in its tables, sweeps and
-//! figures is finite, and every file of the report exists and is non-empty.
+//! The tour's quick mode end to end: every scene runs, solves each grid once per scheme, every
+//! number in its tables, sweeps and figures is finite, and every file of the report exists and
+//! is non-empty; and the orders the report prints are the library's comparisons' orders.
 
+use std::collections::HashMap;
 use std::fs;
+use varembed::Start;
 use varembed_examples::report;
 use varembed_examples::scene::{Context, Mode};
-use varembed_examples::scenes::ALL;
+use varembed_examples::scenes::{ALL, harmonic};
 
 #[test]
 fn quick_tour_writes_a_complete_finite_report() {
@@ -13,6 +16,28 @@ fn quick_tour_writes_a_complete_finite_report() {
     let reports = varembed_examples::run_tour(&cx, |_| printed += 1).expect("the quick tour runs");
     assert_eq!(reports.len(), ALL.len());
     assert_eq!(printed, ALL.len());
+
+    // Each scheme (with its embedding and start) of each scene is solved once per grid: the
+    // tables are read off the sweeps, not solved again.
+    let mut solves = HashMap::new();
+    for solve in cx.solves() {
+        *solves.entry(solve).or_insert(0) += 1;
+    }
+    let repeated: Vec<_> = solves.iter().filter(|(_, count)| **count > 1).collect();
+    assert!(repeated.is_empty(), "solved more than once: {repeated:?}");
+    for scene in &reports {
+        for line in &scene.sweep {
+            for p in &line.points {
+                assert!(
+                    solves.keys().any(|s| s.scene == scene.name && s.n == p.n),
+                    "{}: {} at N = {} is not in the ledger",
+                    scene.name,
+                    line.label,
+                    p.n
+                );
+            }
+        }
+    }
 
     for scene in &reports {
         assert!(!scene.tables.is_empty(), "{}: no table", scene.name);
@@ -106,6 +131,64 @@ fn quick_tour_writes_a_complete_finite_report() {
         );
     }
     fs::remove_dir_all(&dir).expect("clean up");
+}
+
+/// The order a table prints and the order the sweep prints at the table's `N` are one number:
+/// the comparison is built from the sweep's runs, and both are the library's `observed_order`.
+#[test]
+fn report_orders_are_the_comparisons_orders_and_each_grid_is_solved_once() {
+    let cx = Context::hidden(Mode::Quick);
+    let exact = harmonic::reference();
+    let scene = harmonic::scene(&cx, &harmonic::MODEL, &exact);
+    let runs = scene.solve(&cx).expect("the harmonic scene solves");
+    let report = scene.report(&runs);
+    let line = |label: &str| {
+        report
+            .sweep
+            .iter()
+            .find(|l| l.label == label)
+            .unwrap_or_else(|| panic!("no line {label}"))
+    };
+    let (legendre, second_order) = (&runs.tables[0], runs.tables.last().expect("tables"));
+    assert_eq!(legendre.0, Start::Legendre);
+    assert_eq!(second_order.0, Start::SecondOrder);
+    let checks = [
+        (&legendre.1.direct, "direct FDE−", &report.tables[0]),
+        (
+            &legendre.1.variational,
+            "variational FDE−, Legendre start",
+            &report.tables[0],
+        ),
+        (
+            &second_order.1.variational,
+            "variational FDE−, second-order start",
+            report.tables.last().expect("tables"),
+        ),
+    ];
+    for (scheme, label, table) in checks {
+        let line = line(label);
+        let i = line
+            .points
+            .iter()
+            .position(|p| p.n == scene.table_n)
+            .expect("the sweep holds the table's N");
+        let order = line.orders()[i];
+        assert_eq!(scheme.order, Some(order), "{label}");
+        assert_eq!(scheme.error, Some(line.points[i].error), "{label}");
+        assert_eq!(scheme.wall_time.as_secs_f64(), line.points[i].seconds);
+        assert!(table.contains(&format!(" {order:.2} ")), "{label}: {table}");
+    }
+
+    // The ledger: three lines over four sizes, the FDE+ and asymmetric tables (two schemes on
+    // N and 2N each), and the direct scheme from the second-order start (N and 2N); nothing
+    // else, nothing twice.
+    let solves = cx.solves();
+    assert_eq!(scene.sweep.count, 4);
+    assert_eq!(solves.len(), 3 * 4 + 2 * 2 * 2 + 2, "{solves:#?}");
+    let mut unique = solves.clone();
+    unique.sort_by(|a, b| (&a.what, a.n).cmp(&(&b.what, b.n)));
+    unique.dedup();
+    assert_eq!(unique.len(), solves.len());
 }
 
 #[test]

@@ -11,16 +11,20 @@
 //! variational scheme of the time-dependent `L` keeps the exact decay of its discrete momentum
 //! map rather than the energy (there is no conserved energy).
 
-use crate::ivp_scene::{IvpScene, Trajectory, max_error, standard_variants};
+use crate::ivp_scene::{IvpScene, Trajectory, standard_variants};
 use crate::reference::ReferenceCurve;
-use crate::scene::{Context, SceneReport, SweepLine, SweepPoint, doubling};
-use varembed::{DifferentialOperator, Embedding, Grid, Problem, Side, Vector, lagrangian};
+use crate::scene::{Context, Doubling, SceneReport, SweepLine, SweepPoint, doubling};
+use std::time::Instant;
+use varembed::{DifferentialOperator, Embedding, Grid, Problem, Side, Vector, lagrangian, max_error};
 
 /// `L = eᵗ(½v² − ½x²)`, whose Euler–Lagrange equation is `eᵗ(q̈ + q̇ + q) = 0`.
 #[lagrangian]
 pub fn damped(x: f64, v: f64, t: f64) -> f64 {
     t.exp() * (0.5 * v * v - 0.5 * x * x)
 }
+
+/// The scene's file-name stem.
+pub const NAME: &str = "damped";
 
 /// `[a, b]`.
 pub const INTERVAL: (f64, f64) = (0.0, 10.0);
@@ -37,33 +41,37 @@ pub fn exact() -> ReferenceCurve<1> {
 }
 
 /// The general direct embedding of `q̈ + q̇ + q` under FDEσ, swept over `sizes`, from the same
-/// `Q_0, Q_1` as the Lagrangian schemes (the discrete Legendre start of `L`).
+/// `Q_0, Q_1` as the Lagrangian schemes (the discrete Legendre start of `L`, one step, not a
+/// solve of the grid). The error and the orders are the library's definitions
+/// ([`max_error`], [`SweepLine::orders`]).
 pub fn general_embedding_sweep(
     cx: &Context,
     side: Side,
-    sizes: &[usize],
+    sizes: Doubling,
     reference: &ReferenceCurve<1>,
 ) -> varembed::Result<SweepLine> {
     let operator = DifferentialOperator::<1>::new()
         .linear(2, 1.0)
         .linear(1, 1.0)
         .linear(0, 1.0);
-    cx.progress.inc_length(sizes.len() as u64);
-    let mut points = Vec::new();
-    for &n in sizes {
-        let grid = Grid::new(INTERVAL.0, INTERVAL.1, n)?;
-        let q1 = Problem::new(&Damped, grid, Embedding::finite_difference(Side::Backward))
-            .legendre_start(1.0, 0.0)?;
-        let embedding = operator.embed(side, grid);
-        let (q, seconds) = cx.time(|| embedding.solve_ivp(&[Vector::<1>::new(1.0), q1]))?;
-        let error = max_error(&grid, &q, |t| reference.q(t));
-        points.push(SweepPoint { n, seconds, error });
-        cx.progress.inc(1);
-    }
     let label = match side {
         Side::Backward => "general direct embedding FDE− of q̈ + q̇ + q",
         Side::Forward => "general direct embedding FDE+ of q̈ + q̇ + q",
     };
+    cx.progress.inc_length(sizes.count as u64);
+    let mut points = Vec::new();
+    for n in sizes.sizes() {
+        let grid = Grid::new(INTERVAL.0, INTERVAL.1, n)?;
+        let q1 = Problem::new(&Damped, grid, Embedding::finite_difference(Side::Backward))
+            .legendre_start(1.0, 0.0)?;
+        let embedding = operator.embed(side, grid);
+        let start = Instant::now();
+        let q = embedding.solve_ivp(&[Vector::<1>::new(1.0), q1])?;
+        let seconds = start.elapsed().as_secs_f64();
+        cx.record(NAME, label, n);
+        let error = max_error(&grid, &q, |t| reference.q(t));
+        points.push(SweepPoint { n, seconds, error });
+    }
     Ok(SweepLine {
         label: label.to_string(),
         points,
@@ -74,7 +82,7 @@ pub fn general_embedding_sweep(
 /// The Lagrangian schemes' tables and sweep.
 pub fn scene<'a>(cx: &Context, reference: &'a ReferenceCurve<1>) -> IvpScene<'a, Damped, 1> {
     IvpScene {
-        name: "damped",
+        name: NAME,
         title: "q̈ + q̇ + q = 0",
         notes: vec![
             "The paper's example, `q(0) = 1`, `q̇(0) = 0` on `[0, 10]`, errors against the exact \
@@ -106,12 +114,12 @@ pub fn scene<'a>(cx: &Context, reference: &'a ReferenceCurve<1>) -> IvpScene<'a,
 pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
     let reference = exact();
     let scene = scene(cx, &reference);
-    let sizes = scene.sweep.clone();
+    let sizes = scene.sweep;
     let mut report = scene.run(cx)?;
     for side in [Side::Backward, Side::Forward] {
         report
             .sweep
-            .push(general_embedding_sweep(cx, side, &sizes, &reference)?);
+            .push(general_embedding_sweep(cx, side, sizes, &reference)?);
     }
     Ok(report)
 }

@@ -3,16 +3,22 @@
 //! `q(1) = 1`, for α ∈ {0.6, 0.8, 0.95, 1}, and the classical Gauss-FDE− problem beside α = 1.
 //!
 //! There is no closed form. The reference is computed by Richardson extrapolation of the same
-//! discretisation on fine grids `M/4, M/2, M` (`M` a multiple of every `N` of the sweep):
-//! the observed order `p = log₂(‖Q_{M/4} − Q_{M/2}‖ / ‖Q_{M/2} − Q_M‖)` and
-//! `Q_ref = Q_M + (Q_M − Q_{M/2}) / (2^p − 1)` at the nodes of the `M/4` grid. Gauss-GLE− is
-//! coherent, so the direct and the variational schemes have the same solution (the tables show
-//! the distance and the cross residuals); the sweep draws one line per α.
+//! discretisation on fine grids `M/4, M/2, M` (`M` a multiple of every `N` of the sweep): the
+//! library's self-convergence order of those three solves,
+//! `p = log₂(‖Q_{M/4} − Q_{M/2}‖ / ‖Q_{M/2} − Q_M‖)` (each distance on the nodes of the coarser
+//! grid), and `Q_ref = Q_M + (Q_M − Q_{M/2}) / (2^p − 1)` at the nodes of the `M/4` grid.
+//! Gauss-GLE− is coherent, so the direct and the variational schemes have the same solution
+//! (the tables show the distance and the cross residuals); the sweep draws one line per α, and
+//! the tables read the variational scheme off the sweep.
 
-use crate::scene::{Context, Figure, SceneReport, Series, SweepLine, SweepPoint, doubling};
+use crate::scene::{Context, Figure, SceneReport, Series, SweepLine, doubling};
+use varembed::Level;
 use varembed::{
-    CompareOptions, Embedding, Grid, Problem, Reference, Scheme, Side, Solution, Vector, lagrangian,
+    CompareOptions, Embedding, Grid, Problem, Reference, Scheme, Side, Vector, lagrangian,
 };
+
+/// The scene's file-name stem.
+pub const NAME: &str = "fractional";
 
 /// The pendulum Lagrangian.
 #[lagrangian]
@@ -37,30 +43,39 @@ pub struct Extrapolated {
 }
 
 impl Extrapolated {
-    /// Solves `embedding` on `m/4`, `m/2` and `m` steps and extrapolates.
-    pub fn new(embedding: Embedding, m: usize) -> varembed::Result<Self> {
-        let solve = |n: usize| -> varembed::Result<Solution<1>> {
-            let grid = Grid::new(0.0, 1.0, n)?;
-            Problem::new(&Pendulum, grid, embedding).solve_bvp(Scheme::Variational, 0.0, 1.0)
-        };
-        let (coarse, middle, fine) = (solve(m / 4)?, solve(m / 2)?, solve(m)?);
-        let on_coarse = |s: &Solution<1>, stride: usize| -> Vec<f64> {
-            (0..=m / 4).map(|k| s.q[k * stride][0]).collect()
-        };
-        let (c, md, f) = (
-            on_coarse(&coarse, 1),
-            on_coarse(&middle, 2),
-            on_coarse(&fine, 4),
+    /// Solves `embedding` on `m/4`, `m/2` and `m` steps (recorded in `cx`) and extrapolates.
+    pub fn new(cx: &Context, embedding: Embedding, m: usize) -> varembed::Result<Self> {
+        let grid = Grid::new(0.0, 1.0, m / 4)?;
+        let options = CompareOptions::default();
+        let run = Problem::new(&Pendulum, grid, embedding).convergence_bvp(
+            Scheme::Variational,
+            0.0,
+            1.0,
+            &options,
+            3,
         );
+        cx.record_run(NAME, &describe(embedding, Scheme::Variational), &run);
+        if let Some((_, e)) = run.failures.first() {
+            return Err(e.clone());
+        }
+        let order = run
+            .order_at(m / 4)
+            .expect("three solved doublings give a self-convergence order");
+        let on_coarse = |level: &Level<1>| -> Vec<f64> {
+            let stride = level.n() / (m / 4);
+            (0..=m / 4)
+                .map(|k| level.solution.q[k * stride][0])
+                .collect()
+        };
+        let (md, f) = (on_coarse(&run.levels[1]), on_coarse(&run.levels[2]));
         let gap = |a: &[f64], b: &[f64]| {
             a.iter()
                 .zip(b)
                 .fold(0.0f64, |g, (x, y)| g.max((x - y).abs()))
         };
-        let order = (gap(&c, &md) / gap(&md, &f)).log2();
         let factor = 2f64.powf(order) - 1.0;
         Ok(Extrapolated {
-            grid: coarse.grid,
+            grid: run.levels[0].solution.grid,
             q: f.iter()
                 .zip(&md)
                 .map(|(f, m)| f + (f - m) / factor)
@@ -82,8 +97,7 @@ impl Extrapolated {
 /// The scene.
 pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
     let sizes = doubling(cx.pick(50, 25), cx.pick(6, 4));
-    let finest = *sizes.last().expect("non-empty sweep");
-    let m = finest * cx.pick(16, 8);
+    let m = sizes.finest() * cx.pick(16, 8);
     let table_n = cx.pick(400, 100);
     let mut embeddings: Vec<(String, Embedding)> = ALPHAS
         .iter()
@@ -95,8 +109,10 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
         "classical FDE−".to_string(),
         Embedding::finite_difference(Side::Backward),
     ));
+    // Per embedding: the reference's three solves, the sweep, and the direct scheme on the
+    // table's `N` and `2N` (the variational one is read off the sweep).
     cx.progress
-        .inc_length((embeddings.len() * (sizes.len() + 3)) as u64);
+        .inc_length((embeddings.len() * (3 + sizes.count + 2)) as u64);
     let mut tables = Vec::new();
     let mut sweep = Vec::new();
     let mut trajectories = Vec::new();
@@ -108,8 +124,7 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
     ];
     let mut extrapolation = Vec::new();
     for (label, embedding) in &embeddings {
-        let reference = Extrapolated::new(*embedding, m)?;
-        cx.progress.inc(3);
+        let reference = Extrapolated::new(cx, *embedding, m)?;
         extrapolation.push(format!(
             "{label}: p = {:.2}, correction {:.1e}",
             reference.order, reference.correction
@@ -124,9 +139,19 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
             order: true,
             ..CompareOptions::default()
         };
+        let swept = Problem::new(&Pendulum, Grid::new(0.0, 1.0, sizes.n0)?, *embedding);
+        let variational =
+            swept.convergence_bvp(Scheme::Variational, 0.0, 1.0, &options, sizes.count);
+        cx.record_run(
+            NAME,
+            &describe(*embedding, Scheme::Variational),
+            &variational,
+        );
         let grid = Grid::new(0.0, 1.0, table_n)?;
-        let comparison =
-            Problem::new(&Pendulum, grid, *embedding).compare_bvp_with(0.0, 1.0, &options)?;
+        let table = Problem::new(&Pendulum, grid, *embedding);
+        let direct = table.convergence_bvp(Scheme::Direct, 0.0, 1.0, &options, 2);
+        cx.record_run(NAME, &describe(*embedding, Scheme::Direct), &direct);
+        let comparison = table.compare_runs(&direct, &variational)?;
         tables.push(comparison.to_string());
         trajectories.push(Series::new(
             label.clone(),
@@ -139,21 +164,10 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
                 .map(|(k, x)| (grid.t(k), x[0]))
                 .collect(),
         ));
-        let mut points = Vec::new();
-        for &n in &sizes {
-            let grid = Grid::new(0.0, 1.0, n)?;
-            let problem = Problem::new(&Pendulum, grid, *embedding);
-            let (solution, seconds) =
-                cx.time(|| problem.solve_bvp(Scheme::Variational, 0.0, 1.0))?;
-            let error = crate::ivp_scene::max_error(&grid, &solution.q, curve);
-            points.push(SweepPoint { n, seconds, error });
-            cx.progress.inc(1);
-        }
-        sweep.push(SweepLine {
-            label: format!("variational {label}"),
-            points,
-            failures: Vec::new(),
-        });
+        sweep.push(SweepLine::from_run(
+            format!("variational {label}"),
+            &variational,
+        ));
     }
     notes.push(format!(
         "Reference: Richardson extrapolation with the observed order of the fine solves on \
@@ -176,7 +190,7 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
             .to_string(),
     );
     Ok(SceneReport {
-        name: "fractional",
+        name: NAME,
         title: "Fractional boundary value problem (Gauss-GLE−)".to_string(),
         notes,
         tables,
@@ -190,4 +204,9 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
             series: trajectories,
         }],
     })
+}
+
+/// A scheme of an embedding, as the solve ledger names it.
+fn describe(embedding: Embedding, scheme: Scheme) -> String {
+    format!("{embedding} {scheme}")
 }

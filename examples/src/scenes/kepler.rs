@@ -33,6 +33,9 @@ pub fn initial_data() -> (Vector<2>, Vector<2>) {
     )
 }
 
+/// `N` of the tables and of the angular momentum figure (two orbits).
+pub const TABLE_N: usize = 32_000;
+
 /// `[0, 4π]`: two orbits.
 pub const INTERVAL: (f64, f64) = (0.0, 4.0 * PI);
 
@@ -93,9 +96,10 @@ pub fn scene<'a>(cx: &Context, reference: &'a ReferenceCurve<2>) -> IvpScene<'a,
         reference,
         exact: false,
         // The direct scheme needs 16000 steps per orbit to pass the perihelion (see notes).
-        table_n: 32_000,
+        table_n: TABLE_N,
         table_embeddings: vec![Embedding::finite_difference(Side::Backward)],
-        sweep: doubling(4000, cx.pick(6, 4)),
+        // Up to 2·TABLE_N at least, so that the tables are read off the sweep.
+        sweep: doubling(4000, cx.pick(6, 5)),
         variants: standard_variants(),
         trajectory: Trajectory::Plane,
     }
@@ -104,17 +108,21 @@ pub fn scene<'a>(cx: &Context, reference: &'a ReferenceCurve<2>) -> IvpScene<'a,
 /// The scene.
 pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
     let reference = reference();
-    let table_n = 32_000;
-    let direct = angular_momenta(Scheme::Direct, 2.0, table_n)?;
-    let variational = angular_momenta(Scheme::Variational, 2.0, table_n)?;
-    let h = (INTERVAL.1 - INTERVAL.0) / table_n as f64;
+    let scene = scene(cx, &reference);
+    let runs = scene.solve(cx)?;
+    // The Legendre-start table's solutions (Gauss-FDE−, N = TABLE_N) are the ones the angular
+    // momentum is read from.
+    let table = &runs.tables[0].1;
+    let (table_n, h) = (table.grid.n(), table.grid.h());
+    let direct = angular_momentum(&table.direct.solution.q, h);
+    let variational = angular_momentum(&table.variational.solution.q, h);
     let relative = |j: &[f64]| -> Vec<(f64, f64)> {
         j.iter()
             .enumerate()
             .map(|(k, x)| (k as f64 * h, x / j[0] - 1.0))
             .collect()
     };
-    let mut report = scene(cx, &reference).run(cx)?;
+    let mut report = scene.report(&runs);
     report.notes.push(format!(
         "Discrete angular momentum `J_k = Q_k × Q_{{k+1}} / h` at N = {table_n}: relative \
          spread {:.2e} for the variational scheme (a discrete Noether invariant, conserved up to \

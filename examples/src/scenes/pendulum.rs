@@ -13,7 +13,10 @@ pub fn pendulum(x: f64, v: f64) -> f64 {
     0.5 * v * v + x.cos()
 }
 
-/// `[a, b]` of the sweep (the interval of DESIGN.md's start errors).
+/// The scene's file-name stem.
+pub const NAME: &str = "pendulum";
+
+/// `[a, b]` of the sweep (its end `t = 10` is where the start errors in the notes are measured).
 pub const INTERVAL: (f64, f64) = (0.0, 10.0);
 /// `q(0)`.
 pub const Q0: f64 = 1.0;
@@ -96,7 +99,7 @@ pub fn reference() -> ReferenceCurve<1> {
 /// The scene's tables and sweep.
 pub fn scene<'a>(cx: &Context, reference: &'a ReferenceCurve<1>) -> IvpScene<'a, Pendulum, 1> {
     IvpScene {
-        name: "pendulum",
+        name: NAME,
         title: "Pendulum",
         notes: vec![
             format!(
@@ -104,7 +107,9 @@ pub fn scene<'a>(cx: &Context, reference: &'a ReferenceCurve<1>) -> IvpScene<'a,
                  DOP853 on `q̈ = −sin q` (hand-written right-hand side)."
             ),
             "Same orders as the oscillator: direct 1, variational 1 (Legendre start) and 2 \
-             (second-order start); DESIGN.md quotes the start errors at `t = 10`."
+             (second-order start). At `t = 10` with N = 1000, 2000, 4000 the variational error \
+             is 2.1e-4, 1.05e-4, 5.3e-5 from the Legendre start and 1.5e-6, 3.8e-7, 9.6e-8 from \
+             the second-order start."
                 .to_string(),
         ],
         lagrangian: &Pendulum,
@@ -124,7 +129,11 @@ pub fn scene<'a>(cx: &Context, reference: &'a ReferenceCurve<1>) -> IvpScene<'a,
 /// The scene.
 pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
     let reference = reference();
+    cx.progress.inc_length(2);
     let long = EnergyRun::new(cx.pick(100_000, 10_000))?;
+    for scheme in [Scheme::Direct, Scheme::Variational] {
+        cx.record(NAME, &format!("long run at h = 0.01, {scheme}"), long.steps);
+    }
     let (first, second) = long.variational_halves();
     let mut report = scene(cx, &reference).run(cx)?;
     report.notes.push(format!(
