@@ -6,9 +6,9 @@
 //!   else), the same models through `#[lagrangian]`, and the double pendulum differentiated by
 //!   num-dual.
 //! - [`rng`]: a seeded SplitMix64 generator, so that a failing case reproduces.
-//! - [`reference`]: closed-form discrete solutions of the harmonic oscillator's schemes.
+//! - [`reference`](mod@reference): closed-form discrete solutions of the harmonic oscillator's schemes.
 //! - [`curve`]: max-norms of discrete curves and of their differences.
-//! - [`bench`]: the criterion configurations and the `bench_main!` entry point.
+//! - [`bench`](mod@bench): the criterion configurations and the `bench_main!` entry point.
 //!
 //! The integration tests of the workspace live in this package's `tests/` folder; the
 //! examples' tests and benches use this crate as a dev-dependency, and so do the macro crate's
