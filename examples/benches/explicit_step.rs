@@ -1,5 +1,5 @@
 //! The explicit variational run produced by `#[lagrangian]`, through the public API, against a
-//! hand-written Störmer–Verlet loop that writes the same nodes into a `Vec` (issue 5a).
+//! hand-written Störmer–Verlet loop that writes the same nodes into a `Vec`.
 //!
 //! `generated` is `Problem::solve_ivp(Scheme::Variational, q0, v0)` under Gauss-FDE−: the
 //! discrete Legendre start, then the variational recurrence with the macro's closed-form step
@@ -12,22 +12,11 @@
 //! `cargo bench -p varembed-examples --bench explicit_step`; figures in BENCHMARKS.md.
 
 use std::hint::black_box;
-use std::time::Duration;
 
-use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use varembed::{Embedding, Grid, Lagrangian, Problem, Scheme, Side, Solution, Vector, lagrangian};
-
-/// Pendulum, `g = l = 1`.
-#[lagrangian]
-fn pendulum(x: f64, v: f64) -> f64 {
-    0.5 * v * v + x.cos()
-}
-
-/// Kepler, `μ = 1`.
-#[lagrangian]
-fn kepler(x: [f64; 2], v: [f64; 2]) -> f64 {
-    0.5 * (v[0] * v[0] + v[1] * v[1]) + 1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt()
-}
+use criterion::{BenchmarkId, Criterion};
+use varembed::{Embedding, Grid, Lagrangian, Problem, Scheme, Side, Solution, Vector};
+use varembed_tests::curve::max_diff;
+use varembed_tests::models::generated::{Kepler, UnitPendulum};
 
 /// Steps per run.
 const STEPS: usize = 1_000_000;
@@ -135,20 +124,18 @@ fn kepler_loop(
     q
 }
 
-fn max_distance<const D: usize>(x: &[Vector<D>], y: &[Vector<D>]) -> f64 {
-    assert_eq!(x.len(), y.len());
-    x.iter()
-        .zip(y)
-        .fold(0.0f64, |m, (a, b)| m.max((a - b).amax()))
-}
-
 fn explicit_step(c: &mut Criterion) {
     // Pendulum: q(0) = 1, q̇(0) = 0 over t ∈ [0, 100], h = 1e-4.
     let grid = Grid::new(0.0, 100.0, STEPS).unwrap();
     let (q0, v0) = (1.0, 0.0);
-    let by_macro = generated_nodes(&Pendulum, grid, Vector::<1>::new(q0), Vector::<1>::new(v0));
+    let by_macro = generated_nodes(
+        &UnitPendulum,
+        grid,
+        Vector::<1>::new(q0),
+        Vector::<1>::new(v0),
+    );
     let by_hand = pendulum_by_hand(grid, q0, v0);
-    let d = max_distance(&by_macro, &by_hand);
+    let d = max_diff(&by_macro, &by_hand);
     eprintln!("pendulum: max |generated − hand_written| = {d:e}");
     assert!(d <= 1e-12, "pendulum: the two runs differ by {d:e}");
     let mut group = c.benchmark_group("explicit_step/pendulum");
@@ -156,7 +143,7 @@ fn explicit_step(c: &mut Criterion) {
     group.bench_function(BenchmarkId::new("generated", STEPS), |bch| {
         bch.iter(|| {
             generated(
-                &Pendulum,
+                &UnitPendulum,
                 black_box(grid),
                 Vector::<1>::new(black_box(q0)),
                 Vector::<1>::new(black_box(v0)),
@@ -177,10 +164,10 @@ fn explicit_step(c: &mut Criterion) {
     );
     let by_macro = generated_nodes(&Kepler, grid, q0, v0);
     let by_hand = kepler_by_hand(grid, q0, v0);
-    let d = max_distance(&by_macro, &by_hand);
+    let d = max_diff(&by_macro, &by_hand);
     eprintln!("kepler: max |generated − hand_written| = {d:e}");
     assert!(d <= 1e-12, "kepler: the two runs differ by {d:e}");
-    let d = max_distance(&by_macro, &kepler_macro_formula(grid, q0, v0));
+    let d = max_diff(&by_macro, &kepler_macro_formula(grid, q0, v0));
     eprintln!("kepler: max |generated − hand_written_macro_formula| = {d:e}");
     assert!(d <= 1e-12, "kepler: the two runs differ by {d:e}");
     let mut group = c.benchmark_group("explicit_step/kepler");
@@ -198,11 +185,4 @@ fn explicit_step(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group! {
-    name = benches;
-    config = Criterion::default()
-        .warm_up_time(Duration::from_secs(1))
-        .measurement_time(Duration::from_secs(4));
-    targets = explicit_step
-}
-criterion_main!(benches);
+varembed_tests::bench_main!(varembed_tests::bench::runs(); explicit_step);

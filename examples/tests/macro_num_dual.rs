@@ -1,16 +1,12 @@
-//! An independent oracle for `#[lagrangian]` (issue 5b): the double pendulum's derivatives and
-//! step kernels from the macro against the same Lagrangian differentiated by num-dual's
+//! An independent oracle for `#[lagrangian]`: the double pendulum's derivatives and step
+//! kernels from the macro against the same Lagrangian differentiated by num-dual's
 //! (hyper-)dual numbers, at random points and random parameters, to 1e-12.
 
 use nalgebra::SMatrix;
-use rand::rngs::StdRng;
-use rand::{Rng, SeedableRng};
-use varembed::__private::step::{StepKind, StepTimes};
-use varembed::{Lagrangian, Vector};
-
-#[path = "../shared/num_dual_double_pendulum.rs"]
-mod model;
-use model::{DoublePendulum, NumDualDoublePendulum};
+use varembed::Lagrangian;
+use varembed_tests::models::generated::DoublePendulum;
+use varembed_tests::models::num_dual::NumDualDoublePendulum;
+use varembed_tests::rng::Rng;
 
 const TOL: f64 = 1e-12;
 
@@ -29,30 +25,26 @@ fn close<const R: usize, const C: usize>(
     }
 }
 
-fn random_model(rng: &mut StdRng) -> DoublePendulum {
+fn random_model(rng: &mut Rng) -> DoublePendulum {
     DoublePendulum {
-        m1: rng.random_range(0.2..3.0),
-        m2: rng.random_range(0.2..3.0),
-        l1: rng.random_range(0.2..2.0),
-        l2: rng.random_range(0.2..2.0),
-        g: rng.random_range(0.5..20.0),
+        m1: rng.uniform(0.2, 3.0),
+        m2: rng.uniform(0.2, 3.0),
+        l1: rng.uniform(0.2, 2.0),
+        l2: rng.uniform(0.2, 2.0),
+        g: rng.uniform(0.5, 20.0),
     }
-}
-
-fn random_vec(rng: &mut StdRng, scale: f64) -> Vector<2> {
-    Vector::<2>::from_fn(|_, _| rng.random_range(-scale..scale))
 }
 
 #[test]
 fn double_pendulum_derivatives_match_num_dual() {
-    let mut rng = StdRng::seed_from_u64(5);
+    let mut rng = Rng(5);
     for _ in 0..500 {
         let model = random_model(&mut rng);
         let dual = NumDualDoublePendulum(model);
         // Angles over several turns, velocities of a chaotic run.
-        let x = random_vec(&mut rng, 10.0);
-        let v = random_vec(&mut rng, 8.0);
-        let t = rng.random_range(-1.0..1.0);
+        let x = rng.vector::<2>(10.0);
+        let v = rng.vector::<2>(8.0);
+        let t = rng.uniform(-1.0, 1.0);
         let (lm, ld) = (model.value(&x, &v, t), dual.value(&x, &v, t));
         assert!(
             (lm - ld).abs() <= TOL * ld.abs().max(1.0),
@@ -71,16 +63,16 @@ fn double_pendulum_derivatives_match_num_dual() {
 
 #[test]
 fn double_pendulum_step_kernels_match_num_dual() {
-    let mut rng = StdRng::seed_from_u64(6);
+    let mut rng = Rng(6);
     for _ in 0..200 {
         let model = random_model(&mut rng);
         let dual = NumDualDoublePendulum(model);
-        let h = rng.random_range(1e-3..0.1);
-        let t_a = rng.random_range(-1.0..1.0);
+        let h = rng.uniform(1e-3, 0.1);
+        let t_a = rng.uniform(-1.0, 1.0);
         let times = StepTimes::new(h, t_a, t_a + h, t_a + 2.0 * h);
-        let a = random_vec(&mut rng, 3.0);
-        let b = a + random_vec(&mut rng, 5.0 * h);
-        let y = b + random_vec(&mut rng, 5.0 * h);
+        let a = rng.vector::<2>(3.0);
+        let b = a + rng.vector::<2>(5.0 * h);
+        let y = b + rng.vector::<2>(5.0 * h);
         for kind in [
             StepKind::VariationalBackward,
             StepKind::VariationalForward,

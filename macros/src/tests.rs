@@ -5,6 +5,7 @@ use std::collections::{HashMap, HashSet};
 
 use proc_macro2::TokenStream;
 use quote::quote;
+use varembed_tests::rng::Rng;
 
 use crate::codegen::{self, hessian_roots};
 use crate::cse::Plan;
@@ -12,27 +13,6 @@ use crate::diff::Derivatives;
 use crate::expand::expand;
 use crate::expr::{Graph, Id, Node, Var};
 use crate::parse::{self, Model};
-
-/// SplitMix64: a small deterministic generator, enough to draw test cases.
-struct Rng(u64);
-
-impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    /// Uniform in `[0, n)`.
-    fn below(&mut self, n: usize) -> usize {
-        (self.next_u64() % n as u64) as usize
-    }
-    /// Uniform in `[lo, hi)`.
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64
-    }
-}
 
 /// Every operation the generator draws, to check that all are covered.
 const OPS: [&str; 25] = [

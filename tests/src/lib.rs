@@ -1,1 +1,22 @@
-//! Integration tests of varembed live in `tests/`; this crate has no library code.
+//! What varembed's tests and benches share, written once: the models they solve, the random
+//! generator that draws their inputs, exact discrete solutions to check against, and the
+//! criterion set-up of every bench.
+//!
+//! - [`models`]: hand-written Lagrangians (plain formulas, the trait's defaults for everything
+//!   else), the same models through `#[lagrangian]`, and the double pendulum differentiated by
+//!   num-dual.
+//! - [`rng`]: a seeded SplitMix64 generator, so that a failing case reproduces.
+//! - [`reference`](mod@reference): closed-form discrete solutions of the harmonic oscillator's schemes.
+//! - [`curve`]: max-norms of discrete curves and of their differences.
+//! - [`bench`](mod@bench): the criterion configurations and the `bench_main!` entry point.
+//!
+//! The integration tests of the workspace live in this package's `tests/` folder; the
+//! examples' tests and benches use this crate as a dev-dependency, and so do the macro crate's
+//! unit tests (for [`rng::Rng`]).
+#![deny(missing_docs)]
+
+pub mod bench;
+pub mod curve;
+pub mod models;
+pub mod reference;
+pub mod rng;

@@ -1,4 +1,4 @@
-//! Hard cases (issue 6, item 6): the fractional boundary value problem across α.
+//! Hard cases: the fractional boundary value problem across α.
 //!
 //! Pendulum `L = ½v² + cos x`, Gauss-GLE−, `[0, 1]`, `Q_0 = 0`, `Q_N = 1`. Every α is solved
 //! (or would be a typed error); the solution changes continuously in α and tends to the classical
@@ -6,17 +6,13 @@
 //! boundary values: the jump `Q_N − Q_{N−1}` at `t = b` does not vanish as `h → 0` (see the docs
 //! of `EmbeddingKind::GrunwaldLetnikov`).
 
-use varembed::{Embedding, Grid, Problem, Scheme, Side, Solution, lagrangian};
-
-#[lagrangian]
-fn pendulum(x: f64, v: f64) -> f64 {
-    0.5 * v * v + x.cos()
-}
+use varembed::{Embedding, Grid, Problem, Scheme, Side, Solution};
+use varembed_tests::models::generated::UnitPendulum;
 
 fn solve(alpha: f64, n: usize) -> Solution<1> {
     let grid = Grid::new(0.0, 1.0, n).unwrap();
     let problem = Problem::new(
-        &Pendulum,
+        &UnitPendulum,
         grid,
         Embedding::grunwald_letnikov(Side::Backward, alpha).unwrap(),
     );
@@ -77,7 +73,7 @@ fn solution_is_continuous_in_alpha_and_tends_to_the_classical_one() {
     let classical = {
         let grid = Grid::new(0.0, 1.0, n).unwrap();
         Problem::new(
-            &Pendulum,
+            &UnitPendulum,
             grid,
             Embedding::finite_difference(Side::Backward),
         )
@@ -110,7 +106,7 @@ fn solution_is_continuous_in_alpha_and_tends_to_the_classical_one() {
     }
 }
 
-/// Item 6 at N = 10⁴ (the fast path: `FractionalSolver::Auto` picks Newton–Krylov above 400
+/// Every α at N = 10⁴ (the fast path: `FractionalSolver::Auto` picks Newton–Krylov above 400
 /// unknowns): every α is solved, the solution's midpoint moves continuously with α, and the
 /// boundary layer persists for α ≤ 1/2 while it is small for α > 1/2.
 #[test]
@@ -134,7 +130,7 @@ fn ten_thousand_nodes_every_alpha() {
     );
 }
 
-/// Item 6 at N = 10⁵, one α on each side of 1/2.
+/// N = 10⁵, one α on each side of 1/2.
 #[test]
 fn hundred_thousand_nodes() {
     let n = 100_000;

@@ -1,7 +1,9 @@
-//! Hard cases (issue 6): degenerate Lagrangians, Newton failure, bad input, and randomized
+//! Hard cases: degenerate Lagrangians, Newton failure, bad input, and randomized
 //! input that must never panic.
 
 use varembed::{Embedding, Error, Grid, Location, Problem, Scheme, Side, Vector, lagrangian};
+use varembed_tests::models::generated::Pendulum;
+use varembed_tests::rng::Rng;
 
 /// `x₁` has no velocity term: `∂²L/∂v² = diag(1, 0)`, singular (a constraint coordinate).
 #[lagrangian]
@@ -85,11 +87,6 @@ fn newton_failure_with_a_step_far_too_large() {
     assert!(vmax < 1.0 && vmax > 0.9, "max speed {vmax}");
 }
 
-#[lagrangian]
-fn pendulum(x: f64, v: f64, g: f64, l: f64) -> f64 {
-    0.5 * l * l * v * v + g * l * x.cos()
-}
-
 #[test]
 fn bad_input_is_a_typed_error() {
     for (a, b, n) in [
@@ -147,35 +144,6 @@ fn bad_input_is_a_typed_error() {
     ));
 }
 
-/// SplitMix64: deterministic, so a failing case reproduces from its printed seed.
-struct Rng(u64);
-impl Rng {
-    fn next(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    /// A value drawn from a mix of ordinary and hostile numbers.
-    fn wild(&mut self) -> f64 {
-        match (self.next() * 10.0) as u32 {
-            0 => f64::NAN,
-            1 => [
-                f64::INFINITY,
-                f64::NEG_INFINITY,
-                0.0,
-                -0.0,
-                f64::MIN_POSITIVE,
-                1e300,
-                -1e300,
-            ][(self.next() * 7.0) as usize],
-            2 => (self.next() - 0.5) * 1e6,
-            _ => (self.next() - 0.5) * 20.0,
-        }
-    }
-}
-
 fn finite<const D: usize>(q: &[Vector<D>]) -> bool {
     q.iter().all(|x| x.iter().all(|c| c.is_finite()))
 }
@@ -188,22 +156,22 @@ fn randomized_input_never_panics() {
     let (mut solved, mut errors) = (0, 0);
     for case in 0..400 {
         let a = rng.wild();
-        let b = if rng.next() < 0.8 {
-            a + rng.next() * 5.0
+        let b = if rng.next_f64() < 0.8 {
+            a + rng.next_f64() * 5.0
         } else {
             rng.wild()
         };
-        let n = [0, 1, 2, 3, 7, 40, 200][(rng.next() * 7.0) as usize];
+        let n = [0, 1, 2, 3, 7, 40, 200][(rng.next_f64() * 7.0) as usize];
         let Ok(grid) = Grid::new(a, b, n) else {
             errors += 1;
             continue;
         };
-        let side = if rng.next() < 0.5 {
+        let side = if rng.next_f64() < 0.5 {
             Side::Backward
         } else {
             Side::Forward
         };
-        let embedding = match (rng.next() * 3.0) as u32 {
+        let embedding = match (rng.next_f64() * 3.0) as u32 {
             0 => Embedding::finite_difference(side),
             1 => Embedding::asymmetric(side),
             _ => match Embedding::grunwald_letnikov(side, rng.wild().abs().min(2.0)) {
@@ -220,7 +188,7 @@ fn randomized_input_never_panics() {
             l: rng.wild(),
         };
         let problem = Problem::new(&lag, grid, embedding);
-        let scheme = if rng.next() < 0.5 {
+        let scheme = if rng.next_f64() < 0.5 {
             Scheme::Direct
         } else {
             Scheme::Variational

@@ -1,5 +1,5 @@
-//! Must show 1 of issue 3: every supported function, through `#[lagrangian]`, against
-//! hand-written first and second derivatives at `1e-12` relative.
+//! Every supported function, through `#[lagrangian]`, against hand-written first and second
+//! derivatives at `1e-12` relative.
 //!
 //! Each Lagrangian is `L = f(x)` (or `f(x, v)` for the two-argument functions), so
 //! `∂L/∂x = f'(x)` and `∂²L/∂x² = f''(x)`.

@@ -1,14 +1,14 @@
-//! Must show 3 of issue 3: models through `#[lagrangian]` against hand-written derivatives
-//! (`1e-13`), and the generated step kernels against the trait's generic defaults.
+//! Models through `#[lagrangian]` against hand-written derivatives (`1e-13`), and the generated
+//! step kernels against the trait's generic defaults.
 //!
 //! Each hand-written impl below implements only `value`, `gradient`, `hessian` (and
 //! `step_is_affine`, decided by hand from the second-derivative blocks), so its step kernels are
 //! the trait's defaults.
 
-use rand::rngs::StdRng;
-use rand::{Rng, SeedableRng};
 use varembed::__private::step::{StepKind, StepTimes};
 use varembed::{Hessian, Lagrangian, Matrix, Vector, lagrangian};
+use varembed_tests::models::generated::{DoublePendulum, Pendulum, double_pendulum, pendulum};
+use varembed_tests::rng::Rng;
 
 const KINDS: [StepKind; 4] = [
     StepKind::VariationalBackward,
@@ -40,22 +40,18 @@ fn close_mat<const D: usize>(what: &str, a: &Matrix<D>, b: &Matrix<D>, tol: f64)
     }
 }
 
-fn random_vec<const D: usize>(rng: &mut StdRng, scale: f64) -> Vector<D> {
-    Vector::<D>::from_fn(|_, _| rng.random_range(-scale..scale))
-}
-
 /// Derivatives at 1e-13 on random points.
 fn check_derivatives<const D: usize>(
     gen_: &impl Lagrangian<D>,
     hand: &impl Lagrangian<D>,
     center: Vector<D>,
-    rng: &mut StdRng,
+    rng: &mut Rng,
 ) {
     const TOL: f64 = 1e-13;
     for _ in 0..200 {
-        let x = center + random_vec::<D>(rng, 1.5);
-        let v = random_vec::<D>(rng, 2.0);
-        let t = rng.random_range(-1.0..3.0);
+        let x = center + rng.vector::<D>(1.5);
+        let v = rng.vector::<D>(2.0);
+        let t = rng.uniform(-1.0, 3.0);
         close("L", gen_.value(&x, &v, t), hand.value(&x, &v, t), TOL);
         let (gf, gp) = gen_.gradient(&x, &v, t);
         let (hf, hp) = hand.gradient(&x, &v, t);
@@ -75,17 +71,17 @@ fn check_kernels<const D: usize>(
     gen_: &impl Lagrangian<D>,
     hand: &impl Lagrangian<D>,
     center: Vector<D>,
-    rng: &mut StdRng,
+    rng: &mut Rng,
 ) {
     const TOL: f64 = 1e-12;
     let mut explicit_seen = 0;
     for _ in 0..200 {
-        let h = rng.random_range(0.01..0.2);
-        let t_a = rng.random_range(-1.0..2.0);
+        let h = rng.uniform(0.01, 0.2);
+        let t_a = rng.uniform(-1.0, 2.0);
         let times = StepTimes::new(h, t_a, t_a + h, t_a + 2.0 * h);
-        let a = center + random_vec::<D>(rng, 1.0);
-        let b = a + random_vec::<D>(rng, 2.0 * h);
-        let y = b + random_vec::<D>(rng, 2.0 * h);
+        let a = center + rng.vector::<D>(1.0);
+        let b = a + rng.vector::<D>(2.0 * h);
+        let y = b + rng.vector::<D>(2.0 * h);
         for kind in KINDS {
             let gm = gen_.step_momentum(kind, &a, &b, &times);
             let hm = hand.step_momentum(kind, &a, &b, &times);
@@ -143,11 +139,6 @@ fn check_kernels<const D: usize>(
 
 // ---------------------------------------------------------------- pendulum (d = 1)
 
-#[lagrangian]
-fn pendulum(x: f64, v: f64, g: f64, l: f64) -> f64 {
-    0.5 * l * l * v * v + g * l * x.cos()
-}
-
 struct PendulumHand {
     g: f64,
     l: f64,
@@ -180,7 +171,7 @@ impl Lagrangian<1> for PendulumHand {
 
 #[test]
 fn pendulum_matches_hand_written() {
-    let mut rng = StdRng::seed_from_u64(1);
+    let mut rng = Rng(1);
     let (gen_, hand) = (
         Pendulum { g: 9.81, l: 1.3 },
         PendulumHand { g: 9.81, l: 1.3 },
@@ -228,7 +219,7 @@ impl Lagrangian<2> for KeplerHand {
 
 #[test]
 fn kepler_matches_hand_written() {
-    let mut rng = StdRng::seed_from_u64(2);
+    let mut rng = Rng(2);
     let (gen_, hand) = (Kepler { mu: 1.7 }, KeplerHand { mu: 1.7 });
     // Positions around (2.5, −2): away from the singularity at the origin.
     let center = Vector::<2>::new(2.5, -2.0);
@@ -282,7 +273,7 @@ impl Lagrangian<2> for CoupledHand {
 
 #[test]
 fn constant_mass_matrix_matches_hand_written() {
-    let mut rng = StdRng::seed_from_u64(6);
+    let mut rng = Rng(6);
     let (gen_, hand) = (Coupled { k: 1.5 }, CoupledHand { k: 1.5 });
     let center = Vector::<2>::new(0.4, -0.7);
     check_derivatives(&gen_, &hand, center, &mut rng);
@@ -290,15 +281,6 @@ fn constant_mass_matrix_matches_hand_written() {
 }
 
 // ---------------------------------------------------------------- double pendulum (d = 2)
-
-#[lagrangian]
-fn double_pendulum(x: [f64; 2], v: [f64; 2], m1: f64, m2: f64, l1: f64, l2: f64, g: f64) -> f64 {
-    let kinetic = 0.5 * (m1 + m2) * l1 * l1 * v[0] * v[0]
-        + 0.5 * m2 * l2 * l2 * v[1] * v[1]
-        + m2 * l1 * l2 * v[0] * v[1] * (x[0] - x[1]).cos();
-    let potential = -(m1 + m2) * g * l1 * x[0].cos() - m2 * g * l2 * x[1].cos();
-    kinetic - potential
-}
 
 struct DoublePendulumHand {
     m1: f64,
@@ -353,7 +335,7 @@ impl Lagrangian<2> for DoublePendulumHand {
 
 #[test]
 fn double_pendulum_matches_hand_written() {
-    let mut rng = StdRng::seed_from_u64(3);
+    let mut rng = Rng(3);
     let gen_ = DoublePendulum {
         m1: 1.2,
         m2: 0.7,
@@ -413,7 +395,7 @@ impl Lagrangian<1> for CaldirolaKanaiHand {
 
 #[test]
 fn time_dependent_matches_hand_written() {
-    let mut rng = StdRng::seed_from_u64(4);
+    let mut rng = Rng(4);
     let gen_ = CaldirolaKanai {
         m: 1.5,
         k: 4.0,
@@ -469,7 +451,7 @@ impl Lagrangian<1> for AnharmonicHand {
 
 #[test]
 fn parameterised_matches_hand_written() {
-    let mut rng = StdRng::seed_from_u64(5);
+    let mut rng = Rng(5);
     for (m, k, lambda, c) in [(1.0, 2.0, 0.5, 0.3), (0.2, -1.0, 3.0, -2.0)] {
         let gen_ = Anharmonic { m, k, lambda, c };
         let hand = AnharmonicHand { m, k, lambda, c };

@@ -1,5 +1,5 @@
-//! Must show 4 of issue 3: compile-fail cases of `#[lagrangian]`, one per file, grouped by
-//! kind, with `.stderr` snapshots (regenerate with `TRYBUILD=overwrite`, then review).
+//! Compile-fail cases of `#[lagrangian]`, one per file, grouped by kind, with `.stderr`
+//! snapshots (regenerate with `TRYBUILD=overwrite`, then review).
 
 #[test]
 fn ui() {

@@ -1,30 +1,16 @@
-//! The double pendulum twice: from `#[lagrangian]`, and with every derivative from num-dual's
-//! (hyper-)dual numbers. Shared by `benches/implicit_step.rs` (the speed of the two, issue 5b)
-//! and `tests/macro_num_dual.rs` (their agreement), so both measure the same model.
+//! The double pendulum with every derivative from num-dual's (hyper-)dual numbers, the crate a
+//! Rust user would otherwise pick. The implicit-step bench times it against
+//! [`DoublePendulum`] and the num-dual oracle test checks that the two agree, so
+//! both measure the same model.
 
 use nalgebra::SVector;
 use num_dual::DualNum;
-use varembed::{Hessian, Lagrangian, Vector, lagrangian};
+use varembed::{Hessian, Lagrangian, Vector};
 
-/// Double pendulum: configuration-dependent mass matrix.
-#[lagrangian]
-pub fn double_pendulum(
-    x: [f64; 2],
-    v: [f64; 2],
-    m1: f64,
-    m2: f64,
-    l1: f64,
-    l2: f64,
-    g: f64,
-) -> f64 {
-    let kinetic = 0.5 * (m1 + m2) * l1 * l1 * v[0] * v[0]
-        + 0.5 * m2 * l2 * l2 * v[1] * v[1]
-        + m2 * l1 * l2 * v[0] * v[1] * (x[0] - x[1]).cos();
-    let potential = -(m1 + m2) * g * l1 * x[0].cos() - m2 * g * l2 * x[1].cos();
-    kinetic - potential
-}
+use crate::models::generated::DoublePendulum;
 
-/// The same Lagrangian for num-dual, generic over the (hyper-)dual number type.
+/// [`generated::double_pendulum`](crate::models::generated::double_pendulum) for num-dual,
+/// generic over the (hyper-)dual number type.
 pub fn double_pendulum_dual<T: DualNum<Primitive = f64> + Copy>(
     p: &DoublePendulum,
     x: [T; 2],

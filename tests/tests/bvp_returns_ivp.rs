@@ -1,9 +1,9 @@
-//! Must-show 6: the classical boundary value problem, given the endpoints of an initial value
+//! The classical boundary value problem, given the endpoints of an initial value
 //! run, returns that run (for every classical scheme, both sides).
 
-mod common;
-use common::{Coupled, Pendulum, max_diff};
 use varembed::{Embedding, Grid, Problem, Scheme, Side, Vector};
+use varembed_tests::curve::max_diff;
+use varembed_tests::models::hand::{Coupled, Pendulum};
 
 #[test]
 fn bvp_through_the_ends_of_an_ivp_run_is_that_run() {

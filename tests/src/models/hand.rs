@@ -1,35 +1,14 @@
-//! Hand-written Lagrangians shared by the integration tests (the macro is tested elsewhere).
-#![allow(dead_code)] // each test file uses a subset
+//! Hand-written Lagrangians: plain formulas for `value`, `gradient` and `hessian`.
 
 use varembed::{Hessian, Lagrangian, Matrix, Vector};
 
-/// A deterministic PRNG (SplitMix64), so that failures reproduce.
-pub struct Rng(pub u64);
-impl Rng {
-    pub fn next_f64(&mut self) -> f64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    }
-    /// Uniform in `[lo, hi)`.
-    pub fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * self.next_f64()
-    }
-    pub fn curve<const D: usize>(&mut self, n: usize, amplitude: f64) -> Vec<Vector<D>> {
-        (0..=n)
-            .map(|_| Vector::<D>::from_fn(|_, _| self.uniform(-amplitude, amplitude)))
-            .collect()
-    }
-}
-
-pub fn v1(x: f64) -> Vector<1> {
-    Vector::<1>::new(x)
-}
+use crate::curve::v1;
 
 /// A non-separable, time-dependent Lagrangian in d = 2:
 /// `L = ½(1 + x₀²)v₀² + ½v₁² + cos(t) x₀ v₁ + 0.3 x₁ v₀ v₁ − ½(1 + 0.1t)(x₀² + x₁⁴)`.
+///
+/// Every Hessian block depends on the state and `L_xv` on `t`, so no step of it is affine and
+/// no term of a scheme vanishes by accident.
 pub struct Coupled;
 
 impl Lagrangian<2> for Coupled {
@@ -63,10 +42,12 @@ impl Lagrangian<2> for Coupled {
     }
 }
 
-/// `L = ½v² − U(x)` in d = 1 with `U = x⁴/4 − cos x`.
+/// `L = ½v² − U(x)` in d = 1 with `U = x⁴/4 − cos x`: separable, so its variational scheme is
+/// Störmer–Verlet.
 pub struct Anharmonic;
 
 impl Anharmonic {
+    /// The force `−U′(x) = −(x³ + sin x)`.
     pub fn force(x: f64) -> f64 {
         -(x.powi(3) + x.sin())
     }
@@ -88,8 +69,10 @@ impl Lagrangian<1> for Anharmonic {
     }
 }
 
-/// Harmonic oscillator `L = ½v² − ½ω²x²`.
+/// Harmonic oscillator `L = ½v² − ½ω²x²`; its discrete solutions are in
+/// [`crate::reference::DiscreteOscillation`].
 pub struct Oscillator {
+    /// The angular frequency `ω`.
     pub omega: f64,
 }
 
@@ -109,9 +92,12 @@ impl Lagrangian<1> for Oscillator {
     }
 }
 
-/// Pendulum `L = ½ l² v² + g l cos x`.
+/// Pendulum `L = ½ l² v² + g l cos x` (the same model as
+/// [`generated::Pendulum`](crate::models::generated::Pendulum)).
 pub struct Pendulum {
+    /// Gravity `g`.
     pub g: f64,
+    /// Length `l`.
     pub l: f64,
 }
 
@@ -132,17 +118,4 @@ impl Lagrangian<1> for Pendulum {
             vv: Matrix::<1>::new(self.l * self.l),
         }
     }
-}
-
-/// Max-norm of a list of vectors.
-pub fn max_norm<const D: usize>(x: &[Vector<D>]) -> f64 {
-    x.iter().fold(0.0f64, |m, v| m.max(v.amax()))
-}
-
-/// Max-norm of the difference of two lists.
-pub fn max_diff<const D: usize>(a: &[Vector<D>], b: &[Vector<D>]) -> f64 {
-    assert_eq!(a.len(), b.len());
-    a.iter()
-        .zip(b)
-        .fold(0.0f64, |m, (x, y)| m.max((x - y).amax()))
 }

@@ -1,20 +1,18 @@
-//! Issue 5: the fractional boundary-value fast path (FFT operators, Newton–Krylov) against the
-//! dense reference.
+//! The fractional boundary-value fast path (FFT operators, Newton–Krylov) against the dense
+//! reference.
 
-mod common;
-use common::Rng;
 use varembed::__private::fft_operator::FftOperator;
 use varembed::__private::operator::Operator;
-use varembed::{Grid, Side, Vector};
+use varembed::{
+    Embedding, Error, FractionalSolver, Grid, Hessian, Lagrangian, Matrix, Problem, Scheme, Side,
+    Solution, Vector,
+};
+use varembed_tests::curve::{max_diff, max_norm};
+use varembed_tests::models::hand::{Oscillator, Pendulum};
+use varembed_tests::rng::Rng;
 
 fn relative_gap<const D: usize>(fast: &[Vector<D>], dense: &[Vector<D>]) -> f64 {
-    assert_eq!(fast.len(), dense.len());
-    let scale = dense.iter().fold(0.0f64, |m, v| m.max(v.amax()));
-    let gap = fast
-        .iter()
-        .zip(dense)
-        .fold(0.0f64, |m, (a, b)| m.max((a - b).amax()));
-    gap / scale
+    max_diff(fast, dense) / max_norm(dense)
 }
 
 fn check_operator<const D: usize>(rng: &mut Rng, n: usize, side: Side, alpha: f64) {
@@ -39,7 +37,7 @@ fn check_operator<const D: usize>(rng: &mut Rng, n: usize, side: Side, alpha: f6
     );
 }
 
-/// Must-show 1: FFT products equal the dense loops to 1e-12 relative.
+/// FFT products equal the dense loops to 1e-12 relative.
 #[test]
 fn fft_products_equal_the_dense_loops() {
     let mut rng = Rng(11);
@@ -66,12 +64,6 @@ fn fft_products_check_lengths() {
     );
     assert!(fast.apply_transpose(&[Vector::<1>::zeros(); 6]).is_err());
 }
-
-use common::{Oscillator, Pendulum};
-// (Oscillator and Error are used by the stall tests below.)
-use varembed::{
-    Embedding, Error, FractionalSolver, Hessian, Lagrangian, Matrix, Problem, Scheme, Solution,
-};
 
 /// A coupled, non-separable, time-dependent Lagrangian in d = 2 with a convex potential part:
 /// `L = ½(1 + 0.2x₁²)v₀² + ½v₁² + 0.2v₀v₁ + 0.3 cos(t) x₀v₁ + ½x₀² + ¼x₁⁴ + 0.2x₀x₁`.
@@ -127,7 +119,7 @@ fn newton_criterion<L: Lagrangian<D>, const D: usize>(
     let rows = problem.embedding().quadrature_rows(problem.grid().n());
     let (mut f_max, mut p_max) = (0.0f64, 0.0f64);
     let (mut xx, mut xv, mut vv) = (0.0f64, 0.0f64, 0.0f64);
-    let norm = |m: &varembed::Matrix<D>| {
+    let norm = |m: &Matrix<D>| {
         m.row_iter()
             .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
             .fold(0.0, f64::max)
@@ -145,10 +137,10 @@ fn newton_criterion<L: Lagrangian<D>, const D: usize>(
         );
     }
     let h_alpha = problem.grid().h().powf(-problem.embedding().alpha());
-    let residual = common::max_norm(&r);
+    let residual = max_norm(&r);
     let relative = residual / (1.0 + f_max + h_alpha * p_max);
     let jacobian = xx + 4.0 * h_alpha * xv + 4.0 * h_alpha * h_alpha * vv;
-    let floor = 64.0 * f64::EPSILON * jacobian * common::max_norm(q);
+    let floor = 64.0 * f64::EPSILON * jacobian * max_norm(q);
     let tolerance = problem.newton_options().tolerance;
     (
         relative,
@@ -191,7 +183,7 @@ fn fast_vs_dense<L: Lagrangian<D>, const D: usize>(
     fast.max_distance(&dense.q).unwrap()
 }
 
-/// Must-show 2, d = 1: the pendulum `L = ½v² + cos x` with random boundary values.
+/// Fast and dense agree, d = 1: the pendulum `L = ½v² + cos x` with random boundary values.
 #[test]
 fn fast_and_dense_agree_on_the_pendulum() {
     let pendulum = Pendulum { g: 1.0, l: 1.0 };
@@ -223,7 +215,7 @@ fn fast_and_dense_agree_on_the_pendulum() {
     }
 }
 
-/// Must-show 2, d = 2: a coupled, non-separable, time-dependent Lagrangian.
+/// Fast and dense agree, d = 2: a coupled, non-separable, time-dependent Lagrangian.
 #[test]
 fn fast_and_dense_agree_on_a_coupled_two_dimensional_lagrangian() {
     let mut rng = Rng(22);
@@ -243,7 +235,7 @@ fn fast_and_dense_agree_on_a_coupled_two_dimensional_lagrangian() {
     }
 }
 
-/// Must-show 3: `L = ½v² − 72x²` makes `J = DᵀD − 144` indefinite, so conjugate gradients break
+/// `L = ½v² − 72x²` makes `J = DᵀD − 144` indefinite, so conjugate gradients break
 /// down; the fast path falls back to GMRES and still returns the dense path's solution.
 #[test]
 fn an_indefinite_jacobian_falls_back_to_gmres_and_stays_correct() {
@@ -264,7 +256,7 @@ fn an_indefinite_jacobian_falls_back_to_gmres_and_stays_correct() {
     }
 }
 
-/// Must-show 3: a strong pendulum `L = ½v² + 50 cos x` pulled through many turns
+/// A strong pendulum `L = ½v² + 50 cos x` pulled through many turns
 /// (`Q_N = 30`): whatever the solver does, an `Ok` meets the Newton tolerance on the dense
 /// residual and an `Err` is one of the typed failures.
 #[test]
@@ -299,8 +291,8 @@ fn a_hard_nonconvex_problem_gives_a_correct_answer_or_a_typed_error() {
     eprintln!("outcomes: {outcomes:?}");
 }
 
-/// Must-show 2 at N = 2000 (dense LU of a 1999² system: run in release,
-/// `cargo test -p varembed --release --test fractional_fast -- --ignored n2000`).
+/// Fast and dense agree at N = 2000 (dense LU of a 1999² system: run in release,
+/// `cargo test -p varembed-tests --release --test fractional_fast -- --ignored n2000`).
 #[test]
 #[ignore = "dense reference at N = 2000: seconds in release, minutes in debug"]
 fn n2000_fast_and_dense_agree() {
@@ -320,9 +312,9 @@ fn n2000_fast_and_dense_agree() {
     }
 }
 
-/// Must-show 4: the fast path at N = 10⁶ (d = 1) in O(N) memory. Run alone, in release, so
+/// The fast path at N = 10⁶ (d = 1) in O(N) memory. Run alone, in release, so
 /// that the process's peak resident set (`VmHWM`) is this solve's:
-/// `cargo test -p varembed --release --test fractional_fast -- --ignored million --nocapture`.
+/// `cargo test -p varembed-tests --release --test fractional_fast -- --ignored million --nocapture`.
 #[test]
 #[ignore = "N = 10⁶: run alone in release to measure the peak memory"]
 fn million_nodes_in_linear_memory() {

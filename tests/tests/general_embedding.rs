@@ -1,9 +1,10 @@
-//! Must-show 7: the direct embedding of `q̈ + q̇ + q = 0` is the paper's formula and converges
+//! The direct embedding of `q̈ + q̇ + q = 0` is the paper's formula and converges
 //! at order 1 to the exact solution.
 
-mod common;
-use common::{Rng, v1};
-use varembed::{DifferentialOperator, Grid, Side};
+use varembed::DifferentialOperator;
+use varembed::{Grid, Side};
+use varembed_tests::curve::v1;
+use varembed_tests::rng::Rng;
 
 /// Exact solution with `q(0) = 1`, `q̇(0) = 0`: `e^{−t/2}(cos ωt + sin(ωt)/(2ω))`, `ω = √3/2`.
 fn exact(t: f64) -> f64 {

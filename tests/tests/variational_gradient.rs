@@ -1,9 +1,9 @@
-//! Must-show 1: the variational residual is `(1/h) ∂S_h/∂Q_j`, checked by central finite
+//! The variational residual is `(1/h) ∂S_h/∂Q_j`, checked by central finite
 //! differences of `action`, for σ = ±, α ∈ {1, 0.3, 0.7}, on a non-separable, time-dependent L.
 
-mod common;
-use common::{Coupled, Rng};
 use varembed::{Embedding, Grid, Lagrangian, Problem, Scheme, Side, Vector};
+use varembed_tests::models::hand::Coupled;
+use varembed_tests::rng::Rng;
 
 /// Guards the oracle itself: the hand-written gradient and Hessian of `Coupled` match central
 /// differences of its value and gradient.

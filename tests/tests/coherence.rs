@@ -1,10 +1,11 @@
-//! Must-show 2 (coherence, paper §2.2–3.2): on random Q the direct and variational residuals
+//! Coherence (paper §2.2–3.2): on random Q the direct and variational residuals
 //! agree to round-off for the asymmetric Gauss-FDE± and Gauss-GLE±, and differ by O(1) for
 //! Gauss-FDE±.
 
-mod common;
-use common::{Coupled, Rng, max_diff, max_norm};
 use varembed::{Embedding, Grid, Problem, Scheme, Side};
+use varembed_tests::curve::{max_diff, max_norm};
+use varembed_tests::models::hand::Coupled;
+use varembed_tests::rng::Rng;
 
 #[test]
 fn asymmetric_and_grunwald_letnikov_embeddings_are_coherent() {

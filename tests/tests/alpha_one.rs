@@ -1,9 +1,10 @@
-//! Must-show 5: at α = 1 the Gauss-GLE± residual and boundary value solution equal the
+//! At α = 1 the Gauss-GLE± residual and boundary value solution equal the
 //! classical variational ones to 1e-12.
 
-mod common;
-use common::{Coupled, Pendulum, Rng, max_diff, max_norm};
 use varembed::{Embedding, Grid, Problem, Scheme, Side};
+use varembed_tests::curve::{max_diff, max_norm};
+use varembed_tests::models::hand::{Coupled, Pendulum};
+use varembed_tests::rng::Rng;
 
 #[test]
 fn alpha_one_residual_is_the_classical_variational_residual() {

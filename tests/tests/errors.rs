@@ -1,12 +1,13 @@
-//! Must-show 8: every error variant is produced, by user input or by a failing solve, as a
+//! Every error variant is produced, by user input or by a failing solve, as a
 //! typed error carrying where it happened; nothing panics.
 
-mod common;
-use common::{Oscillator, Pendulum, v1};
+use varembed::DifferentialOperator;
 use varembed::{
     DifferentialOperator, Embedding, Error, Grid, Hessian, Lagrangian, Location, Matrix,
     NewtonOptions, Problem, Scheme, Side, Vector, curve_from_flat,
 };
+use varembed_tests::curve::v1;
+use varembed_tests::models::hand::{Oscillator, Pendulum};
 
 #[test]
 fn invalid_grids() {

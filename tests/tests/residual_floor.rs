@@ -1,7 +1,7 @@
-//! Issue 5(c): how small the residual of a fractional boundary value problem can be in double
+//! How small the residual of a fractional boundary value problem can be in double
 //! precision, measured with a double-double oracle.
 //!
-//! The issue's problem is the pendulum `L = ½v² + cos x`, Gauss-GLE− with α = 0.7 on `[0, 1]`,
+//! The problem is the pendulum `L = ½v² + cos x`, Gauss-GLE− with α = 0.7 on `[0, 1]`,
 //! `Q_0 = 0`, `Q_N = 1`, and its residual rows are those of [`Problem::residual`]:
 //! `r_j = −sin Q_j + (Dᵀ p)_j`, `p = D Q`, `D = h^{−α} W` with `W` the lower-triangular Toeplitz
 //! matrix of the Grünwald–Letnikov weights. The Jacobian `DᵀD − diag(cos Q)` has norm about
@@ -27,12 +27,12 @@
 //!    neighbouring doubles, at random) do no better. The solver's own curve is then checked
 //!    against that floor, and `Problem::residual` against the oracle.
 
-mod common;
-use common::{Pendulum, Rng};
 use varembed::__private::toeplitz::{TriangularToeplitz, Workspace};
 use varembed::{
     Embedding, Grid, Hessian, Lagrangian, Matrix, NewtonOptions, Problem, Scheme, Side, Vector,
 };
+use varembed_tests::models::hand::Pendulum;
+use varembed_tests::rng::Rng;
 
 const ALPHA: f64 = 0.7;
 
@@ -351,11 +351,11 @@ fn the_solver_reaches_the_double_precision_floor() {
     assert!(m.library_error <= 0.3 * m.floor, "{m:?}");
 }
 
-/// The issue's size. Release only (about a minute):
-/// `cargo test -p varembed --release --test residual_floor -- --ignored --nocapture`.
+/// N = 10⁵. Release only (about a minute):
+/// `cargo test -p varembed-tests --release --test residual_floor -- --ignored --nocapture`.
 #[test]
 #[ignore = "N = 10⁵ with a double-double oracle: run in release"]
-fn the_floor_at_the_issue_size() {
+fn the_floor_at_a_hundred_thousand_nodes() {
     let m = measure(100_000, 4096);
     eprintln!("{m:?}");
     eprintln!(

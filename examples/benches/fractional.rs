@@ -3,40 +3,20 @@
 //! Pendulum `L = ½v² + cos x`, Gauss-GLE− with α = 0.7 on `[0, 1]`, `Q_0 = 0`, `Q_N = 1`.
 //! Three solves side by side: dense LU, the fast path at the default Newton tolerance (1e-12
 //! relative), and the fast path run to round-off (`fast_floor`: tolerance 1e-16, so Newton stops
-//! when the residual stops falling; `tests/residual_floor.rs` shows that this is the residual of
+//! when the residual stops falling; `tests/tests/residual_floor.rs` shows that this is the residual of
 //! the exact discrete solution rounded to doubles). Before timing each size, the solve is run
 //! once and its Newton iterations and reached residual are printed (see `report`).
 //!
-//! `cargo bench -p varembed --bench fractional -- --warm-up-time 1 --measurement-time 3`;
+//! `cargo bench -p varembed-examples --bench fractional -- --warm-up-time 1 --measurement-time 3`;
 //! set `VAREMBED_BENCH_MILLION=1` to include N = 10⁶.
 
-use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
+
+use criterion::{BenchmarkId, Criterion};
 use varembed::__private::fft_operator::FftOperator;
 use varembed::__private::operator::Operator;
-use varembed::{
-    Embedding, FractionalSolver, Grid, Hessian, Lagrangian, Matrix, NewtonOptions, Problem, Scheme,
-    Side, Vector,
-};
-
-/// `L = ½v² + cos x`.
-struct Pendulum;
-
-impl Lagrangian<1> for Pendulum {
-    fn value(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
-        0.5 * v[0] * v[0] + x[0].cos()
-    }
-    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
-        (Vector::<1>::new(-x[0].sin()), *v)
-    }
-    fn hessian(&self, x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
-        Hessian {
-            xx: Matrix::<1>::new(-x[0].cos()),
-            xv: Matrix::<1>::zeros(),
-            vv: Matrix::<1>::identity(),
-        }
-    }
-}
+use varembed::{Embedding, FractionalSolver, Grid, NewtonOptions, Problem, Scheme, Side};
+use varembed_tests::models::hand::Pendulum;
 
 /// One of the timed solves: its name, its linear algebra, its Newton tolerance.
 #[derive(Clone, Copy)]
@@ -51,7 +31,7 @@ const DEFAULT_TOLERANCE: f64 = 1e-12;
 fn problem(n: usize, variant: Variant) -> Problem<'static, Pendulum, 1> {
     let grid = Grid::new(0.0, 1.0, n).expect("valid grid");
     let embedding = Embedding::grunwald_letnikov(Side::Backward, 0.7).expect("valid α");
-    Problem::new(&Pendulum, grid, embedding)
+    Problem::new(&Pendulum { g: 1.0, l: 1.0 }, grid, embedding)
         .with_fractional_solver(variant.solver)
         .with_newton(NewtonOptions {
             tolerance: variant.tolerance,
@@ -134,5 +114,4 @@ fn bench(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, bench);
-criterion_main!(benches);
+varembed_tests::bench_main!(varembed_tests::bench::runs(); bench);

@@ -1,11 +1,12 @@
-//! Must-show 4: harmonic oscillator, exact discrete solutions.
+//! Harmonic oscillator: every run equals its exact discrete solution node for node
+//! ([`DiscreteOscillation`]).
 //! Variational: `Q_k = A cos(kθ) + B sin(kθ)`, `cos θ = 1 − (ωh)²/2`.
 //! Direct σ = −: `Q_k = r^k (A' cos(kφ) + B' sin(kφ))`, `r = (1 + ω²h²)^{−1/2}`, `tan φ = ωh`:
 //! it loses exactly the factor `r` of amplitude per step.
 
-mod common;
-use common::Oscillator;
 use varembed::{Embedding, Grid, Problem, Scheme, Side};
+use varembed_tests::models::hand::Oscillator;
+use varembed_tests::reference::DiscreteOscillation;
 
 const OMEGA: f64 = 2.0;
 
@@ -13,7 +14,6 @@ const OMEGA: f64 = 2.0;
 fn variational_run_is_the_exact_discrete_rotation() {
     let grid = Grid::new(0.0, 30.0, 1500).unwrap();
     let h = grid.h();
-    let theta = (1.0 - (OMEGA * h).powi(2) / 2.0).acos();
     for side in [Side::Backward, Side::Forward] {
         let problem = Problem::new(
             &Oscillator { omega: OMEGA },
@@ -21,10 +21,9 @@ fn variational_run_is_the_exact_discrete_rotation() {
             Embedding::finite_difference(side),
         );
         let run = problem.solve_ivp(Scheme::Variational, 1.0, 0.5).unwrap();
-        let a = run.q[0][0];
-        let b = (run.q[1][0] - a * theta.cos()) / theta.sin();
+        let rotation = DiscreteOscillation::variational(OMEGA * h, run.q[0][0], run.q[1][0]);
         for (k, q) in run.q.iter().enumerate() {
-            let exact = a * (k as f64 * theta).cos() + b * (k as f64 * theta).sin();
+            let exact = rotation.at(k);
             assert!(
                 (q[0] - exact).abs() < 1e-10,
                 "{side:?} k = {k}: {} vs {exact}",
@@ -38,18 +37,16 @@ fn variational_run_is_the_exact_discrete_rotation() {
 fn direct_backward_run_loses_the_factor_r_per_step() {
     let grid = Grid::new(0.0, 30.0, 1500).unwrap();
     let h = grid.h();
-    let r = (1.0 + (OMEGA * h).powi(2)).powf(-0.5);
-    let phi = (OMEGA * h).atan();
     let problem = Problem::new(
         &Oscillator { omega: OMEGA },
         grid,
         Embedding::finite_difference(Side::Backward),
     );
     let run = problem.solve_ivp(Scheme::Direct, 1.0, 0.5).unwrap();
-    let a = run.q[0][0];
-    let b = (run.q[1][0] / r - a * phi.cos()) / phi.sin();
+    let spiral = DiscreteOscillation::direct_backward(OMEGA * h, run.q[0][0], run.q[1][0]);
+    let r = spiral.ratio;
     for (k, q) in run.q.iter().enumerate() {
-        let exact = r.powi(k as i32) * (a * (k as f64 * phi).cos() + b * (k as f64 * phi).sin());
+        let exact = spiral.at(k);
         assert!((q[0] - exact).abs() < 1e-10, "k = {k}: {} vs {exact}", q[0]);
     }
     // Measured on the run: the peak over the last period (≈ 157 steps, 2π/φ) against the peak
@@ -67,19 +64,16 @@ fn direct_forward_run_gains_the_factor_one_over_r_per_step() {
     // (Q_{k+2} − 2Q_{k+1} + Q_k)/h² = −ω²Q_k has roots 1 ± iωh, of modulus 1/r.
     let grid = Grid::new(0.0, 5.0, 500).unwrap();
     let h = grid.h();
-    let growth = (1.0 + (OMEGA * h).powi(2)).sqrt();
-    let phi = (OMEGA * h).atan();
     let problem = Problem::new(
         &Oscillator { omega: OMEGA },
         grid,
         Embedding::finite_difference(Side::Forward),
     );
     let run = problem.solve_ivp(Scheme::Direct, 1.0, 0.5).unwrap();
-    let a = run.q[0][0];
-    let b = (run.q[1][0] / growth - a * phi.cos()) / phi.sin();
+    let spiral = DiscreteOscillation::direct_forward(OMEGA * h, run.q[0][0], run.q[1][0]);
+    let growth = spiral.ratio;
     for (k, q) in run.q.iter().enumerate() {
-        let exact =
-            growth.powi(k as i32) * (a * (k as f64 * phi).cos() + b * (k as f64 * phi).sin());
+        let exact = spiral.at(k);
         assert!(
             (q[0] - exact).abs() < 1e-10 * growth.powi(k as i32),
             "k = {k}"

@@ -1,8 +1,8 @@
 //! `compare_ivp` / `compare_bvp`: every number of the table checked against an oracle.
 
-mod common;
-use common::{Oscillator, Pendulum, v1};
 use varembed::{CompareOptions, Embedding, Grid, Problem, Reference, Side, Start, Vector};
+use varembed_tests::curve::v1;
+use varembed_tests::models::hand::{Oscillator, Pendulum};
 
 fn exact_oscillator(t: f64) -> Vector<1> {
     // ω = 1, q(0) = 1, q̇(0) = 0.

@@ -1,0 +1,14 @@
+//! The Lagrangians the tests and benches solve, each written once.
+//!
+//! - [`hand`]: `value`, `gradient` and `hessian` written out by hand, everything else the
+//!   trait's defaults. They are the oracles for the solvers and for `#[lagrangian]`, and what a
+//!   user without the macro writes.
+//! - [`generated`]: models through `#[lagrangian]`, as a user of the macro writes them.
+//! - [`num_dual`]: the double pendulum with every derivative from num-dual's (hyper-)dual
+//!   numbers, an independent oracle for the macro and the usual alternative to it.
+//!
+//! Models used by one test only stay in that test, next to what it checks.
+
+pub mod generated;
+pub mod hand;
+pub mod num_dual;
