@@ -1,4 +1,4 @@
-//! Common-subexpression elimination.
+//! The CSE stage: which nodes each generated method binds to temporaries ([`Plans`]).
 //!
 //! The DAG is hash-consed, so identical subexpressions are already one node. What remains is to
 //! decide which nodes are bound to a `let` temporary: every non-leaf node that is used more than
@@ -6,7 +6,51 @@
 //! user. Emitting temporaries in id order (a topological order) then evaluates every distinct
 //! subexpression exactly once per method.
 
-use crate::expr::{Func, Graph, Id, Node};
+use crate::ir::{Derivatives, Func, Graph, Id, Node};
+
+/// One [`Plan`] per generated method.
+#[derive(Clone, Debug)]
+pub struct Plans {
+    /// `value`: `L`.
+    pub value: Plan,
+    /// `gradient`: `∂L/∂x`, `∂L/∂v`.
+    pub gradient: Plan,
+    /// `hessian`: the nonzero entries of the three blocks.
+    pub hessian: Plan,
+    /// `gradient_and_hessian`: the gradient and the Hessian entries together, so that what
+    /// they share (e.g. `sin`/`cos` of the same angle) is computed once.
+    pub gradient_and_hessian: Plan,
+}
+
+/// Plans the methods that evaluate `L` (the node `root`) and its derivatives `d`.
+pub fn plan(g: &Graph, root: Id, d: &Derivatives) -> Plans {
+    let gradient = gradient_roots(d);
+    let hessian = hessian_roots(g, d);
+    let both: Vec<Id> = gradient.iter().chain(&hessian).copied().collect();
+    Plans {
+        value: Plan::new(g, &[root]),
+        gradient: Plan::new(g, &gradient),
+        hessian: Plan::new(g, &hessian),
+        gradient_and_hessian: Plan::new(g, &both),
+    }
+}
+
+/// The gradient's entries, `∂L/∂x` then `∂L/∂v`.
+pub fn gradient_roots(d: &Derivatives) -> Vec<Id> {
+    d.fx.iter().chain(&d.fv).copied().collect()
+}
+
+/// The Hessian's roots, one per emitted (nonzero) entry: an off-diagonal entry of a symmetric
+/// block is written twice, `(i, j)` and `(j, i)`, so it is listed twice and becomes a
+/// temporary.
+pub fn hessian_roots(g: &Graph, d: &Derivatives) -> Vec<Id> {
+    [&d.xx, &d.xv, &d.vv]
+        .into_iter()
+        .flatten()
+        .copied()
+        .filter(|&id| !g.is_num(id, 0.0))
+        .collect()
+}
 
 /// Which nodes of a method become temporaries.
 #[derive(Clone, Debug)]

@@ -1,4 +1,5 @@
-//! Symbolic differentiation on the DAG, memoised per `(node, variable)` so that shared
+//! The differentiation stage: `L` → its first and second derivatives ([`Derivatives`]), by
+//! symbolic differentiation on the DAG, memoised per `(node, variable)` so that shared
 //! subexpressions are differentiated once and their derivatives are shared too.
 //!
 //! Derivative rules (`n` is the node itself, reused where the derivative contains it):
@@ -18,23 +19,23 @@
 
 use std::collections::HashMap;
 
-use crate::expr::{Func, Graph, Id, Node, Var};
+use crate::ir::{Derivatives, Func, Graph, HessianDependence, Id, Node, Var};
 
 /// Differentiates nodes of one graph; keeps the memo between calls so that second
 /// derivatives reuse first ones.
 #[derive(Default)]
-pub struct Differentiator {
+struct Differentiator {
     memo: HashMap<(Id, Var), Id>,
 }
 
 impl Differentiator {
     /// A differentiator with an empty memo.
-    pub fn new() -> Self {
+    fn new() -> Self {
         Self::default()
     }
 
     /// `∂root/∂var`.
-    pub fn diff(&mut self, g: &mut Graph, root: Id, var: Var) -> Id {
+    fn diff(&mut self, g: &mut Graph, root: Id, var: Var) -> Id {
         // Reachable nodes in topological order: every child's derivative exists before its
         // parent's, and no recursion is needed.
         for id in g.reachable(&[root]) {
@@ -173,42 +174,39 @@ impl Differentiator {
     }
 }
 
-/// The first and second derivatives of `L`, as nodes of the model's graph.
-#[derive(Clone, Debug)]
-pub struct Derivatives {
-    /// `∂L/∂x_i`.
-    pub fx: Vec<Id>,
-    /// `∂L/∂v_i`.
-    pub fv: Vec<Id>,
-    /// `∂²L/∂x_i∂x_j`, row-major; symmetric by construction (only `i ≤ j` is differentiated,
-    /// the lower triangle reuses it).
-    pub xx: Vec<Id>,
-    /// `∂²L/∂x_i∂v_j`, row-major.
-    pub xv: Vec<Id>,
-    /// `∂²L/∂v_i∂v_j`, row-major, symmetric like `xx`.
-    pub vv: Vec<Id>,
-}
-
-impl Derivatives {
-    /// Differentiates `root` (a Lagrangian of dimension `dim`) twice.
-    pub fn new(g: &mut Graph, root: Id, dim: usize) -> Self {
-        let mut d = Differentiator::new();
-        let fx: Vec<Id> = (0..dim).map(|i| d.diff(g, root, Var::X(i))).collect();
-        let fv: Vec<Id> = (0..dim).map(|i| d.diff(g, root, Var::V(i))).collect();
-        let mut xx = vec![0; dim * dim];
-        let mut vv = vec![0; dim * dim];
-        let mut xv = vec![0; dim * dim];
-        for i in 0..dim {
-            for j in 0..dim {
-                xv[i * dim + j] = d.diff(g, fx[i], Var::V(j));
-                if i <= j {
-                    xx[i * dim + j] = d.diff(g, fx[i], Var::X(j));
-                    vv[i * dim + j] = d.diff(g, fv[i], Var::V(j));
-                    xx[j * dim + i] = xx[i * dim + j];
-                    vv[j * dim + i] = vv[i * dim + j];
-                }
+/// Differentiates `root`, a Lagrangian of dimension `dim` in `graph`, twice, and finds what
+/// each second-derivative block depends on.
+pub fn differentiate(graph: &mut Graph, root: Id, dim: usize) -> Derivatives {
+    let g = graph;
+    let mut d = Differentiator::new();
+    let fx: Vec<Id> = (0..dim).map(|i| d.diff(g, root, Var::X(i))).collect();
+    let fv: Vec<Id> = (0..dim).map(|i| d.diff(g, root, Var::V(i))).collect();
+    let mut xx = vec![0; dim * dim];
+    let mut vv = vec![0; dim * dim];
+    let mut xv = vec![0; dim * dim];
+    for i in 0..dim {
+        for j in 0..dim {
+            xv[i * dim + j] = d.diff(g, fx[i], Var::V(j));
+            // Symmetric blocks: differentiate the upper triangle, mirror it.
+            if i <= j {
+                xx[i * dim + j] = d.diff(g, fx[i], Var::X(j));
+                vv[i * dim + j] = d.diff(g, fv[i], Var::V(j));
+                xx[j * dim + i] = xx[i * dim + j];
+                vv[j * dim + i] = vv[i * dim + j];
             }
         }
-        Self { fx, fv, xx, xv, vv }
+    }
+    let hessian_dependence = HessianDependence {
+        xx: g.dependence(&xx),
+        xv: g.dependence(&xv),
+        vv: g.dependence(&vv),
+    };
+    Derivatives {
+        fx,
+        fv,
+        xx,
+        xv,
+        vv,
+        hessian_dependence,
     }
 }

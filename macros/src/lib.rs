@@ -1,19 +1,23 @@
 //! `#[lagrangian]`: compile-time symbolic differentiation of a Lagrangian.
 //!
-//! The pipeline, one module per stage: [`parse`] (syn → expression DAG, spanned errors),
-//! [`expr`] (the hash-consed DAG), [`simplify`] (smart constructors: folding, identities),
-//! [`diff`] (symbolic derivatives), [`cse`] (which shared nodes become temporaries),
-//! [`codegen`] (the struct and the `Lagrangian<D>` impl), [`fallback`] (what is emitted on
-//! error). [`expand`] strings them together on `proc_macro2` tokens.
+//! A pipeline, one module per stage, each a function from one typed value to the next
+//! (strung together in [`expand`]): [`parse`] (syn → the IR, spanned errors, all collected) →
+//! [`diff`] (symbolic first and second derivatives) → [`cse`] (which shared nodes each method
+//! binds to temporaries) → [`text`] (`DERIVATIVES`) → [`emit`] (the struct and its
+//! `Lagrangian<D>` impl, expressions written by [`render`]). [`ir`] is the hash-consed DAG they
+//! share; [`simplify`] is the smart constructors every node is built through; [`fallback`] is
+//! what is emitted on error.
 
-mod codegen;
 mod cse;
 mod diff;
+mod emit;
 mod expand;
-mod expr;
 mod fallback;
+mod ir;
 mod parse;
+mod render;
 mod simplify;
+mod text;
 
 #[cfg(test)]
 mod tests;
@@ -28,14 +32,17 @@ use proc_macro::TokenStream;
 /// `struct CamelCaseName { pub constant: f64, … }` (a unit struct without constants, with the
 /// fn's visibility and docs) implementing `Lagrangian<D>`:
 ///
-/// - `value`, `gradient` (`∂L/∂x`, `∂L/∂v`) and `hessian` (the blocks `xx`, `xv`, `vv`), from
-///   symbolic derivatives simplified at compile time (constants folded, `0`/`1` identities,
-///   zero entries dropped, symmetric blocks computed once) with every common subexpression
-///   computed once per method;
-/// - fused step kernels `step_momentum` and `step_residual` for the four classical schemes,
-///   and, when the step equation is affine in the newest node with a constant matrix (e.g.
-///   `L = ½ vᵀMv − U(x)`), `step_is_affine` and the closed-form `step_explicit`;
+/// - `value`, `gradient` (`∂L/∂x`, `∂L/∂v`), `hessian` (the blocks `xx`, `xv`, `vv`) and
+///   `gradient_and_hessian` (both, sharing their common subexpressions), from symbolic
+///   derivatives simplified at compile time (constants folded, `0`/`1` identities, zero
+///   entries dropped, symmetric blocks computed once) with every common subexpression computed
+///   once per method; all `#[inline]`;
+/// - `hessian_dependence`: on which of `x`, `v`, `t` each block depends, read off the
+///   symbolic derivatives (e.g. `L = ½ vᵀMv − U(x)` has constant `vv` and zero `xv`). Core
+///   decides from it which steps of the classical schemes have a closed-form update;
 /// - `NAME::DERIVATIVES`, the derivatives as text.
+///
+/// The generated code reaches `varembed` only through its hidden `__private` module.
 ///
 /// The body may use `let` bindings, `+ - * /`, unary `-`, float and integer literals,
 /// parentheses, `x[i]`/`v[i]` with a literal index, the parameters, the `f64` methods (or
@@ -70,8 +77,7 @@ use proc_macro::TokenStream;
 /// ```
 #[proc_macro_attribute]
 pub fn lagrangian(args: TokenStream, item: TokenStream) -> TokenStream {
-    let original: proc_macro2::TokenStream = item.clone().into();
     expand::expand(args.into(), item.into())
-        .unwrap_or_else(|err| fallback::emit(original, &err))
+        .unwrap_or_else(expand::Rejected::into_tokens)
         .into()
 }

@@ -1,5 +1,8 @@
-//! Smart constructors: every node is built through these, so the DAG is simplified as it
-//! grows.
+//! Simplification, as the smart constructors every node is built through: the parser and the
+//! differentiator call them, so the graph is simplified as it grows and an unsimplified node
+//! never exists. A separate pass after differentiation would come too late: the product rule
+//! applied to unsimplified nodes multiplies the `0·a` and `1·a` terms at every level, so the
+//! second derivatives would be built from a graph many times the size of the simplified one.
 //!
 //! Rules (all exact in floating point for finite operands, except the structural-zero rules
 //! `0 · a = 0`, `0 / a = 0`, `a − a = 0`, `a / a = 1`, which assume `a` finite and nonzero
@@ -10,9 +13,7 @@
 //! `a + b` and `b + a` (likewise `·`) share one node (swapping them is exact), so
 //! `a·b` and `b·a` are the same node. Nothing is reassociated, so no rounding changes.
 
-use std::collections::HashMap;
-
-use crate::expr::{Func, Graph, Id, Node, Var};
+use crate::ir::{Func, Graph, Id, Node, Var};
 
 impl Graph {
     /// The constant `c`.
@@ -199,39 +200,5 @@ impl Graph {
             return self.num(x.hypot(y));
         }
         self.intern(Node::Hypot(a, b))
-    }
-
-    /// Rebuilds `root` with every variable accepted by `replace` substituted, re-simplifying on
-    /// the way (used to specialise the step kernels, e.g. `v = 0` in the explicit update).
-    pub fn substitute(
-        &mut self,
-        root: Id,
-        replace: &dyn Fn(Var) -> Option<f64>,
-        memo: &mut HashMap<Id, Id>,
-    ) -> Id {
-        for id in self.reachable(&[root]) {
-            if memo.contains_key(&id) {
-                continue;
-            }
-            let m = |i: Id| memo[&i];
-            let new = match self.node(id) {
-                Node::Num(_) => id,
-                Node::Var(var) => match replace(var) {
-                    Some(c) => self.num(c),
-                    None => id,
-                },
-                Node::Add(a, b) => self.add(m(a), m(b)),
-                Node::Sub(a, b) => self.sub(m(a), m(b)),
-                Node::Mul(a, b) => self.mul(m(a), m(b)),
-                Node::Div(a, b) => self.div(m(a), m(b)),
-                Node::Neg(a) => self.neg(m(a)),
-                Node::Call(f, a) => self.call(f, m(a)),
-                Node::Powi(a, n) => self.powi(m(a), n),
-                Node::Powf(a, b) => self.powf(m(a), m(b)),
-                Node::Hypot(a, b) => self.hypot(m(a), m(b)),
-            };
-            memo.insert(id, new);
-        }
-        memo[&root]
     }
 }

@@ -36,12 +36,12 @@ impl DoublePendulum {
     /// omitted; symmetric blocks listed once, `i ≤ j`).
     pub const DERIVATIVES: &str = "L = 0.5 * (m1 + m2) * l1 * l1 * v[0] * v[0] + 0.5 * m2 * l2 * l2 * v[1] * v[1] + m2 * l1 * l2 * v[0] * v[1] * (x[0] - x[1]).cos() - (-((m1 + m2) * g * l1 * x[0].cos()) - m2 * g * l2 * x[1].cos())\n∂L/∂x[0] = -(m2 * l1 * l2 * v[0] * v[1] * (x[0] - x[1]).sin()) - (m1 + m2) * g * l1 * x[0].sin()\n∂L/∂x[1] = m2 * l1 * l2 * v[0] * v[1] * (x[0] - x[1]).sin() - m2 * g * l2 * x[1].sin()\n∂L/∂v[0] = 2.0 * (0.5 * (m1 + m2) * l1 * l1 * v[0]) + m2 * l1 * l2 * v[1] * (x[0] - x[1]).cos()\n∂L/∂v[1] = 2.0 * (0.5 * m2 * l2 * l2 * v[1]) + m2 * l1 * l2 * v[0] * (x[0] - x[1]).cos()\n∂²L/∂x[0]∂x[0] = -(m2 * l1 * l2 * v[0] * v[1] * (x[0] - x[1]).cos()) - (m1 + m2) * g * l1 * x[0].cos()\n∂²L/∂x[0]∂x[1] = m2 * l1 * l2 * v[0] * v[1] * (x[0] - x[1]).cos()\n∂²L/∂x[1]∂x[1] = -(m2 * l1 * l2 * v[0] * v[1] * (x[0] - x[1]).cos()) - m2 * g * l2 * x[1].cos()\n∂²L/∂x[0]∂v[0] = -(m2 * l1 * l2 * v[1] * (x[0] - x[1]).sin())\n∂²L/∂x[0]∂v[1] = -(m2 * l1 * l2 * v[0] * (x[0] - x[1]).sin())\n∂²L/∂x[1]∂v[0] = m2 * l1 * l2 * v[1] * (x[0] - x[1]).sin()\n∂²L/∂x[1]∂v[1] = m2 * l1 * l2 * v[0] * (x[0] - x[1]).sin()\n∂²L/∂v[0]∂v[0] = 2.0 * (0.5 * (m1 + m2) * l1 * l1)\n∂²L/∂v[0]∂v[1] = m2 * l1 * l2 * (x[0] - x[1]).cos()\n∂²L/∂v[1]∂v[1] = 2.0 * (0.5 * m2 * l2 * l2)";
 }
-impl ::varembed::Lagrangian<2> for DoublePendulum {
+impl ::varembed::__private::Lagrangian<2> for DoublePendulum {
     #[inline]
     fn value(
         &self,
-        x: &::varembed::Vector<2>,
-        v: &::varembed::Vector<2>,
+        x: &::varembed::__private::Vector<2>,
+        v: &::varembed::__private::Vector<2>,
         _t: f64,
     ) -> f64 {
         let e0 = self.m1 + self.m2;
@@ -54,10 +54,10 @@ impl ::varembed::Lagrangian<2> for DoublePendulum {
     #[inline]
     fn gradient(
         &self,
-        x: &::varembed::Vector<2>,
-        v: &::varembed::Vector<2>,
+        x: &::varembed::__private::Vector<2>,
+        v: &::varembed::__private::Vector<2>,
         _t: f64,
-    ) -> (::varembed::Vector<2>, ::varembed::Vector<2>) {
+    ) -> (::varembed::__private::Vector<2>, ::varembed::__private::Vector<2>) {
         let e0 = self.m1 + self.m2;
         let e1 = self.m2 * self.l1 * self.l2;
         let e2 = e1 * v[0];
@@ -65,13 +65,13 @@ impl ::varembed::Lagrangian<2> for DoublePendulum {
         let e4 = e3.cos();
         let e5 = e2 * v[1] * e3.sin();
         (
-            ::varembed::Vector::<
+            ::varembed::__private::Vector::<
                 2,
             >::from([
                 -e5 - e0 * self.g * self.l1 * x[0].sin(),
                 e5 - self.m2 * self.g * self.l2 * x[1].sin(),
             ]),
-            ::varembed::Vector::<
+            ::varembed::__private::Vector::<
                 2,
             >::from([
                 2.0 * (0.5 * e0 * self.l1 * self.l1 * v[0]) + e1 * v[1] * e4,
@@ -82,10 +82,10 @@ impl ::varembed::Lagrangian<2> for DoublePendulum {
     #[inline]
     fn hessian(
         &self,
-        x: &::varembed::Vector<2>,
-        v: &::varembed::Vector<2>,
+        x: &::varembed::__private::Vector<2>,
+        v: &::varembed::__private::Vector<2>,
         _t: f64,
-    ) -> ::varembed::Hessian<2> {
+    ) -> ::varembed::__private::Hessian<2> {
         let e0 = self.m1 + self.m2;
         let e1 = self.m2 * self.l1 * self.l2;
         let e2 = e1 * v[0];
@@ -97,275 +97,103 @@ impl ::varembed::Lagrangian<2> for DoublePendulum {
         let e8 = -e5;
         let e9 = e2 * e6;
         let e10 = e1 * e4;
-        let mut xx = ::varembed::Matrix::<2>::zeros();
+        let mut xx = ::varembed::__private::Matrix::<2>::zeros();
         xx[(0, 0)] = e8 - e0 * self.g * self.l1 * x[0].cos();
         xx[(0, 1)] = e5;
         xx[(1, 0)] = e5;
         xx[(1, 1)] = e8 - self.m2 * self.g * self.l2 * x[1].cos();
-        let mut xv = ::varembed::Matrix::<2>::zeros();
+        let mut xv = ::varembed::__private::Matrix::<2>::zeros();
         xv[(0, 0)] = -e7;
         xv[(0, 1)] = -e9;
         xv[(1, 0)] = e7;
         xv[(1, 1)] = e9;
-        let mut vv = ::varembed::Matrix::<2>::zeros();
+        let mut vv = ::varembed::__private::Matrix::<2>::zeros();
         vv[(0, 0)] = 2.0 * (0.5 * e0 * self.l1 * self.l1);
         vv[(0, 1)] = e10;
         vv[(1, 0)] = e10;
         vv[(1, 1)] = 2.0 * (0.5 * self.m2 * self.l2 * self.l2);
-        ::varembed::Hessian { xx, xv, vv }
-    }
-    #[inline]
-    fn step_momentum(
-        &self,
-        kind: ::varembed::StepKind,
-        a: &::varembed::Vector<2>,
-        b: &::varembed::Vector<2>,
-        times: &::varembed::StepTimes,
-    ) -> ::varembed::Vector<2> {
-        match kind {
-            ::varembed::StepKind::VariationalBackward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (b[0] - a[0]) * inv_h;
-                let v1 = (b[1] - a[1]) * inv_h;
-                let e0 = self.m1 + self.m2;
-                let e1 = self.m2 * self.l1 * self.l2;
-                let e2 = e1 * v0;
-                let e3 = b[0] - b[1];
-                let e4 = e3.cos();
-                let e5 = e2 * v1 * e3.sin();
-                ::varembed::Vector::<
-                    2,
-                >::from([
-                    2.0 * (0.5 * e0 * self.l1 * self.l1 * v0) + e1 * v1 * e4
-                        + (-e5 - e0 * self.g * self.l1 * b[0].sin()) * h,
-                    2.0 * (0.5 * self.m2 * self.l2 * self.l2 * v1) + e2 * e4
-                        + (e5 - self.m2 * self.g * self.l2 * b[1].sin()) * h,
-                ])
-            }
-            ::varembed::StepKind::VariationalForward => {
-                let inv_h = times.inv_h;
-                let v0 = (b[0] - a[0]) * inv_h;
-                let v1 = (b[1] - a[1]) * inv_h;
-                let e0 = self.m2 * self.l1 * self.l2;
-                let e1 = (a[0] - a[1]).cos();
-                ::varembed::Vector::<
-                    2,
-                >::from([
-                    2.0 * (0.5 * (self.m1 + self.m2) * self.l1 * self.l1 * v0)
-                        + e0 * v1 * e1,
-                    2.0 * (0.5 * self.m2 * self.l2 * self.l2 * v1) + e0 * v0 * e1,
-                ])
-            }
-            ::varembed::StepKind::DirectBackward => {
-                let inv_h = times.inv_h;
-                let v0 = (b[0] - a[0]) * inv_h;
-                let v1 = (b[1] - a[1]) * inv_h;
-                let e0 = self.m2 * self.l1 * self.l2;
-                let e1 = (b[0] - b[1]).cos();
-                ::varembed::Vector::<
-                    2,
-                >::from([
-                    2.0 * (0.5 * (self.m1 + self.m2) * self.l1 * self.l1 * v0)
-                        + e0 * v1 * e1,
-                    2.0 * (0.5 * self.m2 * self.l2 * self.l2 * v1) + e0 * v0 * e1,
-                ])
-            }
-            ::varembed::StepKind::DirectForward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (b[0] - a[0]) * inv_h;
-                let v1 = (b[1] - a[1]) * inv_h;
-                let e0 = self.m1 + self.m2;
-                let e1 = self.m2 * self.l1 * self.l2;
-                let e2 = e1 * v0;
-                let e3 = a[0] - a[1];
-                let e4 = e3.cos();
-                let e5 = e2 * v1 * e3.sin();
-                ::varembed::Vector::<
-                    2,
-                >::from([
-                    2.0 * (0.5 * e0 * self.l1 * self.l1 * v0) + e1 * v1 * e4
-                        + (-e5 - e0 * self.g * self.l1 * a[0].sin()) * h,
-                    2.0 * (0.5 * self.m2 * self.l2 * self.l2 * v1) + e2 * e4
-                        + (e5 - self.m2 * self.g * self.l2 * a[1].sin()) * h,
-                ])
-            }
+        ::varembed::__private::Hessian {
+            xx,
+            xv,
+            vv,
         }
     }
     #[inline]
-    fn step_residual(
+    fn gradient_and_hessian(
         &self,
-        kind: ::varembed::StepKind,
-        b: &::varembed::Vector<2>,
-        y: &::varembed::Vector<2>,
-        momentum: &::varembed::Vector<2>,
-        times: &::varembed::StepTimes,
-    ) -> (::varembed::Vector<2>, ::varembed::Matrix<2>) {
-        match kind {
-            ::varembed::StepKind::VariationalBackward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (y[0] - b[0]) * inv_h;
-                let v1 = (y[1] - b[1]) * inv_h;
-                let e0 = 0.5 * (self.m1 + self.m2) * self.l1 * self.l1;
-                let e1 = 0.5 * self.m2 * self.l2 * self.l2;
-                let e2 = self.m2 * self.l1 * self.l2;
-                let e3 = e2 * v0;
-                let e4 = y[0] - y[1];
-                let e5 = e4.cos();
-                let e6 = e4.sin();
-                let e7 = e2 * v1;
-                let e8 = e7 * e6;
-                let e9 = e3 * e6;
-                let e10 = e2 * e5 / h;
-                let mut jac = ::varembed::Matrix::<2>::zeros();
-                jac[(0, 0)] = 2.0 * e0 / h - e8;
-                jac[(0, 1)] = e8 + e10;
-                jac[(1, 0)] = e10 - e9;
-                jac[(1, 1)] = e9 + 2.0 * e1 / h;
-                (
-                    ::varembed::Vector::<
-                        2,
-                    >::from([
-                        2.0 * (e0 * v0) + e7 * e5 - momentum[0],
-                        2.0 * (e1 * v1) + e3 * e5 - momentum[1],
-                    ]),
-                    jac,
-                )
-            }
-            ::varembed::StepKind::VariationalForward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (y[0] - b[0]) * inv_h;
-                let v1 = (y[1] - b[1]) * inv_h;
-                let e0 = self.m1 + self.m2;
-                let e1 = 0.5 * e0 * self.l1 * self.l1;
-                let e2 = 0.5 * self.m2 * self.l2 * self.l2;
-                let e3 = self.m2 * self.l1 * self.l2;
-                let e4 = e3 * v0;
-                let e5 = b[0] - b[1];
-                let e6 = e5.cos();
-                let e7 = e5.sin();
-                let e8 = e4 * v1 * e7;
-                let e9 = e3 * v1;
-                let e10 = e9 * e7;
-                let e11 = e4 * e7;
-                let e12 = e3 * e6 / h;
-                let mut jac = ::varembed::Matrix::<2>::zeros();
-                jac[(0, 0)] = 2.0 * e1 / h + e10;
-                jac[(0, 1)] = e12 + e11;
-                jac[(1, 0)] = e12 - e10;
-                jac[(1, 1)] = 2.0 * e2 / h - e11;
-                (
-                    ::varembed::Vector::<
-                        2,
-                    >::from([
-                        2.0 * (e1 * v0) + e9 * e6
-                            - (-e8 - e0 * self.g * self.l1 * b[0].sin()) * h
-                            - momentum[0],
-                        2.0 * (e2 * v1) + e4 * e6
-                            - (e8 - self.m2 * self.g * self.l2 * b[1].sin()) * h
-                            - momentum[1],
-                    ]),
-                    jac,
-                )
-            }
-            ::varembed::StepKind::DirectBackward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (y[0] - b[0]) * inv_h;
-                let v1 = (y[1] - b[1]) * inv_h;
-                let e0 = self.m1 + self.m2;
-                let e1 = 0.5 * e0 * self.l1 * self.l1;
-                let e2 = 0.5 * self.m2 * self.l2 * self.l2;
-                let e3 = self.m2 * self.l1 * self.l2;
-                let e4 = e3 * v0;
-                let e5 = e4 * v1;
-                let e6 = y[0] - y[1];
-                let e7 = e6.cos();
-                let e8 = e5 * e7;
-                let e9 = e0 * self.g * self.l1;
-                let e10 = self.m2 * self.g * self.l2;
-                let e11 = e6.sin();
-                let e12 = e5 * e11;
-                let e13 = e3 * v1;
-                let e14 = e13 * e11;
-                let e15 = -e8;
-                let e16 = e4 * e11;
-                let e17 = e3 * e7 / h;
-                let e18 = e8 * h;
-                let mut jac = ::varembed::Matrix::<2>::zeros();
-                jac[(0, 0)] = 2.0 * e1 / h - e14 - (e15 - e9 * y[0].cos()) * h + e14;
-                jac[(0, 1)] = e14 + e17 - e18 + e16;
-                jac[(1, 0)] = e17 - e16 - e18 - e14;
-                jac[(1, 1)] = e16 + 2.0 * e2 / h - (e15 - e10 * y[1].cos()) * h - e16;
-                (
-                    ::varembed::Vector::<
-                        2,
-                    >::from([
-                        2.0 * (e1 * v0) + e13 * e7 - (-e12 - e9 * y[0].sin()) * h
-                            - momentum[0],
-                        2.0 * (e2 * v1) + e4 * e7 - (e12 - e10 * y[1].sin()) * h
-                            - momentum[1],
-                    ]),
-                    jac,
-                )
-            }
-            ::varembed::StepKind::DirectForward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (y[0] - b[0]) * inv_h;
-                let v1 = (y[1] - b[1]) * inv_h;
-                let e0 = 0.5 * (self.m1 + self.m2) * self.l1 * self.l1;
-                let e1 = 0.5 * self.m2 * self.l2 * self.l2;
-                let e2 = self.m2 * self.l1 * self.l2;
-                let e3 = (b[0] - b[1]).cos();
-                let e4 = e2 * e3 / h;
-                let mut jac = ::varembed::Matrix::<2>::zeros();
-                jac[(0, 0)] = 2.0 * e0 / h;
-                jac[(0, 1)] = e4;
-                jac[(1, 0)] = e4;
-                jac[(1, 1)] = 2.0 * e1 / h;
-                (
-                    ::varembed::Vector::<
-                        2,
-                    >::from([
-                        2.0 * (e0 * v0) + e2 * v1 * e3 - momentum[0],
-                        2.0 * (e1 * v1) + e2 * v0 * e3 - momentum[1],
-                    ]),
-                    jac,
-                )
-            }
-        }
+        x: &::varembed::__private::Vector<2>,
+        v: &::varembed::__private::Vector<2>,
+        _t: f64,
+    ) -> (
+        ::varembed::__private::Vector<2>,
+        ::varembed::__private::Vector<2>,
+        ::varembed::__private::Hessian<2>,
+    ) {
+        let e0 = self.m1 + self.m2;
+        let e1 = 0.5 * e0 * self.l1 * self.l1;
+        let e2 = 0.5 * self.m2 * self.l2 * self.l2;
+        let e3 = self.m2 * self.l1 * self.l2;
+        let e4 = e3 * v[0];
+        let e5 = e4 * v[1];
+        let e6 = x[0] - x[1];
+        let e7 = e6.cos();
+        let e8 = e5 * e7;
+        let e9 = e0 * self.g * self.l1;
+        let e10 = self.m2 * self.g * self.l2;
+        let e11 = e6.sin();
+        let e12 = e5 * e11;
+        let e13 = e3 * v[1];
+        let e14 = e13 * e11;
+        let e15 = -e8;
+        let e16 = e4 * e11;
+        let e17 = e3 * e7;
+        let mut xx = ::varembed::__private::Matrix::<2>::zeros();
+        xx[(0, 0)] = e15 - e9 * x[0].cos();
+        xx[(0, 1)] = e8;
+        xx[(1, 0)] = e8;
+        xx[(1, 1)] = e15 - e10 * x[1].cos();
+        let mut xv = ::varembed::__private::Matrix::<2>::zeros();
+        xv[(0, 0)] = -e14;
+        xv[(0, 1)] = -e16;
+        xv[(1, 0)] = e14;
+        xv[(1, 1)] = e16;
+        let mut vv = ::varembed::__private::Matrix::<2>::zeros();
+        vv[(0, 0)] = 2.0 * e1;
+        vv[(0, 1)] = e17;
+        vv[(1, 0)] = e17;
+        vv[(1, 1)] = 2.0 * e2;
+        (
+            ::varembed::__private::Vector::<
+                2,
+            >::from([-e12 - e9 * x[0].sin(), e12 - e10 * x[1].sin()]),
+            ::varembed::__private::Vector::<
+                2,
+            >::from([2.0 * (e1 * v[0]) + e13 * e7, 2.0 * (e2 * v[1]) + e4 * e7]),
+            ::varembed::__private::Hessian {
+                xx,
+                xv,
+                vv,
+            },
+        )
     }
     #[inline]
-    fn step_is_affine(&self, kind: ::varembed::StepKind) -> bool {
-        matches!(kind, ::varembed::StepKind::DirectForward)
-    }
-    #[inline]
-    fn step_explicit(
-        &self,
-        kind: ::varembed::StepKind,
-        b: &::varembed::Vector<2>,
-        momentum: &::varembed::Vector<2>,
-        times: &::varembed::StepTimes,
-    ) -> ::core::option::Option<::varembed::Vector<2>> {
-        match kind {
-            ::varembed::StepKind::VariationalBackward => ::core::option::Option::None,
-            ::varembed::StepKind::VariationalForward => ::core::option::Option::None,
-            ::varembed::StepKind::DirectBackward => ::core::option::Option::None,
-            ::varembed::StepKind::DirectForward => {
-                let h = times.h;
-                let e0 = self.m2 * self.l1 * self.l2 * (b[0] - b[1]).cos() / h;
-                let mut jac = ::varembed::Matrix::<2>::zeros();
-                jac[(0, 0)] = 2.0 * (0.5 * (self.m1 + self.m2) * self.l1 * self.l1) / h;
-                jac[(0, 1)] = e0;
-                jac[(1, 0)] = e0;
-                jac[(1, 1)] = 2.0 * (0.5 * self.m2 * self.l2 * self.l2) / h;
-                let r = ::varembed::Vector::<2>::from([-momentum[0], -momentum[1]]);
-                ::varembed::solve::linear::solve_small(&jac, &r).map(|dy| b - dy)
-            }
+    fn hessian_dependence(&self) -> ::varembed::__private::HessianDependence {
+        ::varembed::__private::HessianDependence {
+            xx: ::varembed::__private::Dependence {
+                x: true,
+                v: true,
+                t: false,
+            },
+            xv: ::varembed::__private::Dependence {
+                x: true,
+                v: true,
+                t: false,
+            },
+            vv: ::varembed::__private::Dependence {
+                x: true,
+                v: false,
+                t: false,
+            },
         }
     }
 }

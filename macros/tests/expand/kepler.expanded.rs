@@ -13,12 +13,12 @@ impl Kepler {
     /// omitted; symmetric blocks listed once, `i ≤ j`).
     pub const DERIVATIVES: &str = "L = 0.5 * (v[0] * v[0] + v[1] * v[1]) + 1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt()\n∂L/∂x[0] = -(1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt() * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt()) * (2.0 * x[0] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())))\n∂L/∂x[1] = -(1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt() * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt()) * (2.0 * x[1] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())))\n∂L/∂v[0] = 0.5 * (2.0 * v[0])\n∂L/∂v[1] = 0.5 * (2.0 * v[1])\n∂²L/∂x[0]∂x[0] = -((-(1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt() * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt()) * (2.0 * x[0] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())) * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt())) - 1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt() * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt()) * (2.0 * x[0] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())) * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt())) * (2.0 * x[0] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())) + 1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt() * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt()) * ((2.0 - 2.0 * x[0] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt()) * (2.0 * (2.0 * x[0] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())))) / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())))\n∂²L/∂x[0]∂x[1] = -((-(1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt() * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt()) * (2.0 * x[1] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())) * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt())) - 1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt() * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt()) * (2.0 * x[1] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())) * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt())) * (2.0 * x[0] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())) - 1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt() * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt()) * (2.0 * x[0] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt()) * (1.0 / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())) * (2.0 * (2.0 * x[1] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())))))\n∂²L/∂x[1]∂x[1] = -((-(1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt() * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt()) * (2.0 * x[1] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())) * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt())) - 1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt() * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt()) * (2.0 * x[1] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())) * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt())) * (2.0 * x[1] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())) + 1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt() * (1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt()) * ((2.0 - 2.0 * x[1] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt()) * (2.0 * (2.0 * x[1] / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())))) / (2.0 * (x[0] * x[0] + x[1] * x[1]).sqrt())))\n∂²L/∂v[0]∂v[0] = 1.0\n∂²L/∂v[1]∂v[1] = 1.0";
 }
-impl ::varembed::Lagrangian<2> for Kepler {
+impl ::varembed::__private::Lagrangian<2> for Kepler {
     #[inline]
     fn value(
         &self,
-        x: &::varembed::Vector<2>,
-        v: &::varembed::Vector<2>,
+        x: &::varembed::__private::Vector<2>,
+        v: &::varembed::__private::Vector<2>,
         _t: f64,
     ) -> f64 {
         0.5 * (v[0] * v[0] + v[1] * v[1]) + 1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt()
@@ -26,28 +26,30 @@ impl ::varembed::Lagrangian<2> for Kepler {
     #[inline]
     fn gradient(
         &self,
-        x: &::varembed::Vector<2>,
-        v: &::varembed::Vector<2>,
+        x: &::varembed::__private::Vector<2>,
+        v: &::varembed::__private::Vector<2>,
         _t: f64,
-    ) -> (::varembed::Vector<2>, ::varembed::Vector<2>) {
+    ) -> (::varembed::__private::Vector<2>, ::varembed::__private::Vector<2>) {
         let e0 = (x[0] * x[0] + x[1] * x[1]).sqrt();
         let e1 = 1.0 / e0;
         let e2 = 2.0 * e0;
         let e3 = e1 * e1;
         (
-            ::varembed::Vector::<
+            ::varembed::__private::Vector::<
                 2,
             >::from([-(e3 * (2.0 * x[0] / e2)), -(e3 * (2.0 * x[1] / e2))]),
-            ::varembed::Vector::<2>::from([0.5 * (2.0 * v[0]), 0.5 * (2.0 * v[1])]),
+            ::varembed::__private::Vector::<
+                2,
+            >::from([0.5 * (2.0 * v[0]), 0.5 * (2.0 * v[1])]),
         )
     }
     #[inline]
     fn hessian(
         &self,
-        x: &::varembed::Vector<2>,
-        _v: &::varembed::Vector<2>,
+        x: &::varembed::__private::Vector<2>,
+        _v: &::varembed::__private::Vector<2>,
         _t: f64,
-    ) -> ::varembed::Hessian<2> {
+    ) -> ::varembed::__private::Hessian<2> {
         let e0 = (x[0] * x[0] + x[1] * x[1]).sqrt();
         let e1 = 1.0 / e0;
         let e2 = 2.0 * e0;
@@ -59,226 +61,84 @@ impl ::varembed::Lagrangian<2> for Kepler {
         let e8 = e4 * e5 * e1;
         let e9 = -e8 - e8;
         let e10 = -(e9 * e3 - e4 * (e3 * (1.0 / e2) * e7));
-        let mut xx = ::varembed::Matrix::<2>::zeros();
+        let mut xx = ::varembed::__private::Matrix::<2>::zeros();
         xx[(0, 0)] = -((-e6 - e6) * e3 + e4 * ((2.0 - e3 * (2.0 * e3)) / e2));
         xx[(0, 1)] = e10;
         xx[(1, 0)] = e10;
         xx[(1, 1)] = -(e9 * e5 + e4 * ((2.0 - e5 * e7) / e2));
-        let xv = ::varembed::Matrix::<2>::zeros();
-        let mut vv = ::varembed::Matrix::<2>::zeros();
+        let xv = ::varembed::__private::Matrix::<2>::zeros();
+        let mut vv = ::varembed::__private::Matrix::<2>::zeros();
         vv[(0, 0)] = 1.0;
         vv[(1, 1)] = 1.0;
-        ::varembed::Hessian { xx, xv, vv }
-    }
-    #[inline]
-    fn step_momentum(
-        &self,
-        kind: ::varembed::StepKind,
-        a: &::varembed::Vector<2>,
-        b: &::varembed::Vector<2>,
-        times: &::varembed::StepTimes,
-    ) -> ::varembed::Vector<2> {
-        match kind {
-            ::varembed::StepKind::VariationalBackward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (b[0] - a[0]) * inv_h;
-                let v1 = (b[1] - a[1]) * inv_h;
-                let e0 = (b[0] * b[0] + b[1] * b[1]).sqrt();
-                let e1 = 1.0 / e0;
-                let e2 = 2.0 * e0;
-                let e3 = e1 * e1;
-                ::varembed::Vector::<
-                    2,
-                >::from([
-                    0.5 * (2.0 * v0) - e3 * (2.0 * b[0] / e2) * h,
-                    0.5 * (2.0 * v1) - e3 * (2.0 * b[1] / e2) * h,
-                ])
-            }
-            ::varembed::StepKind::VariationalForward => {
-                let inv_h = times.inv_h;
-                let v0 = (b[0] - a[0]) * inv_h;
-                let v1 = (b[1] - a[1]) * inv_h;
-                ::varembed::Vector::<2>::from([0.5 * (2.0 * v0), 0.5 * (2.0 * v1)])
-            }
-            ::varembed::StepKind::DirectBackward => {
-                let inv_h = times.inv_h;
-                let v0 = (b[0] - a[0]) * inv_h;
-                let v1 = (b[1] - a[1]) * inv_h;
-                ::varembed::Vector::<2>::from([0.5 * (2.0 * v0), 0.5 * (2.0 * v1)])
-            }
-            ::varembed::StepKind::DirectForward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (b[0] - a[0]) * inv_h;
-                let v1 = (b[1] - a[1]) * inv_h;
-                let e0 = (a[0] * a[0] + a[1] * a[1]).sqrt();
-                let e1 = 1.0 / e0;
-                let e2 = 2.0 * e0;
-                let e3 = e1 * e1;
-                ::varembed::Vector::<
-                    2,
-                >::from([
-                    0.5 * (2.0 * v0) - e3 * (2.0 * a[0] / e2) * h,
-                    0.5 * (2.0 * v1) - e3 * (2.0 * a[1] / e2) * h,
-                ])
-            }
+        ::varembed::__private::Hessian {
+            xx,
+            xv,
+            vv,
         }
     }
     #[inline]
-    fn step_residual(
+    fn gradient_and_hessian(
         &self,
-        kind: ::varembed::StepKind,
-        b: &::varembed::Vector<2>,
-        y: &::varembed::Vector<2>,
-        momentum: &::varembed::Vector<2>,
-        times: &::varembed::StepTimes,
-    ) -> (::varembed::Vector<2>, ::varembed::Matrix<2>) {
-        match kind {
-            ::varembed::StepKind::VariationalBackward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (y[0] - b[0]) * inv_h;
-                let v1 = (y[1] - b[1]) * inv_h;
-                let e0 = 1.0 / h;
-                let mut jac = ::varembed::Matrix::<2>::zeros();
-                jac[(0, 0)] = e0;
-                jac[(1, 1)] = e0;
-                (
-                    ::varembed::Vector::<
-                        2,
-                    >::from([
-                        0.5 * (2.0 * v0) - momentum[0],
-                        0.5 * (2.0 * v1) - momentum[1],
-                    ]),
-                    jac,
-                )
-            }
-            ::varembed::StepKind::VariationalForward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (y[0] - b[0]) * inv_h;
-                let v1 = (y[1] - b[1]) * inv_h;
-                let e0 = (b[0] * b[0] + b[1] * b[1]).sqrt();
-                let e1 = 1.0 / e0;
-                let e2 = 2.0 * e0;
-                let e3 = e1 * e1;
-                let e4 = 1.0 / h;
-                let mut jac = ::varembed::Matrix::<2>::zeros();
-                jac[(0, 0)] = e4;
-                jac[(1, 1)] = e4;
-                (
-                    ::varembed::Vector::<
-                        2,
-                    >::from([
-                        0.5 * (2.0 * v0) + e3 * (2.0 * b[0] / e2) * h - momentum[0],
-                        0.5 * (2.0 * v1) + e3 * (2.0 * b[1] / e2) * h - momentum[1],
-                    ]),
-                    jac,
-                )
-            }
-            ::varembed::StepKind::DirectBackward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (y[0] - b[0]) * inv_h;
-                let v1 = (y[1] - b[1]) * inv_h;
-                let e0 = (y[0] * y[0] + y[1] * y[1]).sqrt();
-                let e1 = 1.0 / e0;
-                let e2 = 2.0 * e0;
-                let e3 = 2.0 * y[0] / e2;
-                let e4 = e1 * e1;
-                let e5 = e4 * e3;
-                let e6 = 2.0 * y[1] / e2;
-                let e7 = e4 * e6;
-                let e8 = e5 * e1;
-                let e9 = 2.0 * e6;
-                let e10 = e7 * e1;
-                let e11 = -e10 - e10;
-                let e12 = 1.0 / h;
-                let e13 = (e11 * e3 - e4 * (e3 * (1.0 / e2) * e9)) * h;
-                let mut jac = ::varembed::Matrix::<2>::zeros();
-                jac[(0, 0)] = e12
-                    + ((-e8 - e8) * e3 + e4 * ((2.0 - e3 * (2.0 * e3)) / e2)) * h;
-                jac[(0, 1)] = e13;
-                jac[(1, 0)] = e13;
-                jac[(1, 1)] = e12 + (e11 * e6 + e4 * ((2.0 - e6 * e9) / e2)) * h;
-                (
-                    ::varembed::Vector::<
-                        2,
-                    >::from([
-                        0.5 * (2.0 * v0) + e5 * h - momentum[0],
-                        0.5 * (2.0 * v1) + e7 * h - momentum[1],
-                    ]),
-                    jac,
-                )
-            }
-            ::varembed::StepKind::DirectForward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (y[0] - b[0]) * inv_h;
-                let v1 = (y[1] - b[1]) * inv_h;
-                let e0 = 1.0 / h;
-                let mut jac = ::varembed::Matrix::<2>::zeros();
-                jac[(0, 0)] = e0;
-                jac[(1, 1)] = e0;
-                (
-                    ::varembed::Vector::<
-                        2,
-                    >::from([
-                        0.5 * (2.0 * v0) - momentum[0],
-                        0.5 * (2.0 * v1) - momentum[1],
-                    ]),
-                    jac,
-                )
-            }
-        }
-    }
-    #[inline]
-    fn step_is_affine(&self, kind: ::varembed::StepKind) -> bool {
-        matches!(
-            kind, ::varembed::StepKind::VariationalBackward |
-            ::varembed::StepKind::VariationalForward |
-            ::varembed::StepKind::DirectForward
+        x: &::varembed::__private::Vector<2>,
+        v: &::varembed::__private::Vector<2>,
+        _t: f64,
+    ) -> (
+        ::varembed::__private::Vector<2>,
+        ::varembed::__private::Vector<2>,
+        ::varembed::__private::Hessian<2>,
+    ) {
+        let e0 = (x[0] * x[0] + x[1] * x[1]).sqrt();
+        let e1 = 1.0 / e0;
+        let e2 = 2.0 * e0;
+        let e3 = 2.0 * x[0] / e2;
+        let e4 = e1 * e1;
+        let e5 = e4 * e3;
+        let e6 = 2.0 * x[1] / e2;
+        let e7 = e4 * e6;
+        let e8 = e5 * e1;
+        let e9 = 2.0 * e6;
+        let e10 = e7 * e1;
+        let e11 = -e10 - e10;
+        let e12 = -(e11 * e3 - e4 * (e3 * (1.0 / e2) * e9));
+        let mut xx = ::varembed::__private::Matrix::<2>::zeros();
+        xx[(0, 0)] = -((-e8 - e8) * e3 + e4 * ((2.0 - e3 * (2.0 * e3)) / e2));
+        xx[(0, 1)] = e12;
+        xx[(1, 0)] = e12;
+        xx[(1, 1)] = -(e11 * e6 + e4 * ((2.0 - e6 * e9) / e2));
+        let xv = ::varembed::__private::Matrix::<2>::zeros();
+        let mut vv = ::varembed::__private::Matrix::<2>::zeros();
+        vv[(0, 0)] = 1.0;
+        vv[(1, 1)] = 1.0;
+        (
+            ::varembed::__private::Vector::<2>::from([-e5, -e7]),
+            ::varembed::__private::Vector::<
+                2,
+            >::from([0.5 * (2.0 * v[0]), 0.5 * (2.0 * v[1])]),
+            ::varembed::__private::Hessian {
+                xx,
+                xv,
+                vv,
+            },
         )
     }
     #[inline]
-    fn step_explicit(
-        &self,
-        kind: ::varembed::StepKind,
-        b: &::varembed::Vector<2>,
-        momentum: &::varembed::Vector<2>,
-        times: &::varembed::StepTimes,
-    ) -> ::core::option::Option<::varembed::Vector<2>> {
-        match kind {
-            ::varembed::StepKind::VariationalBackward => {
-                let h = times.h;
-                let dy0: f64 = -(h * momentum[0]);
-                let dy1: f64 = -(h * momentum[1]);
-                ::core::option::Option::Some(
-                    ::varembed::Vector::<2>::from([b[0] - dy0, b[1] - dy1]),
-                )
-            }
-            ::varembed::StepKind::VariationalForward => {
-                let h = times.h;
-                let e0 = (b[0] * b[0] + b[1] * b[1]).sqrt();
-                let e1 = 1.0 / e0;
-                let e2 = 2.0 * e0;
-                let e3 = e1 * e1;
-                let dy0: f64 = h * (e3 * (2.0 * b[0] / e2) * h - momentum[0]);
-                let dy1: f64 = h * (e3 * (2.0 * b[1] / e2) * h - momentum[1]);
-                ::core::option::Option::Some(
-                    ::varembed::Vector::<2>::from([b[0] - dy0, b[1] - dy1]),
-                )
-            }
-            ::varembed::StepKind::DirectBackward => ::core::option::Option::None,
-            ::varembed::StepKind::DirectForward => {
-                let h = times.h;
-                let dy0: f64 = -(h * momentum[0]);
-                let dy1: f64 = -(h * momentum[1]);
-                ::core::option::Option::Some(
-                    ::varembed::Vector::<2>::from([b[0] - dy0, b[1] - dy1]),
-                )
-            }
+    fn hessian_dependence(&self) -> ::varembed::__private::HessianDependence {
+        ::varembed::__private::HessianDependence {
+            xx: ::varembed::__private::Dependence {
+                x: true,
+                v: false,
+                t: false,
+            },
+            xv: ::varembed::__private::Dependence {
+                x: false,
+                v: false,
+                t: false,
+            },
+            vv: ::varembed::__private::Dependence {
+                x: false,
+                v: false,
+                t: false,
+            },
         }
     }
 }

@@ -18,12 +18,12 @@ impl Pendulum {
     /// omitted; symmetric blocks listed once, `i ≤ j`).
     pub const DERIVATIVES: &str = "L = 0.5 * l * l * v * v + g * l * x.cos()\n∂L/∂x = -(g * l * x.sin())\n∂L/∂v = 2.0 * (0.5 * l * l * v)\n∂²L/∂x∂x = -(g * l * x.cos())\n∂²L/∂v∂v = 2.0 * (0.5 * l * l)";
 }
-impl ::varembed::Lagrangian<1> for Pendulum {
+impl ::varembed::__private::Lagrangian<1> for Pendulum {
     #[inline]
     fn value(
         &self,
-        x: &::varembed::Vector<1>,
-        v: &::varembed::Vector<1>,
+        x: &::varembed::__private::Vector<1>,
+        v: &::varembed::__private::Vector<1>,
         _t: f64,
     ) -> f64 {
         0.5 * self.l * self.l * v[0] * v[0] + self.g * self.l * x[0].cos()
@@ -31,183 +31,81 @@ impl ::varembed::Lagrangian<1> for Pendulum {
     #[inline]
     fn gradient(
         &self,
-        x: &::varembed::Vector<1>,
-        v: &::varembed::Vector<1>,
+        x: &::varembed::__private::Vector<1>,
+        v: &::varembed::__private::Vector<1>,
         _t: f64,
-    ) -> (::varembed::Vector<1>, ::varembed::Vector<1>) {
+    ) -> (::varembed::__private::Vector<1>, ::varembed::__private::Vector<1>) {
         (
-            ::varembed::Vector::<1>::from([-(self.g * self.l * x[0].sin())]),
-            ::varembed::Vector::<1>::from([2.0 * (0.5 * self.l * self.l * v[0])]),
+            ::varembed::__private::Vector::<1>::from([-(self.g * self.l * x[0].sin())]),
+            ::varembed::__private::Vector::<
+                1,
+            >::from([2.0 * (0.5 * self.l * self.l * v[0])]),
         )
     }
     #[inline]
     fn hessian(
         &self,
-        x: &::varembed::Vector<1>,
-        _v: &::varembed::Vector<1>,
+        x: &::varembed::__private::Vector<1>,
+        _v: &::varembed::__private::Vector<1>,
         _t: f64,
-    ) -> ::varembed::Hessian<1> {
-        let mut xx = ::varembed::Matrix::<1>::zeros();
+    ) -> ::varembed::__private::Hessian<1> {
+        let mut xx = ::varembed::__private::Matrix::<1>::zeros();
         xx[(0, 0)] = -(self.g * self.l * x[0].cos());
-        let xv = ::varembed::Matrix::<1>::zeros();
-        let mut vv = ::varembed::Matrix::<1>::zeros();
+        let xv = ::varembed::__private::Matrix::<1>::zeros();
+        let mut vv = ::varembed::__private::Matrix::<1>::zeros();
         vv[(0, 0)] = 2.0 * (0.5 * self.l * self.l);
-        ::varembed::Hessian { xx, xv, vv }
-    }
-    #[inline]
-    fn step_momentum(
-        &self,
-        kind: ::varembed::StepKind,
-        a: &::varembed::Vector<1>,
-        b: &::varembed::Vector<1>,
-        times: &::varembed::StepTimes,
-    ) -> ::varembed::Vector<1> {
-        match kind {
-            ::varembed::StepKind::VariationalBackward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (b[0] - a[0]) * inv_h;
-                ::varembed::Vector::<
-                    1,
-                >::from([
-                    2.0 * (0.5 * self.l * self.l * v0) - self.g * self.l * b[0].sin() * h,
-                ])
-            }
-            ::varembed::StepKind::VariationalForward => {
-                let inv_h = times.inv_h;
-                let v0 = (b[0] - a[0]) * inv_h;
-                ::varembed::Vector::<1>::from([2.0 * (0.5 * self.l * self.l * v0)])
-            }
-            ::varembed::StepKind::DirectBackward => {
-                let inv_h = times.inv_h;
-                let v0 = (b[0] - a[0]) * inv_h;
-                ::varembed::Vector::<1>::from([2.0 * (0.5 * self.l * self.l * v0)])
-            }
-            ::varembed::StepKind::DirectForward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (b[0] - a[0]) * inv_h;
-                ::varembed::Vector::<
-                    1,
-                >::from([
-                    2.0 * (0.5 * self.l * self.l * v0) - self.g * self.l * a[0].sin() * h,
-                ])
-            }
+        ::varembed::__private::Hessian {
+            xx,
+            xv,
+            vv,
         }
     }
     #[inline]
-    fn step_residual(
+    fn gradient_and_hessian(
         &self,
-        kind: ::varembed::StepKind,
-        b: &::varembed::Vector<1>,
-        y: &::varembed::Vector<1>,
-        momentum: &::varembed::Vector<1>,
-        times: &::varembed::StepTimes,
-    ) -> (::varembed::Vector<1>, ::varembed::Matrix<1>) {
-        match kind {
-            ::varembed::StepKind::VariationalBackward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (y[0] - b[0]) * inv_h;
-                let e0 = 0.5 * self.l * self.l;
-                let mut jac = ::varembed::Matrix::<1>::zeros();
-                jac[(0, 0)] = 2.0 * e0 / h;
-                (::varembed::Vector::<1>::from([2.0 * (e0 * v0) - momentum[0]]), jac)
-            }
-            ::varembed::StepKind::VariationalForward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (y[0] - b[0]) * inv_h;
-                let e0 = 0.5 * self.l * self.l;
-                let mut jac = ::varembed::Matrix::<1>::zeros();
-                jac[(0, 0)] = 2.0 * e0 / h;
-                (
-                    ::varembed::Vector::<
-                        1,
-                    >::from([
-                        2.0 * (e0 * v0) + self.g * self.l * b[0].sin() * h - momentum[0],
-                    ]),
-                    jac,
-                )
-            }
-            ::varembed::StepKind::DirectBackward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (y[0] - b[0]) * inv_h;
-                let e0 = 0.5 * self.l * self.l;
-                let e1 = self.g * self.l;
-                let mut jac = ::varembed::Matrix::<1>::zeros();
-                jac[(0, 0)] = 2.0 * e0 / h + e1 * y[0].cos() * h;
-                (
-                    ::varembed::Vector::<
-                        1,
-                    >::from([2.0 * (e0 * v0) + e1 * y[0].sin() * h - momentum[0]]),
-                    jac,
-                )
-            }
-            ::varembed::StepKind::DirectForward => {
-                let h = times.h;
-                let inv_h = times.inv_h;
-                let v0 = (y[0] - b[0]) * inv_h;
-                let e0 = 0.5 * self.l * self.l;
-                let mut jac = ::varembed::Matrix::<1>::zeros();
-                jac[(0, 0)] = 2.0 * e0 / h;
-                (::varembed::Vector::<1>::from([2.0 * (e0 * v0) - momentum[0]]), jac)
-            }
-        }
-    }
-    #[inline]
-    fn step_is_affine(&self, kind: ::varembed::StepKind) -> bool {
-        matches!(
-            kind, ::varembed::StepKind::VariationalBackward |
-            ::varembed::StepKind::VariationalForward |
-            ::varembed::StepKind::DirectForward
+        x: &::varembed::__private::Vector<1>,
+        v: &::varembed::__private::Vector<1>,
+        _t: f64,
+    ) -> (
+        ::varembed::__private::Vector<1>,
+        ::varembed::__private::Vector<1>,
+        ::varembed::__private::Hessian<1>,
+    ) {
+        let e0 = 0.5 * self.l * self.l;
+        let e1 = self.g * self.l;
+        let mut xx = ::varembed::__private::Matrix::<1>::zeros();
+        xx[(0, 0)] = -(e1 * x[0].cos());
+        let xv = ::varembed::__private::Matrix::<1>::zeros();
+        let mut vv = ::varembed::__private::Matrix::<1>::zeros();
+        vv[(0, 0)] = 2.0 * e0;
+        (
+            ::varembed::__private::Vector::<1>::from([-(e1 * x[0].sin())]),
+            ::varembed::__private::Vector::<1>::from([2.0 * (e0 * v[0])]),
+            ::varembed::__private::Hessian {
+                xx,
+                xv,
+                vv,
+            },
         )
     }
     #[inline]
-    fn step_explicit(
-        &self,
-        kind: ::varembed::StepKind,
-        b: &::varembed::Vector<1>,
-        momentum: &::varembed::Vector<1>,
-        times: &::varembed::StepTimes,
-    ) -> ::core::option::Option<::varembed::Vector<1>> {
-        match kind {
-            ::varembed::StepKind::VariationalBackward => {
-                let h = times.h;
-                let dy0: f64 = -(h / (2.0 * (0.5 * self.l * self.l)) * momentum[0]);
-                if dy0.is_finite() {
-                    ::core::option::Option::Some(
-                        ::varembed::Vector::<1>::from([b[0] - dy0]),
-                    )
-                } else {
-                    ::core::option::Option::None
-                }
-            }
-            ::varembed::StepKind::VariationalForward => {
-                let h = times.h;
-                let dy0: f64 = h / (2.0 * (0.5 * self.l * self.l))
-                    * (self.g * self.l * b[0].sin() * h - momentum[0]);
-                if dy0.is_finite() {
-                    ::core::option::Option::Some(
-                        ::varembed::Vector::<1>::from([b[0] - dy0]),
-                    )
-                } else {
-                    ::core::option::Option::None
-                }
-            }
-            ::varembed::StepKind::DirectBackward => ::core::option::Option::None,
-            ::varembed::StepKind::DirectForward => {
-                let h = times.h;
-                let dy0: f64 = -(h / (2.0 * (0.5 * self.l * self.l)) * momentum[0]);
-                if dy0.is_finite() {
-                    ::core::option::Option::Some(
-                        ::varembed::Vector::<1>::from([b[0] - dy0]),
-                    )
-                } else {
-                    ::core::option::Option::None
-                }
-            }
+    fn hessian_dependence(&self) -> ::varembed::__private::HessianDependence {
+        ::varembed::__private::HessianDependence {
+            xx: ::varembed::__private::Dependence {
+                x: true,
+                v: false,
+                t: false,
+            },
+            xv: ::varembed::__private::Dependence {
+                x: false,
+                v: false,
+                t: false,
+            },
+            vv: ::varembed::__private::Dependence {
+                x: false,
+                v: false,
+                t: false,
+            },
         }
     }
 }

@@ -1,0 +1,462 @@
+//! The intermediate representation every stage shares: a hash-consed DAG of scalar operations
+//! ([`Graph`]), the parsed Lagrangian ([`Model`]) and its derivatives ([`Derivatives`]).
+//!
+//! Every node lives once in a [`Graph`]; building a node that already exists returns the
+//! existing [`Id`], so identical subexpressions are shared by construction. Children are always
+//! created before their parents, hence `Id` order is a topological order: analyses walk the
+//! nodes in increasing id without recursion, and the emitted temporaries follow that order.
+//!
+//! # How loops will enter
+//!
+//! Today every variable names a fixed component (`Var::X(2)` is `x[2]`), so `L` of dimension
+//! `D` is one scalar expression and its Hessian has `D²` entries. Lagrangians written with `for`
+//! loops or `(0..N).map(|i| …).sum()` keep the index structure instead, and fit this IR without
+//! changing its shape:
+//!
+//! - an *index variable* (`IndexVar(u32)`, bound by the loop or closure that introduces it) and
+//!   an *index expression* `enum Index { At(usize), Offset { var: IndexVar, offset: i64 } }`
+//!   (plus a wrap-around modulus for periodic chains); the component variables become
+//!   `Var::X(Index)` and `Var::V(Index)`. All three types are small `Copy + Hash` values, so a
+//!   node holding them is still hash-consed like today's;
+//! - a node `Sum { var: IndexVar, range: (start, end), body: Id }`: its body is built before it,
+//!   so ids stay topological, and `children()` is just `[body]`;
+//! - differentiation of `Sum` is again a `Sum`: `∂/∂x[k] Σ_i f(x[i], x[i + 1])` is
+//!   `Σ_i (∂f/∂x[i])·[i = k] + (∂f/∂x[i + 1])·[i + 1 = k]`, and the Kronecker deltas collapse the
+//!   sum to the (at most two) terms with `i = k` and `i = k − 1`, each substituted at that index.
+//!   The derivative of entry `k` is therefore one body with a free index, the gradient is a
+//!   `map` over `k`, and the Hessian is banded: its nonzero offsets are the differences of the
+//!   index offsets that occur in the body (`{−1, 0, 1}` for a nearest-neighbour chain);
+//! - the dependence analysis ([`Graph::dependence`]) gains one kind of leaf, the index
+//!   variable: CSE asks "depends on `i`?" to scope temporaries (a node that depends on `i` is
+//!   bound inside the loop over `i`, every other node is hoisted out of it), while the
+//!   dependence of the Hessian blocks keeps treating every `Var::X(_)` alike.
+//!
+//! The places that read a fixed component today, and gain one arm for `Index` then, are:
+//! the parser (creating `x[i]`), [`Derivatives`] (one row per fixed component, to become a
+//! banded block for a symbolic index), the two renderers (`x[i]` as tokens and as text) and
+//! the evaluator of the tests. Nothing else matches on the component number: the dependence
+//! analysis, simplification and CSE only ask *which kind* of variable a leaf is.
+
+use std::collections::HashMap;
+
+use proc_macro2::Ident;
+use syn::{Attribute, ItemFn, Visibility};
+
+/// Index of a node in its [`Graph`].
+pub type Id = usize;
+
+/// A leaf variable of the Lagrangian.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum Var {
+    /// Position component `x_i`.
+    X(usize),
+    /// Velocity component `v_i`.
+    V(usize),
+    /// Time `t`.
+    T,
+    /// Model constant number `k` (a field of the generated struct): fixed for a whole run, so
+    /// it counts for no [`Dependence`].
+    Const(usize),
+}
+
+/// Elementary functions of one argument.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Func {
+    Sin,
+    Cos,
+    Tan,
+    Asin,
+    Acos,
+    Atan,
+    Sinh,
+    Cosh,
+    Tanh,
+    Exp,
+    Ln,
+    Log10,
+    Sqrt,
+    Cbrt,
+    Recip,
+    Abs,
+    /// `sign(a)` with `sign(0) = 0` (and `sign(NaN) = 0`): the derivative of `abs`. Not
+    /// available to the user; emitted as an `if`.
+    Sign,
+}
+
+impl Func {
+    /// The functions a body may call, by their `f64` method name.
+    const USER: [Func; 16] = [
+        Func::Sin,
+        Func::Cos,
+        Func::Tan,
+        Func::Asin,
+        Func::Acos,
+        Func::Atan,
+        Func::Sinh,
+        Func::Cosh,
+        Func::Tanh,
+        Func::Exp,
+        Func::Ln,
+        Func::Log10,
+        Func::Sqrt,
+        Func::Cbrt,
+        Func::Recip,
+        Func::Abs,
+    ];
+
+    /// The Rust method name (`Sign` has no method; it is emitted as an `if`).
+    pub fn name(self) -> &'static str {
+        match self {
+            Func::Sin => "sin",
+            Func::Cos => "cos",
+            Func::Tan => "tan",
+            Func::Asin => "asin",
+            Func::Acos => "acos",
+            Func::Atan => "atan",
+            Func::Sinh => "sinh",
+            Func::Cosh => "cosh",
+            Func::Tanh => "tanh",
+            Func::Exp => "exp",
+            Func::Ln => "ln",
+            Func::Log10 => "log10",
+            Func::Sqrt => "sqrt",
+            Func::Cbrt => "cbrt",
+            Func::Recip => "recip",
+            Func::Abs => "abs",
+            Func::Sign => "sign",
+        }
+    }
+
+    /// The function behind an `f64` method name a body may call (`sign` is internal).
+    pub fn from_name(s: &str) -> Option<Func> {
+        Func::USER.into_iter().find(|f| f.name() == s)
+    }
+
+    /// Evaluates the function (also used for constant folding).
+    pub fn eval(self, a: f64) -> f64 {
+        match self {
+            Func::Sin => a.sin(),
+            Func::Cos => a.cos(),
+            Func::Tan => a.tan(),
+            Func::Asin => a.asin(),
+            Func::Acos => a.acos(),
+            Func::Atan => a.atan(),
+            Func::Sinh => a.sinh(),
+            Func::Cosh => a.cosh(),
+            Func::Tanh => a.tanh(),
+            Func::Exp => a.exp(),
+            Func::Ln => a.ln(),
+            Func::Log10 => a.log10(),
+            Func::Sqrt => a.sqrt(),
+            Func::Cbrt => a.cbrt(),
+            Func::Recip => a.recip(),
+            Func::Abs => a.abs(),
+            Func::Sign => sign(a),
+        }
+    }
+}
+
+/// `sign` with `sign(±0) = 0`: the derivative used for `abs` (a subgradient at 0).
+pub fn sign(a: f64) -> f64 {
+    if a > 0.0 {
+        1.0
+    } else if a < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// The `std::f64::consts` a body may name, with their values. The renderers write a number
+/// that is one of them exactly by name: it reads better than 17 digits, and it is what clippy's
+/// `approx_constant` asks of the user's crate, where the generated code lands.
+const NAMED_CONSTANTS: [(&str, f64); 19] = {
+    use std::f64::consts::*;
+    [
+        ("PI", PI),
+        ("TAU", TAU),
+        ("E", E),
+        ("SQRT_2", SQRT_2),
+        ("FRAC_1_SQRT_2", FRAC_1_SQRT_2),
+        ("LN_2", LN_2),
+        ("LN_10", LN_10),
+        ("LOG2_E", LOG2_E),
+        ("LOG10_E", LOG10_E),
+        ("LOG2_10", LOG2_10),
+        ("LOG10_2", LOG10_2),
+        ("FRAC_PI_2", FRAC_PI_2),
+        ("FRAC_PI_3", FRAC_PI_3),
+        ("FRAC_PI_4", FRAC_PI_4),
+        ("FRAC_PI_6", FRAC_PI_6),
+        ("FRAC_PI_8", FRAC_PI_8),
+        ("FRAC_1_PI", FRAC_1_PI),
+        ("FRAC_2_PI", FRAC_2_PI),
+        ("FRAC_2_SQRT_PI", FRAC_2_SQRT_PI),
+    ]
+};
+
+/// The value of `std::f64::consts::<name>`.
+pub fn constant_value(name: &str) -> Option<f64> {
+    NAMED_CONSTANTS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|&(_, c)| c)
+}
+
+/// The `std::f64::consts` name of `c`, if `c` is one of them bit for bit.
+pub fn constant_name(c: f64) -> Option<&'static str> {
+    NAMED_CONSTANTS
+        .iter()
+        .find(|(_, v)| v.to_bits() == c.to_bits())
+        .map(|&(name, _)| name)
+}
+
+/// Binding strength of the Rust syntax a node is written in, weakest first; both renderers
+/// (tokens and the text of `DERIVATIVES`) parenthesise an operand weaker than its position
+/// needs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum Prec {
+    /// An `if` expression.
+    If,
+    /// `a + b`, `a - b`.
+    Add,
+    /// `a * b`, `a / b`.
+    Mul,
+    /// Unary `-a`.
+    Neg,
+    /// A name, a literal, a call or a parenthesised expression.
+    Atom,
+}
+
+impl Prec {
+    /// What the right operand of a left-associative binary operator of this strength needs:
+    /// one level more (`a - (b - c)`).
+    pub fn right_operand(self) -> Prec {
+        match self {
+            Prec::If => Prec::Add,
+            Prec::Add => Prec::Mul,
+            Prec::Mul => Prec::Neg,
+            Prec::Neg | Prec::Atom => Prec::Atom,
+        }
+    }
+}
+
+/// One node. Floating constants are stored by their bits so that nodes can be hashed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Node {
+    Num(u64),
+    Var(Var),
+    Add(Id, Id),
+    Sub(Id, Id),
+    Mul(Id, Id),
+    Div(Id, Id),
+    Neg(Id),
+    Call(Func, Id),
+    Powi(Id, i32),
+    Powf(Id, Id),
+    Hypot(Id, Id),
+}
+
+impl Node {
+    /// The children of the node, in order.
+    pub fn children(&self) -> Vec<Id> {
+        match *self {
+            Node::Num(_) | Node::Var(_) => vec![],
+            Node::Neg(a) | Node::Call(_, a) | Node::Powi(a, _) => vec![a],
+            Node::Add(a, b)
+            | Node::Sub(a, b)
+            | Node::Mul(a, b)
+            | Node::Div(a, b)
+            | Node::Powf(a, b)
+            | Node::Hypot(a, b) => vec![a, b],
+        }
+    }
+
+    /// A leaf (a number or a variable) is never bound to a temporary.
+    pub fn is_leaf(&self) -> bool {
+        matches!(self, Node::Num(_) | Node::Var(_))
+    }
+}
+
+/// The hash-consed node store. Nodes are built through the smart constructors of
+/// `simplify.rs`, so the graph only ever holds simplified expressions.
+#[derive(Clone, Debug, Default)]
+pub struct Graph {
+    nodes: Vec<Node>,
+    index: HashMap<Node, Id>,
+}
+
+impl Graph {
+    /// An empty graph.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Returns the id of `node`, creating it if it is new. No simplification happens here.
+    pub fn intern(&mut self, node: Node) -> Id {
+        if let Some(&id) = self.index.get(&node) {
+            return id;
+        }
+        let id = self.nodes.len();
+        self.nodes.push(node);
+        self.index.insert(node, id);
+        id
+    }
+
+    /// The id of `node` if it exists.
+    pub fn lookup(&self, node: Node) -> Option<Id> {
+        self.index.get(&node).copied()
+    }
+
+    /// The node behind `id`.
+    pub fn node(&self, id: Id) -> Node {
+        self.nodes[id]
+    }
+
+    /// Number of nodes.
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    /// The value of a numeric constant node.
+    pub fn num_value(&self, id: Id) -> Option<f64> {
+        match self.nodes[id] {
+            Node::Num(bits) => Some(f64::from_bits(bits)),
+            _ => None,
+        }
+    }
+
+    /// Whether `id` is the constant `c` (bitwise, so `-0.0` is not `0.0`, except that both
+    /// zeros count as zero).
+    pub fn is_num(&self, id: Id, c: f64) -> bool {
+        self.num_value(id) == Some(c) || (c == 0.0 && self.num_value(id) == Some(-0.0))
+    }
+
+    /// On which of `x`, `v`, `t` the nodes `ids` depend, together (structurally: a variable
+    /// that reaches a node counts, even if it would cancel mathematically).
+    pub fn dependence(&self, ids: &[Id]) -> Dependence {
+        let mut dep = Dependence::NONE;
+        for id in self.reachable(ids) {
+            match self.nodes[id] {
+                Node::Var(Var::X(_)) => dep.x = true,
+                Node::Var(Var::V(_)) => dep.v = true,
+                Node::Var(Var::T) => dep.t = true,
+                _ => {}
+            }
+        }
+        dep
+    }
+
+    /// All nodes reachable from `roots`, in increasing (topological) id order.
+    pub fn reachable(&self, roots: &[Id]) -> Vec<Id> {
+        let mut seen = vec![false; self.nodes.len()];
+        let mut stack: Vec<Id> = roots.to_vec();
+        while let Some(id) = stack.pop() {
+            if !seen[id] {
+                seen[id] = true;
+                stack.extend(self.nodes[id].children());
+            }
+        }
+        (0..self.nodes.len()).filter(|&i| seen[i]).collect()
+    }
+
+    /// Evaluates `roots` with variable values from `env`, sharing the work over the DAG.
+    #[cfg(test)]
+    pub fn eval_many(&self, roots: &[Id], env: &dyn Fn(Var) -> f64) -> Vec<f64> {
+        // Children have smaller ids, so evaluating the reachable nodes in increasing id order
+        // needs no recursion (and cannot overflow the stack on deep expressions).
+        let mut value: HashMap<Id, f64> = HashMap::new();
+        for id in self.reachable(roots) {
+            let val = |i: Id| value[&i];
+            let x = match self.nodes[id] {
+                Node::Num(bits) => f64::from_bits(bits),
+                Node::Var(var) => env(var),
+                Node::Add(a, b) => val(a) + val(b),
+                Node::Sub(a, b) => val(a) - val(b),
+                Node::Mul(a, b) => val(a) * val(b),
+                Node::Div(a, b) => val(a) / val(b),
+                Node::Neg(a) => -val(a),
+                Node::Call(f, a) => f.eval(val(a)),
+                Node::Powi(a, n) => val(a).powi(n),
+                Node::Powf(a, b) => val(a).powf(val(b)),
+                Node::Hypot(a, b) => val(a).hypot(val(b)),
+            };
+            value.insert(id, x);
+        }
+        roots.iter().map(|r| value[r]).collect()
+    }
+
+    /// Evaluates one node.
+    #[cfg(test)]
+    pub fn eval(&self, root: Id, env: &dyn Fn(Var) -> f64) -> f64 {
+        self.eval_many(&[root], env)[0]
+    }
+}
+
+/// On which of `x`, `v`, `t` a function of `(x, v, t)` depends (model constants do not
+/// count: they are fixed for a run). Emitted as core's `Dependence`, field for field.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Dependence {
+    pub x: bool,
+    pub v: bool,
+    pub t: bool,
+}
+
+impl Dependence {
+    /// Depends on none of `x`, `v`, `t`.
+    pub const NONE: Dependence = Dependence {
+        x: false,
+        v: false,
+        t: false,
+    };
+}
+
+/// A parsed `#[lagrangian]` fn: the facts of its signature and `L` as a node of its graph.
+pub struct Model {
+    /// The user's fn, emitted unchanged.
+    pub item: ItemFn,
+    /// Name of the generated struct.
+    pub struct_name: Ident,
+    /// Visibility of the fn, given to the struct.
+    pub vis: Visibility,
+    /// Doc comments of the fn, given to the struct.
+    pub docs: Vec<Attribute>,
+    /// Dimension `D`.
+    pub dim: usize,
+    /// `x`, `v` declared as `f64` (printed as `x`, not `x[0]`).
+    pub scalar: bool,
+    /// The model constants, in order (`Var::Const(k)` is `consts[k]`).
+    pub consts: Vec<Ident>,
+    /// The expression graph.
+    pub graph: Graph,
+    /// `L` in `graph`.
+    pub root: Id,
+}
+
+/// The first and second derivatives of `L`, as nodes of the model's graph, with what each
+/// second-derivative block depends on.
+#[derive(Clone, Debug)]
+pub struct Derivatives {
+    /// `∂L/∂x_i`.
+    pub fx: Vec<Id>,
+    /// `∂L/∂v_i`.
+    pub fv: Vec<Id>,
+    /// `∂²L/∂x_i∂x_j`, row-major; symmetric by construction (the lower triangle is the same
+    /// nodes as the upper one).
+    pub xx: Vec<Id>,
+    /// `∂²L/∂x_i∂v_j`, row-major.
+    pub xv: Vec<Id>,
+    /// `∂²L/∂v_i∂v_j`, row-major, symmetric like `xx`.
+    pub vv: Vec<Id>,
+    /// On what the entries of each block depend (an all-zero block: on nothing).
+    pub hessian_dependence: HessianDependence,
+}
+
+/// What each second-derivative block depends on. Emitted as core's `HessianDependence`, which
+/// decides from it which step equations are affine in the newest node.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct HessianDependence {
+    pub xx: Dependence,
+    pub xv: Dependence,
+    pub vv: Dependence,
+}

@@ -1,0 +1,305 @@
+//! The signature of a `#[lagrangian]` fn: `x`, `v`, an optional `t`, the model constants.
+
+use proc_macro2::TokenStream;
+use syn::{Expr, FnArg, Ident, ItemFn, Lit, Pat, ReturnType, Type};
+
+/// The accepted signature, quoted in the signature errors.
+pub const SIGNATURE: &str = "expected `fn name(x: T, v: T, [t: f64,] constants: f64...) -> f64` \
+     with `T` either `f64` or `[f64; D]`";
+
+/// The declared type of `x` or `v`.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Shape {
+    /// `f64`.
+    Scalar,
+    /// `[f64; len]`.
+    Array(Length),
+}
+
+/// The length of a state array.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Length {
+    /// A valid literal length.
+    Known(usize),
+    /// The length was rejected (and reported): any index is accepted, so that only the
+    /// declaration is an error.
+    Rejected,
+}
+
+/// What the signature declares.
+pub struct Signature {
+    /// The names of `x` and `v` as written (`_x` is allowed) with their shapes; fewer than two
+    /// when parameters are missing.
+    pub states: Vec<(Ident, Shape)>,
+    /// The name of the time parameter, when there is one.
+    pub time: Option<Ident>,
+    /// The model constants, in order.
+    pub consts: Vec<Ident>,
+    /// Dimension `D` (1 when it could not be read).
+    pub dim: usize,
+    /// `x`, `v` declared as `f64`.
+    pub scalar: bool,
+    /// Name of the generated struct.
+    pub struct_name: Ident,
+}
+
+/// Checks the attribute arguments and the signature of `item`; the errors go to `errors`,
+/// in source order, and the declared facts are returned as far as they could be read.
+pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) -> Signature {
+    let sig = &item.sig;
+    if !args.is_empty() {
+        errors.push(syn::Error::new_spanned(
+            args,
+            "#[lagrangian] takes no arguments: model constants are the fn's parameters after `x`, `v` (and `t`)",
+        ));
+    }
+    if let Some(c) = &sig.constness {
+        errors.push(syn::Error::new_spanned(
+            c,
+            "a #[lagrangian] fn cannot be `const`",
+        ));
+    }
+    if let Some(a) = &sig.asyncness {
+        errors.push(syn::Error::new_spanned(
+            a,
+            "a #[lagrangian] fn cannot be `async`",
+        ));
+    }
+    if let Some(u) = &sig.unsafety {
+        errors.push(syn::Error::new_spanned(
+            u,
+            "a #[lagrangian] fn cannot be `unsafe`",
+        ));
+    }
+    if let Some(abi) = &sig.abi {
+        errors.push(syn::Error::new_spanned(
+            abi,
+            "a #[lagrangian] fn cannot have an ABI",
+        ));
+    }
+    if !sig.generics.params.is_empty() || sig.generics.where_clause.is_some() {
+        errors.push(syn::Error::new_spanned(
+            &sig.generics,
+            "a #[lagrangian] fn cannot be generic: its variables are `f64` or `[f64; D]` with a literal `D`",
+        ));
+    }
+    if let Some(var) = &sig.variadic {
+        errors.push(syn::Error::new_spanned(
+            var,
+            "a #[lagrangian] fn cannot be variadic",
+        ));
+    }
+    match &sig.output {
+        ReturnType::Default => errors.push(syn::Error::new_spanned(
+            &sig.ident,
+            "a #[lagrangian] fn must return `f64`: add `-> f64`",
+        )),
+        ReturnType::Type(_, ty) => {
+            if !is_f64(ty) {
+                errors.push(syn::Error::new_spanned(
+                    ty,
+                    "a #[lagrangian] fn must return `f64`",
+                ));
+            }
+        }
+    }
+
+    // Parameters: x, v, optional t, constants.
+    let mut names: Vec<(Ident, Type)> = Vec::new();
+    for arg in &sig.inputs {
+        match arg {
+            FnArg::Receiver(r) => errors.push(syn::Error::new_spanned(
+                r,
+                format!("`self` is not allowed; {SIGNATURE}"),
+            )),
+            FnArg::Typed(pt) => match &*pt.pat {
+                Pat::Ident(pi) if pi.by_ref.is_none() && pi.subpat.is_none() => {
+                    names.push((pi.ident.clone(), (*pt.ty).clone()));
+                }
+                other => errors.push(syn::Error::new_spanned(
+                    other,
+                    "parameters of a #[lagrangian] fn must be plain names",
+                )),
+            },
+        }
+    }
+    let mut dim = 1;
+    let mut scalar = true;
+    let mut shapes = [Shape::Scalar; 2];
+    let mut has_t = false;
+    let mut consts = Vec::new();
+    if names.len() < 2 {
+        errors.push(syn::Error::new_spanned(
+            &sig.inputs,
+            format!("missing parameters: {SIGNATURE}"),
+        ));
+        if sig.inputs.is_empty() {
+            // An empty list has no tokens of its own: point at the fn name instead.
+            errors.pop();
+            errors.push(syn::Error::new_spanned(
+                &sig.ident,
+                format!("missing parameters: {SIGNATURE}"),
+            ));
+        }
+    } else {
+        for (k, expected) in ["x", "v"].iter().enumerate() {
+            if bare(&names[k].0) != *expected {
+                errors.push(syn::Error::new_spanned(
+                    &names[k].0,
+                    format!(
+                        "parameter {} must be named `{expected}` (or `_{expected}`); {SIGNATURE}",
+                        k + 1
+                    ),
+                ));
+            }
+        }
+        // Each of `x`, `v` is bound with its own declared shape even when the two differ, so
+        // that the body is still checked without a cascade of follow-up errors.
+        let (x_shape, x_err) = state_type(&names[0].1);
+        let (v_shape, v_err) = state_type(&names[1].1);
+        errors.extend(x_err);
+        errors.extend(v_err);
+        if v_shape != x_shape {
+            errors.push(syn::Error::new_spanned(
+                &names[1].1,
+                "`v` must have the same type as `x`",
+            ));
+        }
+        shapes = [x_shape, v_shape];
+        if let Shape::Array(len) = x_shape {
+            scalar = false;
+            if let Length::Known(d) = len {
+                dim = d;
+            }
+        }
+        for (k, (name, ty)) in names.iter().enumerate().skip(2) {
+            if !is_f64(ty) {
+                errors.push(syn::Error::new_spanned(
+                    ty,
+                    format!(
+                        "`{name}` must be `f64`: after `x` and `v` come an optional time `t: f64` and the model constants, all `f64`"
+                    ),
+                ));
+            }
+            let plain = bare(name);
+            if plain == "t" {
+                if k == 2 {
+                    has_t = true;
+                } else {
+                    errors.push(syn::Error::new_spanned(
+                        name,
+                        "the time `t` must be the third parameter, right after `v`",
+                    ));
+                    // Still usable in the body (as a constant), so no "unknown name" follows.
+                    consts.push(name.clone());
+                }
+            } else if plain == "x" || plain == "v" {
+                errors.push(syn::Error::new_spanned(
+                    name,
+                    format!(
+                        "`{name}` must be parameter {}",
+                        if plain == "x" { 1 } else { 2 }
+                    ),
+                ));
+            } else {
+                consts.push(name.clone());
+            }
+        }
+    }
+
+    let struct_name = Ident::new(&camel_case(&sig.ident.to_string()), sig.ident.span());
+    if struct_name == sig.ident {
+        errors.push(syn::Error::new_spanned(
+            &sig.ident,
+            format!(
+                "the generated struct is named after the fn in CamelCase; name the fn in snake_case so that `{struct_name}` does not clash with it"
+            ),
+        ));
+    }
+
+    let states = names
+        .iter()
+        .take(2)
+        .zip(shapes)
+        .map(|((name, _), shape)| (name.clone(), shape))
+        .collect();
+    Signature {
+        states,
+        time: has_t.then(|| names[2].0.clone()),
+        consts,
+        dim,
+        scalar,
+        struct_name,
+    }
+}
+
+/// A parameter name without the leading `_` that silences "unused" warnings.
+fn bare(name: &Ident) -> String {
+    let s = name.to_string();
+    s.strip_prefix('_').map(str::to_string).unwrap_or(s)
+}
+
+/// `snake_case` → `CamelCase`.
+fn camel_case(s: &str) -> String {
+    let s = s.strip_prefix("r#").unwrap_or(s);
+    let mut out = String::new();
+    for part in s.split('_').filter(|p| !p.is_empty()) {
+        let mut chars = part.chars();
+        if let Some(c) = chars.next() {
+            out.extend(c.to_uppercase());
+            out.push_str(chars.as_str());
+        }
+    }
+    if out.is_empty() {
+        "Lagrangian".into()
+    } else {
+        out
+    }
+}
+
+/// Whether `ty` is `f64`, possibly parenthesised.
+pub fn is_f64(ty: &Type) -> bool {
+    match ty {
+        Type::Path(tp) => tp.qself.is_none() && tp.path.is_ident("f64"),
+        Type::Paren(p) => is_f64(&p.elem),
+        Type::Group(g) => is_f64(&g.elem),
+        _ => false,
+    }
+}
+
+/// The shape of `x` or `v`, with the error if the type is not `f64` or `[f64; D]` (the shape
+/// is then the closest guess, so that the body can still be checked).
+fn state_type(ty: &Type) -> (Shape, Option<syn::Error>) {
+    if is_f64(ty) {
+        return (Shape::Scalar, None);
+    }
+    if let Type::Array(arr) = ty {
+        let elem = (!is_f64(&arr.elem))
+            .then(|| syn::Error::new_spanned(&arr.elem, "the state arrays must hold `f64`"));
+        let rejected = |e| (Shape::Array(Length::Rejected), Some(e));
+        if let Expr::Lit(syn::ExprLit {
+            lit: Lit::Int(n), ..
+        }) = &arr.len
+        {
+            return match n.base10_parse::<usize>() {
+                Ok(0) => rejected(syn::Error::new_spanned(
+                    n,
+                    "the dimension must be at least 1",
+                )),
+                Ok(d) => (Shape::Array(Length::Known(d)), elem),
+                Err(e) => rejected(e),
+            };
+        }
+        return rejected(syn::Error::new_spanned(
+            &arr.len,
+            "the dimension must be an integer literal, e.g. `[f64; 2]`",
+        ));
+    }
+    (
+        Shape::Scalar,
+        Some(syn::Error::new_spanned(
+            ty,
+            format!("`x` and `v` must be `f64` or `[f64; D]`; {SIGNATURE}"),
+        )),
+    )
+}

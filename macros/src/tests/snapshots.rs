@@ -1,0 +1,50 @@
+//! Expansion snapshots: the pretty-printed output for three models, so that a change to the
+//! emitted code shows in review.
+
+use proc_macro2::TokenStream;
+use quote::quote;
+
+use super::{double_pendulum_item, kepler_item, pendulum_item};
+use crate::expand::expand;
+
+fn pretty(ts: TokenStream) -> String {
+    let file: syn::File = syn::parse2(ts).expect("the expansion is a valid file");
+    prettyplease::unparse(&file)
+}
+
+/// Compares the pretty-printed expansion of `item` with `macros/tests/expand/<name>.expanded.rs`;
+/// with `UPDATE_EXPAND=1` rewrites the file first (review the diff).
+fn check_snapshot(name: &str, item: TokenStream) {
+    let out = pretty(expand(quote!(), item).expect("the model expands"));
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(format!("tests/expand/{name}.expanded.rs"));
+    if std::env::var_os("UPDATE_EXPAND").is_some() {
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(&path, &out).unwrap();
+    }
+    let expected = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{}: {e}; run with UPDATE_EXPAND=1", path.display()));
+    assert!(
+        out == expected,
+        "the expansion of {name} changed; run with UPDATE_EXPAND=1 and review the diff.\n{out}"
+    );
+}
+
+/// The pendulum's generated code (d = 1, model constants as fields, a zero `xv` block).
+#[test]
+fn pendulum_expansion_snapshot() {
+    check_snapshot("pendulum", pendulum_item());
+}
+
+/// The double pendulum's generated code (d = 2, shared temporaries, symmetric blocks).
+#[test]
+fn double_pendulum_expansion_snapshot() {
+    check_snapshot("double_pendulum", double_pendulum_item());
+}
+
+/// Kepler's generated code: a unit struct, a constant `L_vv = I` (its `hessian_dependence`
+/// depends on nothing, so core's variational steps are closed-form).
+#[test]
+fn kepler_expansion_snapshot() {
+    check_snapshot("kepler", kepler_item());
+}
