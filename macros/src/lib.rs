@@ -1,11 +1,11 @@
 //! `#[lagrangian]`: compile-time symbolic differentiation of a Lagrangian.
 //!
 //! A pipeline, one module per stage, each a function from one typed value to the next
-//! (strung together in [`expand`]): [`parse`] (syn → the IR, spanned errors, all collected) →
-//! [`diff`] (symbolic first and second derivatives) → [`cse`] (which shared nodes each method
-//! binds to temporaries) → [`text`] (`DERIVATIVES`) → [`emit`] (the struct and its
-//! `Lagrangian<D>` impl, expressions written by [`render`]). [`ir`] is the hash-consed DAG they
-//! share; [`simplify`] is the smart constructors every node is built through; [`fallback`] is
+//! (strung together in `expand.rs`): `parse.rs` (syn → the IR, spanned errors, all collected) →
+//! `diff.rs` (symbolic first and second derivatives) → `cse.rs` (which shared nodes each method
+//! binds to temporaries) → `text.rs` (`DERIVATIVES`) → `emit.rs` (the struct and its
+//! `Lagrangian<D>` impl, expressions written by `render.rs`). `ir.rs` is the hash-consed DAG they
+//! share; `simplify.rs` is the smart constructors every node is built through; `fallback.rs` is
 //! what is emitted on error.
 
 mod cse;
