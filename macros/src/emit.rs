@@ -4,8 +4,8 @@
 //!
 //! The step math of the schemes is not generated: core writes it once over these methods, so a
 //! hand-written Lagrangian gets the same steps as a generated one. Every method is `#[inline]`:
-//! a step that only reads one block of `gradient_and_hessian` then costs only that block,
-//! because the optimiser drops the outputs nobody reads.
+//! inlined into a step that reads only some outputs of `gradient_and_hessian`, the optimiser
+//! drops the work only the other outputs need.
 //!
 //! The generated code names core only through `::varembed::__private` ([`private`]), so core's
 //! public API can change without breaking it.
