@@ -156,6 +156,7 @@ pub trait Lagrangian<const D: usize> {
     /// needs. The default calls [`gradient`](Self::gradient) and [`hessian`](Self::hessian);
     /// `#[lagrangian]` overrides it with one evaluation that computes the subexpressions the
     /// two share once.
+    #[inline]
     fn gradient_and_hessian(
         &self,
         x: &Vector<D>,

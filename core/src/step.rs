@@ -312,7 +312,7 @@ impl<const D: usize> Update<D> {
     /// The newest node in closed form, `y = b + J⁻¹ (π − G(b))` with `G` evaluated at `y = b`
     /// (velocity 0). `None` for [`Update::Newton`] and for a singular per-step Jacobian; the
     /// caller then runs Newton, which reports the failure with its step index.
-    #[inline]
+    #[inline(always)]
     pub fn explicit<L: Lagrangian<D> + ?Sized>(
         &self,
         lagrangian: &L,
@@ -321,21 +321,22 @@ impl<const D: usize> Update<D> {
         let (b, h) = (&step.b, step.times.h);
         let (x, t) = step.equation_point(b);
         // The velocity is an exact zero, not (b − b)/h: the optimiser then drops every term
-        // of the derivatives it multiplies.
-        let rest = Vector::<D>::zeros();
+        // of the derivatives it multiplies. One per arm, so that the per-step solve passing
+        // its address on cannot keep the other arms' zero in memory.
+        let rest = Vector::<D>::zeros;
+        // π − G rather than −(G − π): π − 0 folds to π, −(0 − π) does not.
         match self {
             Update::Newton => None,
             Update::ConstantDiagonalInverse(diagonal) => {
-                let (f, p) = lagrangian.gradient(x, &rest, t);
-                // π − G rather than −(G − π): π − 0 folds to π, −(0 − π) does not.
+                let (f, p) = lagrangian.gradient(x, &rest(), t);
                 Some(b + diagonal.component_mul(&(step.momentum - equation(step.kind, f, p, h))))
             }
             Update::ConstantInverse(j_inv) => {
-                let (f, p) = lagrangian.gradient(x, &rest, t);
+                let (f, p) = lagrangian.gradient(x, &rest(), t);
                 Some(b + j_inv * (step.momentum - equation(step.kind, f, p, h)))
             }
             Update::SolvePerStep => {
-                let (f, p, hs) = lagrangian.gradient_and_hessian(x, &rest, t);
+                let (f, p, hs) = lagrangian.gradient_and_hessian(x, &rest(), t);
                 let rhs = step.momentum - equation(step.kind, f, p, h);
                 solve_small(&scaled_jacobian(step.kind, &hs, h), &rhs).map(|dy| b + dy * h)
             }

@@ -171,10 +171,40 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         if n_steps < 2 {
             return Ok((0, 0));
         }
+        let first = StepTimes::new(grid.h(), grid.t(0), grid.t(1), grid.t(2));
+        let update = Update::plan(self.lagrangian, kind, &q[1], &first);
+        // One copy of the loop per kind of update as well, each with the update's variant a
+        // constant: a loop-invariant `match` left in the loop costs an indirect jump per step
+        // and keeps the zero velocity of the closed form in memory.
+        let l = self.lagrangian;
+        match update {
+            Update::Newton => self.steps(kind, &update, q, |_| None),
+            Update::ConstantDiagonalInverse(d) => self.steps(kind, &update, q, |s| {
+                Update::ConstantDiagonalInverse(d).explicit(l, s)
+            }),
+            Update::ConstantInverse(m) => self.steps(kind, &update, q, |s| {
+                Update::ConstantInverse(m).explicit(l, s)
+            }),
+            Update::SolvePerStep => {
+                self.steps(kind, &update, q, |s| Update::SolvePerStep.explicit(l, s))
+            }
+        }
+    }
+
+    /// The loop of [`recurrence`](Self::recurrence), with the closed form of `update` as
+    /// `closed_form`.
+    #[inline(always)]
+    fn steps(
+        &self,
+        kind: StepKind,
+        update: &Update<D>,
+        q: &mut Vec<Vector<D>>,
+        closed_form: impl Fn(&Step<D>) -> Option<Vector<D>>,
+    ) -> Result<(usize, usize)> {
+        let grid = self.grid;
+        let n_steps = grid.n();
         let (h, inv_h) = (grid.h(), 1.0 / grid.h());
         let (mut a, mut b) = (q[0], q[1]);
-        let first = StepTimes::new(h, grid.t(0), grid.t(1), grid.t(2));
-        let update = Update::plan(self.lagrangian, kind, &b, &first);
         let (mut iterations, mut explicit_steps) = (0, 0);
         for n in 2..=n_steps {
             let times = StepTimes {
@@ -188,11 +218,21 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
             if (n - 2) % STABILITY_CHECK_INTERVAL == 0 {
                 self.check_stability(update, a, step, n)?;
             }
-            let (y, its) = self.solve_step(&update, &step, b * 2.0 - a, n)?;
-            if its == 0 {
-                explicit_steps += 1;
-            }
-            iterations += its;
+            let y = match closed_form(&step) {
+                Some(y) if y.iter().all(|c| c.is_finite()) => {
+                    explicit_steps += 1;
+                    y
+                }
+                _ => {
+                    let (y, its) =
+                        newton_step(self.lagrangian, &step, b * 2.0 - a, n, &self.newton)?;
+                    if its == 0 {
+                        explicit_steps += 1;
+                    }
+                    iterations += its;
+                    y
+                }
+            };
             if !y.iter().all(|c| c.is_finite()) {
                 return Err(Error::NotFinite {
                     at: Location::Step(n),
@@ -207,7 +247,6 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
     /// The newest node of `step` (index `n`, for the errors) and the Newton iterations it
     /// took: the closed form of `update` when it has one and it is finite, otherwise Newton
     /// from `guess`, which reports a singular Jacobian or a non-finite value at step `n`.
-    #[inline(always)]
     fn solve_step(
         &self,
         update: &Update<D>,
@@ -236,7 +275,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
     #[inline(never)]
     fn check_stability(
         &self,
-        update: Update<D>,
+        update: &Update<D>,
         a: Vector<D>,
         step: Step<D>,
         n: usize,
@@ -244,7 +283,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         let Step { kind, b, times, .. } = step;
         let map = |a: &Vector<D>, b: &Vector<D>| -> Result<Vector<D>> {
             let step = Step::new(self.lagrangian, kind, a, b, &times);
-            self.solve_step(&update, &step, b * 2.0 - a, n)
+            self.solve_step(update, &step, b * 2.0 - a, n)
                 .map(|(y, _)| y)
         };
         // The Jacobian is [[0, I], [∂y/∂a, ∂y/∂b]]: the two lower blocks, column by column.
