@@ -1,4 +1,4 @@
-//! Must-show 4: harmonic oscillator, exact discrete solutions.
+//! Harmonic oscillator: the runs are the exact discrete solutions.
 //! Variational: `Q_k = A cos(kθ) + B sin(kθ)`, `cos θ = 1 − (ωh)²/2`.
 //! Direct σ = −: `Q_k = r^k (A' cos(kφ) + B' sin(kφ))`, `r = (1 + ω²h²)^{−1/2}`, `tan φ = ωh`:
 //! it loses exactly the factor `r` of amplitude per step.
