@@ -78,6 +78,15 @@ impl StepKind {
             StepKind::VariationalBackward | StepKind::DirectBackward
         )
     }
+
+    /// The time at which the step equation is evaluated: `t_y` (`@right`) or `t_b` (`@left`).
+    fn equation_time(self, times: &StepTimes) -> f64 {
+        if self.at_right() {
+            times.t_y
+        } else {
+            times.t_b
+        }
+    }
 }
 
 /// Grid data a step needs: the step `h`, its inverse, and the times of the three nodes
@@ -153,15 +162,11 @@ impl<const D: usize> Step<D> {
         }
     }
 
-    /// Where `G` is evaluated for the newest node: `y` and `t_y` (`@right`) or `b` and `t_b`
-    /// (`@left`).
+    /// Where `G` is evaluated for the newest node `y`: at `y` (`@right`) or at `b` (`@left`).
     #[inline]
     fn equation_point<'a>(&'a self, y: &'a Vector<D>) -> (&'a Vector<D>, f64) {
-        if self.kind.at_right() {
-            (y, self.times.t_y)
-        } else {
-            (&self.b, self.times.t_b)
-        }
+        let x = if self.kind.at_right() { y } else { &self.b };
+        (x, self.kind.equation_time(&self.times))
     }
 }
 
@@ -290,14 +295,7 @@ impl<const D: usize> Update<D> {
         if !jacobian_is_constant(kind, &dependence) {
             return Update::SolvePerStep;
         }
-        let at_rest = Step {
-            kind,
-            b: *b,
-            momentum: Vector::<D>::zeros(),
-            times: *times,
-        };
-        let (x, t) = at_rest.equation_point(b);
-        let hs = lagrangian.hessian(x, &Vector::<D>::zeros(), t);
+        let hs = lagrangian.hessian(b, &Vector::<D>::zeros(), kind.equation_time(times));
         let Some(m_inv) = inverse(&scaled_jacobian(kind, &hs, times.h)) else {
             return Update::Newton;
         };
@@ -318,8 +316,9 @@ impl<const D: usize> Update<D> {
         lagrangian: &L,
         step: &Step<D>,
     ) -> Option<Vector<D>> {
+        // At y = b the equation is evaluated at b, whichever side.
         let (b, h) = (&step.b, step.times.h);
-        let (x, t) = step.equation_point(b);
+        let t = step.kind.equation_time(&step.times);
         // The velocity is an exact zero, not (b − b)/h: the optimiser then drops every term
         // of the derivatives it multiplies. One per arm, so that the per-step solve passing
         // its address on cannot keep the other arms' zero in memory.
@@ -328,15 +327,15 @@ impl<const D: usize> Update<D> {
         match self {
             Update::Newton => None,
             Update::ConstantDiagonalInverse(diagonal) => {
-                let (f, p) = lagrangian.gradient(x, &rest(), t);
+                let (f, p) = lagrangian.gradient(b, &rest(), t);
                 Some(b + diagonal.component_mul(&(step.momentum - equation(step.kind, f, p, h))))
             }
             Update::ConstantInverse(j_inv) => {
-                let (f, p) = lagrangian.gradient(x, &rest(), t);
+                let (f, p) = lagrangian.gradient(b, &rest(), t);
                 Some(b + j_inv * (step.momentum - equation(step.kind, f, p, h)))
             }
             Update::SolvePerStep => {
-                let (f, p, hs) = lagrangian.gradient_and_hessian(x, &rest(), t);
+                let (f, p, hs) = lagrangian.gradient_and_hessian(b, &rest(), t);
                 let rhs = step.momentum - equation(step.kind, f, p, h);
                 solve_small(&scaled_jacobian(step.kind, &hs, h), &rhs).map(|dy| b + dy * h)
             }
