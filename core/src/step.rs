@@ -48,7 +48,7 @@
 use crate::lagrangian::{Dependence, Hessian, HessianDependence, Lagrangian, Matrix, Vector};
 use crate::solve::linear::solve_small;
 
-/// Which classical scheme a step advances (see the [module docs](self)).
+/// Which classical scheme a step advances (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum StepKind {
     /// Variational integrator of Gauss-FDE− (σ = −).
@@ -171,7 +171,7 @@ impl<const D: usize> Step<D> {
 }
 
 /// The momentum `π` that the step for `Q_n` must reproduce, from `a = Q_{n−2}`,
-/// `b = Q_{n−1}` (first table of the [module docs](self)).
+/// `b = Q_{n−1}` (first table of the module docs).
 #[inline]
 pub fn momentum<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
@@ -237,7 +237,7 @@ pub fn residual<const D: usize, L: Lagrangian<D> + ?Sized>(
 }
 
 /// Whether the step equation of `kind` is affine in the newest node (third table of the
-/// [module docs](self)).
+/// module docs).
 pub fn is_affine(kind: StepKind, dependence: &HessianDependence) -> bool {
     let HessianDependence { xx, xv, vv } = *dependence;
     let on_x_or_v = |d: Dependence| d.x || d.v;
