@@ -385,7 +385,9 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             }
             let level = run
                 .level(n)
-                .filter(|l| l.solution.grid == *self.grid() && l.solution.embedding == *self.embedding())
+                .filter(|l| {
+                    l.solution.grid == *self.grid() && l.solution.embedding == *self.embedding()
+                })
                 .ok_or_else(|| mismatch("a comparison of runs that did not solve this grid"))?;
             let other = scheme.other();
             let q = &level.solution.q;

@@ -49,7 +49,7 @@
 
 // Imports go one way. From the bottom up, each module imports only modules before it:
 // lagrangian, error, side, weights, toeplitz, grid, linalg, options, operator, fft_operator,
-// embedding, ode, discretisation, solve (krylov, newton, solution, fractional, bvp, ivp),
+// embedding, step, ode, discretisation, solve (krylov, newton, solution, fractional, bvp, ivp),
 // problem, compare.
 mod compare;
 mod discretisation;
@@ -65,19 +65,22 @@ mod options;
 mod problem;
 mod side;
 mod solve;
+mod step;
 #[cfg(test)]
 mod test_models;
 mod toeplitz;
 mod weights;
 
 pub use compare::{
-    CompareOptions, Comparison, Convergence, Level, Reference, SchemeReport, max_error, observed_order,
-    observed_orders,
+    CompareOptions, Comparison, Convergence, Level, Reference, SchemeReport, max_error,
+    observed_order, observed_orders,
 };
 pub use embedding::{Embedding, EmbeddingKind, Scheme};
 pub use error::{Error, Location, Result};
 pub use grid::Grid;
-pub use lagrangian::{Hessian, IntoVector, Lagrangian, Matrix, Vector};
+pub use lagrangian::{
+    Dependence, Hessian, HessianDependence, IntoVector, Lagrangian, Matrix, Vector,
+};
 pub use ode::{DifferentialOperator, DirectEmbedding};
 pub use options::{FractionalSolver, NewtonOptions};
 pub use problem::{Problem, curve_from_flat};
@@ -90,11 +93,13 @@ pub use varembed_macros::lagrangian;
 /// integration tests reach into. Not part of the public API: it changes without notice.
 #[doc(hidden)]
 pub mod __private {
-    pub use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
+    pub use crate::lagrangian::{
+        Dependence, Hessian, HessianDependence, Lagrangian, Matrix, Vector,
+    };
 
     /// The step kernels of the classical schemes.
     pub mod step {
-        pub use crate::lagrangian::{StepKind, StepTimes};
+        pub use crate::step::*;
     }
     /// Small dense and banded linear algebra.
     pub mod linalg {

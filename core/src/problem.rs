@@ -9,7 +9,9 @@ use crate::grid::Grid;
 use crate::lagrangian::{IntoVector, Lagrangian, Vector};
 use crate::options::{FractionalSolver, NewtonOptions, SolverOptions};
 use crate::solve::bvp;
+use crate::solve::ivp::{Ivp, Start};
 use crate::solve::solution::Solution;
+use crate::step::StepKind;
 use std::ops::RangeInclusive;
 
 /// A discrete curve from a flat array `[Q_0[0], …, Q_0[D−1], Q_1[0], …]`.
@@ -209,5 +211,101 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
     /// and last nodes are the boundary values.
     pub fn solve_bvp_from(&self, scheme: Scheme, guess: &[Vector<D>]) -> Result<Solution<D>> {
         bvp::solve(&self.discretisation, &self.options, scheme, guess)
+    }
+}
+
+// Initial value problems: each method hands the problem's parts to the IVP solver.
+impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
+    /// The parts of this problem an initial value problem needs.
+    fn ivp(&self) -> Ivp<'_, L, D> {
+        Ivp {
+            lagrangian: self.lagrangian(),
+            grid: *self.grid(),
+            embedding: *self.embedding(),
+            newton: self.options.newton,
+        }
+    }
+
+    /// The step kind that advances `scheme` under this problem's embedding.
+    ///
+    /// The asymmetric Gauss-FDEσ is coherent: its direct scheme *is* the variational
+    /// recurrence, so both schemes step with the variational kernel. Gauss-GLEσ has no
+    /// three-point recurrence (every node talks to every other) and gives
+    /// [`Error::Unsupported`]: solve it as a boundary value problem.
+    #[doc(hidden)]
+    pub fn step_kind(&self, scheme: Scheme) -> Result<StepKind> {
+        self.ivp().step_kind(scheme)
+    }
+
+    /// The discrete Legendre start: `Q_1` from `Q_0 = q(a)` and `π_0 = ∂L/∂v(q(a), q̇(a), a)`,
+    /// by the variational step equation of this side (σ=−: `∂L/∂v(Q_1, (Q_1−Q_0)/h, t_1) = π_0`;
+    /// σ=+: `p_0 − h f_0 = π_0` at `(Q_0, (Q_1−Q_0)/h, t_0)`).
+    pub fn legendre_start(
+        &self,
+        q0: impl IntoVector<D>,
+        v0: impl IntoVector<D>,
+    ) -> Result<Vector<D>> {
+        self.ivp()
+            .legendre_start(q0.into_vector(), v0.into_vector())
+    }
+
+    /// The second-order start `Q_1 = Q_0 + h q̇(a) + ½h² q̈(a)`, with `q̈(a)` solved from the
+    /// Euler–Lagrange equation at `a`: `L_vv q̈ = ∂L/∂x − L_vx q̇ − ∂²L/∂v∂t`.
+    ///
+    /// `∂²L/∂v∂t` is not among the Hessian blocks; it is taken by a central difference of
+    /// `∂L/∂v` in `t` with step `10⁻⁵ (1 + |a|)` (error `O(10⁻¹⁰)`, far below the `O(h³)` of the
+    /// start itself; exactly zero for a Lagrangian that does not depend on `t`).
+    /// Errors with [`Error::SingularJacobian`] at step 1 when `L_vv` is singular.
+    pub fn second_order_start(
+        &self,
+        q0: impl IntoVector<D>,
+        v0: impl IntoVector<D>,
+    ) -> Result<Vector<D>> {
+        self.ivp()
+            .second_order_start(q0.into_vector(), v0.into_vector())
+    }
+
+    /// Solves the initial value problem with the chosen [`Start`] for `Q_1`.
+    pub fn solve_ivp_with(
+        &self,
+        scheme: Scheme,
+        q0: impl IntoVector<D>,
+        v0: impl IntoVector<D>,
+        start: Start,
+    ) -> Result<Solution<D>> {
+        self.ivp()
+            .solve(scheme, q0.into_vector(), v0.into_vector(), start)
+    }
+
+    /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` with `scheme`, starting from
+    /// the discrete Legendre start (the same `Q_1` for both schemes).
+    ///
+    /// A step whose equation is affine in the newest node (as declared by
+    /// [`Lagrangian::hessian_dependence`]) is taken in closed form, with no Newton iteration.
+    ///
+    /// Errors: [`Error::Unsupported`] for Gauss-GLEσ; at step `n`,
+    /// [`Error::SingularJacobian`], [`Error::NewtonDidNotConverge`] (with the last residual) or
+    /// [`Error::Unstable`] (the linearised step map, checked at step 2 and every 1024 steps, has
+    /// a real eigenvalue below −1 or one of modulus ≥ 2: the step is too large for the scheme)
+    /// or [`Error::NotFinite`] (e.g. a recurrence overflowing between two checks).
+    pub fn solve_ivp(
+        &self,
+        scheme: Scheme,
+        q0: impl IntoVector<D>,
+        v0: impl IntoVector<D>,
+    ) -> Result<Solution<D>> {
+        self.ivp()
+            .solve(scheme, q0.into_vector(), v0.into_vector(), Start::Legendre)
+    }
+
+    /// Runs the recurrence of `scheme` from given first nodes `Q_0`, `Q_1`.
+    pub fn solve_ivp_from_nodes(
+        &self,
+        scheme: Scheme,
+        q0: impl IntoVector<D>,
+        q1: impl IntoVector<D>,
+    ) -> Result<Solution<D>> {
+        self.ivp()
+            .solve_from_nodes(scheme, q0.into_vector(), q1.into_vector())
     }
 }

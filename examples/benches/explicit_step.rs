@@ -1,12 +1,13 @@
-//! The explicit variational run produced by `#[lagrangian]`, through the public API, against a
+//! The explicit variational run of a `#[lagrangian]` model, through the public API, against a
 //! hand-written Störmer–Verlet loop that writes the same nodes into a `Vec`.
 //!
 //! `generated` is `Problem::solve_ivp(Scheme::Variational, q0, v0)` under Gauss-FDE−: the
-//! discrete Legendre start, then the variational recurrence with the macro's closed-form step
-//! (no Newton iteration), returning a `Solution`. `hand_written` is the loop a user would write
-//! for the same scheme, `p = (Q_{n−1} − Q_{n−2})/h + h f(Q_{n−1})`, `Q_n = Q_{n−1} + h p`, with
-//! `1/h` precomputed and the force written out by hand, pushing the same `Vector<D>` nodes
-//! into a `Vec` of the same capacity. Both are checked once, outside the timing, to give the
+//! discrete Legendre start, then the variational recurrence with core's closed-form step (the
+//! macro reports `L_xv` and `L_vv` constant, so every step is affine: no Newton iteration, and
+//! `J⁻¹ = h` computed once per run), returning a `Solution`. `hand_written` is the loop a user
+//! would write for the same scheme, `p = (Q_{n−1} − Q_{n−2})/h + h f(Q_{n−1})`,
+//! `Q_n = Q_{n−1} + h p`, with `1/h` precomputed and the force written out by hand, pushing the
+//! same `Vector<D>` nodes into a `Vec` of the same capacity. Both are checked once, outside the timing, to give the
 //! same nodes (to 1e-12; in fact bit for bit).
 //!
 //! `cargo bench -p varembed-examples --bench explicit_step`; figures in BENCHMARKS.md.

@@ -1,7 +1,6 @@
 //! Every error variant is produced, by user input or by a failing solve, as a
 //! typed error carrying where it happened; nothing panics.
 
-use varembed::DifferentialOperator;
 use varembed::{
     DifferentialOperator, Embedding, Error, Grid, Hessian, Lagrangian, Location, Matrix,
     NewtonOptions, Problem, Scheme, Side, Vector, curve_from_flat,

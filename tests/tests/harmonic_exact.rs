@@ -81,8 +81,8 @@ fn direct_forward_run_gains_the_factor_one_over_r_per_step() {
     }
 }
 
-/// The oscillator declaring its steps affine: `step_explicit` then solves each step in closed
-/// form (one linear solve from the generic default), with no Newton iteration.
+/// The oscillator declaring its second derivatives constant: every step of every scheme is then
+/// affine in the newest node and taken in closed form, with no Newton iteration.
 struct AffineOscillator(Oscillator);
 
 impl varembed::Lagrangian<1> for AffineOscillator {
@@ -105,8 +105,13 @@ impl varembed::Lagrangian<1> for AffineOscillator {
     ) -> varembed::Hessian<1> {
         self.0.hessian(x, v, t)
     }
-    fn step_is_affine(&self, _kind: varembed::__private::step::StepKind) -> bool {
-        true
+    fn hessian_dependence(&self) -> varembed::HessianDependence {
+        use varembed::Dependence;
+        varembed::HessianDependence {
+            xx: Dependence::NONE,
+            xv: Dependence::NONE,
+            vv: Dependence::NONE,
+        }
     }
 }
 

@@ -1,21 +1,37 @@
-//! Models through `#[lagrangian]` against hand-written derivatives (`1e-13`), and the generated
-//! step kernels against the trait's generic defaults.
+//! Models through `#[lagrangian]` against hand-written derivatives (`1e-13`), and core's step
+//! kernels on the generated derivatives against the same kernels on the hand-written ones.
 //!
-//! Each hand-written impl below implements only `value`, `gradient`, `hessian` (and
-//! `step_is_affine`, decided by hand from the second-derivative blocks), so its step kernels are
-//! the trait's defaults.
+//! Each hand-written impl below implements `value`, `gradient`, `hessian` and
+//! `hessian_dependence` (decided by hand from the second-derivative blocks); the generated
+//! impls also fuse gradient and Hessian into one `gradient_and_hessian` and decide the
+//! dependence symbolically, which must give the same answer.
 
-use varembed::__private::step::{StepKind, StepTimes};
-use varembed::{Hessian, Lagrangian, Matrix, Vector, lagrangian};
+use varembed::__private::step::{Step, StepKind, StepTimes, Update, is_affine, residual};
+use varembed::{Dependence, Hessian, HessianDependence, Lagrangian, Matrix, Vector, lagrangian};
 use varembed_tests::models::generated::{DoublePendulum, Pendulum, double_pendulum, pendulum};
 use varembed_tests::rng::Rng;
 
-const KINDS: [StepKind; 4] = [
-    StepKind::VariationalBackward,
-    StepKind::VariationalForward,
-    StepKind::DirectBackward,
-    StepKind::DirectForward,
-];
+const KINDS: [StepKind; 4] = StepKind::ALL;
+
+/// A block that depends on `x` only.
+const ON_X: Dependence = Dependence {
+    x: true,
+    v: false,
+    t: false,
+};
+/// A block that depends on `t` only.
+const ON_T: Dependence = Dependence {
+    x: false,
+    v: false,
+    t: true,
+};
+
+/// `L_xx` depends on `x`, `L_xv` and `L_vv` are constants: `L = ½ vᵀMv + vᵀCx − U(x)`.
+const SEPARABLE: HessianDependence = HessianDependence {
+    xx: ON_X,
+    xv: Dependence::NONE,
+    vv: Dependence::NONE,
+};
 
 /// `|a − b| ≤ tol · max(1, |b|)`: relative for large entries, absolute near zero (entries that
 /// are exactly zero by hand may come out as round-off from the generated code's factoring).
@@ -61,12 +77,23 @@ fn check_derivatives<const D: usize>(
         close_mat("xx", &gh.xx, &hh.xx, TOL);
         close_mat("xv", &gh.xv, &hh.xv, TOL);
         close_mat("vv", &gh.vv, &hh.vv, TOL);
+        let (ff, fp, fh) = gen_.gradient_and_hessian(&x, &v, t);
+        close_vec("fused ∂L/∂x", &ff, &hf, TOL);
+        close_vec("fused ∂L/∂v", &fp, &hp, TOL);
+        close_mat("fused xx", &fh.xx, &hh.xx, TOL);
+        close_mat("fused xv", &fh.xv, &hh.xv, TOL);
+        close_mat("fused vv", &fh.vv, &hh.vv, TOL);
     }
+    assert_eq!(
+        gen_.hessian_dependence(),
+        hand.hessian_dependence(),
+        "dependence of the Hessian blocks"
+    );
 }
 
-/// Generated kernels against the trait defaults of the hand impl, for every kind. The kernels
-/// combine derivatives (`p − h f − π`, `L_vx + L_vv/h − h L_xx − L_xv`), so the tolerance is
-/// relative to the size of the terms, at 1e-12.
+/// Core's kernels on the generated derivatives against the same kernels on the hand impl, for
+/// every kind. The kernels combine derivatives (`p − h f − π`, `L_vx + L_vv/h − h L_xx −
+/// L_xv`), so the tolerance is relative to the size of the terms, at 1e-12.
 fn check_kernels<const D: usize>(
     gen_: &impl Lagrangian<D>,
     hand: &impl Lagrangian<D>,
@@ -83,8 +110,9 @@ fn check_kernels<const D: usize>(
         let b = a + rng.vector::<D>(2.0 * h);
         let y = b + rng.vector::<D>(2.0 * h);
         for kind in KINDS {
-            let gm = gen_.step_momentum(kind, &a, &b, &times);
-            let hm = hand.step_momentum(kind, &a, &b, &times);
+            let gm = Step::new(gen_, kind, &a, &b, &times).momentum;
+            let step = Step::new(hand, kind, &a, &b, &times);
+            let hm = step.momentum;
             let scale = 1.0 + hm.amax();
             close_vec(
                 &format!("{kind:?} momentum"),
@@ -93,8 +121,8 @@ fn check_kernels<const D: usize>(
                 TOL,
             );
 
-            let (gr, gj) = gen_.step_residual(kind, &b, &y, &hm, &times);
-            let (hr, hj) = hand.step_residual(kind, &b, &y, &hm, &times);
+            let (gr, gj) = residual(gen_, &step, &y);
+            let (hr, hj) = residual(hand, &step, &y);
             let scale = 1.0 + hm.amax() + hand.gradient(&y, &((y - b) / h), t_a).1.amax();
             close_vec(
                 &format!("{kind:?} residual"),
@@ -111,18 +139,18 @@ fn check_kernels<const D: usize>(
             );
 
             assert_eq!(
-                gen_.step_is_affine(kind),
-                hand.step_is_affine(kind),
+                is_affine(kind, &gen_.hessian_dependence()),
+                is_affine(kind, &hand.hessian_dependence()),
                 "{kind:?}: affinity"
             );
-            let ge = gen_.step_explicit(kind, &b, &hm, &times);
-            let he = hand.step_explicit(kind, &b, &hm, &times);
+            let ge = Update::plan(gen_, kind, &b, &times).explicit(gen_, &step);
+            let he = Update::plan(hand, kind, &b, &times).explicit(hand, &step);
             match (ge, he) {
                 (Some(g), Some(e)) => {
                     explicit_seen += 1;
                     close_vec(&format!("{kind:?} explicit"), &g, &e, 1e-10);
                     // The explicit update solves the step equation.
-                    let (r, _) = gen_.step_residual(kind, &b, &g, &hm, &times);
+                    let (r, _) = residual(gen_, &step, &g);
                     assert!(
                         r.amax() <= 1e-9 * (1.0 + hm.amax()),
                         "{kind:?}: residual {r}"
@@ -133,7 +161,10 @@ fn check_kernels<const D: usize>(
             }
         }
     }
-    let affine = KINDS.iter().filter(|&&k| hand.step_is_affine(k)).count();
+    let affine = KINDS
+        .iter()
+        .filter(|&&k| is_affine(k, &hand.hessian_dependence()))
+        .count();
     assert_eq!(explicit_seen, 200 * affine);
 }
 
@@ -163,9 +194,9 @@ impl Lagrangian<1> for PendulumHand {
             vv: Matrix::<1>::new(l * l),
         }
     }
-    fn step_is_affine(&self, kind: StepKind) -> bool {
+    fn hessian_dependence(&self) -> HessianDependence {
         // L_vv constant and L_xv = 0; only the direct backward step sees L_xx(y).
-        kind != StepKind::DirectBackward
+        SEPARABLE
     }
 }
 
@@ -212,8 +243,8 @@ impl Lagrangian<2> for KeplerHand {
             vv: Matrix::<2>::identity(),
         }
     }
-    fn step_is_affine(&self, kind: StepKind) -> bool {
-        kind != StepKind::DirectBackward
+    fn hessian_dependence(&self) -> HessianDependence {
+        SEPARABLE
     }
 }
 
@@ -266,8 +297,8 @@ impl Lagrangian<2> for CoupledHand {
             vv: Matrix::<2>::new(2.0, 1.0, 1.0, 2.0),
         }
     }
-    fn step_is_affine(&self, kind: StepKind) -> bool {
-        kind != StepKind::DirectBackward
+    fn hessian_dependence(&self) -> HessianDependence {
+        SEPARABLE
     }
 }
 
@@ -325,11 +356,20 @@ impl Lagrangian<2> for DoublePendulumHand {
             vv: Matrix::<2>::new((m1 + m2) * l1 * l1, k * c, k * c, m2 * l2 * l2),
         }
     }
-    fn step_is_affine(&self, kind: StepKind) -> bool {
+    fn hessian_dependence(&self) -> HessianDependence {
         // L_vv depends on x only: affine exactly when the Jacobian reads L_vv at the fixed
         // node b and nothing else (direct σ = +). L_xv depends on v, which rules out
         // VariationalForward.
-        kind == StepKind::DirectForward
+        let on_x_and_v = Dependence {
+            x: true,
+            v: true,
+            t: false,
+        };
+        HessianDependence {
+            xx: on_x_and_v,
+            xv: on_x_and_v,
+            vv: ON_X,
+        }
     }
 }
 
@@ -387,9 +427,13 @@ impl Lagrangian<1> for CaldirolaKanaiHand {
             vv: Matrix::<1>::new(e * self.m),
         }
     }
-    fn step_is_affine(&self, _kind: StepKind) -> bool {
-        // Every block depends on t only.
-        true
+    fn hessian_dependence(&self) -> HessianDependence {
+        // L_xx and L_vv depend on t only, L_xv = 0 on nothing: every step is affine.
+        HessianDependence {
+            xx: ON_T,
+            xv: Dependence::NONE,
+            vv: ON_T,
+        }
     }
 }
 
@@ -444,8 +488,8 @@ impl Lagrangian<1> for AnharmonicHand {
             vv: Matrix::<1>::new(self.m),
         }
     }
-    fn step_is_affine(&self, kind: StepKind) -> bool {
-        kind != StepKind::DirectBackward
+    fn hessian_dependence(&self) -> HessianDependence {
+        SEPARABLE
     }
 }
 

@@ -2,9 +2,10 @@
 //! stopping rule and line search of the global systems.
 
 use crate::error::{Error, Location, Result};
-use crate::lagrangian::{Lagrangian, StepKind, StepTimes, Vector};
+use crate::lagrangian::{Lagrangian, Vector};
 use crate::linalg::solve_small;
 use crate::options::NewtonOptions;
+use crate::step::{Step, residual as step_residual};
 
 /// Whether Newton has stagnated at round-off: `residual` is within the round-off level of a
 /// system with Jacobian max-norm `jacobian` at unknowns of max-norm `unknowns`, *and* the last
@@ -16,47 +17,18 @@ pub(crate) fn at_round_off(residual: f64, previous: f64, jacobian: f64, unknowns
         && residual > 0.5 * previous
 }
 
-/// Solves the step equation `G(y) = π` of `kind` for the newest node `Q_n` (index `n`, for the
-/// error), given `b = Q_{n−1}`, from the initial guess `guess`.
+/// Newton's method on the step equation `G(y) = π` for the newest node `Q_n` (index `n`, for
+/// the error), from the initial guess `guess`, with the analytic Jacobian.
 ///
-/// Returns the node and the number of Newton iterations (0 when the Lagrangian supplies the
-/// closed-form update [`Lagrangian::step_explicit`]).
-#[allow(clippy::too_many_arguments)] // the step's data, each a different thing
-pub(crate) fn solve_step<const D: usize, L: Lagrangian<D> + ?Sized>(
-    lagrangian: &L,
-    kind: StepKind,
-    b: &Vector<D>,
-    momentum: &Vector<D>,
-    times: &StepTimes,
-    guess: Vector<D>,
-    n: usize,
-    options: &NewtonOptions,
-) -> Result<(Vector<D>, usize)> {
-    if let Some(y) = lagrangian.step_explicit(kind, b, momentum, times) {
-        return if y.iter().all(|c| c.is_finite()) {
-            Ok((y, 0))
-        } else {
-            Err(Error::NotFinite {
-                at: Location::Step(n),
-            })
-        };
-    }
-    newton_step(lagrangian, kind, b, momentum, times, guess, n, options)
-}
-
-/// The Newton iteration of [`solve_step`], without trying the closed-form update first (for a
-/// caller that has tried it already).
-#[allow(clippy::too_many_arguments)] // the step's data, each a different thing
+/// Returns the node and the number of iterations (0 when `guess` already solves the step).
 pub(crate) fn newton_step<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
-    kind: StepKind,
-    b: &Vector<D>,
-    momentum: &Vector<D>,
-    times: &StepTimes,
+    step: &Step<D>,
     guess: Vector<D>,
     n: usize,
     options: &NewtonOptions,
 ) -> Result<(Vector<D>, usize)> {
+    let momentum = &step.momentum;
     let at = Location::Step(n);
     if !momentum.iter().all(|c| c.is_finite()) {
         return Err(Error::NotFinite { at });
@@ -72,7 +44,7 @@ pub(crate) fn newton_step<const D: usize, L: Lagrangian<D> + ?Sized>(
         residual,
     };
     for iteration in 0..=options.max_iterations {
-        let (r, j) = lagrangian.step_residual(kind, b, &y, momentum, times);
+        let (r, j) = step_residual(lagrangian, step, &y);
         if !r.iter().chain(j.iter()).all(|c| c.is_finite()) {
             return Err(if iteration == 0 {
                 Error::NotFinite { at }

@@ -15,7 +15,9 @@ use crate::ivp_scene::{IvpScene, Trajectory, standard_variants};
 use crate::reference::ReferenceCurve;
 use crate::scene::{Context, Doubling, SceneReport, SweepLine, SweepPoint, doubling};
 use std::time::Instant;
-use varembed::{DifferentialOperator, Embedding, Grid, Problem, Side, Vector, lagrangian, max_error};
+use varembed::{
+    DifferentialOperator, Embedding, Grid, Problem, Side, Vector, lagrangian, max_error,
+};
 
 /// `L = eᵗ(½v² − ½x²)`, whose Euler–Lagrange equation is `eᵗ(q̈ + q̇ + q) = 0`.
 #[lagrangian]

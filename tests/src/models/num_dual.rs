@@ -46,15 +46,29 @@ impl Lagrangian<2> for NumDualDoublePendulum {
             grad.fixed_rows::<2>(2).into_owned(),
         )
     }
-    fn hessian(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> Hessian<2> {
-        let (_, _, hess) = num_dual::hessian(
+    fn hessian(&self, x: &Vector<2>, v: &Vector<2>, t: f64) -> Hessian<2> {
+        self.gradient_and_hessian(x, v, t).2
+    }
+    /// One `num_dual::hessian` call: its hyper-dual numbers carry the gradient too.
+    fn gradient_and_hessian(
+        &self,
+        x: &Vector<2>,
+        v: &Vector<2>,
+        _t: f64,
+    ) -> (Vector<2>, Vector<2>, Hessian<2>) {
+        let (_, grad, hess) = num_dual::hessian(
             |z| double_pendulum_dual(&self.0, [z[0], z[1]], [z[2], z[3]]),
             &stack(x, v),
         );
-        Hessian {
+        let hessian = Hessian {
             xx: hess.fixed_view::<2, 2>(0, 0).into_owned(),
             xv: hess.fixed_view::<2, 2>(0, 2).into_owned(),
             vv: hess.fixed_view::<2, 2>(2, 2).into_owned(),
-        }
+        };
+        (
+            grad.fixed_rows::<2>(0).into_owned(),
+            grad.fixed_rows::<2>(2).into_owned(),
+            hessian,
+        )
     }
 }

@@ -1,0 +1,358 @@
+//! The step math of the classical schemes, written once for every [`Lagrangian`].
+//!
+//! Every classical scheme (direct and variational, σ = ±) is a three-point recurrence, and all
+//! four have the same shape: from the two previous nodes `a = Q_{n−2}`, `b = Q_{n−1}` compute a
+//! *momentum* `π`, then solve a discrete Legendre map `G(y) = π` for the newest node
+//! `y = Q_n`. Write `@left(a, b)` for evaluation at `(a, (b − a)/h, t_a)` and `@right(a, b)`
+//! for evaluation at `(b, (b − a)/h, t_b)`, with `p = ∂L/∂v`, `f = ∂L/∂x`:
+//!
+//! | [`StepKind`] | momentum `π` from `(a, b)` | equation `G(y) = π` from `(b, y)` |
+//! | --- | --- | --- |
+//! | `VariationalBackward` (σ=−) | `(p + h f)@right(a, b)` | `p@right(b, y) = π` |
+//! | `VariationalForward` (σ=+) | `p@left(a, b)` | `(p − h f)@left(b, y) = π` |
+//! | `DirectBackward` (σ=−) | `p@right(a, b)` | `(p − h f)@right(b, y) = π` |
+//! | `DirectForward` (σ=+) | `(p + h f)@left(a, b)` | `p@left(b, y) = π` |
+//!
+//! Each row is the scheme's residual row multiplied by `−h` (variational σ=−, row `n−1`:
+//! `f + (p_{n−1} − p_n)/h = 0`; direct σ=+, row `n−2`: `f + (p_{n−2} − p_{n−1})/h = 0`, …), so
+//! the step residual is in units of momentum. The discrete Legendre start is the variational
+//! equation with `π = π_0 = ∂L/∂v(q(a), q̇(a), a)`.
+//!
+//! The Jacobians `J = ∂G/∂y`, with `L_vx = L_xvᵀ`:
+//!
+//! | equation | Jacobian `J` |
+//! | --- | --- |
+//! | `p@right(b, y)` | `L_vx + L_vv/h` |
+//! | `(p − h f)@left(b, y)` | `L_vv/h − L_xv` |
+//! | `(p − h f)@right(b, y)` | `L_vx + L_vv/h − h L_xx − L_xv` |
+//! | `p@left(b, y)` | `L_vv/h` |
+//!
+//! # Closed-form steps
+//!
+//! A step is *affine* in `y` when the blocks in its Jacobian depend neither on `y` itself nor
+//! on the velocity `(y − b)/h`. Then `G(y) = G(b) + J (y − b)` exactly, and one Newton step
+//! from `y = b` (velocity 0) is the answer: `y = b − J⁻¹ (G(b) − π)`. From
+//! [`Lagrangian::hessian_dependence`] (`@right` reads the blocks at `y`, `@left` at `b`):
+//!
+//! | [`StepKind`] | affine when |
+//! | --- | --- |
+//! | `VariationalBackward` | `L_xv`, `L_vv` depend on neither `x` nor `v` |
+//! | `VariationalForward` | `L_xv`, `L_vv` do not depend on `v` |
+//! | `DirectBackward` | `L_xx`, `L_xv`, `L_vv` depend on neither `x` nor `v` |
+//! | `DirectForward` | `L_vv` does not depend on `v` |
+//!
+//! So `L = ½ vᵀM(x)v − U(x)` has closed-form forward steps, and the backward ones too when `M`
+//! is constant. [`Update::plan`] decides this once per run, and when the blocks in `J` are
+//! constants it inverts `J` once for the whole run.
+
+use crate::lagrangian::{Dependence, Hessian, HessianDependence, Lagrangian, Matrix, Vector};
+use crate::linalg::solve_small;
+
+/// Which classical scheme a step advances (see the module docs).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum StepKind {
+    /// Variational integrator of Gauss-FDE− (σ = −).
+    VariationalBackward,
+    /// Variational integrator of Gauss-FDE+ (σ = +).
+    VariationalForward,
+    /// Direct embedding of Gauss-FDE− (σ = −): implicit in the newest node.
+    DirectBackward,
+    /// Direct embedding of Gauss-FDE+ (σ = +).
+    DirectForward,
+}
+
+impl StepKind {
+    /// The four kinds, in declaration order.
+    pub const ALL: [StepKind; 4] = [
+        StepKind::VariationalBackward,
+        StepKind::VariationalForward,
+        StepKind::DirectBackward,
+        StepKind::DirectForward,
+    ];
+
+    /// Whether the momentum and the step equation are evaluated `@right` (σ = −) rather than
+    /// `@left` (σ = +).
+    fn at_right(self) -> bool {
+        matches!(
+            self,
+            StepKind::VariationalBackward | StepKind::DirectBackward
+        )
+    }
+
+    /// The time at which the step equation is evaluated: `t_y` (`@right`) or `t_b` (`@left`).
+    fn equation_time(self, times: &StepTimes) -> f64 {
+        if self.at_right() {
+            times.t_y
+        } else {
+            times.t_b
+        }
+    }
+}
+
+/// Grid data a step needs: the step `h`, its inverse, and the times of the three nodes
+/// `t_{n−2}, t_{n−1}, t_n` (taken from the grid, so they match [`crate::Grid::t`] exactly).
+///
+/// The kernels form velocities as `(b − a) · inv_h`: a multiplication, where a division by `h`
+/// would sit on the critical path of every step of an explicit run. Build it with
+/// [`StepTimes::new`], which sets `inv_h = 1/h`.
+///
+/// # Example
+///
+/// ```
+/// let times = varembed::__private::step::StepTimes::new(0.25, 1.0, 1.25, 1.5);
+/// assert_eq!(times.inv_h, 4.0);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StepTimes {
+    /// Step size `h`.
+    pub h: f64,
+    /// `1/h`, as computed by [`StepTimes::new`] (the kernels rely on the two agreeing).
+    pub inv_h: f64,
+    /// `t_{n−2}`, the time of the oldest node `a`.
+    pub t_a: f64,
+    /// `t_{n−1}`, the time of the middle node `b`.
+    pub t_b: f64,
+    /// `t_n`, the time of the newest node `y`.
+    pub t_y: f64,
+}
+
+impl StepTimes {
+    /// The step data for step size `h` and node times `t_a`, `t_b`, `t_y`, with
+    /// `inv_h = 1/h`.
+    pub const fn new(h: f64, t_a: f64, t_b: f64, t_y: f64) -> Self {
+        StepTimes {
+            h,
+            inv_h: 1.0 / h,
+            t_a,
+            t_b,
+            t_y,
+        }
+    }
+}
+
+/// One step's equation `G(y) = π` for the newest node: its kind, the previous node
+/// `b = Q_{n−1}`, the momentum `π` and the grid data.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Step<const D: usize> {
+    /// Which scheme.
+    pub kind: StepKind,
+    /// The previous node `Q_{n−1}`.
+    pub b: Vector<D>,
+    /// The momentum `π` the step must reproduce.
+    pub momentum: Vector<D>,
+    /// The step size and node times.
+    pub times: StepTimes,
+}
+
+impl<const D: usize> Step<D> {
+    /// The step from `a = Q_{n−2}`, `b = Q_{n−1}`: its momentum by [`momentum`].
+    #[inline]
+    pub fn new<L: Lagrangian<D> + ?Sized>(
+        lagrangian: &L,
+        kind: StepKind,
+        a: &Vector<D>,
+        b: &Vector<D>,
+        times: &StepTimes,
+    ) -> Self {
+        Step {
+            kind,
+            b: *b,
+            momentum: momentum(lagrangian, kind, a, b, times),
+            times: *times,
+        }
+    }
+
+    /// Where `G` is evaluated for the newest node `y`: at `y` (`@right`) or at `b` (`@left`).
+    #[inline]
+    fn equation_point<'a>(&'a self, y: &'a Vector<D>) -> (&'a Vector<D>, f64) {
+        let x = if self.kind.at_right() { y } else { &self.b };
+        (x, self.kind.equation_time(&self.times))
+    }
+}
+
+/// The momentum `π` that the step for `Q_n` must reproduce, from `a = Q_{n−2}`,
+/// `b = Q_{n−1}` (first table of the module docs).
+#[inline]
+pub fn momentum<const D: usize, L: Lagrangian<D> + ?Sized>(
+    lagrangian: &L,
+    kind: StepKind,
+    a: &Vector<D>,
+    b: &Vector<D>,
+    times: &StepTimes,
+) -> Vector<D> {
+    let v = (b - a) * times.inv_h;
+    let (x, t) = if kind.at_right() {
+        (b, times.t_b)
+    } else {
+        (a, times.t_a)
+    };
+    let (f, p) = lagrangian.gradient(x, &v, t);
+    match kind {
+        StepKind::VariationalBackward | StepKind::DirectForward => p + f * times.h,
+        StepKind::VariationalForward | StepKind::DirectBackward => p,
+    }
+}
+
+/// `G` from the gradient at its evaluation point: `p` or `p − h f`.
+#[inline(always)]
+fn equation<const D: usize>(kind: StepKind, f: Vector<D>, p: Vector<D>, h: f64) -> Vector<D> {
+    match kind {
+        StepKind::VariationalBackward | StepKind::DirectForward => p,
+        StepKind::VariationalForward | StepKind::DirectBackward => p - f * h,
+    }
+}
+
+/// `h J` from the blocks at the evaluation point (second table of the module docs, times `h`).
+///
+/// The closed-form update uses `J⁻¹ = h (h J)⁻¹`: for `L_vv = I` (and `L_xv = 0`) that is
+/// exactly `h`, so the update is `b + h π` with no rounding beyond the hand-written
+/// Störmer–Verlet loop's.
+#[inline(always)]
+fn scaled_jacobian<const D: usize>(kind: StepKind, hs: &Hessian<D>, h: f64) -> Matrix<D> {
+    match kind {
+        StepKind::VariationalBackward => hs.xv.transpose() * h + hs.vv,
+        StepKind::VariationalForward => hs.vv - hs.xv * h,
+        StepKind::DirectBackward => hs.xv.transpose() * h + hs.vv - hs.xx * (h * h) - hs.xv * h,
+        StepKind::DirectForward => hs.vv,
+    }
+}
+
+/// Residual `G(y) − π` of the step equation at the candidate newest node `y`, and its
+/// Jacobian `J = ∂G/∂y`: what one Newton iteration needs, from one
+/// [`Lagrangian::gradient_and_hessian`].
+#[inline]
+pub fn residual<const D: usize, L: Lagrangian<D> + ?Sized>(
+    lagrangian: &L,
+    step: &Step<D>,
+    y: &Vector<D>,
+) -> (Vector<D>, Matrix<D>) {
+    let StepTimes { h, inv_h, .. } = step.times;
+    let v = (y - step.b) * inv_h;
+    let (x, t) = step.equation_point(y);
+    let (f, p, hs) = lagrangian.gradient_and_hessian(x, &v, t);
+    (
+        equation(step.kind, f, p, h) - step.momentum,
+        scaled_jacobian(step.kind, &hs, h) * inv_h,
+    )
+}
+
+/// Whether the step equation of `kind` is affine in the newest node (third table of the
+/// module docs).
+pub fn is_affine(kind: StepKind, dependence: &HessianDependence) -> bool {
+    let HessianDependence { xx, xv, vv } = *dependence;
+    let on_x_or_v = |d: Dependence| d.x || d.v;
+    match kind {
+        StepKind::VariationalBackward => !on_x_or_v(xv) && !on_x_or_v(vv),
+        StepKind::VariationalForward => !xv.v && !vv.v,
+        StepKind::DirectBackward => !on_x_or_v(xx) && !on_x_or_v(xv) && !on_x_or_v(vv),
+        StepKind::DirectForward => !vv.v,
+    }
+}
+
+/// Whether every block in the Jacobian of `kind` is a constant, so that with a uniform step
+/// the Jacobian is the same at every step.
+fn jacobian_is_constant(kind: StepKind, dependence: &HessianDependence) -> bool {
+    let HessianDependence { xx, xv, vv } = *dependence;
+    let none = Dependence::NONE;
+    match kind {
+        StepKind::VariationalBackward | StepKind::VariationalForward => xv == none && vv == none,
+        StepKind::DirectBackward => xx == none && xv == none && vv == none,
+        StepKind::DirectForward => vv == none,
+    }
+}
+
+/// How the steps of one run find the newest node, decided once per run by [`Update::plan`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Update<const D: usize> {
+    /// Newton's method: the step is not affine, or its constant Jacobian is singular (Newton
+    /// then reports the singular Jacobian with the step index).
+    Newton,
+    /// Affine with a constant diagonal `J⁻¹`, stored as its diagonal: one multiplication per
+    /// coordinate, with no zero entries on the critical path of an explicit run.
+    ConstantDiagonalInverse(Vector<D>),
+    /// Affine with a constant `J⁻¹`.
+    ConstantInverse(Matrix<D>),
+    /// Affine with a Jacobian that changes from step to step: one linear solve per step.
+    SolvePerStep,
+}
+
+impl<const D: usize> Update<D> {
+    /// The update of every step of `kind` for `lagrangian` with step size `times.h`.
+    ///
+    /// A constant Jacobian is inverted here, from the blocks at the first step's previous node
+    /// `b` (any point gives the same blocks; a real node keeps clear of points where the
+    /// Lagrangian is undefined).
+    pub fn plan<L: Lagrangian<D> + ?Sized>(
+        lagrangian: &L,
+        kind: StepKind,
+        b: &Vector<D>,
+        times: &StepTimes,
+    ) -> Self {
+        let dependence = lagrangian.hessian_dependence();
+        if !is_affine(kind, &dependence) {
+            return Update::Newton;
+        }
+        if !jacobian_is_constant(kind, &dependence) {
+            return Update::SolvePerStep;
+        }
+        let hs = lagrangian.hessian(b, &Vector::<D>::zeros(), kind.equation_time(times));
+        let Some(m_inv) = inverse(&scaled_jacobian(kind, &hs, times.h)) else {
+            return Update::Newton;
+        };
+        let j_inv = m_inv * times.h;
+        if (0..D).all(|i| (0..D).all(|j| i == j || j_inv[(i, j)] == 0.0)) {
+            Update::ConstantDiagonalInverse(j_inv.diagonal())
+        } else {
+            Update::ConstantInverse(j_inv)
+        }
+    }
+
+    /// The newest node in closed form, `y = b + J⁻¹ (π − G(b))` with `G` evaluated at `y = b`
+    /// (velocity 0). `None` for [`Update::Newton`] and for a singular per-step Jacobian; the
+    /// caller then runs Newton, which reports the failure with its step index.
+    #[inline(always)]
+    pub fn explicit<L: Lagrangian<D> + ?Sized>(
+        &self,
+        lagrangian: &L,
+        step: &Step<D>,
+    ) -> Option<Vector<D>> {
+        // At y = b the equation is evaluated at b, whichever side.
+        let (b, h) = (&step.b, step.times.h);
+        let t = step.kind.equation_time(&step.times);
+        // The velocity is an exact zero, not (b − b)/h: the optimiser then drops every term
+        // of the derivatives it multiplies. One per arm, so that the per-step solve passing
+        // its address on cannot keep the other arms' zero in memory.
+        let rest = Vector::<D>::zeros;
+        // π − G rather than −(G − π): π − 0 folds to π, −(0 − π) does not.
+        match self {
+            Update::Newton => None,
+            Update::ConstantDiagonalInverse(diagonal) => {
+                let (f, p) = lagrangian.gradient(b, &rest(), t);
+                Some(b + diagonal.component_mul(&(step.momentum - equation(step.kind, f, p, h))))
+            }
+            Update::ConstantInverse(j_inv) => {
+                let (f, p) = lagrangian.gradient(b, &rest(), t);
+                Some(b + j_inv * (step.momentum - equation(step.kind, f, p, h)))
+            }
+            Update::SolvePerStep => {
+                let (f, p, hs) = lagrangian.gradient_and_hessian(b, &rest(), t);
+                let rhs = step.momentum - equation(step.kind, f, p, h);
+                solve_small(&scaled_jacobian(step.kind, &hs, h), &rhs).map(|dy| b + dy * h)
+            }
+        }
+    }
+}
+
+/// `m⁻¹`, column by column with [`solve_small`] so that "singular" means what it means for
+/// every other step solve; `None` when singular or not finite.
+fn inverse<const D: usize>(m: &Matrix<D>) -> Option<Matrix<D>> {
+    let identity = Matrix::<D>::identity();
+    let mut inv = Matrix::<D>::zeros();
+    for j in 0..D {
+        inv.set_column(j, &solve_small(m, &identity.column(j).into_owned())?);
+    }
+    inv.iter().all(|c| c.is_finite()).then_some(inv)
+}
+
+#[cfg(test)]
+mod tests;
