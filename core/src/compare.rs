@@ -14,17 +14,19 @@
 //! is one, otherwise the self-convergence estimate `e_N = ‖Q_N − Q_{2N}‖` (max-norm over the
 //! nodes of the coarser grid), so that `log₂(‖Q_N − Q_{2N}‖ / ‖Q_{2N} − Q_{4N}‖)`. A comparison's
 //! order therefore needs solves on `2N` (and `4N` without a reference). A comparison is built
-//! from two [`Convergence`] runs ([`Problem::compare_runs`], which solves nothing), so a caller
+//! from two [`Convergence`] runs ([`Problem::compare_runs`](crate::Problem::compare_runs), which solves nothing), so a caller
 //! that sweeps `N` anyway (the tour's work–precision report) reads its tables off the sweep's
 //! own solutions, and the order in a table is the sweep's order at that `N`.
 
+use crate::discretisation::Discretisation;
 use crate::embedding::Scheme;
 use crate::error::{Error, Result};
 use crate::grid::Grid;
-use crate::lagrangian::{IntoVector, Lagrangian, Vector};
+use crate::lagrangian::{Lagrangian, Vector};
 use crate::linalg::max_norm;
-use crate::problem::Problem;
-use crate::solve::ivp::Start;
+use crate::options::SolverOptions;
+use crate::solve::bvp;
+use crate::solve::ivp::{Ivp, Start};
 use crate::solve::solution::Solution;
 use std::fmt;
 use std::time::{Duration, Instant};
@@ -36,12 +38,13 @@ use std::time::{Duration, Instant};
 ///
 /// which is `log₂(e_N / e_{2N})` when the fine grid has twice the steps (an error `C hᵖ` gives
 /// exactly `p`). The errors are whatever measures the distance to the solution: the error
-/// against a reference, or a self-convergence estimate (see the [module docs](self)).
+/// against a reference, or the self-convergence estimate `‖Q_N − Q_{2N}‖` on the coarser nodes
+/// ([`Convergence::error_estimates`]).
 ///
 /// # Example
 ///
 /// ```
-/// use varembed::compare::observed_order;
+/// use varembed::observed_order;
 /// // The error falls by 4 when N doubles: second order.
 /// assert_eq!(observed_order((100, 0.5), (200, 0.125)), 2.0);
 /// // Skipping a grid (N to 4N) does not change the order of a clean power law.
@@ -125,8 +128,8 @@ impl<const D: usize> Reference<'_, D> {
     }
 }
 
-/// Options of the comparisons ([`Problem::compare_ivp_with`], [`Problem::compare_bvp_with`]) and
-/// of the convergence runs ([`Problem::convergence_ivp`], [`Problem::convergence_bvp`]).
+/// Options of the comparisons ([`Problem::compare_ivp_with`](crate::Problem::compare_ivp_with), [`Problem::compare_bvp_with`](crate::Problem::compare_bvp_with)) and
+/// of the convergence runs ([`Problem::convergence_ivp`](crate::Problem::convergence_ivp), [`Problem::convergence_bvp`](crate::Problem::convergence_bvp)).
 #[derive(Clone, Copy)]
 pub struct CompareOptions<'a, const D: usize> {
     /// The reference for the error column.
@@ -216,7 +219,7 @@ impl<const D: usize> Level<D> {
 }
 
 /// One scheme of one problem solved on `N, 2N, 4N, …` steps over the same interval
-/// ([`Problem::convergence_ivp`], [`Problem::convergence_bvp`]): every solution with its error
+/// ([`Problem::convergence_ivp`](crate::Problem::convergence_ivp), [`Problem::convergence_bvp`](crate::Problem::convergence_bvp)): every solution with its error
 /// and wall time, and the [`observed_order`] between successive grids.
 #[derive(Clone, Debug)]
 pub struct Convergence<const D: usize> {
@@ -276,48 +279,35 @@ impl<const D: usize> Convergence<D> {
     }
 }
 
-impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
-    /// Compares both schemes on the initial value problem `q(a) = q0`, `q̇(a) = v0` (discrete
-    /// Legendre start, no reference, observed order by self-convergence).
-    pub fn compare_ivp(
-        &self,
-        q0: impl IntoVector<D>,
-        v0: impl IntoVector<D>,
-    ) -> Result<Comparison<D>> {
-        self.compare_ivp_with(q0, v0, &CompareOptions::default())
-    }
+/// What a comparison needs of a problem: its discretisation (the Lagrangian, the grid, the
+/// embedding, the residuals and the energy) and its solver settings. `Problem`'s comparison
+/// methods hand their parts to it.
+pub(crate) struct Comparer<'a, 'l, L: ?Sized, const D: usize> {
+    pub(crate) discretisation: &'a Discretisation<'l, L, D>,
+    pub(crate) options: &'a SolverOptions,
+}
 
-    /// [`compare_ivp`](Self::compare_ivp) with options.
-    pub fn compare_ivp_with(
+impl<L: Lagrangian<D> + ?Sized, const D: usize> Comparer<'_, '_, L, D> {
+    /// Both schemes on the initial value problem, with the solves the order needs.
+    pub(crate) fn compare_ivp(
         &self,
-        q0: impl IntoVector<D>,
-        v0: impl IntoVector<D>,
+        q0: Vector<D>,
+        v0: Vector<D>,
         options: &CompareOptions<'_, D>,
     ) -> Result<Comparison<D>> {
-        let (q0, v0) = (q0.into_vector(), v0.into_vector());
         self.compare(
             |scheme, levels| self.convergence_ivp(scheme, q0, v0, options, levels),
             options,
         )
     }
 
-    /// Compares both schemes on the boundary value problem `Q_0 = qa`, `Q_N = qb`.
-    pub fn compare_bvp(
+    /// Both schemes on the boundary value problem, with the solves the order needs.
+    pub(crate) fn compare_bvp(
         &self,
-        qa: impl IntoVector<D>,
-        qb: impl IntoVector<D>,
-    ) -> Result<Comparison<D>> {
-        self.compare_bvp_with(qa, qb, &CompareOptions::default())
-    }
-
-    /// [`compare_bvp`](Self::compare_bvp) with options (the start is not used).
-    pub fn compare_bvp_with(
-        &self,
-        qa: impl IntoVector<D>,
-        qb: impl IntoVector<D>,
+        qa: Vector<D>,
+        qb: Vector<D>,
         options: &CompareOptions<'_, D>,
     ) -> Result<Comparison<D>> {
-        let (qa, qb) = (qa.into_vector(), qb.into_vector());
         self.compare(
             |scheme, levels| self.convergence_bvp(scheme, qa, qb, options, levels),
             options,
@@ -328,33 +318,39 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// `N, 2N, …, 2^{levels−1} N` steps (`N` this problem's), with `options.start`, timing each
     /// solve and measuring its error against `options.reference`. A size that fails is recorded
     /// in [`Convergence::failures`] and the run goes on.
-    pub fn convergence_ivp(
+    pub(crate) fn convergence_ivp(
         &self,
         scheme: Scheme,
-        q0: impl IntoVector<D>,
-        v0: impl IntoVector<D>,
+        q0: Vector<D>,
+        v0: Vector<D>,
         options: &CompareOptions<'_, D>,
         levels: usize,
     ) -> Convergence<D> {
-        let (q0, v0) = (q0.into_vector(), v0.into_vector());
-        self.convergence("initial value problem", scheme, options, levels, |p| {
-            p.solve_ivp_with(scheme, q0, v0, options.start)
+        let newton = self.options.newton;
+        self.convergence("initial value problem", scheme, options, levels, |d| {
+            let ivp = Ivp {
+                lagrangian: d.lagrangian(),
+                grid: *d.grid(),
+                embedding: *d.embedding(),
+                newton,
+            };
+            ivp.solve(scheme, q0, v0, options.start)
         })
     }
 
     /// [`convergence_ivp`](Self::convergence_ivp) for the boundary value problem `Q_0 = qa`,
     /// `Q_N = qb` (the start is not used).
-    pub fn convergence_bvp(
+    pub(crate) fn convergence_bvp(
         &self,
         scheme: Scheme,
-        qa: impl IntoVector<D>,
-        qb: impl IntoVector<D>,
+        qa: Vector<D>,
+        qb: Vector<D>,
         options: &CompareOptions<'_, D>,
         levels: usize,
     ) -> Convergence<D> {
-        let (qa, qb) = (qa.into_vector(), qb.into_vector());
-        self.convergence("boundary value problem", scheme, options, levels, |p| {
-            p.solve_bvp(scheme, qa, qb)
+        self.convergence("boundary value problem", scheme, options, levels, |d| {
+            let guess = bvp::straight_line(qa, qb, d.grid().n());
+            bvp::solve(d, self.options, scheme, &guess)
         })
     }
 
@@ -363,19 +359,19 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// the solutions, errors and wall times are the runs', and each order is
     /// [`Convergence::order_at`] this `N`. Errors if a run failed at this `N` (that failure), or
     /// is of the wrong scheme, or did not solve this problem's grid and embedding.
-    pub fn compare_runs(
+    pub(crate) fn compare_runs(
         &self,
         direct: &Convergence<D>,
         variational: &Convergence<D>,
     ) -> Result<Comparison<D>> {
         let mismatch = |operation| Error::Unsupported {
             operation,
-            embedding: self.embedding().to_string(),
+            embedding: self.discretisation.embedding().to_string(),
         };
         if direct.reference != variational.reference || direct.kind != variational.kind {
             return Err(mismatch("a comparison of runs with different data"));
         }
-        let n = self.grid().n();
+        let n = self.discretisation.grid().n();
         let report = |run: &Convergence<D>, scheme: Scheme| -> Result<SchemeReport<D>> {
             if run.scheme != scheme {
                 return Err(mismatch("a comparison of runs of the wrong scheme"));
@@ -386,19 +382,20 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             let level = run
                 .level(n)
                 .filter(|l| {
-                    l.solution.grid == *self.grid() && l.solution.embedding == *self.embedding()
+                    l.solution.grid == *self.discretisation.grid()
+                        && l.solution.embedding == *self.discretisation.embedding()
                 })
                 .ok_or_else(|| mismatch("a comparison of runs that did not solve this grid"))?;
             let other = scheme.other();
             let q = &level.solution.q;
-            let energy = self.energy(q)?;
+            let energy = self.discretisation.energy(q)?;
             let energy_deviation = energy
                 .iter()
                 .map(|e| (e - energy[0]).abs())
                 .fold(0.0, f64::max);
             Ok(SchemeReport {
                 solution: level.solution.clone(),
-                residual_of_other: max_norm(&self.residual(other, q)?),
+                residual_of_other: max_norm(&self.discretisation.residual(other, q)?),
                 error: level.error,
                 energy,
                 energy_deviation,
@@ -414,8 +411,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             .unwrap_or(f64::NAN);
         Ok(Comparison {
             kind: direct.kind,
-            embedding: self.embedding().to_string(),
-            grid: *self.grid(),
+            embedding: self.discretisation.embedding().to_string(),
+            grid: *self.discretisation.grid(),
             reference: direct.reference.clone(),
             direct: direct_report,
             variational: variational_report,
@@ -450,7 +447,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         scheme: Scheme,
         options: &CompareOptions<'_, D>,
         levels: usize,
-        solve: impl Fn(&Problem<'_, L, D>) -> Result<Solution<D>>,
+        solve: impl Fn(&Discretisation<'_, L, D>) -> Result<Solution<D>>,
     ) -> Convergence<D> {
         let mut run = Convergence {
             kind,
@@ -459,7 +456,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             levels: Vec::with_capacity(levels),
             failures: Vec::new(),
         };
-        let grid = *self.grid();
+        let grid = *self.discretisation.grid();
         let (a, b, n0) = (grid.a(), grid.b(), grid.n());
         for j in 0..levels {
             let n = u32::try_from(j)
@@ -478,9 +475,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
                 break;
             };
             let solved = Grid::new(a, b, n).and_then(|grid| {
-                let problem = self.on_grid(grid);
+                let d = self.discretisation;
+                let on_grid = Discretisation::new(d.lagrangian(), grid, *d.embedding());
                 let start = Instant::now();
-                let solution = solve(&problem)?;
+                let solution = solve(&on_grid)?;
                 Ok((solution, start.elapsed()))
             });
             match solved {

@@ -19,9 +19,9 @@
 //!
 //! - Setting up a problem: [`Problem`], [`Grid`], [`Embedding`], [`EmbeddingKind`], [`Side`],
 //!   [`Scheme`], [`curve_from_flat`].
-//! - Lagrangians: the [`Lagrangian`] trait, its [`Hessian`], [`IntoVector`], [`Vector`],
-//!   [`Matrix`], and the [`lagrangian`](macro@lagrangian) attribute that derives an
-//!   implementation from a function.
+//! - Lagrangians: the [`Lagrangian`] trait, its [`Hessian`], what the Hessian blocks depend on
+//!   ([`HessianDependence`], [`Dependence`]), [`IntoVector`], [`Vector`], [`Matrix`], and the
+//!   [`lagrangian`](macro@lagrangian) attribute that derives an implementation from a function.
 //! - Solving: [`Solution`], [`Start`], [`NewtonOptions`], [`FractionalSolver`].
 //! - Comparing the two schemes: [`Comparison`], [`CompareOptions`], [`Reference`],
 //!   [`SchemeReport`]; convergence over `N, 2N, 4N, …`: [`Convergence`], [`Level`], and the one
@@ -43,14 +43,14 @@
 //! - `docs/solvers.md`: initial value problems (the starts, the step kernels, when a step is
 //!   explicit), boundary value problems (banded Newton; dense LU and FFT Newton–Krylov for the
 //!   fractional embeddings), the typed errors;
-//! - `docs/macro.md`: what [`#[lagrangian]`](macro@lagrangian) accepts and generates;
+//! - `docs/macro.md`: what the [`lagrangian`](macro@lagrangian) attribute accepts and generates;
 //! - `docs/architecture.md`: the workspace, the module graph, where the tests live.
 #![deny(missing_docs)]
 
 // Imports go one way. From the bottom up, each module imports only modules before it:
 // lagrangian, error, side, weights, toeplitz, grid, linalg, options, operator, fft_operator,
 // embedding, step, ode, discretisation, solve (krylov, newton, solution, fractional, bvp, ivp),
-// problem, compare.
+// compare, problem.
 mod compare;
 mod discretisation;
 mod embedding;

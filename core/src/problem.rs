@@ -2,6 +2,7 @@
 //! solver settings. It evaluates through its [`Discretisation`] and hands the parts each solver
 //! needs to the solvers.
 
+use crate::compare::{CompareOptions, Comparer, Comparison, Convergence};
 use crate::discretisation::Discretisation;
 use crate::embedding::{Embedding, Scheme};
 use crate::error::{Error, Result};
@@ -11,7 +12,6 @@ use crate::options::{FractionalSolver, NewtonOptions, SolverOptions};
 use crate::solve::bvp;
 use crate::solve::ivp::{Ivp, Start};
 use crate::solve::solution::Solution;
-use crate::step::StepKind;
 use std::ops::RangeInclusive;
 
 /// A discrete curve from a flat array `[Q_0[0], …, Q_0[D−1], Q_1[0], …]`.
@@ -123,14 +123,6 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
         self
     }
 
-    /// The same Lagrangian, embedding and settings on another grid.
-    pub(crate) fn on_grid(&self, grid: Grid) -> Problem<'l, L, D> {
-        Problem {
-            discretisation: Discretisation::new(self.lagrangian(), grid, *self.embedding()),
-            options: self.options,
-        }
-    }
-
     /// The linear solver of the fractional boundary value problems.
     pub fn fractional_solver(&self) -> FractionalSolver {
         self.options.fractional
@@ -226,17 +218,6 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         }
     }
 
-    /// The step kind that advances `scheme` under this problem's embedding.
-    ///
-    /// The asymmetric Gauss-FDEσ is coherent: its direct scheme *is* the variational
-    /// recurrence, so both schemes step with the variational kernel. Gauss-GLEσ has no
-    /// three-point recurrence (every node talks to every other) and gives
-    /// [`Error::Unsupported`]: solve it as a boundary value problem.
-    #[doc(hidden)]
-    pub fn step_kind(&self, scheme: Scheme) -> Result<StepKind> {
-        self.ivp().step_kind(scheme)
-    }
-
     /// The discrete Legendre start: `Q_1` from `Q_0 = q(a)` and `π_0 = ∂L/∂v(q(a), q̇(a), a)`,
     /// by the variational step equation of this side (σ=−: `∂L/∂v(Q_1, (Q_1−Q_0)/h, t_1) = π_0`;
     /// σ=+: `p_0 − h f_0 = π_0` at `(Q_0, (Q_1−Q_0)/h, t_0)`).
@@ -307,5 +288,99 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     ) -> Result<Solution<D>> {
         self.ivp()
             .solve_from_nodes(scheme, q0.into_vector(), q1.into_vector())
+    }
+}
+
+// Comparisons of the two schemes: each method hands the problem's parts to the comparison.
+impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
+    fn comparer(&self) -> Comparer<'_, '_, L, D> {
+        Comparer {
+            discretisation: &self.discretisation,
+            options: &self.options,
+        }
+    }
+
+    /// Compares both schemes on the initial value problem `q(a) = q0`, `q̇(a) = v0` (discrete
+    /// Legendre start, no reference, observed order by self-convergence).
+    pub fn compare_ivp(
+        &self,
+        q0: impl IntoVector<D>,
+        v0: impl IntoVector<D>,
+    ) -> Result<Comparison<D>> {
+        self.compare_ivp_with(q0, v0, &CompareOptions::default())
+    }
+
+    /// [`compare_ivp`](Self::compare_ivp) with options.
+    pub fn compare_ivp_with(
+        &self,
+        q0: impl IntoVector<D>,
+        v0: impl IntoVector<D>,
+        options: &CompareOptions<'_, D>,
+    ) -> Result<Comparison<D>> {
+        self.comparer()
+            .compare_ivp(q0.into_vector(), v0.into_vector(), options)
+    }
+
+    /// Compares both schemes on the boundary value problem `Q_0 = qa`, `Q_N = qb`.
+    pub fn compare_bvp(
+        &self,
+        qa: impl IntoVector<D>,
+        qb: impl IntoVector<D>,
+    ) -> Result<Comparison<D>> {
+        self.compare_bvp_with(qa, qb, &CompareOptions::default())
+    }
+
+    /// [`compare_bvp`](Self::compare_bvp) with options (the start is not used).
+    pub fn compare_bvp_with(
+        &self,
+        qa: impl IntoVector<D>,
+        qb: impl IntoVector<D>,
+        options: &CompareOptions<'_, D>,
+    ) -> Result<Comparison<D>> {
+        self.comparer()
+            .compare_bvp(qa.into_vector(), qb.into_vector(), options)
+    }
+
+    /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` with `scheme` on
+    /// `N, 2N, …, 2^{levels−1} N` steps (`N` this problem's), with `options.start`, timing each
+    /// solve and measuring its error against `options.reference`. A size that fails is recorded
+    /// in [`Convergence::failures`] and the run goes on.
+    pub fn convergence_ivp(
+        &self,
+        scheme: Scheme,
+        q0: impl IntoVector<D>,
+        v0: impl IntoVector<D>,
+        options: &CompareOptions<'_, D>,
+        levels: usize,
+    ) -> Convergence<D> {
+        self.comparer()
+            .convergence_ivp(scheme, q0.into_vector(), v0.into_vector(), options, levels)
+    }
+
+    /// [`convergence_ivp`](Self::convergence_ivp) for the boundary value problem `Q_0 = qa`,
+    /// `Q_N = qb` (the start is not used).
+    pub fn convergence_bvp(
+        &self,
+        scheme: Scheme,
+        qa: impl IntoVector<D>,
+        qb: impl IntoVector<D>,
+        options: &CompareOptions<'_, D>,
+        levels: usize,
+    ) -> Convergence<D> {
+        self.comparer()
+            .convergence_bvp(scheme, qa.into_vector(), qb.into_vector(), options, levels)
+    }
+
+    /// The comparison at this problem's grid from a run of each scheme that solved it (same
+    /// data and options, e.g. the sweeps of a work–precision report): nothing is solved again,
+    /// the solutions, errors and wall times are the runs', and each order is
+    /// [`Convergence::order_at`] this `N`. Errors if a run failed at this `N` (that failure), or
+    /// is of the wrong scheme, or did not solve this problem's grid and embedding.
+    pub fn compare_runs(
+        &self,
+        direct: &Convergence<D>,
+        variational: &Convergence<D>,
+    ) -> Result<Comparison<D>> {
+        self.comparer().compare_runs(direct, variational)
     }
 }

@@ -15,10 +15,11 @@
 
 #[allow(unused_imports)]
 use varembed::{
-    CompareOptions, Comparison, DifferentialOperator, DirectEmbedding, Embedding, EmbeddingKind,
-    Error, FractionalSolver, Grid, Hessian, IntoVector, Lagrangian, Location, Matrix,
-    NewtonOptions, Problem, Reference, Result, Scheme, SchemeReport, Side, Solution, Start, Vector,
-    curve_from_flat, lagrangian,
+    CompareOptions, Comparison, Convergence, Dependence, DifferentialOperator, DirectEmbedding,
+    Embedding, EmbeddingKind, Error, FractionalSolver, Grid, Hessian, HessianDependence,
+    IntoVector, Lagrangian, Level, Location, Matrix, NewtonOptions, Problem, Reference, Result,
+    Scheme, SchemeReport, Side, Solution, Start, Vector, curve_from_flat, lagrangian, max_error,
+    observed_order, observed_orders,
 };
 
 /// Compiles only while the public types keep their auto traits.
@@ -28,6 +29,7 @@ fn auto_traits<L: Lagrangian<2> + Sync + 'static>() {
     shared::<Problem<'static, L, 2>>();
     shared::<Solution<2>>();
     shared::<Comparison<2>>();
+    shared::<Convergence<2>>();
     shared::<Error>();
     shared::<Embedding>();
     shared::<Grid>();
@@ -41,6 +43,8 @@ use syn::{Attribute, ImplItem, Item, TraitItem, UseTree, Visibility};
 const ROOT: &[&str] = &[
     "CompareOptions",
     "Comparison",
+    "Convergence",
+    "Dependence",
     "DifferentialOperator",
     "DirectEmbedding",
     "Embedding",
@@ -49,8 +53,10 @@ const ROOT: &[&str] = &[
     "FractionalSolver",
     "Grid",
     "Hessian",
+    "HessianDependence",
     "IntoVector",
     "Lagrangian",
+    "Level",
     "Location",
     "Matrix",
     "NewtonOptions",
@@ -65,12 +71,17 @@ const ROOT: &[&str] = &[
     "Vector",
     "curve_from_flat",
     "lagrangian",
+    "max_error",
+    "observed_order",
+    "observed_orders",
 ];
 
 /// The names generated code and the benchmarks reach through the hidden `__private` module:
 /// not public API, but the macro's output depends on them.
 const PRIVATE: &[&str] = &[
+    "Dependence",
     "Hessian",
+    "HessianDependence",
     "Lagrangian",
     "Matrix",
     "Vector",

@@ -1,6 +1,7 @@
 use super::*;
 use crate::embedding::Embedding;
 use crate::lagrangian::{Hessian, Matrix};
+use crate::problem::Problem;
 use crate::side::Side;
 
 /// `L = ½v² − ½x²`: `q = cos t` from `q(0) = 1`, `q̇(0) = 0`.

@@ -24,11 +24,11 @@ use crate::step::{Step, StepKind, StepTimes, Update};
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Start {
     /// The discrete Legendre transform of the variational scheme
-    /// ([`Problem::legendre_start`]): keeps the discrete momentum maps exact, positions first
+    /// ([`Problem::legendre_start`](crate::Problem::legendre_start)): keeps the discrete momentum maps exact, positions first
     /// order.
     #[default]
     Legendre,
-    /// `Q_1 = Q_0 + h q̇(a) + ½h² q̈(a)` ([`Problem::second_order_start`]): positions second
+    /// `Q_1 = Q_0 + h q̇(a) + ½h² q̈(a)` ([`Problem::second_order_start`](crate::Problem::second_order_start)): positions second
     /// order on `L = ½|v|² − U` for the variational schemes.
     SecondOrder,
 }
@@ -43,7 +43,12 @@ pub(crate) struct Ivp<'l, L: ?Sized, const D: usize> {
 }
 
 impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
-    /// The step kind that advances `scheme` (see [`Problem::step_kind`]).
+    /// The step kind that advances `scheme` under this embedding.
+    ///
+    /// The asymmetric Gauss-FDEσ is coherent: its direct scheme *is* the variational
+    /// recurrence, so both schemes step with the variational kernel. Gauss-GLEσ has no
+    /// three-point recurrence (every node talks to every other) and gives
+    /// [`Error::Unsupported`]: solve it as a boundary value problem.
     pub(crate) fn step_kind(&self, scheme: Scheme) -> Result<StepKind> {
         let side = self.embedding.side();
         match (self.embedding.kind(), scheme, side) {
@@ -62,7 +67,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         }
     }
 
-    /// The discrete Legendre start (see [`Problem::legendre_start`]).
+    /// The discrete Legendre start (see `Problem::legendre_start`).
     pub(crate) fn legendre_start(&self, q0: Vector<D>, v0: Vector<D>) -> Result<Vector<D>> {
         check_finite("q(a)", &q0)?;
         check_finite("q̇(a)", &v0)?;
@@ -84,7 +89,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
             .map(|(q1, _)| q1)
     }
 
-    /// The second-order start (see [`Problem::second_order_start`]).
+    /// The second-order start (see [`Problem::second_order_start`](crate::Problem::second_order_start)).
     pub(crate) fn second_order_start(&self, q0: Vector<D>, v0: Vector<D>) -> Result<Vector<D>> {
         check_finite("q(a)", &q0)?;
         check_finite("q̇(a)", &v0)?;
