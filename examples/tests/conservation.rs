@@ -1,4 +1,5 @@
-//! Energy and angular momentum (issue 4, "must show" 3 and 4).
+//! Conservation over long runs: the pendulum's energy (bounded for the variational scheme, drifting
+//! down for the direct one) and Kepler's discrete angular momentum.
 
 use varembed::Scheme;
 use varembed_examples::scenes::{kepler, pendulum};
