@@ -17,108 +17,9 @@ use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion};
 use varembed::__private::step::{Step, StepKind, StepTimes, Update, residual};
-use varembed::{Dependence, Hessian, HessianDependence, Lagrangian, Matrix, Vector};
+use varembed::{Lagrangian, Vector};
 use varembed_tests::models::generated::{DoublePendulum, Pendulum, double_pendulum, pendulum};
-
-const ON_X: Dependence = Dependence {
-    x: true,
-    v: false,
-    t: false,
-};
-const ON_X_AND_V: Dependence = Dependence {
-    x: true,
-    v: true,
-    t: false,
-};
-
-/// The pendulum by hand: `L = ½ l² v² + g l cos x`.
-struct PendulumHand {
-    g: f64,
-    l: f64,
-}
-
-impl Lagrangian<1> for PendulumHand {
-    #[inline]
-    fn value(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
-        pendulum(x[0], v[0], self.g, self.l)
-    }
-    #[inline]
-    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
-        let (g, l) = (self.g, self.l);
-        (
-            Vector::<1>::new(-g * l * x[0].sin()),
-            Vector::<1>::new(l * l * v[0]),
-        )
-    }
-    #[inline]
-    fn hessian(&self, x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
-        let (g, l) = (self.g, self.l);
-        Hessian {
-            xx: Matrix::<1>::new(-g * l * x[0].cos()),
-            xv: Matrix::<1>::zeros(),
-            vv: Matrix::<1>::new(l * l),
-        }
-    }
-    #[inline]
-    fn hessian_dependence(&self) -> HessianDependence {
-        HessianDependence {
-            xx: ON_X,
-            xv: Dependence::NONE,
-            vv: Dependence::NONE,
-        }
-    }
-}
-
-/// The double pendulum by hand.
-struct DoublePendulumHand(DoublePendulum);
-
-impl Lagrangian<2> for DoublePendulumHand {
-    #[inline]
-    fn value(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> f64 {
-        let DoublePendulum { m1, m2, l1, l2, g } = self.0;
-        double_pendulum([x[0], x[1]], [v[0], v[1]], m1, m2, l1, l2, g)
-    }
-    #[inline]
-    fn gradient(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> (Vector<2>, Vector<2>) {
-        let DoublePendulum { m1, m2, l1, l2, g } = self.0;
-        let (c, s) = ((x[0] - x[1]).cos(), (x[0] - x[1]).sin());
-        let k = m2 * l1 * l2;
-        let f = Vector::<2>::new(
-            -k * v[0] * v[1] * s - (m1 + m2) * g * l1 * x[0].sin(),
-            k * v[0] * v[1] * s - m2 * g * l2 * x[1].sin(),
-        );
-        let p = Vector::<2>::new(
-            (m1 + m2) * l1 * l1 * v[0] + k * v[1] * c,
-            m2 * l2 * l2 * v[1] + k * v[0] * c,
-        );
-        (f, p)
-    }
-    #[inline]
-    fn hessian(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> Hessian<2> {
-        let DoublePendulum { m1, m2, l1, l2, g } = self.0;
-        let (c, s) = ((x[0] - x[1]).cos(), (x[0] - x[1]).sin());
-        let k = m2 * l1 * l2;
-        let kvvc = k * v[0] * v[1] * c;
-        Hessian {
-            xx: Matrix::<2>::new(
-                -kvvc - (m1 + m2) * g * l1 * x[0].cos(),
-                kvvc,
-                kvvc,
-                -kvvc - m2 * g * l2 * x[1].cos(),
-            ),
-            xv: Matrix::<2>::new(-k * v[1] * s, -k * v[0] * s, k * v[1] * s, k * v[0] * s),
-            vv: Matrix::<2>::new((m1 + m2) * l1 * l1, k * c, k * c, m2 * l2 * l2),
-        }
-    }
-    #[inline]
-    fn hessian_dependence(&self) -> HessianDependence {
-        HessianDependence {
-            xx: ON_X_AND_V,
-            xv: ON_X_AND_V,
-            vv: ON_X,
-        }
-    }
-}
+use varembed_tests::models::hand::{DeclaredDoublePendulum, DeclaredPendulum};
 
 const TIMES: StepTimes = StepTimes::new(0.01, 1.0, 1.01, 1.02);
 
@@ -177,7 +78,7 @@ fn kernels(c: &mut Criterion) {
         c,
         "pendulum",
         &p,
-        &PendulumHand { g: 9.81, l: 1.0 },
+        &DeclaredPendulum { g: 9.81, l: 1.0 },
         StepKind::VariationalBackward,
     );
     let dp = DoublePendulum {
@@ -194,7 +95,13 @@ fn kernels(c: &mut Criterion) {
         c,
         "double_pendulum",
         &dp,
-        &DoublePendulumHand(dp),
+        &DeclaredDoublePendulum {
+            m1: 1.0,
+            m2: 1.0,
+            l1: 1.0,
+            l2: 1.0,
+            g: 9.81,
+        },
         StepKind::DirectForward,
     );
 }

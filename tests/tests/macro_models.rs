@@ -8,29 +8,17 @@
 
 use varembed::__private::step::{Step, StepKind, StepTimes, Update, is_affine, residual};
 use varembed::{Dependence, Hessian, HessianDependence, Lagrangian, Matrix, Vector, lagrangian};
-use varembed_tests::models::generated::{DoublePendulum, Pendulum, double_pendulum, pendulum};
+use varembed_tests::models::generated::{DoublePendulum, Pendulum};
+use varembed_tests::models::hand::{DeclaredDoublePendulum, DeclaredPendulum, SEPARABLE};
 use varembed_tests::rng::Rng;
 
 const KINDS: [StepKind; 4] = StepKind::ALL;
 
-/// A block that depends on `x` only.
-const ON_X: Dependence = Dependence {
-    x: true,
-    v: false,
-    t: false,
-};
 /// A block that depends on `t` only.
 const ON_T: Dependence = Dependence {
     x: false,
     v: false,
     t: true,
-};
-
-/// `L_xx` depends on `x`, `L_xv` and `L_vv` are constants: `L = ½ vᵀMv + vᵀCx − U(x)`.
-const SEPARABLE: HessianDependence = HessianDependence {
-    xx: ON_X,
-    xv: Dependence::NONE,
-    vv: Dependence::NONE,
 };
 
 /// `|a − b| ≤ tol · max(1, |b|)`: relative for large entries, absolute near zero (entries that
@@ -170,42 +158,12 @@ fn check_kernels<const D: usize>(
 
 // ---------------------------------------------------------------- pendulum (d = 1)
 
-struct PendulumHand {
-    g: f64,
-    l: f64,
-}
-
-impl Lagrangian<1> for PendulumHand {
-    fn value(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
-        pendulum(x[0], v[0], self.g, self.l)
-    }
-    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
-        let (g, l) = (self.g, self.l);
-        (
-            Vector::<1>::new(-g * l * x[0].sin()),
-            Vector::<1>::new(l * l * v[0]),
-        )
-    }
-    fn hessian(&self, x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
-        let (g, l) = (self.g, self.l);
-        Hessian {
-            xx: Matrix::<1>::new(-g * l * x[0].cos()),
-            xv: Matrix::<1>::zeros(),
-            vv: Matrix::<1>::new(l * l),
-        }
-    }
-    fn hessian_dependence(&self) -> HessianDependence {
-        // L_vv constant and L_xv = 0; only the direct backward step sees L_xx(y).
-        SEPARABLE
-    }
-}
-
 #[test]
 fn pendulum_matches_hand_written() {
     let mut rng = Rng(1);
     let (gen_, hand) = (
         Pendulum { g: 9.81, l: 1.3 },
-        PendulumHand { g: 9.81, l: 1.3 },
+        DeclaredPendulum { g: 9.81, l: 1.3 },
     );
     check_derivatives(&gen_, &hand, Vector::<1>::zeros(), &mut rng);
     check_kernels(&gen_, &hand, Vector::<1>::zeros(), &mut rng);
@@ -313,66 +271,6 @@ fn constant_mass_matrix_matches_hand_written() {
 
 // ---------------------------------------------------------------- double pendulum (d = 2)
 
-struct DoublePendulumHand {
-    m1: f64,
-    m2: f64,
-    l1: f64,
-    l2: f64,
-    g: f64,
-}
-
-impl Lagrangian<2> for DoublePendulumHand {
-    fn value(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> f64 {
-        let Self { m1, m2, l1, l2, g } = *self;
-        double_pendulum([x[0], x[1]], [v[0], v[1]], m1, m2, l1, l2, g)
-    }
-    fn gradient(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> (Vector<2>, Vector<2>) {
-        let Self { m1, m2, l1, l2, g } = *self;
-        let (c, s) = ((x[0] - x[1]).cos(), (x[0] - x[1]).sin());
-        let k = m2 * l1 * l2;
-        let f = Vector::<2>::new(
-            -k * v[0] * v[1] * s - (m1 + m2) * g * l1 * x[0].sin(),
-            k * v[0] * v[1] * s - m2 * g * l2 * x[1].sin(),
-        );
-        let p = Vector::<2>::new(
-            (m1 + m2) * l1 * l1 * v[0] + k * v[1] * c,
-            m2 * l2 * l2 * v[1] + k * v[0] * c,
-        );
-        (f, p)
-    }
-    fn hessian(&self, x: &Vector<2>, v: &Vector<2>, _t: f64) -> Hessian<2> {
-        let Self { m1, m2, l1, l2, g } = *self;
-        let (c, s) = ((x[0] - x[1]).cos(), (x[0] - x[1]).sin());
-        let k = m2 * l1 * l2;
-        let kvvc = k * v[0] * v[1] * c;
-        Hessian {
-            xx: Matrix::<2>::new(
-                -kvvc - (m1 + m2) * g * l1 * x[0].cos(),
-                kvvc,
-                kvvc,
-                -kvvc - m2 * g * l2 * x[1].cos(),
-            ),
-            xv: Matrix::<2>::new(-k * v[1] * s, -k * v[0] * s, k * v[1] * s, k * v[0] * s),
-            vv: Matrix::<2>::new((m1 + m2) * l1 * l1, k * c, k * c, m2 * l2 * l2),
-        }
-    }
-    fn hessian_dependence(&self) -> HessianDependence {
-        // L_vv depends on x only: affine exactly when the Jacobian reads L_vv at the fixed
-        // node b and nothing else (direct σ = +). L_xv depends on v, which rules out
-        // VariationalForward.
-        let on_x_and_v = Dependence {
-            x: true,
-            v: true,
-            t: false,
-        };
-        HessianDependence {
-            xx: on_x_and_v,
-            xv: on_x_and_v,
-            vv: ON_X,
-        }
-    }
-}
-
 #[test]
 fn double_pendulum_matches_hand_written() {
     let mut rng = Rng(3);
@@ -383,7 +281,7 @@ fn double_pendulum_matches_hand_written() {
         l2: 0.8,
         g: 9.81,
     };
-    let hand = DoublePendulumHand {
+    let hand = DeclaredDoublePendulum {
         m1: 1.2,
         m2: 0.7,
         l1: 1.1,
