@@ -175,6 +175,20 @@ pub trait Lagrangian<const D: usize> {
         HessianDependence::ALL
     }
 
+    /// On which of `x`, `v`, `t` the Lagrangian itself depends. The default,
+    /// [`Dependence::ALL`], claims nothing; `#[lagrangian]` decides it symbolically. A
+    /// Lagrangian that does not depend on `t` is autonomous: the flow conserves its energy
+    /// `E = v·∂L/∂v − L`, which is what makes energy a meaningful figure of a run.
+    fn dependence(&self) -> Dependence {
+        Dependence::ALL
+    }
+
+    /// The model's constants by name (the fields of a `#[lagrangian]` struct), so that a
+    /// non-finite one is reported by its name before any step is taken. The default lists none.
+    fn constants(&self) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
+
     /// The energy `E = v·∂L/∂v − L`.
     fn energy(&self, x: &Vector<D>, v: &Vector<D>, t: f64) -> f64 {
         let (_, p) = self.gradient(x, v, t);
@@ -202,6 +216,12 @@ impl<const D: usize, L: Lagrangian<D> + ?Sized> Lagrangian<D> for &L {
     }
     fn hessian_dependence(&self) -> HessianDependence {
         (**self).hessian_dependence()
+    }
+    fn dependence(&self) -> Dependence {
+        (**self).dependence()
+    }
+    fn constants(&self) -> Vec<(&'static str, f64)> {
+        (**self).constants()
     }
     fn energy(&self, x: &Vector<D>, v: &Vector<D>, t: f64) -> f64 {
         (**self).energy(x, v, t)

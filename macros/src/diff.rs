@@ -208,5 +208,6 @@ pub fn differentiate(graph: &mut Graph, root: Id, dim: usize) -> Derivatives {
         xv,
         vv,
         hessian_dependence,
+        dependence: g.dependence(&[root]),
     }
 }

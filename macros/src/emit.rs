@@ -75,6 +75,8 @@ pub fn emit(model: &Model, d: &Derivatives, plans: &Plans, text: &str) -> TokenS
     );
 
     let hessian_dependence = hessian_dependence(&d.hessian_dependence);
+    let dependence = dependence(&d.dependence);
+    let constants = constants(&model.consts);
     let lagrangian = private("Lagrangian");
     let dim = &types.dim;
 
@@ -98,6 +100,8 @@ pub fn emit(model: &Model, d: &Derivatives, plans: &Plans, text: &str) -> TokenS
             #hessian
             #gradient_and_hessian
             #hessian_dependence
+            #dependence
+            #constants
         }
     }
 }
@@ -224,14 +228,40 @@ fn matrix(g: &Graph, r: &Render<'_>, name: &Ident, entries: &[Id], types: &Types
     }
 }
 
+/// A [`Dependence`] as core's value.
+fn dependence_value(d: &Dependence) -> TokenStream {
+    let (x, v, t) = (d.x, d.v, d.t);
+    let dependence = private("Dependence");
+    quote!(#dependence { x: #x, v: #v, t: #t })
+}
+
+/// `dependence`: what `L` itself depends on, a constant of the model.
+fn dependence(dep: &Dependence) -> TokenStream {
+    let ty = private("Dependence");
+    let value = dependence_value(dep);
+    quote! {
+        #[inline]
+        fn dependence(&self) -> #ty {
+            #value
+        }
+    }
+}
+
+/// `constants`: the model constants by field name.
+fn constants(consts: &[Ident]) -> TokenStream {
+    let names = consts.iter().map(|c| c.to_string());
+    quote! {
+        #[inline]
+        fn constants(&self) -> ::std::vec::Vec<(&'static str, f64)> {
+            ::std::vec![#((#names, self.#consts)),*]
+        }
+    }
+}
+
 /// `hessian_dependence`, a constant of the model.
 fn hessian_dependence(dep: &HessianDependence) -> TokenStream {
     let ty = private("HessianDependence");
-    let block = |d: &Dependence| {
-        let (x, v, t) = (d.x, d.v, d.t);
-        let dependence = private("Dependence");
-        quote!(#dependence { x: #x, v: #v, t: #t })
-    };
+    let block = dependence_value;
     let (xx, xv, vv) = (block(&dep.xx), block(&dep.xv), block(&dep.vv));
     quote! {
         #[inline]

@@ -450,6 +450,8 @@ pub struct Derivatives {
     pub vv: Vec<Id>,
     /// On what the entries of each block depend (an all-zero block: on nothing).
     pub hessian_dependence: HessianDependence,
+    /// What `L` itself depends on.
+    pub dependence: Dependence,
 }
 
 /// What each second-derivative block depends on. Emitted as core's `HessianDependence`, which

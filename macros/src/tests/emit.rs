@@ -172,7 +172,9 @@ fn the_impl_has_the_agreed_methods_all_inline() {
                 "gradient",
                 "hessian",
                 "gradient_and_hessian",
-                "hessian_dependence"
+                "hessian_dependence",
+                "dependence",
+                "constants"
             ]
         );
     }
@@ -184,6 +186,49 @@ const X: Dependence = Dependence {
     v: false,
     t: false,
 };
+
+/// `dependence` is what `L` itself depends on: the time only where `t` appears in the value
+/// (not through a model constant), the velocity and position likewise.
+#[test]
+fn dependence_of_l_tells_autonomous_from_time_dependent() {
+    let of = |item: TokenStream| model(item).1.dependence;
+    let pendulum = of(quote! {
+        fn pendulum(x: f64, v: f64, g: f64, l: f64) -> f64 { 0.5 * l * l * v * v + g * l * x.cos() }
+    });
+    assert_eq!(
+        pendulum,
+        Dependence {
+            x: true,
+            v: true,
+            t: false
+        }
+    );
+    let parametric = of(quote! {
+        fn parametric(x: f64, v: f64, t: f64, eps: f64) -> f64 {
+            0.5 * v * v - 0.5 * (1.0 + eps * t.cos()) * x * x
+        }
+    });
+    assert_eq!(
+        parametric,
+        Dependence {
+            x: true,
+            v: true,
+            t: true
+        }
+    );
+    let free = of(quote! { fn free(x: f64, v: f64) -> f64 { 0.5 * v * v } });
+    assert_eq!(
+        free,
+        Dependence {
+            x: false,
+            v: true,
+            t: false
+        }
+    );
+    // `t` in the signature but not in the value: still autonomous.
+    let unused = of(quote! { fn c(x: f64, v: f64, t: f64) -> f64 { 0.5 * v * v - x * x } });
+    assert!(!unused.t);
+}
 
 /// What the blocks `[xx, xv, vv]` of the model `item` depend on.
 fn dependence_of(item: TokenStream) -> [Dependence; 3] {

@@ -196,4 +196,19 @@ impl ::varembed::__private::Lagrangian<2> for DoublePendulum {
             },
         }
     }
+    #[inline]
+    fn dependence(&self) -> ::varembed::__private::Dependence {
+        ::varembed::__private::Dependence {
+            x: true,
+            v: true,
+            t: false,
+        }
+    }
+    #[inline]
+    fn constants(&self) -> ::std::vec::Vec<(&'static str, f64)> {
+        ::std::vec![
+            ("m1", self.m1), ("m2", self.m2), ("l1", self.l1), ("l2", self.l2), ("g",
+            self.g)
+        ]
+    }
 }

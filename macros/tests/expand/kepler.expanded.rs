@@ -141,4 +141,16 @@ impl ::varembed::__private::Lagrangian<2> for Kepler {
             },
         }
     }
+    #[inline]
+    fn dependence(&self) -> ::varembed::__private::Dependence {
+        ::varembed::__private::Dependence {
+            x: true,
+            v: true,
+            t: false,
+        }
+    }
+    #[inline]
+    fn constants(&self) -> ::std::vec::Vec<(&'static str, f64)> {
+        ::std::vec![]
+    }
 }

@@ -108,4 +108,16 @@ impl ::varembed::__private::Lagrangian<1> for Pendulum {
             },
         }
     }
+    #[inline]
+    fn dependence(&self) -> ::varembed::__private::Dependence {
+        ::varembed::__private::Dependence {
+            x: true,
+            v: true,
+            t: false,
+        }
+    }
+    #[inline]
+    fn constants(&self) -> ::std::vec::Vec<(&'static str, f64)> {
+        ::std::vec![("g", self.g), ("l", self.l)]
+    }
 }
