@@ -41,8 +41,10 @@
 //! | `DirectBackward` | `L_xx`, `L_xv`, `L_vv` depend on neither `x` nor `v` |
 //! | `DirectForward` | `L_vv` does not depend on `v` |
 //!
-//! So `L = ½ vᵀM(x)v − U(x)` has closed-form forward steps, and the backward ones too when `M`
-//! is constant. [`Update::plan`] decides this once per run, and when the blocks in `J` are
+//! So for `L = ½ vᵀM(x)v − U(x)` the direct forward step is closed-form (`L_vv = M(x)` is read
+//! at `b`), the variational forward step is not (`L_xv = M′(x)v` depends on `v`); with a
+//! constant `M` the variational backward step is closed-form too, and the direct backward step
+//! only when `U` is quadratic (`L_xx = −U″` must be constant). [`Update::plan`] decides this once per run, and when the blocks in `J` are
 //! constants it inverts `J` once for the whole run.
 
 use crate::lagrangian::{Dependence, Hessian, HessianDependence, Lagrangian, Matrix, Vector};
