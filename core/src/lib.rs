@@ -22,10 +22,12 @@
 //! - Lagrangians: the [`Lagrangian`] trait, its [`Hessian`], what the Hessian blocks depend on
 //!   ([`HessianDependence`], [`Dependence`]), [`IntoVector`], [`Vector`], [`Matrix`], and the
 //!   [`lagrangian`](macro@lagrangian) attribute that derives an implementation from a function.
-//! - Solving: [`Solution`] and its [`Warning`]s, [`Start`], [`NewtonOptions`], [`FractionalSolver`].
+//! - Solving: [`Solution`] and its [`Warning`]s, [`Start`], [`NewtonOptions`],
+//!   [`FractionalSolver`].
 //! - Comparing the two schemes: [`Comparison`], [`CompareOptions`], [`Reference`],
 //!   [`SchemeReport`]; convergence over `N, 2N, 4N, …`: [`Convergence`], [`Level`], and the one
-//!   definition of the observed order, [`observed_order`] ([`observed_orders`] along a run),
+//!   definition of the observed order, [`observed_order`] ([`observed_orders`] along a run)
+//!   and how far it can be trusted, [`OrderStatus`],
 //!   with [`max_error`] against a reference curve.
 //! - Errors: [`Error`], [`Location`], [`Result`].
 //! - The direct embedding of a general differential operator (no Lagrangian):
@@ -72,8 +74,8 @@ mod toeplitz;
 mod weights;
 
 pub use compare::{
-    CompareOptions, Comparison, Convergence, Level, Reference, SchemeReport, max_error,
-    observed_order, observed_orders,
+    CompareOptions, Comparison, Convergence, Level, OrderStatus, Reference, SchemeReport,
+    max_error, observed_order, observed_orders,
 };
 pub use embedding::{Embedding, EmbeddingKind, Scheme};
 pub use error::{Error, Location, Result};

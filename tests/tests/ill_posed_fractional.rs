@@ -34,9 +34,17 @@ fn at_one_half_the_midpoint_drifts_and_the_solution_is_flagged() {
     let [a, b, c] = midpoints(0.5);
     // Measured: 0.4656, 0.4258, 0.3922 (and 0.332 at N = 10⁵): a drift of 0.03–0.04 per
     // quadrupling that hardly slows down.
-    assert!((a - 0.4656).abs() < 1e-3 && (c - 0.3922).abs() < 1e-3, "{a} {b} {c}");
+    assert!(
+        (a - 0.4656).abs() < 1e-3 && (c - 0.3922).abs() < 1e-3,
+        "{a} {b} {c}"
+    );
     let ratio = (b - c) / (a - b);
-    assert!(ratio > 0.7, "successive changes {} {} barely shrink", a - b, b - c);
+    assert!(
+        ratio > 0.7,
+        "successive changes {} {} barely shrink",
+        a - b,
+        b - c
+    );
 }
 
 #[test]
@@ -62,9 +70,15 @@ fn every_solver_and_scheme_flags_the_ill_posed_problem() {
     let direct = Problem::new(&UnitPendulum, grid, gle)
         .solve_bvp(Scheme::Direct, 0.0, 1.0)
         .unwrap();
-    assert_eq!(direct.warnings, [Warning::IllPosedFractional { alpha: 0.4 }]);
+    assert_eq!(
+        direct.warnings,
+        [Warning::IllPosedFractional { alpha: 0.4 }]
+    );
     let message = direct.warnings[0].to_string();
-    assert!(message.contains("α = 0.4") && message.contains("need not converge"), "{message}");
+    assert!(
+        message.contains("α = 0.4") && message.contains("need not converge"),
+        "{message}"
+    );
     // The classical embeddings, and α = 1, are well-posed.
     let fde = Embedding::finite_difference(Side::Backward);
     let classical = Problem::new(&UnitPendulum, grid, fde)
