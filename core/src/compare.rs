@@ -37,11 +37,10 @@ use crate::solve::ivp::{Ivp, Start};
 use crate::solve::solution::Solution;
 use std::time::{Duration, Instant};
 
-mod order;
+pub(crate) mod order;
 mod table;
 
-use order::order_statuses;
-pub use order::{OrderStatus, observed_order, observed_orders};
+use order::{OrderStatus, observed_order, observed_orders, order_statuses};
 
 /// `max_k |Q_k − q(t_k)|∞`: the error of the discrete curve `q` on `grid` against `reference`.
 pub fn max_error<const D: usize>(

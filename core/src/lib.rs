@@ -73,9 +73,9 @@ mod test_models;
 mod toeplitz;
 mod weights;
 
+pub use compare::order::{OrderStatus, observed_order, observed_orders};
 pub use compare::{
-    CompareOptions, Comparison, Convergence, Level, OrderStatus, Reference, SchemeReport,
-    max_error, observed_order, observed_orders,
+    CompareOptions, Comparison, Convergence, Level, Reference, SchemeReport, max_error,
 };
 pub use embedding::{Embedding, EmbeddingKind, Scheme};
 pub use error::{Error, Location, Result};

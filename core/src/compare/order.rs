@@ -69,7 +69,7 @@ impl OrderStatus {
 
 /// The [`OrderStatus`] of each order between successive entries of `(N, e, scale)`, `scale`
 /// the size of the solution the error is measured on (see [`OrderStatus`] for the rule).
-pub(super) fn order_statuses(errors: &[(usize, f64, f64)]) -> Vec<OrderStatus> {
+pub(crate) fn order_statuses(errors: &[(usize, f64, f64)]) -> Vec<OrderStatus> {
     let at_round_off = |i: usize| {
         let (_, e, scale) = errors[i];
         e <= OrderStatus::ROUND_OFF * scale
