@@ -9,7 +9,7 @@
 /// which is `log₂(e_N / e_{2N})` when the fine grid has twice the steps (an error `C hᵖ` gives
 /// exactly `p`). The errors are whatever measures the distance to the solution: the error
 /// against a reference, or the self-convergence estimate `‖Q_N − Q_{2N}‖` on the coarser nodes
-/// ([`Convergence::error_estimates`]).
+/// ([`Convergence::error_estimates`](crate::Convergence::error_estimates)).
 ///
 /// # Example
 ///
