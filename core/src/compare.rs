@@ -12,11 +12,18 @@
 //! The observed order has one definition, [`observed_order`]: between successive grids of a
 //! doubling run it is `log₂(e_N / e_{2N})`, with `e` the error against the reference when there
 //! is one, otherwise the self-convergence estimate `e_N = ‖Q_N − Q_{2N}‖` (max-norm over the
-//! nodes of the coarser grid), so that `log₂(‖Q_N − Q_{2N}‖ / ‖Q_{2N} − Q_{4N}‖)`. A comparison's
-//! order therefore needs solves on `2N` (and `4N` without a reference). A comparison is built
-//! from two [`Convergence`] runs ([`Problem::compare_runs`](crate::Problem::compare_runs), which solves nothing), so a caller
+//! nodes of the coarser grid), so that `log₂(‖Q_N − Q_{2N}‖ / ‖Q_{2N} − Q_{4N}‖)`. One order
+//! alone does not show whether the errors have reached their power law, so every order carries
+//! an [`OrderStatus`]: checked against the next order of the run, or at round-off. A
+//! comparison's order therefore needs solves on `2N`, `4N` (and `8N` without a reference):
+//! optional ([`CompareOptions::order`]), and the table states how many it made. A comparison
+//! is also built from two [`Convergence`] runs
+//! ([`Problem::compare_runs`](crate::Problem::compare_runs), which solves nothing), so a caller
 //! that sweeps `N` anyway (the tour's work–precision report) reads its tables off the sweep's
 //! own solutions, and the order in a table is the sweep's order at that `N`.
+//!
+//! The table prints, besides the numbers, a legend of its columns
+//! ([`Comparison::legend`]), and renders as markdown too ([`Comparison::to_markdown`]).
 
 use crate::discretisation::Discretisation;
 use crate::embedding::Scheme;
@@ -28,40 +35,12 @@ use crate::options::SolverOptions;
 use crate::solve::bvp;
 use crate::solve::ivp::{Ivp, Start};
 use crate::solve::solution::Solution;
-use std::fmt;
 use std::time::{Duration, Instant};
 
-/// The observed order of convergence between a coarse grid of `n_coarse` steps with error
-/// `e_coarse` and a finer one of `n_fine` steps with error `e_fine`:
-///
-/// `p = log₂(e_coarse / e_fine) / log₂(n_fine / n_coarse)`,
-///
-/// which is `log₂(e_N / e_{2N})` when the fine grid has twice the steps (an error `C hᵖ` gives
-/// exactly `p`). The errors are whatever measures the distance to the solution: the error
-/// against a reference, or the self-convergence estimate `‖Q_N − Q_{2N}‖` on the coarser nodes
-/// ([`Convergence::error_estimates`]).
-///
-/// # Example
-///
-/// ```
-/// use varembed::observed_order;
-/// // The error falls by 4 when N doubles: second order.
-/// assert_eq!(observed_order((100, 0.5), (200, 0.125)), 2.0);
-/// // Skipping a grid (N to 4N) does not change the order of a clean power law.
-/// assert_eq!(observed_order((100, 0.5), (400, 0.03125)), 2.0);
-/// ```
-pub fn observed_order((n_coarse, e_coarse): (usize, f64), (n_fine, e_fine): (usize, f64)) -> f64 {
-    (e_coarse / e_fine).log2() / (n_fine as f64 / n_coarse as f64).log2()
-}
+pub(crate) mod order;
+mod table;
 
-/// [`observed_order`] between each pair of successive entries of `(N, e)`, ordered by
-/// increasing `N`: one order fewer than entries.
-pub fn observed_orders(errors: &[(usize, f64)]) -> Vec<f64> {
-    errors
-        .windows(2)
-        .map(|w| observed_order(w[0], w[1]))
-        .collect()
-}
+use order::{OrderStatus, observed_order, observed_orders, order_statuses};
 
 /// `max_k |Q_k − q(t_k)|∞`: the error of the discrete curve `q` on `grid` against `reference`.
 pub fn max_error<const D: usize>(
@@ -136,8 +115,11 @@ pub struct CompareOptions<'a, const D: usize> {
     pub reference: Reference<'a, D>,
     /// The start of initial value problems.
     pub start: Start,
-    /// Whether a comparison solves on `2N` (and `4N` without a reference) for the observed
-    /// order. Convergence runs ignore it: their number of grids is an argument.
+    /// Whether a comparison solves on `2N` and `4N` (and `8N` without a reference) for the
+    /// observed order and its status: per scheme 2 (3) more solves, about 6 (14) times the cost
+    /// of the solve on `N` when that cost is linear in `N`. The table states which ran
+    /// ([`Comparison::extra_solves`]). Convergence runs ignore it: their number of grids is an
+    /// argument.
     pub order: bool,
 }
 
@@ -162,10 +144,15 @@ pub struct SchemeReport<const D: usize> {
     pub error: Option<f64>,
     /// `E = V_k·∂L/∂v − L` at the quadrature nodes `I_σ`.
     pub energy: Vec<f64>,
-    /// `max_k |E_k − E_first|`.
-    pub energy_deviation: f64,
+    /// `max_k |E_k − E_first|`, where the flow conserves `E` (an autonomous Lagrangian under a
+    /// classical embedding); `None` otherwise ([`Comparison::energy_not_conserved`] says why),
+    /// since the drift of a quantity the problem does not conserve is no error.
+    pub energy_deviation: Option<f64>,
     /// [`observed_order`] from `N` to the next grid of the run (`2N`), if the run has one.
     pub order: Option<f64>,
+    /// How far [`order`](Self::order) can be trusted ([`Convergence::order_status_at`]), when
+    /// there is one.
+    pub order_status: Option<OrderStatus>,
     /// Wall time of the solve on `N` steps.
     pub wall_time: Duration,
 }
@@ -178,10 +165,13 @@ pub struct SchemeReport<const D: usize> {
 /// the run and its largest deviation from its first value, the observed order of convergence,
 /// Newton iterations and wall time; and the largest distance between the two solutions.
 ///
-/// The observed order comes from two more solves on `2N` and `4N` steps:
-/// `log₂(e_N / e_{2N})` with the errors against the reference when there is one, otherwise the
-/// self-convergence estimate `log₂(‖Q_N − Q_{2N}‖ / ‖Q_{2N} − Q_{4N}‖)` (max-norm over the nodes
-/// of the coarse grid).
+/// The observed order is `log₂(e_N / e_{2N})` with the errors against the reference when there
+/// is one, otherwise the self-convergence estimate `log₂(‖Q_N − Q_{2N}‖ / ‖Q_{2N} − Q_{4N}‖)`
+/// (max-norm over the nodes of the coarse grid), with its [`OrderStatus`]; it comes from more
+/// solves on `2N`, `4N` (and `8N`) when [`CompareOptions::order`] asks for them, or from the
+/// runs the comparison was built from. The energy is reported only where the flow conserves
+/// it. `Display` prints the table with its legend and the solutions' warnings;
+/// [`to_markdown`](Self::to_markdown) the same as markdown.
 #[derive(Clone, Debug)]
 pub struct Comparison<const D: usize> {
     /// What was solved: "initial value problem" or "boundary value problem".
@@ -198,6 +188,21 @@ pub struct Comparison<const D: usize> {
     pub variational: SchemeReport<D>,
     /// `max_k |Q_direct,k − Q_variational,k|∞`.
     pub max_distance: f64,
+    /// Why the energy column is empty: `Some(reason)` when the flow does not conserve
+    /// `E = v·∂L/∂v − L` (the Lagrangian may depend on `t`, as its
+    /// [`dependence`](Lagrangian::dependence) says; or the embedding is fractional), `None`
+    /// when it does and [`SchemeReport::energy_deviation`] is reported.
+    pub energy_not_conserved: Option<&'static str>,
+    /// The finer grids (their `N`) whose solutions the orders and their status come from:
+    /// `2N` and `4N` against a reference, also `8N` by self-convergence, as far as the runs
+    /// have them; empty without an order.
+    pub order_grids: Vec<usize>,
+    /// How many solves per scheme this comparison made beyond the one on `N`, for the orders:
+    /// `order_grids.len()` for [`Problem::compare_ivp_with`](crate::Problem::compare_ivp_with)
+    /// and [`Problem::compare_bvp_with`](crate::Problem::compare_bvp_with) with
+    /// [`CompareOptions::order`], 0 without, and 0 for
+    /// [`Problem::compare_runs`](crate::Problem::compare_runs), which reads the runs it is given.
+    pub extra_solves: usize,
 }
 
 /// One solved grid of a [`Convergence`] run.
@@ -246,18 +251,40 @@ impl<const D: usize> Convergence<D> {
     /// reference, or without one the self-convergence estimate `‖Q_N − Q_{N'}‖` on the nodes
     /// of the `N` grid, `N'` the next level (so the last level has none).
     pub fn error_estimates(&self) -> Vec<(usize, f64)> {
+        self.scaled_estimates()
+            .into_iter()
+            .map(|(n, e, _)| (n, e))
+            .collect()
+    }
+
+    /// [`error_estimates`](Self::error_estimates) with the size of the solutions each is
+    /// measured on (`max_k |Q_k|∞`), the scale of its round-off.
+    fn scaled_estimates(&self) -> Vec<(usize, f64, f64)> {
+        let size = |level: &Level<D>| max_norm(&level.solution.q);
         self.levels
             .iter()
             .enumerate()
             .filter_map(|(i, level)| match level.error {
-                Some(e) => Some((level.n(), e)),
+                Some(e) => Some((level.n(), e, size(level))),
                 None => {
                     let next = self.levels.get(i + 1)?;
                     distance_on_coarse_nodes(&level.solution.q, &next.solution.q)
-                        .map(|e| (level.n(), e))
+                        .map(|e| (level.n(), e, size(level).max(size(next))))
                 }
             })
             .collect()
+    }
+
+    /// The [`OrderStatus`] of each of the [`orders`](Self::orders).
+    pub fn order_statuses(&self) -> Vec<OrderStatus> {
+        order_statuses(&self.scaled_estimates())
+    }
+
+    /// The [`OrderStatus`] of [`order_at`](Self::order_at)`(n)`, if there is that order.
+    pub fn order_status_at(&self, n: usize) -> Option<OrderStatus> {
+        let errors = self.scaled_estimates();
+        let i = errors.iter().position(|&(m, _, _)| m == n)?;
+        order_statuses(&errors[i..]).first().copied()
     }
 
     /// The [`observed_order`] between each pair of successive [`error_estimates`]
@@ -372,6 +399,13 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Comparer<'_, '_, L, D> {
             return Err(mismatch("a comparison of runs with different data"));
         }
         let n = self.discretisation.grid().n();
+        let energy_not_conserved = if self.discretisation.embedding().is_fractional() {
+            Some("the embedding is fractional: its flow does not conserve E")
+        } else if self.discretisation.lagrangian().dependence().t {
+            Some("L may depend on t (its `dependence()` says so): E is not conserved")
+        } else {
+            None
+        };
         let report = |run: &Convergence<D>, scheme: Scheme| -> Result<SchemeReport<D>> {
             if run.scheme != scheme {
                 return Err(mismatch("a comparison of runs of the wrong scheme"));
@@ -389,10 +423,12 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Comparer<'_, '_, L, D> {
             let other = scheme.other();
             let q = &level.solution.q;
             let energy = self.discretisation.energy(q)?;
-            let energy_deviation = energy
-                .iter()
-                .map(|e| (e - energy[0]).abs())
-                .fold(0.0, f64::max);
+            let energy_deviation = energy_not_conserved.is_none().then(|| {
+                energy
+                    .iter()
+                    .map(|e| (e - energy[0]).abs())
+                    .fold(0.0, f64::max)
+            });
             Ok(SchemeReport {
                 solution: level.solution.clone(),
                 residual_of_other: max_norm(&self.discretisation.residual(other, q)?),
@@ -400,6 +436,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Comparer<'_, '_, L, D> {
                 energy,
                 energy_deviation,
                 order: run.order_at(n),
+                order_status: run.order_status_at(n),
                 wall_time: level.wall_time,
             })
         };
@@ -409,6 +446,20 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Comparer<'_, '_, L, D> {
             .solution
             .max_distance(&variational_report.solution.q)
             .unwrap_or(f64::NAN);
+        // The orders and their status use the next two errors after N: the levels 2N, 4N
+        // against a reference, and 8N too for the self-convergence estimates.
+        let needed = if direct.levels.iter().any(|l| l.error.is_some()) {
+            2
+        } else {
+            3
+        };
+        let order_grids = direct
+            .levels
+            .iter()
+            .map(Level::n)
+            .filter(|&m| m > n && variational.level(m).is_some())
+            .take(needed)
+            .collect();
         Ok(Comparison {
             kind: direct.kind,
             embedding: self.discretisation.embedding().to_string(),
@@ -417,10 +468,14 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Comparer<'_, '_, L, D> {
             direct: direct_report,
             variational: variational_report,
             max_distance,
+            energy_not_conserved,
+            order_grids,
+            extra_solves: 0,
         })
     }
 
-    /// Both schemes on `N` (and `2N`, `4N` for the order), the first failure being the answer.
+    /// Both schemes on `N` (and `2N`, `4N`, `8N` for the order), the first failure being the
+    /// answer.
     fn compare(
         &self,
         run: impl Fn(Scheme, usize) -> Convergence<D>,
@@ -428,8 +483,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Comparer<'_, '_, L, D> {
     ) -> Result<Comparison<D>> {
         let levels = match (options.order, options.reference.curve()) {
             (false, _) => 1,
-            (true, Some(_)) => 2,
-            (true, None) => 3,
+            (true, Some(_)) => 3,
+            (true, None) => 4,
         };
         let solved = |scheme| {
             let run = run(scheme, levels);
@@ -438,7 +493,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Comparer<'_, '_, L, D> {
                 None => Ok(run),
             }
         };
-        self.compare_runs(&solved(Scheme::Direct)?, &solved(Scheme::Variational)?)
+        let mut comparison =
+            self.compare_runs(&solved(Scheme::Direct)?, &solved(Scheme::Variational)?)?;
+        comparison.extra_solves = levels - 1;
+        Ok(comparison)
     }
 
     fn convergence(
@@ -497,45 +555,6 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Comparer<'_, '_, L, D> {
             }
         }
         run
-    }
-}
-
-impl<const D: usize> fmt::Display for Comparison<D> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        writeln!(
-            f,
-            "{} under {}, N = {}, h = {:.3e}, errors against: {}",
-            self.kind,
-            self.embedding,
-            self.grid.n(),
-            self.grid.h(),
-            self.reference
-        )?;
-        writeln!(
-            f,
-            "  {:<12} {:>11} {:>7} {:>11} {:>15} {:>8} {:>11}",
-            "scheme", "max error", "order", "max |ΔE|", "other's resid.", "Newton", "time"
-        )?;
-        for (name, r) in [("direct", &self.direct), ("variational", &self.variational)] {
-            let error = r.error.map_or("—".to_string(), |e| format!("{e:.3e}"));
-            let order = r.order.map_or("—".to_string(), |o| format!("{o:.2}"));
-            writeln!(
-                f,
-                "  {:<12} {:>11} {:>7} {:>11.3e} {:>15.3e} {:>8} {:>11}",
-                name,
-                error,
-                order,
-                r.energy_deviation,
-                r.residual_of_other,
-                r.solution.newton_iterations,
-                format!("{:.3?}", r.wall_time)
-            )?;
-        }
-        write!(
-            f,
-            "  max |Q_direct − Q_variational| = {:.3e}",
-            self.max_distance
-        )
     }
 }
 

@@ -4,7 +4,7 @@
 //! error of the first table.
 
 use crate::reference::ReferenceCurve;
-use crate::scene::{Context, Doubling, Figure, SceneReport, Series, SweepLine};
+use crate::scene::{Context, Doubling, Figure, SceneReport, Series, SweepLine, failed_table};
 use std::borrow::Cow;
 use varembed::Convergence;
 use varembed::{
@@ -110,8 +110,9 @@ pub struct IvpRuns<const D: usize> {
     /// One run per variant over the sweep's `N`, in the order of the variants.
     pub sweep: Vec<Convergence<D>>,
     /// The comparison tables at `table_n` with their start: every table embedding with the
-    /// discrete Legendre start, then Gauss-FDE− with the second-order start.
-    pub tables: Vec<(Start, Comparison<D>)>,
+    /// discrete Legendre start, then Gauss-FDE− with the second-order start. A table whose
+    /// runs failed at `table_n` is the failure, as text ([`failed_table`]).
+    pub tables: Vec<(Start, Result<Comparison<D>, String>)>,
 }
 
 /// Where a table takes the run of one scheme from.
@@ -186,7 +187,10 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
             };
             let direct = run(sources[0], Scheme::Direct);
             let variational = run(sources[1], Scheme::Variational);
-            let comparison = problem.compare_runs(&direct, &variational)?;
+            let comparison = problem.compare_runs(&direct, &variational).map_err(|e| {
+                let runs = [("direct", &*direct), ("variational", &*variational)];
+                failed_table(embedding, self.table_n, runs, &e)
+            });
             tables.push((start, comparison));
         }
         Ok(IvpRuns { sweep, tables })
@@ -198,9 +202,16 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
         let tables = runs
             .tables
             .iter()
-            .map(|(start, c)| format!("{c}\n  ({})", start_name(*start)))
+            .map(|(start, c)| match c {
+                Ok(c) => format!("{c}\n  ({})", start_name(*start)),
+                Err(failed) => format!("{failed}\n  ({})", start_name(*start)),
+            })
             .collect();
-        let first = &runs.tables[0].1;
+        // The figures draw the first table that solved.
+        let figures = match runs.tables.iter().find_map(|(_, c)| c.as_ref().ok()) {
+            Some(first) => vec![self.trajectory_figure(first), self.energy_figure(first)],
+            None => Vec::new(),
+        };
         SceneReport {
             name: self.name,
             title: self.title.to_string(),
@@ -208,7 +219,7 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
             tables,
             reference: self.reference.name.clone(),
             sweep: self.sweep_lines(&runs.sweep),
-            figures: vec![self.trajectory_figure(first), self.energy_figure(first)],
+            figures,
         }
     }
 

@@ -3,7 +3,7 @@
 
 use indicatif::ProgressBar;
 use std::sync::{Mutex, PoisonError};
-use varembed::{Convergence, observed_orders};
+use varembed::{Convergence, Embedding, observed_orders};
 
 /// How much of the tour to run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -250,4 +250,35 @@ pub struct SceneReport {
     pub sweep: Vec<SweepLine>,
     /// Trajectories and energy error over time.
     pub figures: Vec<Figure>,
+}
+
+/// A comparison table that could not be built, as text: what it would have compared, then one
+/// row per scheme with the error its run gave at `n` (or that it solved), and the comparison's
+/// own error when neither run failed there. A run that fails is a row of the report, not a
+/// crash of the tour.
+pub fn failed_table<const D: usize>(
+    embedding: Embedding,
+    n: usize,
+    runs: [(&str, &Convergence<D>); 2],
+    error: &varembed::Error,
+) -> String {
+    let kind = runs[0].1.kind;
+    let mut table = format!("{kind} under {embedding}, N = {n}: no comparison\n");
+    table += &format!("  {:<12} result\n", "scheme");
+    let mut any = false;
+    for (name, run) in runs {
+        let row = match run.failures.iter().find(|(m, _)| *m == n) {
+            Some((_, e)) => {
+                any = true;
+                format!("failed: {e}")
+            }
+            None if run.level(n).is_some() => "solved".to_string(),
+            None => "not run on this N".to_string(),
+        };
+        table += &format!("  {name:<12} {row}\n");
+    }
+    if !any {
+        table += &format!("  the comparison failed: {error}\n");
+    }
+    table.trim_end().to_string()
 }

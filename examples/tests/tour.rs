@@ -4,7 +4,7 @@
 
 use std::collections::HashMap;
 use std::fs;
-use varembed::Start;
+use varembed::{Comparison, Start};
 use varembed_examples::report;
 use varembed_examples::scene::{Context, Mode};
 use varembed_examples::scenes::{ALL, harmonic};
@@ -152,15 +152,17 @@ fn report_orders_are_the_comparisons_orders_and_each_grid_is_solved_once() {
     let (legendre, second_order) = (&runs.tables[0], runs.tables.last().expect("tables"));
     assert_eq!(legendre.0, Start::Legendre);
     assert_eq!(second_order.0, Start::SecondOrder);
+    let solved = |table: &Result<Comparison<1>, String>| table.clone().expect("the table solves");
+    let (legendre, second_order) = (solved(&legendre.1), solved(&second_order.1));
     let checks = [
-        (&legendre.1.direct, "direct FDE−", &report.tables[0]),
+        (&legendre.direct, "direct FDE−", &report.tables[0]),
         (
-            &legendre.1.variational,
+            &legendre.variational,
             "variational FDE−, Legendre start",
             &report.tables[0],
         ),
         (
-            &second_order.1.variational,
+            &second_order.variational,
             "variational FDE−, second-order start",
             report.tables.last().expect("tables"),
         ),
@@ -176,7 +178,11 @@ fn report_orders_are_the_comparisons_orders_and_each_grid_is_solved_once() {
         assert_eq!(scheme.order, Some(order), "{label}");
         assert_eq!(scheme.error, Some(line.points[i].error), "{label}");
         assert_eq!(scheme.wall_time.as_secs_f64(), line.points[i].seconds);
-        assert!(table.contains(&format!(" {order:.2} ")), "{label}: {table}");
+        // The order, with the mark of its status (the sweep's next order decides it).
+        let variant = scene.variants.iter().position(|v| v.label == label);
+        let status = runs.sweep[variant.expect("a swept variant")].order_status_at(scene.table_n);
+        assert_eq!(scheme.order_status, status, "{label}");
+        assert!(table.contains(&format!(" {order:.2}")), "{label}: {table}");
     }
 
     // The ledger: three lines over four sizes, the FDE+ and asymmetric tables (two schemes on
@@ -216,4 +222,46 @@ fn readme_section_is_replaced_between_the_markers_only() {
     assert!(report::update_section(&file, "x").is_err());
     assert_eq!(fs::read_to_string(&file).expect("read"), "no markers\n");
     fs::remove_dir_all(&dir).expect("clean up");
+}
+
+/// A table whose run fails at the table's `N` is a row of the report with the error, and the
+/// scene still reports: Störmer–Verlet at ωh = 2.5 is unstable, the direct scheme is not.
+#[test]
+fn a_failing_table_is_a_row_with_its_error() {
+    let cx = Context::hidden(Mode::Quick);
+    let exact = harmonic::reference();
+    let mut scene = harmonic::scene(&cx, &harmonic::MODEL, &exact);
+    let (a, b) = scene.interval;
+    scene.table_n = 8;
+    assert!((b - a) / 8.0 > 2.0, "ωh > 2 with ω = 1");
+    let runs = scene
+        .solve(&cx)
+        .expect("a failing table does not stop the scene");
+    let failed = runs.tables[0]
+        .1
+        .as_ref()
+        .expect_err("Störmer–Verlet is unstable");
+    let lines: Vec<&str> = failed.lines().collect();
+    assert!(lines[0].ends_with("N = 8: no comparison"), "{failed}");
+    assert_eq!(
+        lines[2].split_whitespace().collect::<Vec<_>>(),
+        ["direct", "solved"]
+    );
+    let expected = scene.variants[1]; // variational FDE−, Legendre start
+    assert_eq!(expected.scheme, varembed::Scheme::Variational);
+    let problem = varembed::Problem::new(
+        &harmonic::MODEL,
+        varembed::Grid::new(a, b, 8).unwrap(),
+        expected.embedding,
+    );
+    let error = problem
+        .solve_ivp(expected.scheme, scene.q0, scene.v0)
+        .expect_err("unstable");
+    assert!(matches!(error, varembed::Error::Unstable { .. }), "{error}");
+    assert_eq!(lines[3], format!("  {:<12} failed: {error}", "variational"));
+    let report = scene.report(&runs);
+    assert_eq!(
+        report.tables[0],
+        format!("{failed}\n  (discrete Legendre start)")
+    );
 }

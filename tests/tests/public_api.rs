@@ -17,9 +17,9 @@
 use varembed::{
     CompareOptions, Comparison, Convergence, Dependence, DifferentialOperator, DirectEmbedding,
     Embedding, EmbeddingKind, Error, FractionalSolver, Grid, Hessian, HessianDependence,
-    IntoVector, Lagrangian, Level, Location, Matrix, NewtonOptions, Problem, Reference, Result,
-    Scheme, SchemeReport, Side, Solution, Start, Vector, curve_from_flat, lagrangian, max_error,
-    observed_order, observed_orders,
+    IntoVector, Lagrangian, Level, Location, Matrix, NewtonOptions, OrderStatus, Problem,
+    Reference, Result, Scheme, SchemeReport, Side, Solution, Start, Vector, Warning,
+    curve_from_flat, lagrangian, max_error, observed_order, observed_orders,
 };
 
 /// Compiles only while the public types keep their auto traits.
@@ -30,6 +30,8 @@ fn auto_traits<L: Lagrangian<2> + Sync + 'static>() {
     shared::<Solution<2>>();
     shared::<Comparison<2>>();
     shared::<Convergence<2>>();
+    shared::<OrderStatus>();
+    shared::<Warning>();
     shared::<Error>();
     shared::<Embedding>();
     shared::<Grid>();
@@ -60,6 +62,7 @@ const ROOT: &[&str] = &[
     "Location",
     "Matrix",
     "NewtonOptions",
+    "OrderStatus",
     "Problem",
     "Reference",
     "Result",
@@ -69,6 +72,7 @@ const ROOT: &[&str] = &[
     "Solution",
     "Start",
     "Vector",
+    "Warning",
     "curve_from_flat",
     "lagrangian",
     "max_error",

@@ -1,6 +1,6 @@
 use super::*;
 use crate::embedding::Embedding;
-use crate::lagrangian::{Hessian, Matrix};
+use crate::lagrangian::{Dependence, Hessian, Matrix};
 use crate::problem::Problem;
 use crate::side::Side;
 
@@ -18,6 +18,12 @@ impl Lagrangian<1> for Oscillator {
             xx: -Matrix::<1>::identity(),
             xv: Matrix::<1>::zeros(),
             vv: Matrix::<1>::identity(),
+        }
+    }
+    fn dependence(&self) -> Dependence {
+        Dependence {
+            t: false,
+            ..Dependence::ALL
         }
     }
 }
@@ -134,7 +140,30 @@ fn a_comparison_is_the_runs_at_its_grid_with_their_orders() {
         assert_eq!(fresh.energy, from_runs.energy);
     }
     assert_eq!(from_runs.max_distance, fresh.max_distance);
-    assert_eq!(from_runs.to_string().lines().count(), 5);
+    // The table, the distance, then the legend: one line per column.
+    let table = from_runs.to_string();
+    let lines: Vec<&str> = table.lines().collect();
+    assert_eq!(lines.len(), 5 + 1 + 7, "{table}");
+    assert_eq!(lines[5], "  legend:");
+    // Built from runs: no solve of its own, the order read off 400, where the runs end, so
+    // it cannot be checked against the next one.
+    assert_eq!(
+        (from_runs.extra_solves, &from_runs.order_grids[..]),
+        (0, &[400][..])
+    );
+    assert_eq!(from_runs.direct.order_status, Some(OrderStatus::Unchecked));
+    assert!(table.contains("read off the runs"), "{table}");
+    // Solved afresh: two more solves per scheme, on 2N and 4N.
+    assert_eq!(
+        (fresh.extra_solves, &fresh.order_grids[..]),
+        (2, &[400, 800][..])
+    );
+    assert!(fresh.to_string().contains("from 2 more solves per scheme"));
+    // Störmer–Verlet from the second-order start on 200, 400, 800: a settled order 2.
+    assert_eq!(
+        fresh.variational.order_status,
+        Some(OrderStatus::Asymptotic)
+    );
 
     // The finest grid has no next level, so no order; a grid the runs skipped is an error.
     let finest = problem(400).compare_runs(&direct, &variational).unwrap();
@@ -160,4 +189,128 @@ fn a_failed_size_is_recorded_and_is_the_comparisons_answer() {
             .unwrap_err(),
         run.failures[0].1
     );
+}
+
+/// `(N, e, scale)` with successive orders `orders` from `e = 1` at `N = 10`.
+fn errors_with_orders(orders: &[f64], scale: f64) -> Vec<(usize, f64, f64)> {
+    let mut errors = vec![(10, 1.0, scale)];
+    for p in orders {
+        let &(n, e, _) = errors.last().unwrap();
+        errors.push((2 * n, e / 2f64.powf(*p), scale));
+    }
+    errors
+}
+
+#[test]
+fn successive_orders_that_disagree_are_pre_asymptotic() {
+    use OrderStatus::*;
+    let errors = errors_with_orders(&[-0.29, 3.18], 1.0);
+    let orders = observed_orders(&errors.iter().map(|&(n, e, _)| (n, e)).collect::<Vec<_>>());
+    assert!((orders[0] + 0.29).abs() < 1e-12 && (orders[1] - 3.18).abs() < 1e-12);
+    assert_eq!(order_statuses(&errors), [PreAsymptotic, Unchecked]);
+    // A power law within the tolerance; the last order has nothing to be checked against.
+    let settled = errors_with_orders(&[2.04, 1.98, 2.0], 1.0);
+    assert_eq!(
+        order_statuses(&settled),
+        [Asymptotic, Asymptotic, Unchecked]
+    );
+    // Just past the tolerance.
+    let errors = errors_with_orders(&[2.0, 2.0 + 1.01 * OrderStatus::TOLERANCE], 1.0);
+    assert_eq!(order_statuses(&errors)[0], PreAsymptotic);
+}
+
+#[test]
+fn orders_of_errors_at_round_off_are_marked() {
+    use OrderStatus::*;
+    // Errors 1, 1/4, 1/16, 1/64 on a solution of size 1e13: 1/16 and 1/64 are below
+    // 100 ε · 1e13 ≈ 0.22, so every order touching them is round-off, and the first order
+    // cannot be checked against one.
+    let errors = errors_with_orders(&[2.0, 2.0, 2.0], 1e13);
+    assert_eq!(order_statuses(&errors), [Unchecked, RoundOff, RoundOff]);
+    // An exact solution: error zero, the order is not a number.
+    let exact = [(10, 0.0, 1.0), (20, 0.0, 1.0)];
+    assert_eq!(order_statuses(&exact), [RoundOff]);
+}
+
+/// `L = ½v² − ½(1 + t)x²`: the same oscillator with a stiffness growing in time.
+struct Stiffening;
+impl Lagrangian<1> for Stiffening {
+    fn value(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> f64 {
+        0.5 * v[0] * v[0] - 0.5 * (1.0 + t) * x[0] * x[0]
+    }
+    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> (Vector<1>, Vector<1>) {
+        (-(1.0 + t) * x, *v)
+    }
+    fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, t: f64) -> Hessian<1> {
+        Hessian {
+            xx: -(1.0 + t) * Matrix::<1>::identity(),
+            xv: Matrix::<1>::zeros(),
+            vv: Matrix::<1>::identity(),
+        }
+    }
+    fn dependence(&self) -> Dependence {
+        Dependence::ALL
+    }
+}
+
+#[test]
+fn the_energy_column_is_shown_only_where_the_flow_conserves_energy() {
+    let options = CompareOptions::<1> {
+        order: false,
+        ..CompareOptions::default()
+    };
+    let grid = Grid::new(0.0, 5.0, 200).unwrap();
+    let fde = Embedding::finite_difference(Side::Backward);
+    // Autonomous and classical: the deviation is the energy's, recomputed here.
+    let autonomous = Problem::new(&Oscillator, grid, fde)
+        .compare_ivp_with(1.0, 0.0, &options)
+        .unwrap();
+    assert_eq!(autonomous.energy_not_conserved, None);
+    for r in [&autonomous.direct, &autonomous.variational] {
+        let e = &r.energy;
+        let drift = e.iter().map(|x| (x - e[0]).abs()).fold(0.0, f64::max);
+        assert_eq!(r.energy_deviation, Some(drift));
+        assert!(drift > 0.0);
+    }
+    let table = autonomous.to_string();
+    assert!(table.contains("the flow conserves E"), "{table}");
+    // Time-dependent: no deviation, "—" in the column and the reason in the legend.
+    let driven = Problem::new(&Stiffening, grid, fde)
+        .compare_ivp_with(1.0, 0.0, &options)
+        .unwrap();
+    assert!(driven.energy_not_conserved.unwrap().contains("depend on t"));
+    assert_eq!(driven.direct.energy_deviation, None);
+    assert_eq!(driven.variational.energy_deviation, None);
+    let table = driven.to_string();
+    let variational_row = table.lines().nth(3).unwrap();
+    assert_eq!(
+        variational_row.split_whitespace().nth(3),
+        Some("—"),
+        "{table}"
+    );
+    assert!(table.contains("E is not conserved, so its drift would measure nothing"));
+    // Fractional: the same, with its own reason, also for an autonomous Lagrangian.
+    let gle = Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap();
+    let fractional = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 32).unwrap(), gle)
+        .compare_bvp_with(0.0, 1.0, &options)
+        .unwrap();
+    assert!(
+        fractional
+            .energy_not_conserved
+            .unwrap()
+            .contains("fractional")
+    );
+    assert_eq!(fractional.variational.energy_deviation, None);
+    let md = fractional.to_markdown();
+    assert!(md.contains("| max \\|ΔE\\| |"), "{md}");
+    assert!(
+        md.contains("- **max |ΔE|**: — : the embedding is fractional"),
+        "{md}"
+    );
+    // Without the order: no extra solve, and the legend says so.
+    assert_eq!(
+        (fractional.extra_solves, fractional.order_grids.len()),
+        (0, 0)
+    );
+    assert!(md.contains("not computed"), "{md}");
 }

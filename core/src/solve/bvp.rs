@@ -13,7 +13,7 @@ use crate::linalg::{BandedMatrix, max_norm, solve_dense};
 use crate::options::{FractionalSolver, SolverOptions};
 use crate::solve::fractional;
 use crate::solve::newton::{at_round_off, backtrack};
-use crate::solve::solution::Solution;
+use crate::solve::solution::{Solution, Warning};
 use nalgebra::{DMatrix, DVector};
 
 /// Where the Jacobian blocks of the global system go (banded or dense storage).
@@ -74,6 +74,7 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
         q,
         newton_iterations,
         explicit_steps: 0,
+        warnings: warnings(embedding.alpha(), embedding.is_fractional()),
     };
     if unknowns == 0 {
         return Ok(finish(q, 0));
@@ -89,7 +90,12 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
                 Err(Error::KrylovDidNotConverge { .. })
                     if options.fractional == FractionalSolver::Auto
                         && unknowns <= FractionalSolver::DENSE_FALLBACK_LIMIT => {}
-                result => return result,
+                result => {
+                    return result.map(|solution| Solution {
+                        warnings: warnings(embedding.alpha(), true),
+                        ..solution
+                    });
+                }
             }
         }
     }
@@ -147,6 +153,17 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
         iterations: newton.max_iterations,
         residual: res,
     })
+}
+
+/// What a solution of a boundary value problem of this embedding should carry: every
+/// fractional problem of order `α ≤ 1/2` is flagged ([`Warning::IllPosedFractional`]), since
+/// telling compatible end values from generic ones would take another solve.
+fn warnings(alpha: f64, fractional: bool) -> Vec<Warning> {
+    if fractional && alpha <= 0.5 {
+        vec![Warning::IllPosedFractional { alpha }]
+    } else {
+        Vec::new()
+    }
 }
 
 /// The residual of `scheme` at an iterate and the values it came from; any failure is

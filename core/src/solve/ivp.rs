@@ -160,6 +160,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
             q,
             newton_iterations: iterations,
             explicit_steps,
+            warnings: Vec::new(),
         })
     }
 

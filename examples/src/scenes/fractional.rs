@@ -11,7 +11,7 @@
 //! (the tables show the distance and the cross residuals); the sweep draws one line per α, and
 //! the tables read the variational scheme off the sweep.
 
-use crate::scene::{Context, Figure, SceneReport, Series, SweepLine, doubling};
+use crate::scene::{Context, Figure, SceneReport, Series, SweepLine, doubling, failed_table};
 use varembed::Level;
 use varembed::{
     CompareOptions, Embedding, Grid, Problem, Reference, Scheme, Side, Vector, lagrangian,
@@ -151,7 +151,14 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
         let table = Problem::new(&Pendulum, grid, *embedding);
         let direct = table.convergence_bvp(Scheme::Direct, 0.0, 1.0, &options, 2);
         cx.record_run(NAME, &describe(*embedding, Scheme::Direct), &direct);
-        let comparison = table.compare_runs(&direct, &variational)?;
+        let comparison = match table.compare_runs(&direct, &variational) {
+            Ok(comparison) => comparison,
+            Err(e) => {
+                let runs = [("direct", &direct), ("variational", &variational)];
+                tables.push(failed_table(*embedding, table_n, runs, &e));
+                continue;
+            }
+        };
         tables.push(comparison.to_string());
         trajectories.push(Series::new(
             label.clone(),

@@ -1,0 +1,193 @@
+//! How a [`Comparison`] prints: the table, the solutions' warnings and a legend of every
+//! column, as text (`Display`) and as markdown ([`Comparison::to_markdown`]), from one set of
+//! cells.
+
+use super::{Comparison, OrderStatus, SchemeReport};
+use crate::solve::solution::Warning;
+use std::fmt;
+
+/// The column headers, in order.
+const COLUMNS: [&str; 7] = [
+    "scheme",
+    "max error",
+    "order",
+    "max |ΔE|",
+    "other's resid.",
+    "Newton",
+    "time",
+];
+
+/// The mark after an order in the table, as the legend explains it.
+fn mark(status: Option<OrderStatus>) -> &'static str {
+    match status {
+        Some(OrderStatus::Asymptotic) | None => "",
+        Some(OrderStatus::PreAsymptotic) => "*",
+        Some(OrderStatus::RoundOff) => "ε",
+        Some(OrderStatus::Unchecked) => "?",
+    }
+}
+
+fn cells<const D: usize>(name: &str, r: &SchemeReport<D>) -> [String; 7] {
+    let dash = || "—".to_string();
+    [
+        name.to_string(),
+        r.error.map_or_else(dash, |e| format!("{e:.3e}")),
+        r.order
+            .map_or_else(dash, |o| format!("{o:.2}{}", mark(r.order_status))),
+        r.energy_deviation.map_or_else(dash, |e| format!("{e:.3e}")),
+        format!("{:.3e}", r.residual_of_other),
+        r.solution.newton_iterations.to_string(),
+        format!("{:.3?}", r.wall_time),
+    ]
+}
+
+impl<const D: usize> Comparison<D> {
+    /// The warnings of the two solutions (e.g. [`Warning::IllPosedFractional`]), each once.
+    pub fn warnings(&self) -> Vec<Warning> {
+        let mut all = self.direct.solution.warnings.clone();
+        for w in &self.variational.solution.warnings {
+            if !all.contains(w) {
+                all.push(*w);
+            }
+        }
+        all
+    }
+
+    /// What every column of the table shows, as `(column, explanation)`: where the errors
+    /// come from, how the order was computed (from how many more solves, or read off the runs)
+    /// and what its marks mean, and why the energy column is empty when it is.
+    pub fn legend(&self) -> Vec<(&'static str, String)> {
+        let n = self.grid.n();
+        let error = match self.direct.error {
+            Some(_) => format!("max_k |Q_k − q(t_k)|∞ against the {}", self.reference),
+            None => "— : no reference was given".to_string(),
+        };
+        let estimate = match self.direct.error {
+            Some(_) => "e the error against the reference",
+            None => "e the self-convergence estimate ‖Q_N − Q_2N‖∞ on the nodes of the N grid",
+        };
+        let grids: Vec<String> = self.order_grids.iter().map(usize::to_string).collect();
+        let source = if self.order_grids.is_empty() {
+            "not computed (—): no finer grid was solved (CompareOptions::order off, or the runs \
+             end at N)"
+                .to_string()
+        } else if self.extra_solves > 0 {
+            format!(
+                "from {} more solves per scheme made by this comparison, on N = {}",
+                self.extra_solves,
+                grids.join(", ")
+            )
+        } else {
+            format!(
+                "read off the runs the comparison was built from (N = {}; no extra solve)",
+                grids.join(", ")
+            )
+        };
+        let order = format!(
+            "observed order log₂(e_N / e_2N) from N = {n} to 2N, {estimate}; {source}. \
+             Unmarked: agrees with the order at 2N within {tol}; * pre-asymptotic: differs from \
+             it by more than {tol}; ε: an error is at round-off (≤ 100 ε max|Q|), the ratio \
+             measures rounding; ?: not checked, no order at 2N to compare with",
+            tol = OrderStatus::TOLERANCE
+        );
+        let energy = match self.energy_not_conserved {
+            None => "max_k |E_k − E_first| of the discrete energy E_k = V_k·∂L/∂v − L on the \
+                     quadrature nodes: L is autonomous and the embedding classical, so the flow \
+                     conserves E and the drift is the scheme's"
+                .to_string(),
+            Some(reason) => format!("— : {reason}, so its drift would measure nothing"),
+        };
+        vec![
+            (
+                COLUMNS[0],
+                "direct: the embedding applied to the Euler–Lagrange equation; variational: \
+                 the critical points of the discrete action"
+                    .to_string(),
+            ),
+            (COLUMNS[1], error),
+            (COLUMNS[2], order),
+            (COLUMNS[3], energy),
+            (
+                COLUMNS[4],
+                "max-norm of the other scheme's residual on this scheme's solution: zero to \
+                 round-off exactly when the embedding is coherent"
+                    .to_string(),
+            ),
+            (
+                COLUMNS[5],
+                "Newton iterations: summed over the steps (initial value problem) or of the \
+                 global system (boundary value problem)"
+                    .to_string(),
+            ),
+            (COLUMNS[6], format!("wall time of the solve on N = {n}")),
+        ]
+    }
+
+    /// The table as markdown: the heading line, a markdown table, the distance between the
+    /// solutions, the warnings and the legend as a list.
+    pub fn to_markdown(&self) -> String {
+        let escape = |s: &str| s.replace('|', "\\|");
+        let row = |cells: &[String]| {
+            let cells: Vec<String> = cells.iter().map(|c| escape(c)).collect();
+            format!("| {} |\n", cells.join(" | "))
+        };
+        let mut md = format!("{}\n\n", self.heading());
+        let header: Vec<String> = COLUMNS.iter().map(|c| c.to_string()).collect();
+        md += &row(&header);
+        md += "| --- | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+        md += &row(&cells("direct", &self.direct));
+        md += &row(&cells("variational", &self.variational));
+        md += &format!(
+            "\nmax |Q_direct − Q_variational| = {:.3e}\n",
+            self.max_distance
+        );
+        for w in self.warnings() {
+            md += &format!("\n**Warning:** {w}\n");
+        }
+        md += "\n";
+        for (column, text) in self.legend() {
+            md += &format!("- **{column}**: {text}\n");
+        }
+        md
+    }
+
+    fn heading(&self) -> String {
+        format!(
+            "{} under {}, N = {}, h = {:.3e}, errors against: {}",
+            self.kind,
+            self.embedding,
+            self.grid.n(),
+            self.grid.h(),
+            self.reference
+        )
+    }
+}
+
+impl<const D: usize> fmt::Display for Comparison<D> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        writeln!(f, "{}", self.heading())?;
+        let line = |f: &mut fmt::Formatter<'_>, c: &[String; 7]| {
+            writeln!(
+                f,
+                "  {:<12} {:>11} {:>7} {:>11} {:>15} {:>8} {:>11}",
+                c[0], c[1], c[2], c[3], c[4], c[5], c[6]
+            )
+        };
+        line(f, &COLUMNS.map(str::to_string))?;
+        line(f, &cells("direct", &self.direct))?;
+        line(f, &cells("variational", &self.variational))?;
+        writeln!(
+            f,
+            "  max |Q_direct − Q_variational| = {:.3e}",
+            self.max_distance
+        )?;
+        for w in self.warnings() {
+            writeln!(f, "  warning: {w}")?;
+        }
+        write!(f, "  legend:")?;
+        for (column, text) in self.legend() {
+            write!(f, "\n    {column}: {text}")?;
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,89 @@
+//! Fractional boundary value problems of order `α ≤ 1/2` with both end values imposed: the
+//! discrete solutions do not settle as `N` grows, and every solution says so with
+//! `Warning::IllPosedFractional`; at `α > 1/2` they converge and carry no warning.
+
+use varembed::{Embedding, FractionalSolver, Grid, Problem, Scheme, Side, Solution, Warning};
+use varembed_tests::models::generated::UnitPendulum;
+
+/// The pendulum `L = ½v² + cos x` under Gauss-GLE−, `Q_0 = 0`, `Q_N = 1` on `[0, 1]`.
+fn solve(alpha: f64, n: usize, solver: FractionalSolver) -> Solution<1> {
+    let grid = Grid::new(0.0, 1.0, n).unwrap();
+    let gle = Embedding::grunwald_letnikov(Side::Backward, alpha).unwrap();
+    Problem::new(&UnitPendulum, grid, gle)
+        .with_fractional_solver(solver)
+        .solve_bvp(Scheme::Variational, 0.0, 1.0)
+        .unwrap()
+}
+
+/// `Q(1/2)` on `N = 250, 1000, 4000` (each a quadrupling).
+fn midpoints(alpha: f64) -> [f64; 3] {
+    [250, 1000, 4000].map(|n| {
+        let sol = solve(alpha, n, FractionalSolver::Auto);
+        let expected = if alpha <= 0.5 {
+            vec![Warning::IllPosedFractional { alpha }]
+        } else {
+            vec![]
+        };
+        assert_eq!(sol.warnings, expected, "α = {alpha}, N = {n}");
+        sol.q[n / 2][0]
+    })
+}
+
+#[test]
+fn at_one_half_the_midpoint_drifts_and_the_solution_is_flagged() {
+    let [a, b, c] = midpoints(0.5);
+    // Measured: 0.4656, 0.4258, 0.3922 (and 0.332 at N = 10⁵): a drift of 0.03–0.04 per
+    // quadrupling that hardly slows down.
+    assert!(
+        (a - 0.4656).abs() < 1e-3 && (c - 0.3922).abs() < 1e-3,
+        "{a} {b} {c}"
+    );
+    let ratio = (b - c) / (a - b);
+    assert!(
+        ratio > 0.7,
+        "successive changes {} {} barely shrink",
+        a - b,
+        b - c
+    );
+}
+
+#[test]
+fn above_one_half_the_midpoint_converges_and_nothing_is_flagged() {
+    let [a, b, c] = midpoints(0.7);
+    // The error behaves like h^{2α−1} = h^{0.4}: each quadrupling divides the change by
+    // 4^{0.4} ≈ 1.74.
+    let ratio = (b - c) / (a - b);
+    assert!((ratio - 4f64.powf(-0.4)).abs() < 0.1, "ratio {ratio}");
+}
+
+#[test]
+fn every_solver_and_scheme_flags_the_ill_posed_problem() {
+    for solver in [FractionalSolver::Dense, FractionalSolver::Fast] {
+        for alpha in [0.05, 0.3, 0.5] {
+            let sol = solve(alpha, 64, solver);
+            assert_eq!(sol.warnings, [Warning::IllPosedFractional { alpha }]);
+        }
+        assert!(solve(0.51, 64, solver).warnings.is_empty());
+    }
+    let grid = Grid::new(0.0, 1.0, 32).unwrap();
+    let gle = Embedding::grunwald_letnikov(Side::Forward, 0.4).unwrap();
+    let direct = Problem::new(&UnitPendulum, grid, gle)
+        .solve_bvp(Scheme::Direct, 0.0, 1.0)
+        .unwrap();
+    assert_eq!(
+        direct.warnings,
+        [Warning::IllPosedFractional { alpha: 0.4 }]
+    );
+    let message = direct.warnings[0].to_string();
+    assert!(
+        message.contains("α = 0.4") && message.contains("need not converge"),
+        "{message}"
+    );
+    // The classical embeddings, and α = 1, are well-posed.
+    let fde = Embedding::finite_difference(Side::Backward);
+    let classical = Problem::new(&UnitPendulum, grid, fde)
+        .solve_bvp(Scheme::Variational, 0.0, 1.0)
+        .unwrap();
+    assert!(classical.warnings.is_empty());
+    assert!(solve(1.0, 32, FractionalSolver::Auto).warnings.is_empty());
+}
