@@ -312,3 +312,20 @@ fn random_autonomous_runs_are_bounded_or_typed_errors() {
         "{ok} {blow_ups} {other}"
     );
 }
+
+#[test]
+fn steady_drift_of_the_direct_forward_scheme_passes() {
+    // Direct Gauss-FDE+ on ω = 2, h = 0.01: the oscillation grows by √(1 + ω²h²) per step,
+    // so the energy by (1 + ω²h²)^N ≈ e^0.8 over N = 2000 steps: a drift of the scheme, at the
+    // rate of its early run, returned as it is.
+    let grid = Grid::new(0.0, 20.0, 2000).unwrap();
+    let problem = Problem::new(&Oscillator { omega: 2.0 }, grid, fde(Side::Forward));
+    let run = problem.solve_ivp(Scheme::Direct, 1.0, 0.5).unwrap();
+    let e = problem.energy(&run.q).unwrap();
+    let gained = e.last().unwrap() / e[0];
+    let expected = (1.0f64 + 4e-4).powi(2000);
+    assert!(
+        (gained / expected - 1.0).abs() < 0.1,
+        "{gained} vs {expected}"
+    );
+}

@@ -34,6 +34,13 @@
 //! nothing against a real blow-up, whose gain is of the order of the kinetic term itself.
 //! The last, partial window is checked too.
 //!
+//! A direct scheme drifts by design: Gauss-FDE− loses energy (never a gain, so never flagged),
+//! Gauss-FDE+ gains it at a steady rate (its oscillations grow by `√(1 + ω²h²)` per step). For
+//! the direct schemes `G_1` is therefore extrapolated linearly, `G_1 · (n_w − n_0)/(n_1 − n_0)`
+//! at the end `n_w` of window `w` (`n_0` the first sample, `n_1` the end of the first window):
+//! a steady drift passes until it has compounded to about `e⁴` (where `eˣ − 1 = 16x`), and
+//! growth faster than the early run's by a factor 16 is flagged.
+//!
 //! Non-autonomous Lagrangians (`dependence().t`) are not guarded: their energy is not
 //! conserved, and growth of the energy, of `‖Q‖` or of the momenta is what a driven
 //! oscillator at resonance or a parametrically excited one (Mathieu) does physically. No
@@ -57,12 +64,17 @@ pub(crate) const MAX_STRIDE: usize = 64;
 /// The state of the guard over one run (see the module docs).
 pub(crate) struct BlowUpGuard {
     enabled: bool,
+    /// Whether the scheme drifts by design (the direct schemes): the early gain is then
+    /// extrapolated linearly in the number of steps.
+    drifts: bool,
     side: Side,
+    /// The step of the first sample.
+    first: usize,
     stride: usize,
     /// `E_0`, the first sample's energy.
     e0: f64,
-    /// The early gain `G_1`, once the first window is complete.
-    early: Option<f64>,
+    /// The early gain `G_1` and the last step of the first window, once it is complete.
+    early: Option<(f64, usize)>,
     /// The largest `|v·p|` so far.
     kinetic: f64,
     /// The round-off scale so far.
@@ -78,13 +90,16 @@ impl BlowUpGuard {
     pub(crate) fn new<L: Lagrangian<D> + ?Sized, const D: usize>(
         lagrangian: &L,
         side: Side,
+        drifts: bool,
         n_steps: usize,
         enabled: bool,
     ) -> Self {
         let stride = (n_steps / 1024).clamp(1, MAX_STRIDE);
         BlowUpGuard {
             enabled: enabled && !lagrangian.dependence().t,
+            drifts,
             side,
+            first: 0,
             stride: 1 << stride.ilog2(),
             e0: 0.0,
             early: None,
@@ -133,6 +148,7 @@ impl BlowUpGuard {
         }
         if self.samples == 0 {
             self.e0 = e;
+            self.first = n;
             self.window = (n, n, 0.0, 0);
         }
         self.samples += 1;
@@ -160,11 +176,16 @@ impl BlowUpGuard {
     fn close_window(&mut self) -> Result<()> {
         let (from, to, gain, _) = self.window;
         self.window = (to + self.stride, to + self.stride, 0.0, 0);
-        let Some(early) = self.early else {
-            self.early = Some(gain.max(0.0));
+        let Some((early, early_to)) = self.early else {
+            self.early = Some((gain.max(0.0), to));
             return Ok(());
         };
-        let threshold = (GROWTH * early)
+        let extrapolated = if self.drifts {
+            early * (to - self.first) as f64 / (early_to - self.first).max(1) as f64
+        } else {
+            early
+        };
+        let threshold = (GROWTH * extrapolated)
             .max(SCALE_FRACTION * self.kinetic)
             .max(self.round_off);
         if gain > threshold {

@@ -216,7 +216,9 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         let (mut a, mut b) = (q[0], q[1]);
         let (mut iterations, mut explicit_steps) = (0, 0);
         let side = self.embedding.side();
-        let mut guard = BlowUpGuard::new(self.lagrangian, side, n_steps, self.blow_up_guard);
+        let drifts = matches!(kind, StepKind::DirectBackward | StepKind::DirectForward);
+        let mut guard =
+            BlowUpGuard::new(self.lagrangian, side, drifts, n_steps, self.blow_up_guard);
         // One test per step, against a counter in a register: the guard's samples and the
         // stability checks (every STABILITY_CHECK_INTERVAL steps, a multiple of the stride)
         // both run behind it.
