@@ -314,7 +314,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// [`Error::SingularJacobian`], [`Error::NewtonDidNotConverge`] (with the last residual) or
     /// [`Error::Unstable`] (the linearised step map, checked at step 2 and every 1024 steps, has
     /// a real eigenvalue below −1 or one of modulus ≥ 2: the step is too large for the scheme)
-    /// or [`Error::NotFinite`] (e.g. a recurrence overflowing between two checks).
+    /// or [`Error::NotFinite`] (e.g. a recurrence overflowing between two checks); for a
+    /// Lagrangian that does not depend on `t`, [`Error::BlowUp`] over a window of steps where the
+    /// energy grew far beyond the early run's (see
+    /// [`with_blow_up_guard`](Self::with_blow_up_guard)).
     pub fn solve_ivp(
         &self,
         scheme: Scheme,
