@@ -37,7 +37,7 @@ fn fde(side: Side) -> Embedding {
 
 /// Störmer–Verlet at ωh = 2 from `Q_0 = 1`, `Q_1 = −3`: `Q_n = (−1)ⁿ(1 + 2n)`, exactly.
 fn exact_double_root(n: usize) -> f64 {
-    let sign = if n % 2 == 0 { 1.0 } else { -1.0 };
+    let sign = if n.is_multiple_of(2) { 1.0 } else { -1.0 };
     sign * (1.0 + 2.0 * n as f64)
 }
 
