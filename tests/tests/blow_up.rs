@@ -102,7 +102,6 @@ fn omega_h_1_99_passes() {
 }
 
 #[test]
-#[ignore = "10⁶ steps: run with --ignored (in release)"]
 fn omega_h_1_99_passes_over_a_million_steps() {
     stability_limit_passes(1_000_000);
 }
