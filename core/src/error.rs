@@ -127,6 +127,22 @@ pub enum Error {
         /// Its relative residual `‖r − J δ‖₂ / ‖r‖₂`.
         residual: f64,
     },
+    /// The energy of an initial value problem of an autonomous Lagrangian grew, in the window
+    /// of steps `from..=to`, far beyond what the early run shows: the step is too large for
+    /// the motion (Störmer–Verlet at `ωh = 2` exactly, a pendulum passing near a singular
+    /// point of its coordinates). The rule, and how to disable it
+    /// (`Problem::with_blow_up_guard(false)`), are in `docs/solvers.md`.
+    #[error(
+        "blow-up between step {from} and step {to}: the energy gained {growth:.3e} times its early gain; try a smaller step h"
+    )]
+    BlowUp {
+        /// The first step of the window where the growth was seen.
+        from: usize,
+        /// The last step of that window.
+        to: usize,
+        /// The window's largest energy gain over the gain of the first window.
+        growth: f64,
+    },
     /// The computed solution stopped being finite (overflow of an unstable scheme, or a
     /// Lagrangian evaluated outside its domain).
     #[error("solution is no longer finite at {at}")]

@@ -87,10 +87,23 @@ impl Default for KrylovBudget {
     }
 }
 
-/// Everything the boundary value solvers are told besides the discretisation.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
+/// Everything the solvers are told besides the discretisation.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct SolverOptions {
     pub newton: NewtonOptions,
     pub fractional: FractionalSolver,
     pub krylov: KrylovBudget,
+    /// Whether the initial value problems run the blow-up guard (default on).
+    pub blow_up_guard: bool,
+}
+
+impl Default for SolverOptions {
+    fn default() -> Self {
+        SolverOptions {
+            newton: NewtonOptions::default(),
+            fractional: FractionalSolver::default(),
+            krylov: KrylovBudget::default(),
+            blow_up_guard: true,
+        }
+    }
 }

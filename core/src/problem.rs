@@ -123,6 +123,51 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
         self
     }
 
+    /// The same problem with the blow-up guard of the initial value problems on (the default)
+    /// or off.
+    ///
+    /// For a Lagrangian that does not depend on `t`, every run of
+    /// [`solve_ivp`](Self::solve_ivp) samples the energy `E = v·∂L/∂v − L` at a stride (every
+    /// 64 steps on long runs) and fails with [`Error::BlowUp`] when, over a window of 16
+    /// samples, the energy gains more than 16 times what it gained over the first window and
+    /// more than a tenth of the largest `|v·∂L/∂v|` seen: Störmer–Verlet at `ωh = 2` exactly,
+    /// or a spherical pendulum passing near its pole. Oscillation of the discrete energy (up to
+    /// its full amplitude near `ωh = 2`) and the energy lost by the direct Gauss-FDE− scheme do
+    /// not trigger it; a Lagrangian that depends on `t` is never guarded (its energy may grow
+    /// physically). The rule is in `docs/solvers.md`. Turn it off to get the nodes of a
+    /// growing run anyway.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Error, Grid, Problem, Scheme, Side, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn oscillator(x: f64, v: f64) -> f64 {
+    ///     0.5 * v * v - 0.5 * x * x
+    /// }
+    ///
+    /// // ω = 1, h = 2: Störmer–Verlet's nodes grow linearly, (−1)ⁿ(1 + 2n).
+    /// let grid = Grid::new(0.0, 2000.0, 1000)?;
+    /// let problem = Problem::new(&Oscillator, grid, Embedding::finite_difference(Side::Backward));
+    /// let run = problem.solve_ivp_from_nodes(Scheme::Variational, 1.0, -3.0);
+    /// assert!(matches!(run, Err(Error::BlowUp { .. })));
+    /// let run = problem
+    ///     .with_blow_up_guard(false)
+    ///     .solve_ivp_from_nodes(Scheme::Variational, 1.0, -3.0)?;
+    /// assert_eq!(run.last()[0], 2001.0);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn with_blow_up_guard(mut self, on: bool) -> Self {
+        self.options.blow_up_guard = on;
+        self
+    }
+
+    /// Whether the initial value problems run the blow-up guard.
+    pub fn blow_up_guard(&self) -> bool {
+        self.options.blow_up_guard
+    }
+
     /// The linear solver of the fractional boundary value problems.
     pub fn fractional_solver(&self) -> FractionalSolver {
         self.options.fractional
@@ -215,6 +260,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             grid: *self.grid(),
             embedding: *self.embedding(),
             newton: self.options.newton,
+            blow_up_guard: self.options.blow_up_guard,
         }
     }
 
@@ -268,7 +314,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// [`Error::SingularJacobian`], [`Error::NewtonDidNotConverge`] (with the last residual) or
     /// [`Error::Unstable`] (the linearised step map, checked at step 2 and every 1024 steps, has
     /// a real eigenvalue below −1 or one of modulus ≥ 2: the step is too large for the scheme)
-    /// or [`Error::NotFinite`] (e.g. a recurrence overflowing between two checks).
+    /// or [`Error::NotFinite`] (e.g. a recurrence overflowing between two checks); for a
+    /// Lagrangian that does not depend on `t`, [`Error::BlowUp`] over a window of steps where the
+    /// energy grew far beyond the early run's (see
+    /// [`with_blow_up_guard`](Self::with_blow_up_guard)).
     pub fn solve_ivp(
         &self,
         scheme: Scheme,

@@ -10,6 +10,10 @@
 //! same `Vector<D>` nodes into a `Vec` of the same capacity. Both are checked once, outside the timing, to give the
 //! same nodes (to 1e-12; in fact bit for bit).
 //!
+//! `generated_guard_off` is the same run with the blow-up guard disabled
+//! (`Problem::with_blow_up_guard(false)`): the difference to `generated` is the guard's cost
+//! (one energy evaluation every 64 steps and its window bookkeeping).
+//!
 //! `cargo bench -p varembed-examples --bench explicit_step`; figures in BENCHMARKS.md.
 
 use std::hint::black_box;
@@ -29,11 +33,23 @@ fn generated<L: Lagrangian<D>, const D: usize>(
     q0: Vector<D>,
     v0: Vector<D>,
 ) -> Solution<D> {
+    run(lagrangian, grid, q0, v0, true)
+}
+
+/// [`generated`] with the blow-up guard on or off.
+fn run<L: Lagrangian<D>, const D: usize>(
+    lagrangian: &L,
+    grid: Grid,
+    q0: Vector<D>,
+    v0: Vector<D>,
+    guard: bool,
+) -> Solution<D> {
     let problem = Problem::new(
         lagrangian,
         grid,
         Embedding::finite_difference(Side::Backward),
-    );
+    )
+    .with_blow_up_guard(guard);
     problem
         .solve_ivp(Scheme::Variational, q0, v0)
         .expect("a resolved explicit run")
@@ -151,6 +167,17 @@ fn explicit_step(c: &mut Criterion) {
             )
         })
     });
+    group.bench_function(BenchmarkId::new("generated_guard_off", STEPS), |bch| {
+        bch.iter(|| {
+            run(
+                &UnitPendulum,
+                black_box(grid),
+                Vector::<1>::new(black_box(q0)),
+                Vector::<1>::new(black_box(v0)),
+                false,
+            )
+        })
+    });
     group.bench_function(BenchmarkId::new("hand_written", STEPS), |bch| {
         bch.iter(|| pendulum_by_hand(black_box(grid), black_box(q0), black_box(v0)))
     });
@@ -175,6 +202,17 @@ fn explicit_step(c: &mut Criterion) {
     group.sample_size(20);
     group.bench_function(BenchmarkId::new("generated", STEPS), |bch| {
         bch.iter(|| generated(&Kepler, black_box(grid), black_box(q0), black_box(v0)))
+    });
+    group.bench_function(BenchmarkId::new("generated_guard_off", STEPS), |bch| {
+        bch.iter(|| {
+            run(
+                &Kepler,
+                black_box(grid),
+                black_box(q0),
+                black_box(v0),
+                false,
+            )
+        })
     });
     group.bench_function(BenchmarkId::new("hand_written", STEPS), |bch| {
         bch.iter(|| kepler_by_hand(black_box(grid), black_box(q0), black_box(v0)))

@@ -16,6 +16,7 @@ use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::linalg::solve_small;
 use crate::options::NewtonOptions;
 use crate::side::Side;
+use crate::solve::guard::BlowUpGuard;
 use crate::solve::newton::newton_step;
 use crate::solve::solution::Solution;
 use crate::step::{Step, StepKind, StepTimes, Update};
@@ -40,6 +41,8 @@ pub(crate) struct Ivp<'l, L: ?Sized, const D: usize> {
     pub(crate) grid: Grid,
     pub(crate) embedding: Embedding,
     pub(crate) newton: NewtonOptions,
+    /// Whether the run is watched for blow-up (see the guard module).
+    pub(crate) blow_up_guard: bool,
 }
 
 impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
@@ -213,6 +216,15 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         let (h, inv_h) = (grid.h(), 1.0 / grid.h());
         let (mut a, mut b) = (q[0], q[1]);
         let (mut iterations, mut explicit_steps) = (0, 0);
+        let side = self.embedding.side();
+        let drifts = matches!(kind, StepKind::DirectBackward | StepKind::DirectForward);
+        let mut guard =
+            BlowUpGuard::new(self.lagrangian, side, drifts, n_steps, self.blow_up_guard);
+        // One test per step, against a counter in a register: the guard's samples and the
+        // stability checks (every STABILITY_CHECK_INTERVAL steps, a multiple of the stride)
+        // both run behind it.
+        let stride = guard.stride();
+        let mut next_sample = 2;
         for n in 2..=n_steps {
             let times = StepTimes {
                 h,
@@ -222,8 +234,12 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
                 t_y: grid.t(n),
             };
             let step = Step::new(self.lagrangian, kind, &a, &b, &times);
-            if (n - 2) % STABILITY_CHECK_INTERVAL == 0 {
-                self.check_stability(update, a, step, n)?;
+            if n == next_sample {
+                next_sample += stride;
+                guard.sample(self.lagrangian, a, b, inv_h, times.t_a, times.t_b, n)?;
+                if (n - 2) % STABILITY_CHECK_INTERVAL == 0 {
+                    self.check_stability(update, a, step, n)?;
+                }
             }
             let y = match closed_form(&step) {
                 Some(y) if y.iter().all(|c| c.is_finite()) => {
@@ -248,6 +264,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
             q.push(y);
             (a, b) = (b, y);
         }
+        guard.finish()?;
         Ok((iterations, explicit_steps))
     }
 
