@@ -63,6 +63,7 @@ mod ode;
 mod operator;
 mod options;
 mod problem;
+mod regularity;
 mod side;
 mod solve;
 mod step;

@@ -15,6 +15,9 @@ use crate::grid::Grid;
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::linalg::solve_small;
 use crate::options::NewtonOptions;
+use crate::regularity::{
+    check_constants, check_finite, check_initial_data, check_vv, hessian_in_domain,
+};
 use crate::side::Side;
 use crate::solve::newton::newton_step;
 use crate::solve::solution::Solution;
@@ -69,8 +72,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
 
     /// The discrete Legendre start (see `Problem::legendre_start`).
     pub(crate) fn legendre_start(&self, q0: Vector<D>, v0: Vector<D>) -> Result<Vector<D>> {
-        check_finite("q(a)", &q0)?;
-        check_finite("q̇(a)", &v0)?;
+        check_initial_data(self.lagrangian, &q0, &v0, self.grid.t(0))?;
         let kind = match self.embedding.side() {
             Side::Backward => StepKind::VariationalBackward,
             Side::Forward => StepKind::VariationalForward,
@@ -91,8 +93,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
 
     /// The second-order start (see [`Problem::second_order_start`](crate::Problem::second_order_start)).
     pub(crate) fn second_order_start(&self, q0: Vector<D>, v0: Vector<D>) -> Result<Vector<D>> {
-        check_finite("q(a)", &q0)?;
-        check_finite("q̇(a)", &v0)?;
+        check_initial_data(self.lagrangian, &q0, &v0, self.grid.t(0))?;
         let (t, h) = (self.grid.t(0), self.grid.h());
         let (f, _, hs) = self.lagrangian.gradient_and_hessian(&q0, &v0, t);
         let dt = 1e-5 * (1.0 + t.abs());
@@ -135,8 +136,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         q1: Vector<D>,
     ) -> Result<Solution<D>> {
         let kind = self.step_kind(scheme)?;
+        check_constants(self.lagrangian)?;
         check_finite("Q_0", &q0)?;
         check_finite("Q_1", &q1)?;
+        let reference = self.check_first_nodes(&q0, &q1)?;
         let grid = self.grid;
         let n_steps = grid.n();
         let mut q = Vec::with_capacity(n_steps + 1);
@@ -148,11 +151,14 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         // then folds away and the step inlines into a straight-line loop body.
         use StepKind::*;
         let (iterations, explicit_steps) = match kind {
-            VariationalBackward => self.recurrence(VariationalBackward, &mut q)?,
-            VariationalForward => self.recurrence(VariationalForward, &mut q)?,
-            DirectBackward => self.recurrence(DirectBackward, &mut q)?,
-            DirectForward => self.recurrence(DirectForward, &mut q)?,
+            VariationalBackward => self.recurrence(VariationalBackward, &mut q, reference)?,
+            VariationalForward => self.recurrence(VariationalForward, &mut q, reference)?,
+            DirectBackward => self.recurrence(DirectBackward, &mut q, reference)?,
+            DirectForward => self.recurrence(DirectForward, &mut q, reference)?,
         };
+        if n_steps >= 2 {
+            self.check_degeneracy(&q[n_steps - 1], &q[n_steps], n_steps, reference)?;
+        }
         Ok(Solution {
             scheme,
             embedding: self.embedding,
@@ -163,15 +169,55 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         })
     }
 
+    /// The first nodes inside the Lagrangian's domain and `∂²L/∂v²` not degenerate at
+    /// `Q_1` with the velocity `(Q_1 − Q_0)/h` (at [`Location::Step`]`(1)`); returns its
+    /// largest pivot, the reference scale of the checks along the run.
+    fn check_first_nodes(&self, q0: &Vector<D>, q1: &Vector<D>) -> Result<f64> {
+        let v = (q1 - q0) / self.grid.h();
+        let Some(hs) = hessian_in_domain(self.lagrangian, q1, &v, self.grid.t(1)) else {
+            return Err(Error::OutsideDomain {
+                what: format!(
+                    "the first nodes Q_0 = {:?}, Q_1 = {:?} (velocity {:?})",
+                    q0.as_slice(),
+                    q1.as_slice(),
+                    v.as_slice()
+                ),
+            });
+        };
+        check_vv(&hs.vv, 0.0, Location::Step(1))
+    }
+
+    /// `∂²L/∂v²` at node `Q_k = b` with the velocity `(b − a)/h`, against the run's reference
+    /// scale: [`Error::DegenerateLagrangian`] at step `k` when degenerate.
+    #[cold]
+    #[inline(never)]
+    fn check_degeneracy(
+        &self,
+        a: &Vector<D>,
+        b: &Vector<D>,
+        k: usize,
+        reference: f64,
+    ) -> Result<()> {
+        let v = (b - a) / self.grid.h();
+        let hs = self.lagrangian.hessian(b, &v, self.grid.t(k));
+        check_vv(&hs.vv, reference, Location::Step(k)).map(|_| ())
+    }
+
     /// Appends `Q_2..=Q_N` to `q = [Q_0, Q_1]`; returns the Newton iterations and the steps
-    /// that took none.
+    /// that took none. `reference` is the scale of `∂²L/∂v²` at the start, for the checks of
+    /// degeneracy that ride along with the stability checks.
     ///
     /// The two previous nodes live in locals rather than being read back from `q` (a load
     /// right after the store of the same node would put store forwarding on the critical path
     /// of every step), `1/h` is computed once, and so is the [`Update`] (with its `J⁻¹` when
     /// the step Jacobian is constant).
     #[inline(always)]
-    fn recurrence(&self, kind: StepKind, q: &mut Vec<Vector<D>>) -> Result<(usize, usize)> {
+    fn recurrence(
+        &self,
+        kind: StepKind,
+        q: &mut Vec<Vector<D>>,
+        reference: f64,
+    ) -> Result<(usize, usize)> {
         let grid = self.grid;
         let n_steps = grid.n();
         if n_steps < 2 {
@@ -184,16 +230,16 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         // and keeps the zero velocity of the closed form in memory.
         let l = self.lagrangian;
         match update {
-            Update::Newton => self.steps(kind, &update, q, |_| None),
-            Update::ConstantDiagonalInverse(d) => self.steps(kind, &update, q, |s| {
+            Update::Newton => self.steps(kind, &update, q, reference, |_| None),
+            Update::ConstantDiagonalInverse(d) => self.steps(kind, &update, q, reference, |s| {
                 Update::ConstantDiagonalInverse(d).explicit(l, s)
             }),
-            Update::ConstantInverse(m) => self.steps(kind, &update, q, |s| {
+            Update::ConstantInverse(m) => self.steps(kind, &update, q, reference, |s| {
                 Update::ConstantInverse(m).explicit(l, s)
             }),
-            Update::SolvePerStep => {
-                self.steps(kind, &update, q, |s| Update::SolvePerStep.explicit(l, s))
-            }
+            Update::SolvePerStep => self.steps(kind, &update, q, reference, |s| {
+                Update::SolvePerStep.explicit(l, s)
+            }),
         }
     }
 
@@ -205,6 +251,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         kind: StepKind,
         update: &Update<D>,
         q: &mut Vec<Vector<D>>,
+        reference: f64,
         closed_form: impl Fn(&Step<D>) -> Option<Vector<D>>,
     ) -> Result<(usize, usize)> {
         let grid = self.grid;
@@ -222,7 +269,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
             };
             let step = Step::new(self.lagrangian, kind, &a, &b, &times);
             if (n - 2) % STABILITY_CHECK_INTERVAL == 0 {
-                self.check_stability(update, a, step, n)?;
+                self.check_along_the_run(update, a, step, n, reference)?;
             }
             let y = match closed_form(&step) {
                 Some(y) if y.iter().all(|c| c.is_finite()) => {
@@ -264,6 +311,22 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
             Some(y) if y.iter().all(|c| c.is_finite()) => Ok((y, 0)),
             _ => newton_step(self.lagrangian, step, guess, n, &self.newton),
         }
+    }
+
+    /// The checks that run every [`STABILITY_CHECK_INTERVAL`] steps, before step `n`: `∂²L/∂v²`
+    /// at node `Q_{n−1}` not degenerate, then the stability of the step map.
+    #[cold]
+    #[inline(never)]
+    fn check_along_the_run(
+        &self,
+        update: &Update<D>,
+        a: Vector<D>,
+        step: Step<D>,
+        n: usize,
+        reference: f64,
+    ) -> Result<()> {
+        self.check_degeneracy(&a, &step.b, n - 1, reference)?;
+        self.check_stability(update, a, step, n)
     }
 
     /// Linear stability of the step map `(Q_{n−2}, Q_{n−1}) ↦ (Q_{n−1}, Q_n)` at the state
@@ -402,16 +465,6 @@ where
         sawtooth || lambda.norm() >= 2.0
     });
     unstable.map_or(Verdict::Stable, Verdict::Unstable)
-}
-
-fn check_finite<const D: usize>(what: &str, x: &Vector<D>) -> Result<()> {
-    if x.iter().all(|c| c.is_finite()) {
-        Ok(())
-    } else {
-        Err(Error::NonFiniteInput {
-            what: format!("{what} = {:?}", x.as_slice()),
-        })
-    }
 }
 
 #[cfg(test)]
