@@ -16,7 +16,7 @@ use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::linalg::solve_small;
 use crate::options::NewtonOptions;
 use crate::regularity::{
-    check_constants, check_finite, check_initial_data, check_vv, hessian_in_domain,
+    check_constants, check_finite, check_initial_data, check_vv, hessian_in_domain, pivot_range,
 };
 use crate::side::Side;
 use crate::solve::newton::newton_step;
@@ -136,10 +136,29 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         q1: Vector<D>,
     ) -> Result<Solution<D>> {
         let kind = self.step_kind(scheme)?;
-        check_constants(self.lagrangian)?;
-        check_finite("Q_0", &q0)?;
-        check_finite("Q_1", &q1)?;
-        let reference = self.check_first_nodes(&q0, &q1)?;
+        let reference = self.check_first_nodes(q0, q1)?;
+        let solution = self.run(scheme, kind, q0, q1)?;
+        let n_steps = self.grid.n();
+        if n_steps >= 2 {
+            let q = &solution.q;
+            self.check_degeneracy(&q[n_steps - 1], &q[n_steps], n_steps, reference)?;
+        }
+        Ok(solution)
+    }
+
+    /// The recurrence of [`solve_from_nodes`](Self::solve_from_nodes) after its checks.
+    ///
+    /// A function of its own, holding nothing but the loops: with the checks around it in the
+    /// same body, the optimiser kept the loop state of an explicit run out of registers (1.5×
+    /// slower on the `explicit_step` bench).
+    #[inline(never)]
+    fn run(
+        &self,
+        scheme: Scheme,
+        kind: StepKind,
+        q0: Vector<D>,
+        q1: Vector<D>,
+    ) -> Result<Solution<D>> {
         let grid = self.grid;
         let n_steps = grid.n();
         let mut q = Vec::with_capacity(n_steps + 1);
@@ -151,14 +170,11 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         // then folds away and the step inlines into a straight-line loop body.
         use StepKind::*;
         let (iterations, explicit_steps) = match kind {
-            VariationalBackward => self.recurrence(VariationalBackward, &mut q, reference)?,
-            VariationalForward => self.recurrence(VariationalForward, &mut q, reference)?,
-            DirectBackward => self.recurrence(DirectBackward, &mut q, reference)?,
-            DirectForward => self.recurrence(DirectForward, &mut q, reference)?,
+            VariationalBackward => self.recurrence(VariationalBackward, &mut q)?,
+            VariationalForward => self.recurrence(VariationalForward, &mut q)?,
+            DirectBackward => self.recurrence(DirectBackward, &mut q)?,
+            DirectForward => self.recurrence(DirectForward, &mut q)?,
         };
-        if n_steps >= 2 {
-            self.check_degeneracy(&q[n_steps - 1], &q[n_steps], n_steps, reference)?;
-        }
         Ok(Solution {
             scheme,
             embedding: self.embedding,
@@ -169,12 +185,22 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         })
     }
 
-    /// The first nodes inside the Lagrangian's domain and `∂²L/∂v²` not degenerate at
-    /// `Q_1` with the velocity `(Q_1 − Q_0)/h` (at [`Location::Step`]`(1)`); returns its
-    /// largest pivot, the reference scale of the checks along the run.
-    fn check_first_nodes(&self, q0: &Vector<D>, q1: &Vector<D>) -> Result<f64> {
+    /// The checks before the first step: finite model constants and first nodes, the first
+    /// nodes inside the Lagrangian's domain and `∂²L/∂v²` not degenerate at `Q_1` with the
+    /// velocity `(Q_1 − Q_0)/h` (at [`Location::Step`]`(1)`); returns its largest pivot, the
+    /// reference scale of the checks along the run.
+    ///
+    /// The nodes come by value, like the state of `check_stability`: taking the address of the
+    /// caller's `Q_0`, `Q_1` kept them out of registers in the stepping loop that follows and
+    /// made an explicit run more than 1.5× slower.
+    #[cold]
+    #[inline(never)]
+    fn check_first_nodes(&self, q0: Vector<D>, q1: Vector<D>) -> Result<f64> {
+        check_constants(self.lagrangian)?;
+        check_finite("Q_0", &q0)?;
+        check_finite("Q_1", &q1)?;
         let v = (q1 - q0) / self.grid.h();
-        let Some(hs) = hessian_in_domain(self.lagrangian, q1, &v, self.grid.t(1)) else {
+        let Some(hs) = hessian_in_domain(self.lagrangian, &q1, &v, self.grid.t(1)) else {
             return Err(Error::OutsideDomain {
                 what: format!(
                     "the first nodes Q_0 = {:?}, Q_1 = {:?} (velocity {:?})",
@@ -185,6 +211,15 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
             });
         };
         check_vv(&hs.vv, 0.0, Location::Step(1))
+    }
+
+    /// The largest pivot of `∂²L/∂v²` at `Q_1` with the velocity `(Q_1 − Q_0)/h`: the scale the
+    /// checks along the run measure against. Recomputed by each (rare) check rather than
+    /// carried through the stepping loop, whose registers it would take.
+    fn vv_reference(&self, q0: &Vector<D>, q1: &Vector<D>) -> f64 {
+        let v = (q1 - q0) / self.grid.h();
+        let hs = self.lagrangian.hessian(q1, &v, self.grid.t(1));
+        pivot_range(&hs.vv).map_or(0.0, |(_, hi)| hi)
     }
 
     /// `∂²L/∂v²` at node `Q_k = b` with the velocity `(b − a)/h`, against the run's reference
@@ -204,20 +239,14 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
     }
 
     /// Appends `Q_2..=Q_N` to `q = [Q_0, Q_1]`; returns the Newton iterations and the steps
-    /// that took none. `reference` is the scale of `∂²L/∂v²` at the start, for the checks of
-    /// degeneracy that ride along with the stability checks.
+    /// that took none.
     ///
     /// The two previous nodes live in locals rather than being read back from `q` (a load
     /// right after the store of the same node would put store forwarding on the critical path
     /// of every step), `1/h` is computed once, and so is the [`Update`] (with its `J⁻¹` when
     /// the step Jacobian is constant).
     #[inline(always)]
-    fn recurrence(
-        &self,
-        kind: StepKind,
-        q: &mut Vec<Vector<D>>,
-        reference: f64,
-    ) -> Result<(usize, usize)> {
+    fn recurrence(&self, kind: StepKind, q: &mut Vec<Vector<D>>) -> Result<(usize, usize)> {
         let grid = self.grid;
         let n_steps = grid.n();
         if n_steps < 2 {
@@ -230,16 +259,16 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         // and keeps the zero velocity of the closed form in memory.
         let l = self.lagrangian;
         match update {
-            Update::Newton => self.steps(kind, &update, q, reference, |_| None),
-            Update::ConstantDiagonalInverse(d) => self.steps(kind, &update, q, reference, |s| {
+            Update::Newton => self.steps(kind, &update, q, |_| None),
+            Update::ConstantDiagonalInverse(d) => self.steps(kind, &update, q, |s| {
                 Update::ConstantDiagonalInverse(d).explicit(l, s)
             }),
-            Update::ConstantInverse(m) => self.steps(kind, &update, q, reference, |s| {
+            Update::ConstantInverse(m) => self.steps(kind, &update, q, |s| {
                 Update::ConstantInverse(m).explicit(l, s)
             }),
-            Update::SolvePerStep => self.steps(kind, &update, q, reference, |s| {
-                Update::SolvePerStep.explicit(l, s)
-            }),
+            Update::SolvePerStep => {
+                self.steps(kind, &update, q, |s| Update::SolvePerStep.explicit(l, s))
+            }
         }
     }
 
@@ -251,7 +280,6 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         kind: StepKind,
         update: &Update<D>,
         q: &mut Vec<Vector<D>>,
-        reference: f64,
         closed_form: impl Fn(&Step<D>) -> Option<Vector<D>>,
     ) -> Result<(usize, usize)> {
         let grid = self.grid;
@@ -269,7 +297,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
             };
             let step = Step::new(self.lagrangian, kind, &a, &b, &times);
             if (n - 2) % STABILITY_CHECK_INTERVAL == 0 {
-                self.check_along_the_run(update, a, step, n, reference)?;
+                self.check_along_the_run(update, a, step, n, [q[0], q[1]])?;
             }
             let y = match closed_form(&step) {
                 Some(y) if y.iter().all(|c| c.is_finite()) => {
@@ -323,8 +351,9 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         a: Vector<D>,
         step: Step<D>,
         n: usize,
-        reference: f64,
+        first: [Vector<D>; 2],
     ) -> Result<()> {
+        let reference = self.vv_reference(&first[0], &first[1]);
         self.check_degeneracy(&a, &step.b, n - 1, reference)?;
         self.check_stability(update, a, step, n)
     }
