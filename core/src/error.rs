@@ -6,7 +6,7 @@ use thiserror::Error;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Location {
     /// A step of an initial value problem: the index `n` of the node `Q_n` being computed
-    /// (`n = 1` is the discrete Legendre start).
+    /// (`n = 1` is the discrete Legendre start; `n = 0` names the initial data `q(a)`, `q̇(a)`).
     Step(usize),
     /// A Newton iteration of a boundary value problem (the global system).
     Newton(usize),
@@ -17,6 +17,7 @@ pub enum Location {
 impl std::fmt::Display for Location {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
+            Location::Step(0) => write!(f, "the initial data (node Q_0)"),
             Location::Step(n) => write!(f, "step {n} (node Q_{n})"),
             Location::Newton(i) => write!(f, "global Newton iteration {i}"),
             Location::Node(k) => write!(f, "node Q_{k}"),
@@ -82,7 +83,53 @@ pub enum Error {
         /// The embedding it was asked of.
         embedding: String,
     },
-    /// A Jacobian is singular (e.g. `∂²L/∂v²` degenerate).
+    /// A finite input lies outside the domain of the Lagrangian: `L`, its gradient or its
+    /// Hessian is not finite there (an initial velocity above the speed of light of a
+    /// relativistic particle; a boundary value or initial guess at the singularity of a
+    /// potential). Checked before any step is taken.
+    #[error(
+        "{what} is outside the domain of the Lagrangian: L or its derivatives are not finite there"
+    )]
+    OutsideDomain {
+        /// Which input, with its value.
+        what: String,
+    },
+    /// The Lagrangian is degenerate: `∂²L/∂v²` is singular (relative to its own scale) at a
+    /// node, so the Euler–Lagrange equation does not determine the acceleration there and no
+    /// scheme's solution means anything.
+    ///
+    /// The `measure` is `min |u_ii| / max(max |u_ii|, s)` over the pivots `u_ii` of the LU
+    /// factorisation with partial pivoting of `∂²L/∂v²` at the node, where `s` is the largest
+    /// pivot at the start of the run (the initial data of an initial value problem, the nodes
+    /// of the initial guess or of the solution of a boundary value problem): scale-free, so
+    /// `10⁻⁸ I` passes, and for `d = 1` it measures `L_vv` against its size at the start. It is
+    /// degenerate below `10⁻¹²`: a singular `∂²L/∂v²` computed in floating point has pivots of
+    /// the order of the round-off `10⁻¹⁶` of its scale, and above the threshold the
+    /// acceleration `L_vv⁻¹ (…)` keeps at least four significant digits. Checked at the
+    /// initial data before any step, and along an initial value problem where its stability
+    /// check runs (every 1024 steps) and at the last node; on the initial guess and the
+    /// solution of a boundary value problem.
+    ///
+    /// [`SingularJacobian`](Error::SingularJacobian) is a different failure: the Jacobian of a
+    /// *step* (or of the global Newton system) is singular, which a regular Lagrangian can meet
+    /// at one step size (e.g. the implicit direct step of `½v² + ½x²` at `h = 1`), and which a
+    /// degenerate one need not meet at all (`L = x·v − ½x²` has `L_vv ≡ 0` but regular step
+    /// Jacobians: its runs would return a meaningless curve). A Lagrangian degenerate only at
+    /// isolated points, such as the spherical pendulum at the pole, is reported here when a
+    /// checked node lands on one, and otherwise shows through the steps near it.
+    #[error(
+        "the Lagrangian is degenerate at {at}: ∂²L/∂v² has the pivot ratio {measure:.3e} (below 1e-12)"
+    )]
+    DegenerateLagrangian {
+        /// The node where `∂²L/∂v²` was found degenerate: `Step(k)` for node `Q_k` of an
+        /// initial value problem (`Step(0)`: the initial data), `Node(k)` for a boundary value
+        /// problem.
+        at: Location,
+        /// The pivot ratio that failed (see above).
+        measure: f64,
+    },
+    /// A Jacobian is singular: a step's or the global Newton system's (see
+    /// [`DegenerateLagrangian`](Error::DegenerateLagrangian) for a degenerate `∂²L/∂v²`).
     #[error("singular Jacobian at {at}")]
     SingularJacobian {
         /// Where.

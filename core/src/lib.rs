@@ -65,6 +65,7 @@ mod ode;
 mod operator;
 mod options;
 mod problem;
+mod regularity;
 mod side;
 mod solve;
 mod step;

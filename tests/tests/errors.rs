@@ -120,7 +120,7 @@ fn fractional_initial_value_problems_are_unsupported() {
     );
 }
 
-/// `L = x`: no velocity at all, so `∂²L/∂v²` and every step Jacobian vanish.
+/// `L = x`: no velocity at all, so `∂²L/∂v² ≡ 0` (and every step Jacobian vanishes).
 struct Degenerate;
 impl Lagrangian<1> for Degenerate {
     fn value(&self, x: &Vector<1>, _v: &Vector<1>, _t: f64) -> f64 {
@@ -139,36 +139,62 @@ impl Lagrangian<1> for Degenerate {
 }
 
 #[test]
-fn singular_jacobians_are_located() {
+fn degenerate_lagrangians_are_located_before_any_step() {
     let grid = Grid::new(0.0, 1.0, 10).unwrap();
+    let degenerate = |at| Error::DegenerateLagrangian { at, measure: 0.0 };
     for side in [Side::Backward, Side::Forward] {
         let problem = Problem::new(&Degenerate, grid, Embedding::finite_difference(side));
-        // The Legendre start is the first step that needs ∂²L/∂v².
+        // At the initial data, before the start.
         assert_eq!(
             problem
                 .solve_ivp(Scheme::Variational, 0.0, 1.0)
                 .unwrap_err(),
-            Error::SingularJacobian {
-                at: Location::Step(1)
-            }
+            degenerate(Location::Step(0))
         );
+        // From two given nodes: at Q_1, before step 2.
         assert_eq!(
             problem
                 .solve_ivp_from_nodes(Scheme::Direct, 0.0, 0.1)
                 .unwrap_err(),
-            Error::SingularJacobian {
-                at: Location::Step(2)
-            }
+            degenerate(Location::Step(1))
         );
+        // At the first quadrature node of the straight-line guess (I_− starts at 1, I_+ at 0).
+        let first = match side {
+            Side::Backward => 1,
+            Side::Forward => 0,
+        };
         assert_eq!(
             problem
                 .solve_bvp(Scheme::Variational, 0.0, 1.0)
                 .unwrap_err(),
-            Error::SingularJacobian {
-                at: Location::Newton(0)
-            }
+            degenerate(Location::Node(first))
         );
     }
+}
+
+/// `L = ½v² + ½x²`: regular (`L_vv = 1`), but the implicit direct σ = − step has the Jacobian
+/// `L_vv/h − h L_xx = 1/h − h`, singular at `h = 1`.
+#[test]
+fn a_singular_step_of_a_regular_lagrangian_is_a_singular_jacobian() {
+    let grid = Grid::new(0.0, 10.0, 10).unwrap();
+    let problem = Problem::new(
+        &Inverted,
+        grid,
+        Embedding::finite_difference(Side::Backward),
+    );
+    assert_eq!(
+        problem.solve_ivp(Scheme::Direct, 1.0, 0.0).unwrap_err(),
+        Error::SingularJacobian {
+            at: Location::Step(2)
+        }
+    );
+    // At h = 0.5 the same step is regular (1/h − h = 1.5) and the run returns.
+    let fine = Problem::new(
+        &Inverted,
+        Grid::new(0.0, 5.0, 10).unwrap(),
+        Embedding::finite_difference(Side::Backward),
+    );
+    assert!(fine.solve_ivp(Scheme::Direct, 1.0, 0.0).is_ok());
 }
 
 #[test]

@@ -18,37 +18,35 @@ fn relativistic(x: f64, v: f64, k: f64) -> f64 {
 }
 
 #[test]
-fn degenerate_lagrangian_is_a_singular_jacobian_with_step_index() {
+fn degenerate_lagrangian_is_reported_at_the_initial_data() {
     let grid = Grid::new(0.0, 1.0, 100).unwrap();
     let (q0, v0) = (Vector::<2>::new(0.3, 0.0), Vector::<2>::new(0.1, 0.0));
     for side in [Side::Backward, Side::Forward] {
         let problem = Problem::new(&Constrained, grid, Embedding::finite_difference(side));
         for scheme in [Scheme::Direct, Scheme::Variational] {
-            // The discrete Legendre start needs L_vv (σ = +: L_vv/h − L_xv) invertible.
+            // L_vv = diag(1, 0): pivots 1 and 0, the ratio 0, before the start is attempted.
             let err = problem.solve_ivp(scheme, q0, v0).unwrap_err();
             assert_eq!(
                 err,
-                Error::SingularJacobian {
-                    at: Location::Step(1)
+                Error::DegenerateLagrangian {
+                    at: Location::Step(0),
+                    measure: 0.0
+                },
+                "{side:?} {scheme}"
+            );
+            // From two given nodes: at Q_1, before the first step.
+            let err = problem
+                .solve_ivp_from_nodes(scheme, q0, q0 + v0 * grid.h())
+                .unwrap_err();
+            assert_eq!(
+                err,
+                Error::DegenerateLagrangian {
+                    at: Location::Step(1),
+                    measure: 0.0
                 },
                 "{side:?} {scheme}"
             );
         }
-        // From two given nodes the explicit schemes (Jacobian L_vv/h) are singular at step 2.
-        let kind_singular = match side {
-            Side::Backward => Scheme::Variational, // L_vx + L_vv/h
-            Side::Forward => Scheme::Direct,       // L_vv/h
-        };
-        let err = problem
-            .solve_ivp_from_nodes(kind_singular, q0, q0 + v0 * grid.h())
-            .unwrap_err();
-        assert_eq!(
-            err,
-            Error::SingularJacobian {
-                at: Location::Step(2)
-            },
-            "{side:?} {kind_singular}"
-        );
     }
 }
 

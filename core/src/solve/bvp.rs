@@ -7,10 +7,11 @@
 
 use crate::discretisation::{Discretisation, Pointwise};
 use crate::embedding::Scheme;
-use crate::error::{Error, Location, Result};
+use crate::error::{Error, Location, Result, check_len};
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::linalg::{BandedMatrix, max_norm, solve_dense};
 use crate::options::{FractionalSolver, SolverOptions};
+use crate::regularity::{check_constants, check_vv, hessian_in_domain, pivot_range};
 use crate::solve::fractional;
 use crate::solve::newton::{at_round_off, backtrack};
 use crate::solve::solution::{Solution, Warning};
@@ -47,16 +48,103 @@ pub(crate) fn straight_line<const D: usize>(
     qb: Vector<D>,
     n: usize,
 ) -> Vec<Vector<D>> {
+    // The ends exactly (`qa + (qb − qa)·1` need not round to `qb`), so that a non-finite end
+    // stays where it was given and is reported as that end.
     (0..=n)
-        .map(|k| qa + (qb - qa) * (k as f64 / n as f64))
+        .map(|k| match k {
+            0 => qa,
+            k if k == n => qb,
+            k => qa + (qb - qa) * (k as f64 / n as f64),
+        })
         .collect()
+}
+
+/// The checks before a boundary value problem is solved: finite constants, finite ends (each
+/// named as the end it belongs to), a finite guess, every guess node inside the Lagrangian's
+/// domain and `∂²L/∂v²` not degenerate there.
+fn check_input<L: Lagrangian<D> + ?Sized, const D: usize>(
+    disc: &Discretisation<'_, L, D>,
+    guess: &[Vector<D>],
+) -> Result<()> {
+    let grid = disc.grid();
+    check_len("discrete curve Q", grid.n() + 1, guess.len())?;
+    check_constants(disc.lagrangian())?;
+    let last = grid.n();
+    for (k, end, at) in [(0, "a", grid.a()), (last, "b", grid.b())] {
+        if !guess[k].iter().all(|c| c.is_finite()) {
+            return Err(Error::NonFiniteInput {
+                what: format!(
+                    "the end value Q_{k} at {end} = {at}: {:?}",
+                    guess[k].as_slice()
+                ),
+            });
+        }
+    }
+    disc.check_curve(guess)?;
+    check_nodes(disc, guess, true)
+}
+
+/// `∂²L/∂v²` not degenerate at the quadrature nodes of `q` (with its discrete velocity),
+/// measured against its largest pivot over those nodes; for an initial `guess`, each node also
+/// inside the Lagrangian's domain ([`Error::OutsideDomain`]).
+fn check_nodes<L: Lagrangian<D> + ?Sized, const D: usize>(
+    disc: &Discretisation<'_, L, D>,
+    q: &[Vector<D>],
+    guess: bool,
+) -> Result<()> {
+    let (grid, lagrangian) = (disc.grid(), disc.lagrangian());
+    let v = disc.velocity(q)?;
+    let rows = disc.embedding().quadrature_rows(grid.n());
+    let mut blocks = Vec::with_capacity(v.len());
+    for (k, vk) in rows.zip(&v) {
+        let t = grid.t(k);
+        let hs = if guess {
+            hessian_in_domain(lagrangian, &q[k], vk, t).ok_or_else(|| {
+                let node = match k {
+                    0 => format!("the end value Q_0 = {:?} at a", q[k].as_slice()),
+                    k if k == grid.n() => {
+                        format!("the end value Q_{k} = {:?} at b", q[k].as_slice())
+                    }
+                    k => format!("node Q_{k} = {:?} of the initial guess", q[k].as_slice()),
+                };
+                Error::OutsideDomain {
+                    what: format!("{node} (velocity {:?})", vk.as_slice()),
+                }
+            })?
+        } else {
+            lagrangian.hessian(&q[k], vk, t)
+        };
+        blocks.push((k, hs.vv));
+    }
+    let reference = blocks
+        .iter()
+        .filter_map(|(_, vv)| pivot_range(vv))
+        .fold(0.0, |m, (_, hi)| f64::max(m, hi));
+    for (k, vv) in &blocks {
+        check_vv(vv, reference, Location::Node(*k))?;
+    }
+    Ok(())
+}
+
+/// Solves the boundary value problem of `scheme` from `guess` (see [`solve_unchecked`]), with
+/// the input checked first and `∂²L/∂v²` checked on the solution's nodes.
+pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
+    disc: &Discretisation<'_, L, D>,
+    options: &SolverOptions,
+    scheme: Scheme,
+    guess: &[Vector<D>],
+) -> Result<Solution<D>> {
+    check_input(disc, guess)?;
+    let solution = solve_unchecked(disc, options, scheme, guess)?;
+    check_nodes(disc, &solution.q, false)?;
+    Ok(solution)
 }
 
 /// Solves the boundary value problem of `scheme` from `guess` (all `N + 1` nodes; the first and
 /// last are the boundary values): Newton's method on the residual rows, with a backtracking line
 /// search on their max-norm. The fractional embeddings go to the fast path when `options` say
 /// so (falling back to dense LU as [`FractionalSolver::Auto`] describes).
-pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
+fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     options: &SolverOptions,
     scheme: Scheme,

@@ -15,6 +15,9 @@ use crate::grid::Grid;
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::linalg::solve_small;
 use crate::options::NewtonOptions;
+use crate::regularity::{
+    check_constants, check_finite, check_initial_data, check_vv, hessian_in_domain, pivot_range,
+};
 use crate::side::Side;
 use crate::solve::guard::BlowUpGuard;
 use crate::solve::newton::newton_step;
@@ -72,8 +75,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
 
     /// The discrete Legendre start (see `Problem::legendre_start`).
     pub(crate) fn legendre_start(&self, q0: Vector<D>, v0: Vector<D>) -> Result<Vector<D>> {
-        check_finite("q(a)", &q0)?;
-        check_finite("q̇(a)", &v0)?;
+        check_initial_data(self.lagrangian, &q0, &v0, self.grid.t(0))?;
         let kind = match self.embedding.side() {
             Side::Backward => StepKind::VariationalBackward,
             Side::Forward => StepKind::VariationalForward,
@@ -94,8 +96,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
 
     /// The second-order start (see [`Problem::second_order_start`](crate::Problem::second_order_start)).
     pub(crate) fn second_order_start(&self, q0: Vector<D>, v0: Vector<D>) -> Result<Vector<D>> {
-        check_finite("q(a)", &q0)?;
-        check_finite("q̇(a)", &v0)?;
+        check_initial_data(self.lagrangian, &q0, &v0, self.grid.t(0))?;
         let (t, h) = (self.grid.t(0), self.grid.h());
         let (f, _, hs) = self.lagrangian.gradient_and_hessian(&q0, &v0, t);
         let dt = 1e-5 * (1.0 + t.abs());
@@ -138,8 +139,29 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         q1: Vector<D>,
     ) -> Result<Solution<D>> {
         let kind = self.step_kind(scheme)?;
-        check_finite("Q_0", &q0)?;
-        check_finite("Q_1", &q1)?;
+        let reference = self.check_first_nodes(q0, q1)?;
+        let solution = self.run(scheme, kind, q0, q1)?;
+        let n_steps = self.grid.n();
+        if n_steps >= 2 {
+            let q = &solution.q;
+            self.check_degeneracy(&q[n_steps - 1], &q[n_steps], n_steps, reference)?;
+        }
+        Ok(solution)
+    }
+
+    /// The recurrence of [`solve_from_nodes`](Self::solve_from_nodes) after its checks.
+    ///
+    /// A function of its own, holding nothing but the loops: with the checks around it in the
+    /// same body, the optimiser kept the loop state of an explicit run out of registers (1.5×
+    /// slower on the `explicit_step` bench).
+    #[inline(never)]
+    fn run(
+        &self,
+        scheme: Scheme,
+        kind: StepKind,
+        q0: Vector<D>,
+        q1: Vector<D>,
+    ) -> Result<Solution<D>> {
         let grid = self.grid;
         let n_steps = grid.n();
         let mut q = Vec::with_capacity(n_steps + 1);
@@ -165,6 +187,59 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
             explicit_steps,
             warnings: Vec::new(),
         })
+    }
+
+    /// The checks before the first step: finite model constants and first nodes, the first
+    /// nodes inside the Lagrangian's domain and `∂²L/∂v²` not degenerate at `Q_1` with the
+    /// velocity `(Q_1 − Q_0)/h` (at [`Location::Step`]`(1)`); returns its largest pivot, the
+    /// reference scale of the checks along the run.
+    ///
+    /// The nodes come by value, like the state of `check_stability`: taking the address of the
+    /// caller's `Q_0`, `Q_1` kept them out of registers in the stepping loop that follows and
+    /// made an explicit run more than 1.5× slower.
+    #[cold]
+    #[inline(never)]
+    fn check_first_nodes(&self, q0: Vector<D>, q1: Vector<D>) -> Result<f64> {
+        check_constants(self.lagrangian)?;
+        check_finite("Q_0", &q0)?;
+        check_finite("Q_1", &q1)?;
+        let v = (q1 - q0) / self.grid.h();
+        let Some(hs) = hessian_in_domain(self.lagrangian, &q1, &v, self.grid.t(1)) else {
+            return Err(Error::OutsideDomain {
+                what: format!(
+                    "the first nodes Q_0 = {:?}, Q_1 = {:?} (velocity {:?})",
+                    q0.as_slice(),
+                    q1.as_slice(),
+                    v.as_slice()
+                ),
+            });
+        };
+        check_vv(&hs.vv, 0.0, Location::Step(1))
+    }
+
+    /// The largest pivot of `∂²L/∂v²` at `Q_1` with the velocity `(Q_1 − Q_0)/h`: the scale the
+    /// checks along the run measure against. Recomputed by each (rare) check rather than
+    /// carried through the stepping loop, whose registers it would take.
+    fn vv_reference(&self, q0: &Vector<D>, q1: &Vector<D>) -> f64 {
+        let v = (q1 - q0) / self.grid.h();
+        let hs = self.lagrangian.hessian(q1, &v, self.grid.t(1));
+        pivot_range(&hs.vv).map_or(0.0, |(_, hi)| hi)
+    }
+
+    /// `∂²L/∂v²` at node `Q_k = b` with the velocity `(b − a)/h`, against the run's reference
+    /// scale: [`Error::DegenerateLagrangian`] at step `k` when degenerate.
+    #[cold]
+    #[inline(never)]
+    fn check_degeneracy(
+        &self,
+        a: &Vector<D>,
+        b: &Vector<D>,
+        k: usize,
+        reference: f64,
+    ) -> Result<()> {
+        let v = (b - a) / self.grid.h();
+        let hs = self.lagrangian.hessian(b, &v, self.grid.t(k));
+        check_vv(&hs.vv, reference, Location::Step(k)).map(|_| ())
     }
 
     /// Appends `Q_2..=Q_N` to `q = [Q_0, Q_1]`; returns the Newton iterations and the steps
@@ -220,49 +295,55 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
         let drifts = matches!(kind, StepKind::DirectBackward | StepKind::DirectForward);
         let mut guard =
             BlowUpGuard::new(self.lagrangian, side, drifts, n_steps, self.blow_up_guard);
-        // One test per step, against a counter in a register: the guard's samples and the
-        // stability checks (every STABILITY_CHECK_INTERVAL steps, a multiple of the stride)
-        // both run behind it.
+        // The run goes in stretches of `stride` steps: the guard's sample (and, every
+        // STABILITY_CHECK_INTERVAL steps, a multiple of the stride, the stability and
+        // degeneracy checks) runs between stretches, so the stepping loop itself tests nothing
+        // but the finiteness of each node, as a hand-written loop would.
         let stride = guard.stride();
-        let mut next_sample = 2;
-        for n in 2..=n_steps {
-            let times = StepTimes {
-                h,
-                inv_h,
-                t_a: grid.t(n - 2),
-                t_b: grid.t(n - 1),
-                t_y: grid.t(n),
-            };
-            let step = Step::new(self.lagrangian, kind, &a, &b, &times);
-            if n == next_sample {
-                next_sample += stride;
-                guard.sample(self.lagrangian, a, b, inv_h, times.t_a, times.t_b, n)?;
-                if (n - 2) % STABILITY_CHECK_INTERVAL == 0 {
-                    self.check_stability(update, a, step, n)?;
-                }
+        let mut start = 2;
+        while start <= n_steps {
+            let t_a = grid.t(start - 2);
+            let t_b = grid.t(start - 1);
+            guard.sample(self.lagrangian, a, b, inv_h, t_a, t_b, start)?;
+            if (start - 2) % STABILITY_CHECK_INTERVAL == 0 {
+                let times = StepTimes::new(h, t_a, t_b, grid.t(start));
+                let step = Step::new(self.lagrangian, kind, &a, &b, &times);
+                self.check_along_the_run(update, a, step, start, [q[0], q[1]])?;
             }
-            let y = match closed_form(&step) {
-                Some(y) if y.iter().all(|c| c.is_finite()) => {
-                    explicit_steps += 1;
-                    y
-                }
-                _ => {
-                    let (y, its) =
-                        newton_step(self.lagrangian, &step, b * 2.0 - a, n, &self.newton)?;
-                    if its == 0 {
+            let end = (start + stride - 1).min(n_steps);
+            for n in start..=end {
+                let times = StepTimes {
+                    h,
+                    inv_h,
+                    t_a: grid.t(n - 2),
+                    t_b: grid.t(n - 1),
+                    t_y: grid.t(n),
+                };
+                let step = Step::new(self.lagrangian, kind, &a, &b, &times);
+                let y = match closed_form(&step) {
+                    Some(y) if y.iter().all(|c| c.is_finite()) => {
                         explicit_steps += 1;
+                        y
                     }
-                    iterations += its;
-                    y
+                    _ => {
+                        let (y, its) =
+                            newton_step(self.lagrangian, &step, b * 2.0 - a, n, &self.newton)?;
+                        if its == 0 {
+                            explicit_steps += 1;
+                        }
+                        iterations += its;
+                        y
+                    }
+                };
+                if !y.iter().all(|c| c.is_finite()) {
+                    return Err(Error::NotFinite {
+                        at: Location::Step(n),
+                    });
                 }
-            };
-            if !y.iter().all(|c| c.is_finite()) {
-                return Err(Error::NotFinite {
-                    at: Location::Step(n),
-                });
+                q.push(y);
+                (a, b) = (b, y);
             }
-            q.push(y);
-            (a, b) = (b, y);
+            start = end + 1;
         }
         guard.finish()?;
         Ok((iterations, explicit_steps))
@@ -282,6 +363,23 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
             Some(y) if y.iter().all(|c| c.is_finite()) => Ok((y, 0)),
             _ => newton_step(self.lagrangian, step, guess, n, &self.newton),
         }
+    }
+
+    /// The checks that run every [`STABILITY_CHECK_INTERVAL`] steps, before step `n`: `∂²L/∂v²`
+    /// at node `Q_{n−1}` not degenerate, then the stability of the step map.
+    #[cold]
+    #[inline(never)]
+    fn check_along_the_run(
+        &self,
+        update: &Update<D>,
+        a: Vector<D>,
+        step: Step<D>,
+        n: usize,
+        first: [Vector<D>; 2],
+    ) -> Result<()> {
+        let reference = self.vv_reference(&first[0], &first[1]);
+        self.check_degeneracy(&a, &step.b, n - 1, reference)?;
+        self.check_stability(update, a, step, n)
     }
 
     /// Linear stability of the step map `(Q_{n−2}, Q_{n−1}) ↦ (Q_{n−1}, Q_n)` at the state
@@ -420,16 +518,6 @@ where
         sawtooth || lambda.norm() >= 2.0
     });
     unstable.map_or(Verdict::Stable, Verdict::Unstable)
-}
-
-fn check_finite<const D: usize>(what: &str, x: &Vector<D>) -> Result<()> {
-    if x.iter().all(|c| c.is_finite()) {
-        Ok(())
-    } else {
-        Err(Error::NonFiniteInput {
-            what: format!("{what} = {:?}", x.as_slice()),
-        })
-    }
 }
 
 #[cfg(test)]

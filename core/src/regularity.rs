@@ -1,0 +1,181 @@
+//! What the solvers check of a Lagrangian before a solve and along it: finite model constants,
+//! input inside the Lagrangian's domain, and a `∂²L/∂v²` that is not degenerate.
+//!
+//! These checks turn a run that would otherwise return a meaningless curve (a degenerate
+//! Lagrangian whose step Jacobians happen to be regular) or fail later under a misleading name
+//! (a NaN model constant reported as a non-finite node at step 1) into a typed error that names
+//! the input or the node. They run once before a solve and, along an initial value problem,
+//! only where its stability check already runs, so the stepping loop does no extra work.
+
+use crate::error::{Error, Location, Result};
+use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
+
+/// A `∂²L/∂v²` whose pivot ratio (see [`Error::DegenerateLagrangian`]) is below this is
+/// degenerate. A singular matrix computed in floating point has pivots at the round-off of its
+/// scale, `≈ 10⁻¹⁶`: the threshold leaves four orders of magnitude for rounding, and above it
+/// the acceleration `L_vv⁻¹ (…)` keeps at least four significant digits. The step solves treat
+/// a pivot as zero only below `10⁻¹⁴` of the largest entry, so a step never fails as singular
+/// on a Lagrangian this check passed for a reason of `L_vv` alone.
+pub(crate) const DEGENERACY_THRESHOLD: f64 = 1e-12;
+
+/// `(min |u_ii|, max |u_ii|)` over the pivots of the LU factorisation with partial pivoting of
+/// `m`; `None` when `m` is not finite. A column that is zero below the diagonal has the pivot
+/// zero and is skipped.
+pub(crate) fn pivot_range<const D: usize>(m: &Matrix<D>) -> Option<(f64, f64)> {
+    if !m.iter().all(|c| c.is_finite()) {
+        return None;
+    }
+    let mut m = *m;
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for col in 0..D {
+        let (piv, max) = (col..D)
+            .map(|r| (r, m[(r, col)].abs()))
+            .fold((col, -1.0), |best, c| if c.1 > best.1 { c } else { best });
+        lo = lo.min(max);
+        hi = hi.max(max);
+        if max == 0.0 {
+            continue;
+        }
+        m.swap_rows(piv, col);
+        for r in col + 1..D {
+            let l = m[(r, col)] / m[(col, col)];
+            for c in col..D {
+                m[(r, c)] -= l * m[(col, c)];
+            }
+        }
+    }
+    Some((lo, hi))
+}
+
+/// The pivot ratio of `vv` against the reference scale `reference` (the largest pivot at the
+/// start of the run; `0` to measure `vv` against itself), and its own largest pivot. `None`
+/// when `vv` is not finite.
+pub(crate) fn pivot_ratio<const D: usize>(vv: &Matrix<D>, reference: f64) -> Option<(f64, f64)> {
+    let (lo, hi) = pivot_range(vv)?;
+    let scale = hi.max(reference);
+    let ratio = if scale > 0.0 { lo / scale } else { 0.0 };
+    Some((ratio, hi))
+}
+
+/// [`Error::DegenerateLagrangian`] at `at` unless `vv` passes; otherwise its largest pivot (the
+/// reference scale for the rest of a run). A non-finite `vv` is [`Error::NotFinite`] at `at`.
+pub(crate) fn check_vv<const D: usize>(
+    vv: &Matrix<D>,
+    reference: f64,
+    at: Location,
+) -> Result<f64> {
+    match pivot_ratio(vv, reference) {
+        None => Err(Error::NotFinite { at }),
+        Some((measure, _)) if measure < DEGENERACY_THRESHOLD => {
+            Err(Error::DegenerateLagrangian { at, measure })
+        }
+        Some((_, hi)) => Ok(hi),
+    }
+}
+
+/// [`Error::NonFiniteInput`] naming the first model constant (by its field name) that is NaN
+/// or infinite.
+pub(crate) fn check_constants<L: Lagrangian<D> + ?Sized, const D: usize>(
+    lagrangian: &L,
+) -> Result<()> {
+    match lagrangian
+        .constants()
+        .into_iter()
+        .find(|(_, value)| !value.is_finite())
+    {
+        Some((name, value)) => Err(Error::NonFiniteInput {
+            what: format!("model constant `{name}` = {value}"),
+        }),
+        None => Ok(()),
+    }
+}
+
+/// [`Error::NonFiniteInput`] naming `what` unless every coordinate of `x` is finite.
+pub(crate) fn check_finite<const D: usize>(what: &str, x: &Vector<D>) -> Result<()> {
+    if x.iter().all(|c| c.is_finite()) {
+        Ok(())
+    } else {
+        Err(Error::NonFiniteInput {
+            what: format!("{what} = {:?}", x.as_slice()),
+        })
+    }
+}
+
+/// The Hessian at `(x, v, t)` when `L`, its gradient and its Hessian are all finite there:
+/// whether the point lies in the Lagrangian's domain.
+pub(crate) fn hessian_in_domain<L: Lagrangian<D> + ?Sized, const D: usize>(
+    lagrangian: &L,
+    x: &Vector<D>,
+    v: &Vector<D>,
+    t: f64,
+) -> Option<Hessian<D>> {
+    let (f, p, hs) = lagrangian.gradient_and_hessian(x, v, t);
+    let finite = lagrangian.value(x, v, t).is_finite()
+        && f.iter().chain(p.iter()).all(|c| c.is_finite())
+        && [hs.xx, hs.xv, hs.vv]
+            .iter()
+            .all(|m| m.iter().all(|c| c.is_finite()));
+    finite.then_some(hs)
+}
+
+/// The checks of the initial data `q(a) = q0`, `q̇(a) = v0` at `t0` of an initial value
+/// problem, before any step: finite constants and data, a point inside the Lagrangian's domain
+/// (a velocity outside it is blamed on the velocity when the position with velocity zero is
+/// inside), and a non-degenerate `∂²L/∂v²` (at [`Location::Step`]`(0)`).
+pub(crate) fn check_initial_data<L: Lagrangian<D> + ?Sized, const D: usize>(
+    lagrangian: &L,
+    q0: &Vector<D>,
+    v0: &Vector<D>,
+    t0: f64,
+) -> Result<()> {
+    check_constants(lagrangian)?;
+    check_finite("q(a)", q0)?;
+    check_finite("q̇(a)", v0)?;
+    let Some(hs) = hessian_in_domain(lagrangian, q0, v0, t0) else {
+        let at_rest = hessian_in_domain(lagrangian, q0, &Vector::<D>::zeros(), t0).is_some();
+        let what = if at_rest {
+            format!(
+                "the initial velocity q̇(a) = {:?} (at q(a) = {:?}, t = {t0})",
+                v0.as_slice(),
+                q0.as_slice()
+            )
+        } else {
+            format!("the initial position q(a) = {:?} (t = {t0})", q0.as_slice())
+        };
+        return Err(Error::OutsideDomain { what });
+    };
+    check_vv(&hs.vv, 0.0, Location::Step(0)).map(|_| ())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn pivot_ratio_is_scale_free_and_flags_singular_blocks() {
+        let ratio = |m: Matrix<2>| pivot_ratio(&m, 0.0).unwrap().0;
+        // 10⁻⁸ I is as regular as I; diag(1, 10⁻⁶) has the ratio 10⁻⁶.
+        assert_eq!(ratio(Matrix::<2>::identity() * 1e-8), 1.0);
+        assert!((ratio(Matrix::<2>::new(1.0, 0.0, 0.0, 1e-6)) - 1e-6).abs() < 1e-20);
+        // Zero, rank one, and a permutation (regular: partial pivoting swaps the rows).
+        assert_eq!(ratio(Matrix::<2>::zeros()), 0.0);
+        assert_eq!(ratio(Matrix::<2>::new(1.0, 2.0, 2.0, 4.0)), 0.0);
+        assert_eq!(ratio(Matrix::<2>::new(0.0, 3.0, 3.0, 0.0)), 1.0);
+        // Against a reference scale: a scalar that has fallen to 10⁻¹³ of its start.
+        let (r, hi) = pivot_ratio(&Matrix::<1>::new(1e-13), 1.0).unwrap();
+        assert_eq!((r, hi), (1e-13, 1e-13));
+        assert!(pivot_ratio(&Matrix::<1>::new(f64::NAN), 0.0).is_none());
+    }
+
+    /// The pivots of a `3 × 3` block whose LU needs a row exchange, against the factors
+    /// computed by hand: `P A = L U` with `U = [[4, 2, 0], [0, 2, 1], [0, 0, −0.25]]`.
+    #[test]
+    fn pivots_are_those_of_lu_with_partial_pivoting() {
+        let a = Matrix::<3>::new(2.0, 3.0, 1.0, 4.0, 2.0, 0.0, 1.0, 0.5, 0.0);
+        // Column 0: pivot 4 (row 1). Rows become [2, 3, 1] − ½[4, 2, 0] = [0, 2, 1] and
+        // [1, 0.5, 0] − ¼[4, 2, 0] = [0, 0, 0]: column 1 pivot 2, column 2 pivot 0.
+        assert_eq!(pivot_range(&a), Some((0.0, 4.0)));
+        let b = Matrix::<3>::new(2.0, 3.0, 1.0, 4.0, 2.0, 0.0, 1.0, 0.5, -0.25);
+        assert_eq!(pivot_range(&b), Some((0.25, 4.0)));
+    }
+}
