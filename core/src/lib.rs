@@ -50,8 +50,8 @@
 #![deny(missing_docs)]
 
 // Imports go one way. From the bottom up, each module imports only modules before it:
-// lagrangian, error, side, weights, toeplitz, grid, linalg, options, operator, fft_operator,
-// embedding, step, ode, discretisation, solve (krylov, newton, solution, fractional, bvp, ivp),
+// lagrangian, error, side, weights, toeplitz, grid, linalg, regularity, options, operator, fft_operator,
+// embedding, step, ode, discretisation, solve (krylov, newton, solution, guard, fractional, bvp, ivp),
 // compare, problem.
 mod compare;
 mod discretisation;
