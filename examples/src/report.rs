@@ -30,9 +30,8 @@ pub fn summary_table(scenes: &[SceneReport]) -> String {
             let Some(last) = line.points.last() else {
                 continue;
             };
-            let orders = line.orders();
-            let tail = &orders[orders.len().saturating_sub(3)..];
-            let orders: Vec<String> = tail.iter().map(|o| format!("{o:.2}")).collect();
+            let orders = line.marked_orders();
+            let orders = &orders[orders.len().saturating_sub(3)..];
             let _ = writeln!(
                 s,
                 "| {} | {} | {} | {:.2e} | {} | {:.2e} |",
@@ -45,6 +44,10 @@ pub fn summary_table(scenes: &[SceneReport]) -> String {
             );
         }
     }
+    s.push_str(
+        "\nAn order marked `*` is pre-asymptotic (the next order differs from it by more than \
+         0.1), `ε` at round-off, `?` unchecked (no next order): `varembed::OrderStatus`.\n",
+    );
     s
 }
 
@@ -86,12 +89,12 @@ pub fn write(dir: &Path, scenes: &[SceneReport], header: &str) -> Result<String,
         let _ = writeln!(md, "| scheme | N | max error | time (s) | order |");
         let _ = writeln!(md, "| --- | ---: | ---: | ---: | ---: |");
         for line in &scene.sweep {
-            let orders = line.orders();
+            let orders = line.marked_orders();
             for (i, p) in line.points.iter().enumerate() {
                 let order = if i == 0 {
                     String::new()
                 } else {
-                    format!("{:.2}", orders[i - 1])
+                    orders[i - 1].clone()
                 };
                 let _ = writeln!(
                     md,

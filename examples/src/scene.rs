@@ -3,7 +3,7 @@
 
 use indicatif::ProgressBar;
 use std::sync::{Mutex, PoisonError};
-use varembed::{Convergence, Embedding, observed_orders};
+use varembed::{Convergence, Embedding, OrderStatus, observed_orders};
 
 /// How much of the tour to run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -148,6 +148,9 @@ pub struct SweepLine {
     /// The sizes at which the scheme failed, with the error (e.g. the direct scheme collapsing
     /// at Kepler's perihelion on a coarse grid): reported, not hidden.
     pub failures: Vec<(usize, String)>,
+    /// The library's [`OrderStatus`] of each of [`orders`](Self::orders), when the line was
+    /// read from a convergence run (empty otherwise: the orders are then printed unmarked).
+    pub statuses: Vec<OrderStatus>,
 }
 
 impl SweepLine {
@@ -155,7 +158,7 @@ impl SweepLine {
     /// error as the library measured them (a level without an error, i.e. a run without a
     /// reference, gives no point).
     pub fn from_run<const D: usize>(label: impl Into<String>, run: &Convergence<D>) -> Self {
-        let points = run
+        let points: Vec<SweepPoint> = run
             .levels
             .iter()
             .filter_map(|level| {
@@ -166,6 +169,13 @@ impl SweepLine {
                 })
             })
             .collect();
+        // The statuses follow the run's error estimates; they line up with the points only
+        // when every level has an error and none failed.
+        let statuses = if run.failures.is_empty() && points.len() == run.levels.len() {
+            run.order_statuses()
+        } else {
+            Vec::new()
+        };
         SweepLine {
             label: label.into(),
             points,
@@ -174,6 +184,7 @@ impl SweepLine {
                 .iter()
                 .map(|(n, e)| (*n, e.to_string()))
                 .collect(),
+            statuses,
         }
     }
 
@@ -183,6 +194,19 @@ impl SweepLine {
     pub fn orders(&self) -> Vec<f64> {
         let errors: Vec<(usize, f64)> = self.points.iter().map(|p| (p.n, p.error)).collect();
         observed_orders(&errors)
+    }
+
+    /// [`orders`](Self::orders) as printed, each followed by the mark of its status
+    /// ([`OrderStatus::mark`]).
+    pub fn marked_orders(&self) -> Vec<String> {
+        self.orders()
+            .iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let mark = self.statuses.get(i).map_or("", |s| s.mark());
+                format!("{p:.2}{mark}")
+            })
+            .collect()
     }
 }
 

@@ -183,7 +183,19 @@ fn report_orders_are_the_comparisons_orders_and_each_grid_is_solved_once() {
         let status = runs.sweep[variant.expect("a swept variant")].order_status_at(scene.table_n);
         assert_eq!(scheme.order_status, status, "{label}");
         assert!(table.contains(&format!(" {order:.2}")), "{label}: {table}");
+        // The report's sweep tables carry the same status as the comparison, as a mark.
+        let marked = &line.marked_orders()[i];
+        let expected_mark = status.map_or("", |s| s.mark());
+        assert_eq!(marked, &format!("{order:.2}{expected_mark}"), "{label}");
     }
+    // The last order of a sweep has no next one to check it against.
+    let summary = varembed_examples::report::summary_table(std::slice::from_ref(&report));
+    for line in &report.sweep {
+        let last = line.marked_orders().last().cloned().expect("orders");
+        assert!(last.ends_with('?'), "{}: {last}", line.label);
+        assert!(summary.contains(&last), "{summary}");
+    }
+    assert!(summary.contains("`*` is pre-asymptotic"), "{summary}");
 
     // The ledger: three lines over four sizes, the FDE+ and asymmetric tables (two schemes on
     // N and 2N each), and the direct scheme from the second-order start (N and 2N); nothing

@@ -65,6 +65,21 @@ impl OrderStatus {
     pub const TOLERANCE: f64 = 0.1;
     /// An error at most this times the solution's size is at round-off.
     pub const ROUND_OFF: f64 = 100.0 * f64::EPSILON;
+
+    /// The mark printed after an order of this status in the comparison table and the report:
+    /// none when asymptotic, `*` pre-asymptotic, `ε` at round-off, `?` unchecked.
+    ///
+    /// ```
+    /// assert_eq!(varembed::OrderStatus::PreAsymptotic.mark(), "*");
+    /// ```
+    pub fn mark(self) -> &'static str {
+        match self {
+            OrderStatus::Asymptotic => "",
+            OrderStatus::PreAsymptotic => "*",
+            OrderStatus::RoundOff => "ε",
+            OrderStatus::Unchecked => "?",
+        }
+    }
 }
 
 /// The [`OrderStatus`] of each order between successive entries of `(N, e, scale)`, `scale`

@@ -19,12 +19,7 @@ const COLUMNS: [&str; 7] = [
 
 /// The mark after an order in the table, as the legend explains it.
 fn mark(status: Option<OrderStatus>) -> &'static str {
-    match status {
-        Some(OrderStatus::Asymptotic) | None => "",
-        Some(OrderStatus::PreAsymptotic) => "*",
-        Some(OrderStatus::RoundOff) => "ε",
-        Some(OrderStatus::Unchecked) => "?",
-    }
+    status.map_or("", OrderStatus::mark)
 }
 
 fn cells<const D: usize>(name: &str, r: &SchemeReport<D>) -> [String; 7] {

@@ -78,6 +78,7 @@ pub fn general_embedding_sweep(
         label: label.to_string(),
         points,
         failures: Vec::new(),
+        statuses: Vec::new(),
     })
 }
 
