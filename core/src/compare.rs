@@ -353,16 +353,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Comparer<'_, '_, L, D> {
         options: &CompareOptions<'_, D>,
         levels: usize,
     ) -> Convergence<D> {
-        let (newton, blow_up_guard) = (self.options.newton, self.options.blow_up_guard);
         self.convergence("initial value problem", scheme, options, levels, |d| {
-            let ivp = Ivp {
-                lagrangian: d.lagrangian(),
-                grid: *d.grid(),
-                embedding: *d.embedding(),
-                newton,
-                blow_up_guard,
-            };
-            ivp.solve(scheme, q0, v0, options.start)
+            Ivp::new(d, self.options).solve(scheme, q0, v0, options.start)
         })
     }
 

@@ -255,13 +255,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
 impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// The parts of this problem an initial value problem needs.
     fn ivp(&self) -> Ivp<'_, L, D> {
-        Ivp {
-            lagrangian: self.lagrangian(),
-            grid: *self.grid(),
-            embedding: *self.embedding(),
-            newton: self.options.newton,
-            blow_up_guard: self.options.blow_up_guard,
-        }
+        Ivp::new(&self.discretisation, &self.options)
     }
 
     /// The discrete Legendre start: `Q_1` from `Q_0 = q(a)` and `π_0 = ∂L/∂v(q(a), q̇(a), a)`,

@@ -127,7 +127,8 @@ fn check_nodes<L: Lagrangian<D> + ?Sized, const D: usize>(
 }
 
 /// Solves the boundary value problem of `scheme` from `guess` (see [`solve_unchecked`]), with
-/// the input checked first and `∂²L/∂v²` checked on the solution's nodes.
+/// the input checked first, `∂²L/∂v²` checked on the solution's nodes, and the solution's
+/// warnings attached (the same for every path: banded, dense and fast).
 pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     options: &SolverOptions,
@@ -135,8 +136,10 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
     guess: &[Vector<D>],
 ) -> Result<Solution<D>> {
     check_input(disc, guess)?;
-    let solution = solve_unchecked(disc, options, scheme, guess)?;
+    let mut solution = solve_unchecked(disc, options, scheme, guess)?;
     check_nodes(disc, &solution.q, false)?;
+    let embedding = disc.embedding();
+    solution.warnings = warnings(embedding.alpha(), embedding.is_fractional());
     Ok(solution)
 }
 
@@ -150,7 +153,6 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
     scheme: Scheme,
     guess: &[Vector<D>],
 ) -> Result<Solution<D>> {
-    disc.check_curve(guess)?;
     let (grid, embedding) = (*disc.grid(), *disc.embedding());
     let n = grid.n();
     let mut q = guess.to_vec();
@@ -162,7 +164,7 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
         q,
         newton_iterations,
         explicit_steps: 0,
-        warnings: warnings(embedding.alpha(), embedding.is_fractional()),
+        warnings: Vec::new(),
     };
     if unknowns == 0 {
         return Ok(finish(q, 0));
@@ -178,12 +180,7 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
                 Err(Error::KrylovDidNotConverge { .. })
                     if options.fractional == FractionalSolver::Auto
                         && unknowns <= FractionalSolver::DENSE_FALLBACK_LIMIT => {}
-                result => {
-                    return result.map(|solution| Solution {
-                        warnings: warnings(embedding.alpha(), true),
-                        ..solution
-                    });
-                }
+                result => return result,
             }
         }
     }

@@ -9,12 +9,13 @@ use nalgebra::allocator::Allocator;
 use nalgebra::linalg::Schur;
 use nalgebra::{Complex, DefaultAllocator, DimDiff, DimSub, OMatrix, U1};
 
+use crate::discretisation::Discretisation;
 use crate::embedding::{Embedding, EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::grid::Grid;
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::linalg::solve_small;
-use crate::options::NewtonOptions;
+use crate::options::{NewtonOptions, SolverOptions};
 use crate::regularity::{
     check_constants, check_finite, check_initial_data, check_vv, hessian_in_domain, pivot_range,
 };
@@ -48,7 +49,18 @@ pub(crate) struct Ivp<'l, L: ?Sized, const D: usize> {
     pub(crate) blow_up_guard: bool,
 }
 
-impl<L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'_, L, D> {
+impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
+    /// The parts of `discretisation` and `options` an initial value problem needs.
+    pub(crate) fn new(discretisation: &Discretisation<'l, L, D>, options: &SolverOptions) -> Self {
+        Ivp {
+            lagrangian: discretisation.lagrangian(),
+            grid: *discretisation.grid(),
+            embedding: *discretisation.embedding(),
+            newton: options.newton,
+            blow_up_guard: options.blow_up_guard,
+        }
+    }
+
     /// The step kind that advances `scheme` under this embedding.
     ///
     /// The asymmetric Gauss-FDEσ is coherent: its direct scheme *is* the variational
