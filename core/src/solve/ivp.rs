@@ -332,14 +332,15 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
                     t_y: grid.t(n),
                 };
                 let step = Step::new(self.lagrangian, kind, &a, &b, &times);
+                // One finiteness test per step, on the closed form; Newton's nodes are finite
+                // by construction (it checks every iterate and errs otherwise).
                 let y = match closed_form(&step) {
                     Some(y) if y.iter().all(|c| c.is_finite()) => {
                         explicit_steps += 1;
                         y
                     }
                     _ => {
-                        let (y, its) =
-                            newton_step(self.lagrangian, &step, b * 2.0 - a, n, &self.newton)?;
+                        let (y, its) = self.implicit_step(kind, b, step.momentum, a, n)?;
                         if its == 0 {
                             explicit_steps += 1;
                         }
@@ -347,11 +348,6 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
                         y
                     }
                 };
-                if !y.iter().all(|c| c.is_finite()) {
-                    return Err(Error::NotFinite {
-                        at: Location::Step(n),
-                    });
-                }
                 q.push(y);
                 (a, b) = (b, y);
             }
@@ -359,6 +355,33 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
         }
         guard.finish()?;
         Ok((iterations, explicit_steps))
+    }
+
+    /// Newton's method on step `n` (from `a = Q_{n−2}`, `b = Q_{n−1}`, with its momentum
+    /// already computed), from the guess `2b − a`: the stepping loop's way out when there is no
+    /// finite closed form.
+    ///
+    /// Out of line, taking plain values and recomputing the node times: the loop's hot path
+    /// (the closed form) then keeps its step in registers instead of laying it out in memory
+    /// for this call, and, for an autonomous Lagrangian, computes no times at all.
+    #[inline(never)]
+    fn implicit_step(
+        &self,
+        kind: StepKind,
+        b: Vector<D>,
+        momentum: Vector<D>,
+        a: Vector<D>,
+        n: usize,
+    ) -> Result<(Vector<D>, usize)> {
+        let grid = self.grid;
+        let times = StepTimes::new(grid.h(), grid.t(n - 2), grid.t(n - 1), grid.t(n));
+        let step = Step {
+            kind,
+            b,
+            momentum,
+            times,
+        };
+        newton_step(self.lagrangian, &step, b * 2.0 - a, n, &self.newton)
     }
 
     /// The newest node of `step` (index `n`, for the errors) and the Newton iterations it
