@@ -76,10 +76,11 @@ pub enum EmbeddingKind {
     /// `L_d(q_k, q_{k+1}) = h Σ_i b_i L(Q_i, V_i, t_k + c_i h)` over the degree-`s` polynomial
     /// through `q_k` and `q_{k+1}` collocated at the Gauss nodes, as a one-step map of
     /// `(q_k, p_k)` (a symplectic partitioned Runge–Kutta method). Variational only: it is
-    /// built from the action, with a polynomial on each step and a quadrature rule, not from
-    /// an operator on the nodes that could be substituted into the Euler–Lagrange equation, so
-    /// it has no direct scheme in the paper's sense and asking for one is
-    /// [`Error::Unsupported`]. Only initial value problems (`docs/solvers.md`).
+    /// built from the action, with a polynomial on each step and a quadrature rule at its
+    /// stages, not from an operator on the nodes that could be substituted into the
+    /// Euler–Lagrange equation, so it has no direct scheme in the paper's sense and asking for
+    /// one is [`Error::Unsupported`] (`docs/schemes.md` says why, and how Gauss collocation of
+    /// the equation relates to it). Only initial value problems (`docs/solvers.md`).
     GaussLegendre {
         /// The number of stages `1 ≤ s ≤ 4`.
         stages: usize,
