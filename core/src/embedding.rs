@@ -148,7 +148,7 @@ impl Embedding {
     /// assert_eq!(gauss.to_string(), "Gauss–Legendre s = 2");
     /// assert_eq!(Embedding::gauss_legendre(5), Err(Error::StagesOutOfRange { stages: 5 }));
     ///
-    /// // One period of q = cos t: fourth order, 1.3e-7 with 40 steps.
+    /// // One period of q = cos t in 40 steps.
     /// let grid = Grid::new(0.0, 2.0 * std::f64::consts::PI, 40)?;
     /// let problem = Problem::new(&Oscillator, grid, gauss);
     /// let run = problem.solve_ivp(Scheme::Variational, 1.0, 0.0)?;

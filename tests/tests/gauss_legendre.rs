@@ -298,3 +298,44 @@ fn the_errors_name_what_is_not_offered() {
         Err(Error::NonFiniteInput { .. })
     ));
 }
+
+/// `L = eᵗ(½v² − ½x²)`, whose Euler–Lagrange equation is `q̈ + q̇ + q = 0`.
+#[lagrangian]
+fn damped(x: f64, v: f64, t: f64) -> f64 {
+    t.exp() * (0.5 * v * v - 0.5 * x * x)
+}
+
+/// A Lagrangian that depends on `t` (the stages at `t_k + c_i h`): order `2s` against the
+/// closed form `q = e^{−t/2}(cos ωt + sin(ωt)/(2ω))`, `ω = √3/2`, of `q(0) = 1`, `q̇(0) = 0`.
+#[test]
+fn a_time_dependent_lagrangian_is_of_order_two_s() {
+    let omega = 0.75f64.sqrt();
+    let exact = |t: f64| (-0.5 * t).exp() * ((omega * t).cos() + (omega * t).sin() / (2.0 * omega));
+    let sizes: [&[usize]; 4] = [
+        &[400, 800, 1600],
+        &[20, 40, 80, 160],
+        &[10, 20, 40],
+        &[5, 10, 20],
+    ];
+    for (s, sizes) in (1..=4).zip(sizes) {
+        let errors: Vec<(usize, f64)> = sizes
+            .iter()
+            .map(|&n| {
+                let grid = Grid::new(0.0, 5.0, n).unwrap();
+                let run = Problem::new(&Damped, grid, gauss(s))
+                    .solve_ivp(Scheme::Variational, 1.0, 0.0)
+                    .unwrap();
+                (
+                    n,
+                    varembed::max_error(&grid, &run.q, |t| Vector::<1>::new(exact(t))),
+                )
+            })
+            .collect();
+        let orders = varembed::observed_orders(&errors);
+        println!("damped s = {s}: {errors:?} {orders:?}");
+        assert!(
+            orders.iter().all(|o| (o - 2.0 * s as f64).abs() <= 0.3),
+            "s = {s}: {errors:?} {orders:?}"
+        );
+    }
+}
