@@ -30,7 +30,8 @@
 //! ```
 //!
 //! The run starts from `p_0 = ∂L/∂v(q(a), q̇(a), a)` and the stage guess `V_i = q̇(a)`; each
-//! later step starts Newton from the previous step's stage velocities.
+//! later step starts Newton from the previous step's collocation polynomial extrapolated to its
+//! stages.
 
 use crate::embedding::{Embedding, Scheme};
 use crate::error::{Error, Location, Result};
@@ -108,6 +109,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GaussIvp<'_, L, D> {
             if n % DEGENERACY_CHECK_INTERVAL == 0 || n == n_steps {
                 check_vv(&stages.hessian[0].vv, reference, Location::Step(n))?;
             }
+            stages.extrapolate_guess();
         }
         guard.finish()?;
         Ok(Solution {
@@ -137,6 +139,11 @@ struct StageSystem<const D: usize> {
     /// The `s·d × s·d` Jacobian row by row, and the residual (then the Newton update).
     jacobian: Vec<f64>,
     rhs: Vec<f64>,
+    /// `ℓ_j(1 + c_i)` row by row: the Lagrange basis of the nodes at the next step's nodes,
+    /// which carries the stage velocities of one step to the guess of the next.
+    extrapolation: Vec<f64>,
+    /// The solved stage velocities while the guess is computed from them.
+    solved: Vec<Vector<D>>,
 }
 
 impl<const D: usize> StageSystem<D> {
@@ -148,7 +155,18 @@ impl<const D: usize> StageSystem<D> {
             xv: Matrix::<D>::zeros(),
             vv: Matrix::<D>::zeros(),
         };
+        let c = &tableau.c;
+        let mut extrapolation = vec![1.0; s * s];
+        for i in 0..s {
+            for j in 0..s {
+                for m in (0..s).filter(|&m| m != j) {
+                    extrapolation[i * s + j] *= (1.0 + c[i] - c[m]) / (c[j] - c[m]);
+                }
+            }
+        }
         StageSystem {
+            extrapolation,
+            solved: vec![zero; s],
             tableau,
             h,
             v: vec![v0; s],
@@ -283,6 +301,20 @@ impl<const D: usize> StageSystem<D> {
             }
         }
         Err(diverged(options.max_iterations, residual))
+    }
+
+    /// Replaces the solved stage velocities by the guess for the next step: the velocity of
+    /// this step's collocation polynomial (degree `s − 1` in `V`, through `(c_j, V_j)`)
+    /// extrapolated to the next step's stages, `V_i ← Σ_j ℓ_j(1 + c_i) V_j`, an `O(hˢ)` guess
+    /// (for s = 1, the previous velocity).
+    fn extrapolate_guess(&mut self) {
+        let s = self.tableau.stages();
+        self.solved.copy_from_slice(&self.v);
+        for (i, v) in self.v.iter_mut().enumerate() {
+            *v = (0..s).fold(Vector::<D>::zeros(), |sum, j| {
+                sum + self.solved[j] * self.extrapolation[i * s + j]
+            });
+        }
     }
 
     /// `(q_{k+1}, p_{k+1}) = (q_k + h Σ b_i V_i, p_k + h Σ b_i Ṗ_i)` from the solved stages.
