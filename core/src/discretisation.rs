@@ -99,8 +99,16 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
         self.embedding.scheme_rows(scheme, self.grid.n())
     }
 
-    /// `N + 1` finite nodes, or the typed error.
+    /// `N + 1` finite nodes, or the typed error; [`Error::Unsupported`] for a one-step
+    /// embedding (Gauss–Legendre), which has no operator on the nodes to evaluate a curve with.
     pub(crate) fn check_curve(&self, q: &[Vector<D>]) -> Result<()> {
+        if self.embedding.is_one_step() {
+            return Err(Error::Unsupported {
+                operation: "an evaluation on a whole curve (velocity, residual, action, energy, \
+                            boundary value problem)",
+                embedding: self.embedding.to_string(),
+            });
+        }
         check_len("discrete curve Q", self.grid.n() + 1, q.len())?;
         match q.iter().position(|x| !x.iter().all(|c| c.is_finite())) {
             Some(k) => Err(Error::NonFiniteInput {
@@ -252,6 +260,10 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
                 let adjoint_p = self.apply_adjoint(&pw.p).expect("p has one value per node");
                 rows.map(|k| pw.f[k] - adjoint_p[k - first] * sigma)
                     .collect()
+            }
+            // `check_curve` refuses a one-step embedding before any pointwise value exists.
+            EmbeddingKind::GaussLegendre { .. } => {
+                unreachable!("Gauss–Legendre has no values on the nodes")
             }
         }
     }

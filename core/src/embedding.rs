@@ -71,6 +71,20 @@ pub enum EmbeddingKind {
         /// The order `0 < α ≤ 1`.
         alpha: f64,
     },
+    /// The variational Gauss–Legendre integrator of `s` stages, order `2s` (Marsden–West
+    /// §2.6; Hairer–Lubich–Wanner VI.6): the discrete Lagrangian
+    /// `L_d(q_k, q_{k+1}) = h Σ_i b_i L(Q_i, V_i, t_k + c_i h)` over the degree-`s` polynomial
+    /// through `q_k` and `q_{k+1}` collocated at the Gauss nodes, as a one-step map of
+    /// `(q_k, p_k)` (a symplectic partitioned Runge–Kutta method). Variational only: it is
+    /// built from the action, with a polynomial on each step and a quadrature rule at its
+    /// stages, not from an operator on the nodes that could be substituted into the
+    /// Euler–Lagrange equation, so it has no direct scheme in the paper's sense and asking for
+    /// one is [`Error::Unsupported`] (`docs/schemes.md` says why, and how Gauss collocation of
+    /// the equation relates to it). Only initial value problems (`docs/solvers.md`).
+    GaussLegendre {
+        /// The number of stages `1 ≤ s ≤ 4`.
+        stages: usize,
+    },
 }
 
 /// A discrete embedding: a family and a side σ.
@@ -116,6 +130,45 @@ impl Embedding {
         })
     }
 
+    /// The variational Gauss–Legendre integrator of `stages` stages (order `2·stages`);
+    /// errors unless `1 ≤ stages ≤ 4`. It has no side: [`side`](Self::side) reports
+    /// [`Side::Backward`], which nothing reads.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Error, Grid, Problem, Scheme, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn oscillator(x: f64, v: f64) -> f64 {
+    ///     0.5 * v * v - 0.5 * x * x
+    /// }
+    ///
+    /// let gauss = Embedding::gauss_legendre(2)?;
+    /// assert_eq!(gauss.to_string(), "Gauss–Legendre s = 2");
+    /// assert_eq!(Embedding::gauss_legendre(5), Err(Error::StagesOutOfRange { stages: 5 }));
+    ///
+    /// // One period of q = cos t in 40 steps.
+    /// let grid = Grid::new(0.0, 2.0 * std::f64::consts::PI, 40)?;
+    /// let problem = Problem::new(&Oscillator, grid, gauss);
+    /// let run = problem.solve_ivp(Scheme::Variational, 1.0, 0.0)?;
+    /// assert!((run.last()[0] - 1.0).abs() < 1e-6);
+    /// assert!(matches!(
+    ///     problem.solve_ivp(Scheme::Direct, 1.0, 0.0),
+    ///     Err(Error::Unsupported { .. })
+    /// ));
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn gauss_legendre(stages: usize) -> Result<Self> {
+        if !(1..=4).contains(&stages) {
+            return Err(Error::StagesOutOfRange { stages });
+        }
+        Ok(Embedding {
+            kind: EmbeddingKind::GaussLegendre { stages },
+            side: Side::Backward,
+        })
+    }
+
     /// The family.
     pub fn kind(&self) -> EmbeddingKind {
         self.kind
@@ -138,7 +191,20 @@ impl Embedding {
     }
     /// Whether the paper proves the embedding coherent (direct = variational).
     pub fn is_coherent(&self) -> bool {
-        !matches!(self.kind, EmbeddingKind::FiniteDifference)
+        match self.kind {
+            EmbeddingKind::FiniteDifference => false,
+            // No direct scheme to be coherent with.
+            EmbeddingKind::GaussLegendre { .. } => false,
+            _ => true,
+        }
+    }
+
+    /// Whether the embedding is a one-step integrator of `(q, p)` with internal stages rather
+    /// than an operator on the nodes: the Gauss–Legendre integrators. They solve initial value
+    /// problems only; the evaluations on a whole curve (velocity, residuals, action, energy)
+    /// and boundary value problems are [`Error::Unsupported`].
+    pub(crate) fn is_one_step(&self) -> bool {
+        matches!(self.kind, EmbeddingKind::GaussLegendre { .. })
     }
 
     /// The operator `Δ_σ` (or `Δ^α_σ`): the velocity is `V = −σ Δ_σ Q` on the quadrature rows.
@@ -206,6 +272,7 @@ impl fmt::Display for Embedding {
             EmbeddingKind::FiniteDifference => write!(f, "Gauss-FDE{s}"),
             EmbeddingKind::Asymmetric => write!(f, "asymmetric Gauss-FDE{s}"),
             EmbeddingKind::GrunwaldLetnikov { alpha } => write!(f, "Gauss-GLE{s} (α = {alpha})"),
+            EmbeddingKind::GaussLegendre { stages } => write!(f, "Gauss–Legendre s = {stages}"),
         }
     }
 }

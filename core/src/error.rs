@@ -46,6 +46,12 @@ pub enum Error {
         /// The order given.
         alpha: f64,
     },
+    /// The number of stages of a Gauss–Legendre integrator must lie in `1..=4`.
+    #[error("a Gauss–Legendre integrator of {stages} stages is not offered: stages must be 1 to 4")]
+    StagesOutOfRange {
+        /// The number of stages given.
+        stages: usize,
+    },
     /// An input value is NaN or infinite.
     #[error("non-finite input: {what}")]
     NonFiniteInput {

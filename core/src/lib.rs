@@ -50,14 +50,15 @@
 #![deny(missing_docs)]
 
 // Imports go one way. From the bottom up, each module imports only modules before it:
-// lagrangian, error, side, weights, toeplitz, grid, linalg, regularity, options, operator, fft_operator,
-// embedding, step, ode, discretisation, solve (krylov, newton, solution, guard, fractional, bvp, ivp),
+// lagrangian, error, side, weights, toeplitz, gauss_legendre, grid, linalg, regularity, options, operator, fft_operator,
+// embedding, step, ode, discretisation, solve (krylov, newton, solution, guard, fractional, bvp, gauss, ivp),
 // compare, problem.
 mod compare;
 mod discretisation;
 mod embedding;
 mod error;
 mod fft_operator;
+mod gauss_legendre;
 mod grid;
 mod lagrangian;
 mod linalg;

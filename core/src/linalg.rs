@@ -204,6 +204,52 @@ impl BandedMatrix {
     }
 }
 
+/// Solves the `n × n` system `A x = b` in place by Gaussian elimination with partial pivoting:
+/// `a` holds `A` row by row (and is overwritten by its factors), `b` becomes `x`. Small systems
+/// solved many times (the stage systems of the Gauss–Legendre steps) use it with buffers kept
+/// across solves, where nalgebra's dynamic matrices would allocate every time. `false` when `A`
+/// is singular (a pivot at most `1e-14` times the largest entry) or not finite.
+pub fn solve_dense_in_place(a: &mut [f64], b: &mut [f64]) -> bool {
+    let n = b.len();
+    debug_assert_eq!(a.len(), n * n);
+    let norm = a.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    if !norm.is_finite() || norm == 0.0 {
+        return false;
+    }
+    for col in 0..n {
+        let (piv, max) = (col..n)
+            .map(|r| (r, a[r * n + col].abs()))
+            .fold((col, -1.0), |best, c| if c.1 > best.1 { c } else { best });
+        if max <= SINGULAR_RATIO * norm {
+            return false;
+        }
+        if piv != col {
+            for c in 0..n {
+                a.swap(piv * n + c, col * n + c);
+            }
+            b.swap(piv, col);
+        }
+        let pivot = a[col * n + col];
+        for r in col + 1..n {
+            let l = a[r * n + col] / pivot;
+            if l != 0.0 {
+                for c in col + 1..n {
+                    a[r * n + c] -= l * a[col * n + c];
+                }
+                b[r] -= l * b[col];
+            }
+        }
+    }
+    for col in (0..n).rev() {
+        let mut s = b[col];
+        for c in col + 1..n {
+            s -= a[col * n + c] * b[c];
+        }
+        b[col] = s / a[col * n + col];
+    }
+    true
+}
+
 /// Solves a dense system by LU with partial pivoting (nalgebra); `None` when a pivot is
 /// numerically zero relative to the largest entry.
 pub fn solve_dense(
@@ -239,6 +285,32 @@ mod tests {
         let s = Matrix::<2>::new(1.0, 2.0, 2.0, 4.0);
         assert!(solve_small(&s, &Vector::<2>::new(1.0, 1.0)).is_none());
         assert!(solve_small(&Matrix::<1>::zeros(), &Vector::<1>::new(1.0)).is_none());
+    }
+
+    /// The in-place solve against nalgebra's LU on a matrix that needs row exchanges, and a
+    /// singular matrix flagged.
+    #[test]
+    fn in_place_solve_matches_nalgebra_and_flags_singular() {
+        let n = 7;
+        let entry = |i: usize, j: usize| {
+            if i == j {
+                1e-3
+            } else {
+                ((i * 5 + j * 3) % 7) as f64 - 2.9
+            }
+        };
+        let dense = nalgebra::DMatrix::<f64>::from_fn(n, n, entry);
+        let rhs: Vec<f64> = (0..n).map(|i| (i as f64).sin()).collect();
+        let expected = solve_dense(dense, &nalgebra::DVector::from_vec(rhs.clone())).unwrap();
+        let mut a: Vec<f64> = (0..n * n).map(|k| entry(k / n, k % n)).collect();
+        let mut x = rhs;
+        assert!(solve_dense_in_place(&mut a, &mut x));
+        for i in 0..n {
+            assert!((x[i] - expected[i]).abs() < 1e-12 * expected.amax(), "{i}");
+        }
+        let mut singular = vec![1.0, 2.0, 2.0, 4.0];
+        assert!(!solve_dense_in_place(&mut singular, &mut [1.0, 1.0]));
+        assert!(!solve_dense_in_place(&mut [f64::NAN], &mut [1.0]));
     }
 
     #[test]

@@ -286,7 +286,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             .second_order_start(q0.into_vector(), v0.into_vector())
     }
 
-    /// Solves the initial value problem with the chosen [`Start`] for `Q_1`.
+    /// Solves the initial value problem with the chosen [`Start`] for `Q_1` (ignored by the
+    /// one-step Gauss–Legendre integrators).
     pub fn solve_ivp_with(
         &self,
         scheme: Scheme,
@@ -304,7 +305,13 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// A step whose equation is affine in the newest node (as declared by
     /// [`Lagrangian::hessian_dependence`]) is taken in closed form, with no Newton iteration.
     ///
-    /// Errors: [`Error::Unsupported`] for Gauss-GLEσ; at step `n`,
+    /// Under [`Embedding::gauss_legendre`] the run is the one-step Gauss–Legendre map of
+    /// `(q_k, p_k)` from `p_0 = ∂L/∂v(q(a), q̇(a), a)` (no start; the momenta are in
+    /// [`Solution::momenta`]), each step a Newton solve of its stage velocities; it has no
+    /// eigenvalue check (A-stable on the oscillator, see `docs/solvers.md`), the rest applies.
+    ///
+    /// Errors: [`Error::Unsupported`] for Gauss-GLEσ and for the direct scheme of
+    /// Gauss–Legendre; at step `n`,
     /// [`Error::SingularJacobian`], [`Error::NewtonDidNotConverge`] (with the last residual) or
     /// [`Error::Unstable`] (the linearised step map, checked at step 2 and every 1024 steps, has
     /// a real eigenvalue below −1 or one of modulus ≥ 2: the step is too large for the scheme)

@@ -164,6 +164,7 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
         q,
         newton_iterations,
         explicit_steps: 0,
+        momenta: Vec::new(),
         warnings: Vec::new(),
     };
     if unknowns == 0 {

@@ -16,7 +16,9 @@
 //! Every `s`-th step (`s` = the largest power of two ≤ `N/1024`, clamped to `1..=64`, so that
 //! short runs still get samples and long ones pay for one energy evaluation in 64 steps) the
 //! guard evaluates `E_j` and `K_j = |v·∂L/∂v|` at the quadrature node of the step just taken
-//! (`(Q_{n−1}, (Q_{n−1} − Q_{n−2})/h)` for σ = −, `(Q_{n−2}, …)` for σ = +). The gain of a
+//! (`(Q_{n−1}, (Q_{n−1} − Q_{n−2})/h)` for σ = −, `(Q_{n−2}, …)` for σ = +; the Gauss–Legendre
+//! integrators, which have no velocity at the nodes, at the first stage `(Q_1, V_1)` of the
+//! step, a point of the step's collocation polynomial). The gain of a
 //! sample is `g_j = (E_j − E_0) · sign(v·∂L/∂v)`: the growth of energy in the direction of the
 //! kinetic term (positive kinetic energy: an increase; a Lagrangian multiplied by −1 gives the
 //! same dynamics and the same gains). Samples are grouped in windows of
@@ -28,7 +30,8 @@
 //! ```
 //!
 //! with [`GROWTH`]` = 16`, [`SCALE_FRACTION`]` = 0.1`, and the round-off floor
-//! `1024 ε · max_j (|E_j| + ‖Q‖∞ ‖∂L/∂v‖∞ / h)` (the cancellation in `(Q_{n−1} − Q_{n−2})/h`).
+//! `1024 ε · max_j (|E_j| + ‖Q‖∞ ‖∂L/∂v‖∞ / h)` (the cancellation in `(Q_{n−1} − Q_{n−2})/h`;
+//! a stage velocity has none, and its floor is `1024 ε · max_j |E_j|`).
 //! The second term keeps an early window that is short against the motion's period (small
 //! gain early, larger later at the same relative accuracy) from tripping the first; it costs
 //! nothing against a real blow-up, whose gain is of the order of the kinetic term itself.
@@ -139,9 +142,30 @@ impl BlowUpGuard {
             Side::Backward => (&b, t_b),
             Side::Forward => (&a, t_a),
         };
-        let (_, p) = lagrangian.gradient(x, &v, t);
+        self.sample_state(lagrangian, x, &v, t, x.amax() * inv_h, n)
+    }
+
+    /// Samples the energy at the state `(x, v, t)` at step `n`: what a one-step integrator
+    /// (Gauss–Legendre, whose stages carry their own velocities) calls directly.
+    /// `cancellation` is the factor by which the computation of `v` multiplies the round-off of
+    /// the momentum in the floor (`‖Q‖∞/h` for a difference quotient, 0 for a stage velocity).
+    #[cold]
+    #[inline(never)]
+    pub(crate) fn sample_state<L: Lagrangian<D> + ?Sized, const D: usize>(
+        &mut self,
+        lagrangian: &L,
+        x: &Vector<D>,
+        v: &Vector<D>,
+        t: f64,
+        cancellation: f64,
+        n: usize,
+    ) -> Result<()> {
+        if !self.enabled {
+            return Ok(());
+        }
+        let (_, p) = lagrangian.gradient(x, v, t);
         let vp = v.dot(&p);
-        let e = vp - lagrangian.value(x, &v, t);
+        let e = vp - lagrangian.value(x, v, t);
         // A sample outside the Lagrangian's domain gives no verdict; the step itself reports it.
         if !e.is_finite() {
             return Ok(());
@@ -153,7 +177,7 @@ impl BlowUpGuard {
         }
         self.samples += 1;
         self.kinetic = self.kinetic.max(vp.abs());
-        let scale = e.abs() + x.amax() * p.amax() * inv_h;
+        let scale = e.abs() + cancellation * p.amax();
         self.round_off = self.round_off.max(1024.0 * f64::EPSILON * scale);
         let gain = (e - self.e0) * vp.signum();
         let (from, _, largest, count) = self.window;

@@ -4,6 +4,7 @@
 
 pub mod bvp;
 pub mod fractional;
+pub(crate) mod gauss;
 pub(crate) mod guard;
 pub mod ivp;
 pub mod krylov;

@@ -50,6 +50,9 @@ pub struct Solution<const D: usize> {
     pub grid: Grid,
     /// The nodes `Q_0..=Q_N`.
     pub q: Vec<Vector<D>>,
+    /// The discrete momenta `p_0..=p_N` at the nodes, for the schemes that carry them as their
+    /// state (the Gauss–Legendre integrators, one-step maps of `(q_k, p_k)`); empty otherwise.
+    pub momenta: Vec<Vector<D>>,
     /// Newton iterations, summed over the steps (IVP) or of the global system (BVP).
     pub newton_iterations: usize,
     /// Steps taken by the closed-form update, with no Newton iteration (IVP).

@@ -144,6 +144,7 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
                 q,
                 newton_iterations: iteration,
                 explicit_steps: 0,
+                momenta: Vec::new(),
                 warnings: Vec::new(),
             });
         }
