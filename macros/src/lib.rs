@@ -8,14 +8,17 @@
 //! share; `simplify.rs` is the smart constructors every node is built through; `fallback.rs` is
 //! what is emitted on error.
 
+mod assemble;
 mod cse;
 mod diff;
 mod emit;
 mod expand;
 mod fallback;
+mod helpers;
 mod ir;
 mod parse;
 mod render;
+mod scatter;
 mod simplify;
 mod text;
 
@@ -80,4 +83,11 @@ pub fn lagrangian(args: TokenStream, item: TokenStream) -> TokenStream {
     expand::expand(args.into(), item.into())
         .unwrap_or_else(expand::Rejected::into_tokens)
         .into()
+}
+
+/// The relay of `#[lagrangian(helper)]` fns (see `helpers.rs`): not to be called by hand.
+#[doc(hidden)]
+#[proc_macro]
+pub fn __lagrangian_helpers(input: TokenStream) -> TokenStream {
+    expand::expand_gathered(input.into()).into()
 }
