@@ -12,7 +12,7 @@
 
 use std::collections::BTreeSet;
 
-use proc_macro2::{Delimiter, Group, Ident, Span, TokenStream, TokenTree};
+use proc_macro2::{Delimiter, Group, Ident, TokenStream, TokenTree};
 use quote::{format_ident, quote, quote_spanned};
 use syn::{FnArg, ItemFn, Pat, ReturnType};
 
@@ -96,21 +96,18 @@ fn calls(tokens: TokenStream, out: &mut BTreeSet<Ident>) {
     const KEYWORDS: [&str; 10] = ["if", "while", "match", "in", "return", "for", "let", "as", "else", "mut"];
     let tokens: Vec<TokenTree> = tokens.into_iter().collect();
     for (k, tt) in tokens.iter().enumerate() {
-        match tt {
-            TokenTree::Group(g) => {
-                if let (Some(TokenTree::Ident(name)), Delimiter::Parenthesis) =
-                    (k.checked_sub(1).map(|j| &tokens[j]), g.delimiter())
-                {
-                    let before = k.checked_sub(2).map(|j| &tokens[j]);
-                    let qualified = matches!(before, Some(TokenTree::Punct(p)) if p.as_char() == '.' || p.as_char() == ':');
-                    let s = name.to_string();
-                    if !qualified && !KEYWORDS.contains(&s.as_str()) && s != "f64" {
-                        out.insert(name.clone());
-                    }
+        if let TokenTree::Group(g) = tt {
+            if let (Some(TokenTree::Ident(name)), Delimiter::Parenthesis) =
+                (k.checked_sub(1).map(|j| &tokens[j]), g.delimiter())
+            {
+                let before = k.checked_sub(2).map(|j| &tokens[j]);
+                let qualified = matches!(before, Some(TokenTree::Punct(p)) if p.as_char() == '.' || p.as_char() == ':');
+                let s = name.to_string();
+                if !qualified && !KEYWORDS.contains(&s.as_str()) && s != "f64" {
+                    out.insert(name.clone());
                 }
-                calls(g.stream(), out);
             }
-            _ => {}
+            calls(g.stream(), out);
         }
     }
 }
@@ -166,6 +163,5 @@ pub fn gather(input: TokenStream) -> Result<(TokenStream, TokenStream, Vec<ItemF
         let done = Group::new(Delimiter::Bracket, done.stream());
         return Err(quote_spanned! {next.span()=> #relay! { #done #args #item }});
     }
-    let _ = Span::call_site();
     Ok((args.stream(), item, helpers))
 }

@@ -182,7 +182,9 @@ pub struct Names<'a> {
 }
 
 impl<'a> Names<'a> {
-    pub fn new(model: &'a Model) -> Self {
+    /// The names of `model`'s loop variables: each as written, unless a loop nest of `a` holds
+    /// two of that name (or it is a name the methods use), then with its number.
+    pub fn new(model: &'a Model, a: &Assembly) -> Self {
         let g = &model.graph;
         let dim = match &model.dim_name {
             Some(p) => quote!(#p),
@@ -196,7 +198,9 @@ impl<'a> Names<'a> {
             .iter()
             .enumerate()
             .map(|(k, r)| {
-                let clash = g.ranges.iter().filter(|o| o.name == r.name).count() > 1;
+                let clash = a.terms.iter().any(|t| {
+                    t.loops.iter().filter(|i| g.ranges[i.0 as usize].name == r.name).count() > 1
+                });
                 let reserved = ["x", "v", "t", "fx", "fv", "xx", "xv", "vv", "value"].contains(&r.name.as_str())
                     || r.name.starts_with('e');
                 if clash || reserved {
@@ -290,7 +294,7 @@ impl<'a> Names<'a> {
 /// The `Lagrangian<N>` impl of a model with loops.
 pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenStream {
     let g = &model.graph;
-    let names = Names::new(model);
+    let names = Names::new(model, a);
     let free = free_vars(g);
     let dim = names.dim.clone();
     let vector = {

@@ -414,7 +414,7 @@ impl Parser {
         if let Some(label) = &f.label {
             self.error(label, "a loop label is not supported");
         }
-        let Some(var_name) = self.loop_pattern(&f.pat, &f.expr) else {
+        let Some(var_name) = self.loop_pattern(&f.pat) else {
             return;
         };
         let Some(var) = self.range(&f.expr, &var_name, env) else {
@@ -447,7 +447,7 @@ impl Parser {
         if closure.inputs.len() != 1 {
             return self.error(&closure.inputs, "the closure of a sum takes one index, e.g. `|i| x[i] * x[i]`");
         }
-        let Some(name) = self.loop_pattern(&closure.inputs[0], range) else {
+        let Some(name) = self.loop_pattern(&closure.inputs[0]) else {
             return self.graph.num(0.0);
         };
         let Some(var) = self.range(range, &name, env) else {
@@ -460,7 +460,7 @@ impl Parser {
             adds: Vec::new(),
             read: HashSet::new(),
         });
-        let body = self.expr(&closure.body, &mut inner);
+        let body = self.expr(&closure.body, &inner);
         let frame = self.frames.pop().expect("pushed above");
         if let Some((name, _)) = frame.adds.first() {
             return self.error(&closure.body, format!("a closure cannot update `{name}`: write a `for` loop"));
@@ -469,12 +469,12 @@ impl Parser {
     }
 
     /// The loop variable's name: a plain identifier.
-    fn loop_pattern(&mut self, pat: &Pat, iter: &Expr) -> Option<String> {
+    fn loop_pattern(&mut self, pat: &Pat) -> Option<String> {
         match pat {
             Pat::Ident(pi) if pi.by_ref.is_none() && pi.subpat.is_none() && pi.mutability.is_none() => {
                 Some(pi.ident.to_string())
             }
-            Pat::Type(pt) => self.loop_pattern(&pt.pat, iter),
+            Pat::Type(pt) => self.loop_pattern(&pt.pat),
             Pat::Wild(w) => {
                 self.error(w, "name the loop index, e.g. `for i in 0..N`");
                 None
