@@ -22,7 +22,7 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
 /// The errors in the body of a helper fn with parameters `params`.
 pub fn check_helper_body(f: &ItemFn, params: &[proc_macro2::Ident]) -> Vec<syn::Error> {
     let mut parser = body::Parser::new(Vec::new(), Vec::new());
-    parser.helper_body(&f.block, params);
+    parser.helper_body(&f.sig.ident, &f.block, params);
     parser.finish().1
 }
 

@@ -71,6 +71,8 @@ pub struct Parser {
     pub(super) dim: Option<usize>,
     /// Checking a helper on its own: calls of other helpers are not resolved.
     pub(super) checking_helper: bool,
+    /// A helper was found to call itself (through others) while inlining.
+    pub(super) recursion: bool,
 }
 
 impl Parser {
@@ -87,12 +89,14 @@ impl Parser {
             inlining: Vec::new(),
             dim: None,
             checking_helper: false,
+            recursion: false,
         }
     }
 
     /// Checks the body of a helper fn with parameters `params`.
-    pub fn helper_body(&mut self, block: &syn::Block, params: &[Ident]) {
+    pub fn helper_body(&mut self, name: &Ident, block: &syn::Block, params: &[Ident]) {
         self.checking_helper = true;
+        self.inlining.push(name.to_string());
         let mut env = Env::new();
         for (k, p) in params.iter().enumerate() {
             env.insert(p.to_string(), Binding::Scalar(self.graph.var(Var::Const(k))));
@@ -186,6 +190,9 @@ impl Parser {
                 self.compound(&b.left, b.op, &b.right, env)
             }
             Stmt::Expr(Expr::Assign(a), Some(_)) => self.assign(a, env),
+            Stmt::Expr(e @ (Expr::While(_) | Expr::Loop(_)), _) => {
+                self.expr(e, env);
+            }
             Stmt::Expr(e, _) => {
                 self.error(
                     e,
@@ -354,6 +361,10 @@ impl Parser {
 
     /// The accumulator named by `left`: its name, value and depth.
     fn accumulator(&mut self, left: &Expr, env: &Env) -> Option<(String, Id, usize)> {
+        if let Expr::Index(ix) = strip(left) {
+            self.error(ix, "`x` and `v` cannot be changed: they are the point the Lagrangian is evaluated at");
+            return None;
+        }
         let name = match left {
             Expr::Path(p) => p.path.get_ident().map(Ident::to_string),
             _ => None,

@@ -7,6 +7,10 @@ use super::body::{Binding, Env, Parser, strip};
 use super::signature::Length;
 use crate::ir::{Cmp, Func, Id, Var, constant_value};
 
+/// The `f64` functions a body may call, for the error on any other.
+const METHODS: &str = "the f64 methods are sin cos tan asin acos atan sinh cosh tanh exp ln \
+     log10 sqrt cbrt recip abs signum powi powf hypot max min";
+
 /// The functions of one argument besides the receiver.
 const BINARY: [&str; 5] = ["powi", "powf", "hypot", "max", "min"];
 
@@ -30,6 +34,7 @@ impl Parser {
                     BinOp::Add(_) => self.graph.add(l, r),
                     BinOp::Sub(_) => self.graph.sub(l, r),
                     BinOp::Mul(_) => self.graph.mul(l, r),
+                    BinOp::Div(_) if self.holds_sum(r) => self.sum_inside(&b.right, "a divisor"),
                     BinOp::Div(_) => self.graph.div(l, r),
                     op => self.error(op, "this operator is not supported on numbers: use `+ - * /`"),
                 }
@@ -235,7 +240,7 @@ impl Parser {
         }
         let method = &fp.path.segments[1].ident;
         if Func::from_name(&segs[1]).is_none() && !BINARY.contains(&segs[1].as_str()) {
-            return self.error(method, format!("`f64::{method}` is not supported"));
+            return self.error(method, format!("`f64::{method}` is not supported; {METHODS}"));
         }
         let recv = self.expr(&call.args[0], env);
         let args: Vec<&Expr> = call.args.iter().skip(1).collect();
@@ -245,6 +250,10 @@ impl Parser {
     /// A call of a `#[lagrangian(helper)]` fn: its body, with its parameters bound to the
     /// arguments. Errors inside the helper are reported at its definition, not here.
     fn helper_call(&mut self, name: &str, call: &syn::ExprCall, env: &Env) -> Id {
+        if self.inlining.iter().any(|h| h == name) {
+            self.recursion = true;
+            return self.error(&call.func, format!("`{name}` calls itself: a helper cannot be recursive"));
+        }
         let Some(helper) = self.helpers.get(name).cloned() else {
             if self.checking_helper {
                 return self.graph.num(0.0);
@@ -254,9 +263,6 @@ impl Parser {
                 format!("`{name}` is not a helper: mark it `#[lagrangian(helper)]`, or use an `f64` method"),
             );
         };
-        if self.inlining.iter().any(|h| h == name) {
-            return self.error(&call.func, format!("`{name}` calls itself: a helper cannot be recursive"));
-        }
         let params: Vec<String> = helper
             .sig
             .inputs
@@ -281,7 +287,12 @@ impl Parser {
         self.inlining.push(name.to_string());
         let value = self.block(&helper.block, &mut inner);
         self.inlining.pop();
+        // The helper's own errors are reported at its definition; a recursion through other
+        // helpers is only seen here, and is reported at the outermost call.
         self.errors.truncate(errors);
+        if self.inlining.is_empty() && std::mem::take(&mut self.recursion) {
+            return self.error(&call.func, format!("`{name}` is recursive (it calls itself, directly or through other helpers): a helper cannot be"));
+        }
         value
     }
 
@@ -322,6 +333,9 @@ impl Parser {
                 } else {
                     (self.expr(&b.left, env), self.expr(&b.right, env))
                 };
+                if self.holds_sum(l) || self.holds_sum(r) {
+                    return self.sum_inside(cond, "a condition");
+                }
                 self.graph.select(op, l, r, then, other)
             }
             Expr::Unary(u) if matches!(u.op, UnOp::Not(_)) => self.condition(&u.expr, env, other, then),
@@ -333,12 +347,31 @@ impl Parser {
         self.error(cond, "a condition is a comparison of numbers (`<`, `<=`, `>`, `>=`, `==`, `!=`), possibly combined with `&&`, `||`, `!`")
     }
 
+    /// Whether `id` holds a sum: a sum may only enter `L` linearly (`assemble.rs`).
+    fn holds_sum(&self, id: Id) -> bool {
+        self.graph
+            .reachable(&[id])
+            .into_iter()
+            .any(|n| matches!(self.graph.node(n), crate::ir::Node::Sum(..)))
+    }
+
+    /// The error for a sum used where `L` would stop being a sum of terms.
+    fn sum_inside(&mut self, at: &dyn quote::ToTokens, what: &str) -> Id {
+        self.error(
+            at,
+            format!("a sum cannot be inside {what}: the Lagrangian must be a sum of terms, with functions applied inside each sum"),
+        )
+    }
+
     /// A method `recv.name(args)` or the function `f64::name(recv, args)`.
     fn function(&mut self, name: &Ident, recv: Id, args: &[&Expr], all_args: &dyn quote::ToTokens, env: &Env) -> Id {
         let s = name.to_string();
+        if self.holds_sum(recv) {
+            return self.sum_inside(name, &format!("`{s}`"));
+        }
         let arity = usize::from(BINARY.contains(&s.as_str()));
         if Func::from_name(&s).is_none() && arity == 0 {
-            return self.error(name, format!("the method `{s}` is not supported"));
+            return self.error(name, format!("the method `{s}` is not supported; {METHODS}"));
         }
         if args.len() != arity {
             let msg = format!("`{s}` takes {arity} argument(s) besides the receiver");
@@ -355,6 +388,9 @@ impl Parser {
             },
             "powf" | "hypot" | "max" | "min" => {
                 let b = self.expr(args[0], env);
+                if self.holds_sum(b) {
+                    return self.sum_inside(args[0], &format!("`{s}`"));
+                }
                 match s.as_str() {
                     "powf" => self.graph.powf(recv, b),
                     "hypot" => self.graph.hypot(recv, b),
