@@ -377,13 +377,29 @@ pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenSt
         quote!(#gd #hd #code (#fx, #fv, #hessian { #xx, #xv, #vv })),
         &vector,
     );
+    // A literal component `x[k]` of a named dimension `N` is checked when `N` is known.
+    let largest = (0..g.len())
+        .filter_map(|id| match g.node(id) {
+            Node::Var(Var::X(k) | Var::V(k)) => Some(k),
+            _ => None,
+        })
+        .max();
+    let bounds = match (&model.dim_name, largest) {
+        (Some(n), Some(k)) => {
+            let msg = format!("#[lagrangian] fn `{}` reads component {k}: its dimension must be at least {}", model.item.sig.ident, k + 1);
+            let k = Literal::usize_unsuffixed(k);
+            quote!(const _: () = ::core::assert!(#k < #n, #msg);)
+        }
+        _ => quote!(),
+    };
     let methods = quote! {
         #value
         #gradient
         #hessian_m
         #both
     };
-    shell(model, text, dim, methods, (&a.hessian_dependence, &a.dependence), with_item)
+    let shell = shell(model, text, dim, methods, (&a.hessian_dependence, &a.dependence), with_item);
+    quote!(#shell #bounds)
 }
 
 /// The code of scope `s`: its temporaries, its outputs, then its inner loops.
