@@ -70,7 +70,9 @@ fn terms(g: &mut Graph, has: &[bool], id: Id) -> Result<Vec<(Vec<IndexVar>, Id)>
         return Ok(vec![(Vec::new(), id)]);
     }
     let scale = |g: &mut Graph, ts: Vec<(Vec<IndexVar>, Id)>, f: &dyn Fn(&mut Graph, Id) -> Id| {
-        ts.into_iter().map(|(p, b)| (p, f(g, b))).collect::<Vec<_>>()
+        ts.into_iter()
+            .map(|(p, b)| (p, f(g, b)))
+            .collect::<Vec<_>>()
     };
     Ok(match g.node(id) {
         Node::Add(a, b) => {
@@ -116,10 +118,12 @@ fn terms(g: &mut Graph, has: &[bool], id: Id) -> Result<Vec<(Vec<IndexVar>, Id)>
             .map(|(p, b)| (std::iter::once(i).chain(p).collect(), b))
             .collect(),
         _ => {
-            return Err("a sum is used inside a function, a divisor or a condition: the \
+            return Err(
+                "a sum is used inside a function, a divisor or a condition: the \
                  Lagrangian must be a sum of terms, each a sum over indices of a formula \
                  (move the function inside the sum)"
-                .into());
+                    .into(),
+            );
         }
     })
 }
@@ -168,7 +172,11 @@ pub fn assemble(g: &mut Graph, root: Id) -> Result<Assembly, String> {
             }
         }
         let mut hessian = Vec::new();
-        let blocks = [(Block::Xx, &xs, &xs, true), (Block::Xv, &xs, &vs, false), (Block::Vv, &vs, &vs, true)];
+        let blocks = [
+            (Block::Xx, &xs, &xs, true),
+            (Block::Xv, &xs, &vs, false),
+            (Block::Vv, &vs, &vs, true),
+        ];
         for (block, rows, cols, symmetric) in blocks {
             for (a, &row) in rows.iter().enumerate() {
                 for (b, &col) in cols.iter().enumerate() {
@@ -178,15 +186,28 @@ pub fn assemble(g: &mut Graph, root: Id) -> Result<Assembly, String> {
                     let id = d.diff(g, first[&row], col);
                     if !g.is_num(id, 0.0) {
                         let mirror = symmetric && a != b;
-                        hessian.push(Entry { block, row, col, id, mirror });
+                        hessian.push(Entry {
+                            block,
+                            row,
+                            col,
+                            id,
+                            mirror,
+                        });
                     }
                 }
             }
         }
-        out.push(Term { loops, value, gradient, hessian });
+        out.push(Term {
+            loops,
+            value,
+            gradient,
+            hessian,
+        });
     }
     let block_ids = |b: Block| -> Vec<Id> {
-        out.iter().flat_map(|t| t.hessian.iter().filter(|e| e.block == b).map(|e| e.id)).collect()
+        out.iter()
+            .flat_map(|t| t.hessian.iter().filter(|e| e.block == b).map(|e| e.id))
+            .collect()
     };
     let hessian_dependence = HessianDependence {
         xx: g.dependence(&block_ids(Block::Xx)),

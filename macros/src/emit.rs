@@ -25,7 +25,13 @@ pub fn private(name: &str) -> TokenStream {
 
 /// The user's fn, the struct, its `DERIVATIVES` (the text `text`) and its `Lagrangian<D>` impl
 /// evaluating `d` by `plans`.
-pub fn emit(model: &Model, d: &Derivatives, plans: &Plans, text: &str, with_item: bool) -> TokenStream {
+pub fn emit(
+    model: &Model,
+    d: &Derivatives,
+    plans: &Plans,
+    text: &str,
+    with_item: bool,
+) -> TokenStream {
     let g = &model.graph;
     let leaf = leaf(&model.consts);
     let types = Types::new(model.dim);
@@ -197,7 +203,12 @@ fn method(name: TokenStream, ret: TokenStream, body: TokenStream, types: &Types)
 }
 
 /// A method on a point `(x, v, t)` of type `vector`, unused parameters named `_x` etc.
-pub fn method_on(name: TokenStream, ret: TokenStream, body: TokenStream, vector: &TokenStream) -> TokenStream {
+pub fn method_on(
+    name: TokenStream,
+    ret: TokenStream,
+    body: TokenStream,
+    vector: &TokenStream,
+) -> TokenStream {
     let (x, v, t) = (param(&body, "x"), param(&body, "v"), param(&body, "t"));
     quote! {
         #[inline]

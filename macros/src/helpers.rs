@@ -65,22 +65,36 @@ fn check(f: &ItemFn) -> Option<syn::Error> {
     let mut errors = Vec::new();
     let sig = &f.sig;
     if !sig.generics.params.is_empty() {
-        errors.push(syn::Error::new_spanned(&sig.generics, "a helper cannot be generic"));
+        errors.push(syn::Error::new_spanned(
+            &sig.generics,
+            "a helper cannot be generic",
+        ));
     }
     let mut params = Vec::new();
     for arg in &sig.inputs {
         match arg {
             FnArg::Typed(pt) if is_f64(&pt.ty) => match &*pt.pat {
                 Pat::Ident(pi) => params.push(pi.ident.clone()),
-                other => errors.push(syn::Error::new_spanned(other, "a helper's parameters are plain names")),
+                other => errors.push(syn::Error::new_spanned(
+                    other,
+                    "a helper's parameters are plain names",
+                )),
             },
-            FnArg::Typed(pt) => errors.push(syn::Error::new_spanned(&pt.ty, "a helper's parameters are `f64`")),
-            FnArg::Receiver(r) => errors.push(syn::Error::new_spanned(r, "a helper cannot take `self`")),
+            FnArg::Typed(pt) => errors.push(syn::Error::new_spanned(
+                &pt.ty,
+                "a helper's parameters are `f64`",
+            )),
+            FnArg::Receiver(r) => {
+                errors.push(syn::Error::new_spanned(r, "a helper cannot take `self`"))
+            }
         }
     }
     match &sig.output {
         ReturnType::Type(_, ty) if is_f64(ty) => {}
-        _ => errors.push(syn::Error::new_spanned(&sig.ident, "a helper returns `f64`")),
+        _ => errors.push(syn::Error::new_spanned(
+            &sig.ident,
+            "a helper returns `f64`",
+        )),
     }
     errors.extend(crate::parse::check_helper_body(f, &params));
     let mut it = errors.into_iter();
@@ -93,7 +107,9 @@ fn check(f: &ItemFn) -> Option<syn::Error> {
 
 /// The plain fns `item` calls (`name(…)`, not methods, paths or macros), in order of name.
 fn calls(tokens: TokenStream, out: &mut BTreeSet<Ident>) {
-    const KEYWORDS: [&str; 10] = ["if", "while", "match", "in", "return", "for", "let", "as", "else", "mut"];
+    const KEYWORDS: [&str; 10] = [
+        "if", "while", "match", "in", "return", "for", "let", "as", "else", "mut",
+    ];
     let tokens: Vec<TokenTree> = tokens.into_iter().collect();
     for (k, tt) in tokens.iter().enumerate() {
         if let TokenTree::Group(g) = tt {
@@ -142,7 +158,8 @@ pub fn start(args: &TokenStream, item: &TokenStream) -> Option<TokenStream> {
 /// every helper is there. The fn itself was kept by [`start`].
 pub fn gather(input: TokenStream) -> Result<(TokenStream, TokenStream, Vec<ItemFn>), TokenStream> {
     let mut it = input.into_iter();
-    let (Some(TokenTree::Group(done)), Some(TokenTree::Group(args))) = (it.next(), it.next()) else {
+    let (Some(TokenTree::Group(done)), Some(TokenTree::Group(args))) = (it.next(), it.next())
+    else {
         return Err(quote!(::core::compile_error!("malformed helper relay");));
     };
     let item: TokenStream = it.collect();

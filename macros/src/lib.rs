@@ -15,6 +15,7 @@ mod emit;
 mod expand;
 mod fallback;
 mod helpers;
+mod indices;
 mod ir;
 mod parse;
 mod render;

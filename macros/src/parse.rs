@@ -6,6 +6,7 @@
 mod body;
 mod expr;
 mod index;
+mod scope;
 pub mod signature;
 
 use proc_macro2::TokenStream;

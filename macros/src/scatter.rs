@@ -98,7 +98,11 @@ impl Nest {
             let home = |id: Id| {
                 free[id]
                     .iter()
-                    .map(|v| path.iter().position(|p| p == v).map_or(path.len(), |k| k + 1))
+                    .map(|v| {
+                        path.iter()
+                            .position(|p| p == v)
+                            .map_or(path.len(), |k| k + 1)
+                    })
                     .max()
                     .unwrap_or(0)
             };
@@ -165,7 +169,11 @@ fn free_vars(g: &Graph) -> Vec<Vec<IndexVar>> {
             Node::Var(Var::XAt(c) | Var::VAt(c)) => c.at.var.into_iter().collect(),
             Node::Var(Var::Index(i)) => vec![i],
             Node::Sum(i, body) => free[body].iter().copied().filter(|&v| v != i).collect(),
-            node => node.children().iter().flat_map(|&c| free[c].clone()).collect(),
+            node => node
+                .children()
+                .iter()
+                .flat_map(|&c| free[c].clone())
+                .collect(),
         };
         vars.sort_unstable();
         vars.dedup();
@@ -199,9 +207,14 @@ impl<'a> Names<'a> {
             .enumerate()
             .map(|(k, r)| {
                 let clash = a.terms.iter().any(|t| {
-                    t.loops.iter().filter(|i| g.ranges[i.0 as usize].name == r.name).count() > 1
+                    t.loops
+                        .iter()
+                        .filter(|i| g.ranges[i.0 as usize].name == r.name)
+                        .count()
+                        > 1
                 });
-                let reserved = ["x", "v", "t", "fx", "fv", "xx", "xv", "vv", "value"].contains(&r.name.as_str())
+                let reserved = ["x", "v", "t", "fx", "fv", "xx", "xv", "vv", "value"]
+                    .contains(&r.name.as_str())
                     || r.name.starts_with('e');
                 if clash || reserved {
                     format_ident!("{}_{}", r.name.trim_start_matches("r#"), k)
@@ -220,8 +233,16 @@ impl<'a> Names<'a> {
         let mut neg = Vec::new();
         let mut term = |k: i64, what: TokenStream| {
             let mag = Literal::i64_unsuffixed(k.abs());
-            let t = if k.abs() == 1 { what } else { quote!(#mag * #what) };
-            if k > 0 { pos.push(t) } else if k < 0 { neg.push(t) }
+            let t = if k.abs() == 1 {
+                what
+            } else {
+                quote!(#mag * #what)
+            };
+            if k > 0 {
+                pos.push(t)
+            } else if k < 0 {
+                neg.push(t)
+            }
         };
         if let Some(i) = a.var {
             let name = &self.vars[i.0 as usize];
@@ -231,7 +252,11 @@ impl<'a> Names<'a> {
         term(a.n, quote!(#dim));
         if a.c != 0 {
             let c = Literal::i64_unsuffixed(a.c.abs());
-            if a.c > 0 { pos.push(quote!(#c)) } else { neg.push(quote!(#c)) }
+            if a.c > 0 {
+                pos.push(quote!(#c))
+            } else {
+                neg.push(quote!(#c))
+            }
         }
         if pos.is_empty() {
             pos.push(quote!(0));
@@ -307,7 +332,10 @@ pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenSt
     };
     let value_out = |t: &crate::assemble::Term| vec![(Target::Value, t.value)];
     let gradient_out = |t: &crate::assemble::Term| {
-        t.gradient.iter().map(|&(u, id)| (Target::Gradient(u), id)).collect::<Vec<_>>()
+        t.gradient
+            .iter()
+            .map(|&(u, id)| (Target::Gradient(u), id))
+            .collect::<Vec<_>>()
     };
     let hessian_out = |t: &crate::assemble::Term| {
         let mut out = Vec::new();
@@ -333,7 +361,8 @@ pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenSt
         let code = scope(&nest, 0, &temps, &r, &names, &mut used);
         (code, used)
     };
-    let [fx, fv, xx, xv, vv] = ["fx", "fv", "xx", "xv", "vv"].map(|n| Ident::new(n, Span::call_site()));
+    let [fx, fv, xx, xv, vv] =
+        ["fx", "fv", "xx", "xv", "vv"].map(|n| Ident::new(n, Span::call_site()));
     let (vec_expr, mat_expr) = {
         let (v, m) = (private("Vector"), private("Matrix"));
         (quote!(#v::<#dim>), quote!(#m::<#dim>))
@@ -350,16 +379,30 @@ pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenSt
         quote!(#a #b)
     };
     let hessian_decls = |used: &[bool; 6]| {
-        let (a, b, c) = (decl(&xx, used[3], &mat_expr), decl(&xv, used[4], &mat_expr), decl(&vv, used[5], &mat_expr));
+        let (a, b, c) = (
+            decl(&xx, used[3], &mat_expr),
+            decl(&xv, used[4], &mat_expr),
+            decl(&vv, used[5], &mat_expr),
+        );
         quote!(#a #b #c)
     };
     let hessian = private("Hessian");
 
     let (code, _) = body(&value_out);
-    let value = method_on(quote!(value), quote!(f64), quote!(let mut value = 0.0; #code value), &vector);
+    let value = method_on(
+        quote!(value),
+        quote!(f64),
+        quote!(let mut value = 0.0; #code value),
+        &vector,
+    );
     let (code, used) = body(&gradient_out);
     let decls = gradient_decls(&used);
-    let gradient = method_on(quote!(gradient), quote!((#vector, #vector)), quote!(#decls #code (#fx, #fv)), &vector);
+    let gradient = method_on(
+        quote!(gradient),
+        quote!((#vector, #vector)),
+        quote!(#decls #code (#fx, #fv)),
+        &vector,
+    );
     let (code, used) = body(&hessian_out);
     let decls = hessian_decls(&used);
     let hessian_m = method_on(
@@ -386,9 +429,15 @@ pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenSt
         .max();
     let bounds = match (&model.dim_name, largest) {
         (Some(n), Some(k)) => {
-            let msg = format!("#[lagrangian] fn `{}` reads component {k}: its dimension must be at least {}", model.item.sig.ident, k + 1);
+            let msg = format!(
+                "#[lagrangian] fn `{}` reads component {k}: its dimension must be at least {}",
+                model.item.sig.ident,
+                k + 1
+            );
             let k = Literal::usize_unsuffixed(k);
-            quote!(const _: () = ::core::assert!(#k < #n, #msg);)
+            quote!(
+                const _: () = ::core::assert!(#k < #n, #msg);
+            )
         }
         _ => quote!(),
     };
@@ -398,12 +447,26 @@ pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenSt
         #hessian_m
         #both
     };
-    let shell = shell(model, text, dim, methods, (&a.hessian_dependence, &a.dependence), with_item);
+    let shell = shell(
+        model,
+        text,
+        dim,
+        methods,
+        (&a.hessian_dependence, &a.dependence),
+        with_item,
+    );
     quote!(#shell #bounds)
 }
 
 /// The code of scope `s`: its temporaries, its outputs, then its inner loops.
-fn scope(nest: &Nest, s: usize, temps: &[Vec<Id>], r: &Render<'_>, names: &Names<'_>, used: &mut [bool; 6]) -> TokenStream {
+fn scope(
+    nest: &Nest,
+    s: usize,
+    temps: &[Vec<Id>],
+    r: &Render<'_>,
+    names: &Names<'_>,
+    used: &mut [bool; 6],
+) -> TokenStream {
     let lets = r.lets(&temps[s]);
     let outputs: Vec<TokenStream> = nest.scopes[s]
         .outputs
@@ -417,7 +480,11 @@ fn scope(nest: &Nest, s: usize, temps: &[Vec<Id>], r: &Render<'_>, names: &Names
                 }
                 Target::Gradient(u) => {
                     let i = names.position(u);
-                    let (k, name) = if matches!(u, Var::X(_) | Var::XAt(_)) { (1, quote!(fx)) } else { (2, quote!(fv)) };
+                    let (k, name) = if matches!(u, Var::X(_) | Var::XAt(_)) {
+                        (1, quote!(fx))
+                    } else {
+                        (2, quote!(fv))
+                    };
                     used[k] = true;
                     quote!(#name[#i] += #e;)
                 }

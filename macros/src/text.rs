@@ -54,7 +54,10 @@ pub fn derivatives_text(model: &Model, d: &Derivatives) -> String {
 /// The text of a Lagrangian with loops: `L` with its sums written `Σ_{i in a..b}`, then each
 /// term's derivatives as the loop that adds them, `for i in a..b: ∂L/∂x[i + 1] += …`.
 pub fn loops_text(model: &Model, a: &Assembly) -> String {
-    let p = Printer { g: &model.graph, model };
+    let p = Printer {
+        g: &model.graph,
+        model,
+    };
     let mut lines = vec![format!("L = {}", p.print(model.root))];
     for term in &a.terms {
         let head: String = term
@@ -62,14 +65,23 @@ pub fn loops_text(model: &Model, a: &Assembly) -> String {
             .iter()
             .map(|&i| {
                 let r = &p.g.ranges[i.0 as usize];
-                format!("for {} in {}..{}: ", r.name, p.affine(r.start), p.affine(r.end))
+                format!(
+                    "for {} in {}..{}: ",
+                    r.name,
+                    p.affine(r.start),
+                    p.affine(r.end)
+                )
             })
             .collect();
         for &(u, id) in &term.gradient {
             lines.push(format!("{head}∂L/∂{} += {}", p.var(u), p.print(id)));
         }
         for e in &term.hessian {
-            let sym = if e.mirror { ", and at the mirrored entry" } else { "" };
+            let sym = if e.mirror {
+                ", and at the mirrored entry"
+            } else {
+                ""
+            };
             let _ = Block::Xx;
             lines.push(format!(
                 "{head}∂²L/∂{}∂{} += {}{sym}",

@@ -87,7 +87,8 @@ fn generated_fput_chain_integrates_as_the_hand_written_one() -> varembed::Result
     let hand = HandFput { alpha: 0.25 };
     assert_eq!(generated.hessian_dependence(), hand.hessian_dependence());
     // The lowest normal mode, `x_i = A sin(π (i + 1)/17)`, at rest.
-    let q0 = Vector::<16>::from_fn(|i, _| 0.8 * (std::f64::consts::PI * (i + 1) as f64 / 17.0).sin());
+    let q0 =
+        Vector::<16>::from_fn(|i, _| 0.8 * (std::f64::consts::PI * (i + 1) as f64 / 17.0).sin());
     let v0 = Vector::<16>::zeros();
     let grid = Grid::new(0.0, 20.0, 2000)?;
     for side in [Side::Backward, Side::Forward] {
@@ -97,7 +98,10 @@ fn generated_fput_chain_integrates_as_the_hand_written_one() -> varembed::Result
             let b = Problem::new(&hand, grid, embedding).solve_ivp(scheme, q0, v0)?;
             let distance = a.max_distance(&b.q).expect("same grid");
             let size = b.q.iter().map(|q| q.amax()).fold(0.0, f64::max);
-            assert!(distance <= 1e-10 * size, "{side:?} {scheme}: distance {distance:e}");
+            assert!(
+                distance <= 1e-10 * size,
+                "{side:?} {scheme}: distance {distance:e}"
+            );
             // The run moved: the chain is not at rest at the end.
             assert!((b.q[2000] - q0).amax() > 0.1, "{side:?} {scheme}");
         }
@@ -134,7 +138,10 @@ fn chain_of_ten_thousand_particles() {
     std::thread::Builder::new()
         .stack_size(256 << 20)
         .spawn(|| {
-            let lag = fput10k::Fput { alpha: 0.25, beta: 0.5 };
+            let lag = fput10k::Fput {
+                alpha: 0.25,
+                beta: 0.5,
+            };
             let x = Box::new(Vector::<N>::from_fn(|i, _| 0.3 * (0.01 * i as f64).sin()));
             let v = Box::new(Vector::<N>::from_fn(|i, _| (0.02 * i as f64).cos()));
             let vd = |d: f64| d + 0.25 * d * d + 0.5 * d * d * d;
@@ -154,9 +161,16 @@ fn chain_of_ten_thousand_particles() {
             let (f, p) = lag.gradient(&x, &v, 0.0);
             for i in 0..N {
                 let left = if i == 0 { bonds[0] } else { vd(bonds[i]) };
-                let right = if i == N - 1 { bonds[N] } else { vd(bonds[i + 1]) };
+                let right = if i == N - 1 {
+                    bonds[N]
+                } else {
+                    vd(bonds[i + 1])
+                };
                 let expected = right - left;
-                assert!((f[i] - expected).abs() <= 1e-12 * expected.abs().max(1.0), "f[{i}]");
+                assert!(
+                    (f[i] - expected).abs() <= 1e-12 * expected.abs().max(1.0),
+                    "f[{i}]"
+                );
                 assert_eq!(p[i], v[i]);
             }
         })

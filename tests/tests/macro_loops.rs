@@ -37,8 +37,10 @@ macro_rules! models {
                     potential += 0.5 * d * d + alpha / 3.0 * d.powi(3) + beta / 4.0 * d.powi(4);
                 }
                 let (first, last) = (x[0], -x[N - 1]);
-                potential += 0.5 * first * first + alpha / 3.0 * first.powi(3) + beta / 4.0 * first.powi(4);
-                potential += 0.5 * last * last + alpha / 3.0 * last.powi(3) + beta / 4.0 * last.powi(4);
+                potential +=
+                    0.5 * first * first + alpha / 3.0 * first.powi(3) + beta / 4.0 * first.powi(4);
+                potential +=
+                    0.5 * last * last + alpha / 3.0 * last.powi(3) + beta / 4.0 * last.powi(4);
                 kinetic - potential
             }
 
@@ -46,7 +48,9 @@ macro_rules! models {
             #[lagrangian]
             pub fn fput_helper(x: [f64; N], v: [f64; N], alpha: f64, beta: f64) -> f64 {
                 let kinetic = (0..N).map(|i| 0.5 * v[i] * v[i]).sum::<f64>();
-                let bonds: f64 = (0..N - 1).map(|i| spring(x[i + 1] - x[i], alpha, beta)).sum();
+                let bonds: f64 = (0..N - 1)
+                    .map(|i| spring(x[i + 1] - x[i], alpha, beta))
+                    .sum();
                 kinetic - bonds - spring(x[0], alpha, beta) - spring(-x[N - 1], alpha, beta)
             }
 
@@ -121,7 +125,13 @@ fn fput_fixed_dual<T: DualNum<Primitive = f64> + Copy>(z: &[T], p: [f64; 2]) -> 
         l += v[i] * v[i] * 0.5;
     }
     // Positions with the fixed ends: 0, x_0, …, x_{N−1}, 0.
-    let at = |k: usize| if k == 0 || k == n + 1 { T::zero() } else { x[k - 1] };
+    let at = |k: usize| {
+        if k == 0 || k == n + 1 {
+            T::zero()
+        } else {
+            x[k - 1]
+        }
+    };
     for k in 0..=n {
         l -= spring_dual(at(k + 1) - at(k), p[0], p[1]);
     }
@@ -170,8 +180,16 @@ fn walled_dual<T: DualNum<Primitive = f64> + Copy>(z: &[T], p: [f64; 2]) -> T {
     let (x, v) = z.split_at(n);
     let mut l = T::zero();
     for i in 0..n {
-        let wall = if x[i].re() < 0.0 { x[i] * x[i] * p[0] } else { T::zero() };
-        let speed = if v[i].abs().re() >= 0.5 { v[i].abs() } else { T::zero() + 0.5 };
+        let wall = if x[i].re() < 0.0 {
+            x[i] * x[i] * p[0]
+        } else {
+            T::zero()
+        };
+        let speed = if v[i].abs().re() >= 0.5 {
+            v[i].abs()
+        } else {
+            T::zero() + 0.5
+        };
         let pin = (x[i] * (2.0 * std::f64::consts::PI)).cos() * speed * v[i].re().signum();
         l += v[i] * v[i] * 0.5 - wall + pin * 0.1;
     }
@@ -179,22 +197,37 @@ fn walled_dual<T: DualNum<Primitive = f64> + Copy>(z: &[T], p: [f64; 2]) -> T {
 }
 
 /// Value, gradient and Hessian of `f` at `z` from hyper-dual numbers, entry by entry.
-fn dual_derivatives(f: &dyn Fn(&[HyperDual64]) -> HyperDual64, z: &[f64]) -> (f64, Vec<f64>, Vec<Vec<f64>>) {
+fn dual_derivatives(
+    f: &dyn Fn(&[HyperDual64]) -> HyperDual64,
+    z: &[f64],
+) -> (f64, Vec<f64>, Vec<Vec<f64>>) {
     let m = z.len();
     let seed = |a: usize, b: usize| -> HyperDual64 {
         let w: Vec<HyperDual64> = (0..m)
-            .map(|k| HyperDual64::new(z[k], f64::from(u8::from(k == a)), f64::from(u8::from(k == b)), 0.0))
+            .map(|k| {
+                HyperDual64::new(
+                    z[k],
+                    f64::from(u8::from(k == a)),
+                    f64::from(u8::from(k == b)),
+                    0.0,
+                )
+            })
             .collect();
         f(&w)
     };
     let value = seed(m, m).re;
     let gradient = (0..m).map(|a| seed(a, m).eps1).collect();
-    let hessian = (0..m).map(|a| (0..m).map(|b| seed(a, b).eps1eps2).collect()).collect();
+    let hessian = (0..m)
+        .map(|a| (0..m).map(|b| seed(a, b).eps1eps2).collect())
+        .collect();
     (value, gradient, hessian)
 }
 
 fn close(what: &str, a: f64, b: f64) {
-    assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{what}: generated {a:e}, oracle {b:e}");
+    assert!(
+        (a - b).abs() <= 1e-12 * b.abs().max(1.0),
+        "{what}: generated {a:e}, oracle {b:e}"
+    );
 }
 
 /// The generated derivatives against the oracle's at random points.
@@ -221,11 +254,23 @@ fn check<const D: usize>(
             assert_eq!((ff[i], fq[i]), (f[i], q[i]), "{name}: fused gradient");
             for j in 0..D {
                 close(&format!("{name} xx[({i}, {j})]"), h.xx[(i, j)], hess[i][j]);
-                close(&format!("{name} xv[({i}, {j})]"), h.xv[(i, j)], hess[i][D + j]);
-                close(&format!("{name} vv[({i}, {j})]"), h.vv[(i, j)], hess[D + i][D + j]);
+                close(
+                    &format!("{name} xv[({i}, {j})]"),
+                    h.xv[(i, j)],
+                    hess[i][D + j],
+                );
+                close(
+                    &format!("{name} vv[({i}, {j})]"),
+                    h.vv[(i, j)],
+                    hess[D + i][D + j],
+                );
             }
         }
-        assert_eq!((fh.xx, fh.xv, fh.vv), (h.xx, h.xv, h.vv), "{name}: fused Hessian");
+        assert_eq!(
+            (fh.xx, fh.xv, fh.vv),
+            (h.xx, h.xv, h.vv),
+            "{name}: fused Hessian"
+        );
     }
 }
 
@@ -236,12 +281,54 @@ macro_rules! check_all {
             use $module::*;
             let mut rng = Rng(0x100B5 + N as u64);
             let (alpha, beta) = (0.25, 0.7);
-            check("fput_fixed", &FputFixed { alpha, beta }, fput_fixed_dual, [alpha, beta], &mut rng, $points);
-            check("fput_helper", &FputHelper { alpha, beta }, fput_fixed_dual, [alpha, beta], &mut rng, $points);
-            check("fput_periodic", &FputPeriodic { alpha, beta }, fput_periodic_dual, [alpha, beta], &mut rng, $points);
-            check("toda", &Toda { a: 1.3, b: 0.8 }, toda_dual, [1.3, 0.8], &mut rng, $points);
-            check("n_link", &NLink { g: 9.81, l: 0.5 }, n_link_dual, [9.81, 0.5], &mut rng, $points);
-            check("walled", &Walled { k: 3.0 }, walled_dual, [3.0, 0.0], &mut rng, $points);
+            check(
+                "fput_fixed",
+                &FputFixed { alpha, beta },
+                fput_fixed_dual,
+                [alpha, beta],
+                &mut rng,
+                $points,
+            );
+            check(
+                "fput_helper",
+                &FputHelper { alpha, beta },
+                fput_fixed_dual,
+                [alpha, beta],
+                &mut rng,
+                $points,
+            );
+            check(
+                "fput_periodic",
+                &FputPeriodic { alpha, beta },
+                fput_periodic_dual,
+                [alpha, beta],
+                &mut rng,
+                $points,
+            );
+            check(
+                "toda",
+                &Toda { a: 1.3, b: 0.8 },
+                toda_dual,
+                [1.3, 0.8],
+                &mut rng,
+                $points,
+            );
+            check(
+                "n_link",
+                &NLink { g: 9.81, l: 0.5 },
+                n_link_dual,
+                [9.81, 0.5],
+                &mut rng,
+                $points,
+            );
+            check(
+                "walled",
+                &Walled { k: 3.0 },
+                walled_dual,
+                [3.0, 0.0],
+                &mut rng,
+                $points,
+            );
         }
     };
 }
@@ -287,7 +374,11 @@ fn loop_sum_helper_and_unrolled_forms_agree() {
                 close("f", f[i], reference.0[i]);
                 close("p", p[i], reference.1[i]);
             }
-            for (a, b) in [(h.xx, reference.2.xx), (h.xv, reference.2.xv), (h.vv, reference.2.vv)] {
+            for (a, b) in [
+                (h.xx, reference.2.xx),
+                (h.xv, reference.2.xv),
+                (h.vv, reference.2.vv),
+            ] {
                 assert!((a - b).amax() <= 1e-12 * b.amax().max(1.0), "{a} {b}");
             }
         }
@@ -297,7 +388,10 @@ fn loop_sum_helper_and_unrolled_forms_agree() {
 /// The chain's Hessian is tridiagonal and its pattern is what `hessian_dependence` says.
 #[test]
 fn chain_hessian_is_tridiagonal() {
-    let lag = n16::FputFixed { alpha: 0.25, beta: 0.7 };
+    let lag = n16::FputFixed {
+        alpha: 0.25,
+        beta: 0.7,
+    };
     let mut rng = Rng(7);
     let (x, v) = (rng.vector::<16>(1.0), rng.vector::<16>(1.0));
     let h = lag.hessian(&x, &v, 0.0);
@@ -313,7 +407,10 @@ fn chain_hessian_is_tridiagonal() {
     assert!(!dep.xv.x && !dep.xv.v && !dep.vv.x && !dep.vv.v);
     // The text lists the derivatives of one bond, not of every entry.
     let text = n16::FputFixed::DERIVATIVES;
-    assert!(text.contains("for i in 0..N - 1: ∂L/∂x[i + 1] += "), "{text}");
+    assert!(
+        text.contains("for i in 0..N - 1: ∂L/∂x[i + 1] += "),
+        "{text}"
+    );
     assert!(text.lines().count() < 20, "{text}");
     let _ = Vector::<16>::zeros();
 }

@@ -10,44 +10,9 @@ use std::collections::{HashMap, HashSet};
 
 use syn::{BinOp, Expr, Ident, Pat, Stmt};
 
+use super::scope::{Binding, Env, State, strip};
 use super::signature::{Length, Shape, Signature, is_f64};
 use crate::ir::{Graph, Id, IndexVar, Var};
-
-/// The usable names in the body.
-#[derive(Clone)]
-pub(super) enum Binding {
-    /// A value: a scalar parameter or a `let`.
-    Scalar(Id),
-    /// `x` or `v` declared as an array: only its components can be used.
-    Array { state: State, len: Length },
-    /// A loop variable.
-    Index(IndexVar),
-    /// The named dimension `N`.
-    Dim,
-    /// An integer `let` (an index expression).
-    Int(super::index::Int),
-    /// A `let mut` accumulator, declared at loop depth `depth`.
-    Mut { id: Id, depth: usize },
-}
-
-/// Which of the two state parameters an array is.
-#[derive(Clone, Copy, PartialEq, Eq)]
-pub(super) enum State {
-    Position,
-    Velocity,
-}
-
-impl State {
-    /// The variable of component `i`.
-    pub(super) fn component(self, i: usize) -> Var {
-        match self {
-            State::Position => Var::X(i),
-            State::Velocity => Var::V(i),
-        }
-    }
-}
-
-pub(super) type Env = HashMap<String, Binding>;
 
 /// One open loop: what it adds to the accumulators declared outside it.
 struct Frame {
@@ -99,7 +64,10 @@ impl Parser {
         self.inlining.push(name.to_string());
         let mut env = Env::new();
         for (k, p) in params.iter().enumerate() {
-            env.insert(p.to_string(), Binding::Scalar(self.graph.var(Var::Const(k))));
+            env.insert(
+                p.to_string(),
+                Binding::Scalar(self.graph.var(Var::Const(k))),
+            );
         }
         self.block(block, &mut env);
     }
@@ -141,7 +109,11 @@ impl Parser {
         (self.graph, self.errors)
     }
 
-    pub(super) fn error(&mut self, tokens: impl quote::ToTokens, msg: impl std::fmt::Display) -> Id {
+    pub(super) fn error(
+        &mut self,
+        tokens: impl quote::ToTokens,
+        msg: impl std::fmt::Display,
+    ) -> Id {
         self.errors.push(syn::Error::new_spanned(tokens, msg));
         // A placeholder so that the walk goes on and reports the next error too.
         self.graph.num(0.0)
@@ -181,7 +153,10 @@ impl Parser {
                     return;
                 };
                 if let Some((_, diverge)) = &init.diverge {
-                    self.error(diverge, "`let … else` is not supported: write `let name = expression;`");
+                    self.error(
+                        diverge,
+                        "`let … else` is not supported: write `let name = expression;`",
+                    );
                 }
                 self.let_binding(&local.pat, &init.expr, env);
             }
@@ -240,7 +215,9 @@ impl Parser {
     /// The values of `init` as an `n`-tuple: `(a, b)` or `a.sin_cos()`.
     fn tuple_values(&mut self, init: &Expr, n: usize, env: &mut Env) -> Vec<Id> {
         match init {
-            Expr::Tuple(t) if t.elems.len() == n => t.elems.iter().map(|e| self.expr(e, env)).collect(),
+            Expr::Tuple(t) if t.elems.len() == n => {
+                t.elems.iter().map(|e| self.expr(e, env)).collect()
+            }
             Expr::Paren(p) => self.tuple_values(&p.expr, n, env),
             Expr::MethodCall(mc) if mc.method == "sin_cos" && mc.args.is_empty() && n == 2 => {
                 let a = self.expr(&mc.receiver, env);
@@ -351,7 +328,9 @@ impl Parser {
         if depth < self.frames.len() {
             self.error(
                 a,
-                format!("inside a loop, `{name}` can only be added to (`{name} += …`): a loop is a sum"),
+                format!(
+                    "inside a loop, `{name}` can only be added to (`{name} += …`): a loop is a sum"
+                ),
             );
             return;
         }
@@ -362,7 +341,10 @@ impl Parser {
     /// The accumulator named by `left`: its name, value and depth.
     fn accumulator(&mut self, left: &Expr, env: &Env) -> Option<(String, Id, usize)> {
         if let Expr::Index(ix) = strip(left) {
-            self.error(ix, "`x` and `v` cannot be changed: they are the point the Lagrangian is evaluated at");
+            self.error(
+                ix,
+                "`x` and `v` cannot be changed: they are the point the Lagrangian is evaluated at",
+            );
             return None;
         }
         let name = match left {
@@ -380,7 +362,10 @@ impl Parser {
                 None
             }
             None => {
-                self.error(left, "only a `let mut` accumulator declared in the body can be updated");
+                self.error(
+                    left,
+                    "only a `let mut` accumulator declared in the body can be updated",
+                );
                 None
             }
         }
@@ -454,9 +439,17 @@ impl Parser {
     }
 
     /// `(a..b).map(|i| body).sum()`, with the receiver of `sum` and the closure given.
-    pub(super) fn iterator_sum(&mut self, range: &Expr, closure: &syn::ExprClosure, env: &Env) -> Id {
+    pub(super) fn iterator_sum(
+        &mut self,
+        range: &Expr,
+        closure: &syn::ExprClosure,
+        env: &Env,
+    ) -> Id {
         if closure.inputs.len() != 1 {
-            return self.error(&closure.inputs, "the closure of a sum takes one index, e.g. `|i| x[i] * x[i]`");
+            return self.error(
+                &closure.inputs,
+                "the closure of a sum takes one index, e.g. `|i| x[i] * x[i]`",
+            );
         }
         let Some(name) = self.loop_pattern(&closure.inputs[0]) else {
             return self.graph.num(0.0);
@@ -474,7 +467,10 @@ impl Parser {
         let body = self.expr(&closure.body, &inner);
         let frame = self.frames.pop().expect("pushed above");
         if let Some((name, _)) = frame.adds.first() {
-            return self.error(&closure.body, format!("a closure cannot update `{name}`: write a `for` loop"));
+            return self.error(
+                &closure.body,
+                format!("a closure cannot update `{name}`: write a `for` loop"),
+            );
         }
         self.graph.sum(var, body)
     }
@@ -482,7 +478,9 @@ impl Parser {
     /// The loop variable's name: a plain identifier.
     fn loop_pattern(&mut self, pat: &Pat) -> Option<String> {
         match pat {
-            Pat::Ident(pi) if pi.by_ref.is_none() && pi.subpat.is_none() && pi.mutability.is_none() => {
+            Pat::Ident(pi)
+                if pi.by_ref.is_none() && pi.subpat.is_none() && pi.mutability.is_none() =>
+            {
                 Some(pi.ident.to_string())
             }
             Pat::Type(pt) => self.loop_pattern(&pt.pat),
@@ -543,16 +541,10 @@ fn is_consts_use(tree: &syn::UseTree) -> bool {
         t = &p.tree;
     }
     matches!(
-        path.iter().map(String::as_str).collect::<Vec<_>>().as_slice(),
+        path.iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>()
+            .as_slice(),
         ["std", "f64", "consts"] | ["core", "f64", "consts"]
     )
-}
-
-/// `e` without parentheses and invisible groups.
-pub(super) fn strip(e: &Expr) -> &Expr {
-    match e {
-        Expr::Paren(p) => strip(&p.expr),
-        Expr::Group(g) => strip(&g.expr),
-        other => other,
-    }
 }

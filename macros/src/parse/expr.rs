@@ -3,7 +3,8 @@
 
 use syn::{BinOp, Expr, Ident, Lit, UnOp};
 
-use super::body::{Binding, Env, Parser, strip};
+use super::body::Parser;
+use super::scope::{Binding, Env, State, strip};
 use super::signature::Length;
 use crate::ir::{Cmp, Func, Id, Var, constant_value};
 
@@ -36,7 +37,10 @@ impl Parser {
                     BinOp::Mul(_) => self.graph.mul(l, r),
                     BinOp::Div(_) if self.holds_sum(r) => self.sum_inside(&b.right, "a divisor"),
                     BinOp::Div(_) => self.graph.div(l, r),
-                    op => self.error(op, "this operator is not supported on numbers: use `+ - * /`"),
+                    op => self.error(
+                        op,
+                        "this operator is not supported on numbers: use `+ - * /`",
+                    ),
                 }
             }
             Expr::Path(p) => self.path(p, env),
@@ -55,19 +59,54 @@ impl Parser {
                     self.expr(&c.expr, env)
                 }
             }
-            Expr::ForLoop(x) => self.error(x.for_token, "a `for` loop is a statement: add to a `let mut` accumulator, then use it"),
-            Expr::Match(x) => self.error(x.match_token, "`match` is not supported: use `if c { a } else { b }`"),
-            Expr::While(x) => self.error(x.while_token, "`while` is not supported: loop over a range, `for i in 0..N`"),
-            Expr::Loop(x) => self.error(x.loop_token, "`loop` is not supported: loop over a range, `for i in 0..N`"),
-            Expr::Closure(x) => self.error(x, "a closure is supported only in `(a..b).map(|i| …).sum::<f64>()`"),
-            Expr::Macro(m) => self.error(&m.mac, "a macro is not supported in a #[lagrangian] body"),
-            Expr::Reference(r) => self.error(r.and_token, "a reference is not supported: the body works on `f64` values"),
-            Expr::Return(r) => self.error(r.return_token, "`return` is not supported: the body ends with the value of `L`"),
+            Expr::ForLoop(x) => self.error(
+                x.for_token,
+                "a `for` loop is a statement: add to a `let mut` accumulator, then use it",
+            ),
+            Expr::Match(x) => self.error(
+                x.match_token,
+                "`match` is not supported: use `if c { a } else { b }`",
+            ),
+            Expr::While(x) => self.error(
+                x.while_token,
+                "`while` is not supported: loop over a range, `for i in 0..N`",
+            ),
+            Expr::Loop(x) => self.error(
+                x.loop_token,
+                "`loop` is not supported: loop over a range, `for i in 0..N`",
+            ),
+            Expr::Closure(x) => self.error(
+                x,
+                "a closure is supported only in `(a..b).map(|i| …).sum::<f64>()`",
+            ),
+            Expr::Macro(m) => {
+                self.error(&m.mac, "a macro is not supported in a #[lagrangian] body")
+            }
+            Expr::Reference(r) => self.error(
+                r.and_token,
+                "a reference is not supported: the body works on `f64` values",
+            ),
+            Expr::Return(r) => self.error(
+                r.return_token,
+                "`return` is not supported: the body ends with the value of `L`",
+            ),
             Expr::Assign(a) => self.error(a, "an assignment is a statement: end it with `;`"),
-            Expr::Field(f) => self.error(f, "a field access is not supported: model constants are parameters of the fn"),
-            Expr::Tuple(t) => self.error(t, "a tuple is supported only in a tuple `let`, `let (a, b) = (…, …);`"),
-            Expr::Array(a) => self.error(a, "an array is not supported: index `x` and `v` with a loop"),
-            other => self.error(other, "this expression is not supported in a #[lagrangian] body"),
+            Expr::Field(f) => self.error(
+                f,
+                "a field access is not supported: model constants are parameters of the fn",
+            ),
+            Expr::Tuple(t) => self.error(
+                t,
+                "a tuple is supported only in a tuple `let`, `let (a, b) = (…, …);`",
+            ),
+            Expr::Array(a) => self.error(
+                a,
+                "an array is not supported: index `x` and `v` with a loop",
+            ),
+            other => self.error(
+                other,
+                "this expression is not supported in a #[lagrangian] body",
+            ),
         }
     }
 
@@ -75,7 +114,12 @@ impl Parser {
         let parsed = match lit {
             Lit::Float(f) if matches!(f.suffix(), "" | "f64") => f.base10_parse::<f64>(),
             Lit::Int(i) if matches!(i.suffix(), "" | "f64") => i.base10_parse::<f64>(),
-            other => return self.error(other, "this literal is not supported: only `f64` numbers are"),
+            other => {
+                return self.error(
+                    other,
+                    "this literal is not supported: only `f64` numbers are",
+                );
+            }
         };
         match parsed {
             Ok(x) => self.graph.num(x),
@@ -90,7 +134,12 @@ impl Parser {
         if p.qself.is_some() || p.path.segments.iter().any(|s| !s.arguments.is_none()) {
             return self.error(p, "this path is not supported");
         }
-        let segs: Vec<String> = p.path.segments.iter().map(|s| s.ident.to_string()).collect();
+        let segs: Vec<String> = p
+            .path
+            .segments
+            .iter()
+            .map(|s| s.ident.to_string())
+            .collect();
         if segs.len() == 1 && p.path.leading_colon.is_none() {
             let name = &segs[0];
             return match env.get(name).cloned() {
@@ -128,7 +177,10 @@ impl Parser {
         if consts_path && let Some(c) = constant_value(&segs[n - 1]) {
             return self.graph.num(c);
         }
-        self.error(p, "unknown path: the body may name the constants of `std::f64::consts`")
+        self.error(
+            p,
+            "unknown path: the body may name the constants of `std::f64::consts`",
+        )
     }
 
     fn index(&mut self, ix: &syn::ExprIndex, env: &Env) -> Id {
@@ -142,12 +194,17 @@ impl Parser {
                 let n = name.unwrap_or_default();
                 return self.error(
                     &ix.expr,
-                    format!("`{n}` is a scalar: only `x` and `v` declared as `[f64; D]` can be indexed"),
+                    format!(
+                        "`{n}` is a scalar: only `x` and `v` declared as `[f64; D]` can be indexed"
+                    ),
                 );
             }
             _ => return self.error(&ix.expr, "only `x` and `v` can be indexed"),
         };
-        if let Expr::Lit(syn::ExprLit { lit: Lit::Int(i), .. }) = strip(&ix.index) {
+        if let Expr::Lit(syn::ExprLit {
+            lit: Lit::Int(i), ..
+        }) = strip(&ix.index)
+        {
             return match (i.base10_parse::<usize>(), len) {
                 (Ok(i), Length::Known(dim)) if i >= dim => self.error(
                     &ix.index,
@@ -164,8 +221,8 @@ impl Parser {
             Some(c) => match c.at.as_constant() {
                 Some(k) if !c.wrap => self.graph.var(state.component(k as usize)),
                 _ => self.graph.var(match state {
-                    super::body::State::Position => Var::XAt(c),
-                    super::body::State::Velocity => Var::VAt(c),
+                    State::Position => Var::XAt(c),
+                    State::Velocity => Var::VAt(c),
                 }),
             },
             None => self.graph.num(0.0),
@@ -177,7 +234,18 @@ impl Parser {
         if name == "sum" {
             return self.sum_call(mc, env);
         }
-        if ["iter", "into_iter", "zip", "windows", "map", "enumerate", "fold", "dot"].contains(&name.as_str()) {
+        if [
+            "iter",
+            "into_iter",
+            "zip",
+            "windows",
+            "map",
+            "enumerate",
+            "fold",
+            "dot",
+        ]
+        .contains(&name.as_str())
+        {
             return self.iteration_error(&Expr::MethodCall(mc.clone()));
         }
         if let Some(tf) = &mc.turbofish {
@@ -230,17 +298,33 @@ impl Parser {
         let Expr::Path(fp) = &*call.func else {
             return self.error(&call.func, "calling this is not supported");
         };
-        let segs: Vec<String> = fp.path.segments.iter().map(|s| s.ident.to_string()).collect();
+        let segs: Vec<String> = fp
+            .path
+            .segments
+            .iter()
+            .map(|s| s.ident.to_string())
+            .collect();
         if segs.len() == 1 && fp.qself.is_none() {
             return self.helper_call(&segs[0], call, env);
         }
         let generic = fp.path.segments.iter().any(|s| !s.arguments.is_none());
-        if fp.qself.is_some() || generic || segs.len() != 2 || segs[0] != "f64" || call.args.is_empty() {
-            return self.error(&call.func, "only the `f64::` functions and helper fns can be called");
+        if fp.qself.is_some()
+            || generic
+            || segs.len() != 2
+            || segs[0] != "f64"
+            || call.args.is_empty()
+        {
+            return self.error(
+                &call.func,
+                "only the `f64::` functions and helper fns can be called",
+            );
         }
         let method = &fp.path.segments[1].ident;
         if Func::from_name(&segs[1]).is_none() && !BINARY.contains(&segs[1].as_str()) {
-            return self.error(method, format!("`f64::{method}` is not supported; {METHODS}"));
+            return self.error(
+                method,
+                format!("`f64::{method}` is not supported; {METHODS}"),
+            );
         }
         let recv = self.expr(&call.args[0], env);
         let args: Vec<&Expr> = call.args.iter().skip(1).collect();
@@ -252,7 +336,10 @@ impl Parser {
     fn helper_call(&mut self, name: &str, call: &syn::ExprCall, env: &Env) -> Id {
         if self.inlining.iter().any(|h| h == name) {
             self.recursion = true;
-            return self.error(&call.func, format!("`{name}` calls itself: a helper cannot be recursive"));
+            return self.error(
+                &call.func,
+                format!("`{name}` calls itself: a helper cannot be recursive"),
+            );
         }
         let Some(helper) = self.helpers.get(name).cloned() else {
             if self.checking_helper {
@@ -276,7 +363,10 @@ impl Parser {
             })
             .collect();
         if params.len() != call.args.len() {
-            return self.error(&call.args, format!("`{name}` takes {} argument(s)", params.len()));
+            return self.error(
+                &call.args,
+                format!("`{name}` takes {} argument(s)", params.len()),
+            );
         }
         let mut inner = Env::new();
         for (p, a) in params.into_iter().zip(&call.args) {
@@ -299,7 +389,10 @@ impl Parser {
     /// `if c { a } else { b }`: both branches are differentiated, the condition is not.
     fn conditional(&mut self, x: &syn::ExprIf, env: &Env) -> Id {
         let Some((_, else_branch)) = &x.else_branch else {
-            return self.error(x.if_token, "an `if` needs an `else`: `if c { a } else { b }`");
+            return self.error(
+                x.if_token,
+                "an `if` needs an `else`: `if c { a } else { b }`",
+            );
         };
         let then = self.block(&x.then_branch, &mut env.clone());
         let other = self.expr(else_branch, env);
@@ -338,7 +431,9 @@ impl Parser {
                 }
                 self.graph.select(op, l, r, then, other)
             }
-            Expr::Unary(u) if matches!(u.op, UnOp::Not(_)) => self.condition(&u.expr, env, other, then),
+            Expr::Unary(u) if matches!(u.op, UnOp::Not(_)) => {
+                self.condition(&u.expr, env, other, then)
+            }
             _ => self.condition_error(cond),
         }
     }
@@ -364,18 +459,32 @@ impl Parser {
     }
 
     /// A method `recv.name(args)` or the function `f64::name(recv, args)`.
-    fn function(&mut self, name: &Ident, recv: Id, args: &[&Expr], all_args: &dyn quote::ToTokens, env: &Env) -> Id {
+    fn function(
+        &mut self,
+        name: &Ident,
+        recv: Id,
+        args: &[&Expr],
+        all_args: &dyn quote::ToTokens,
+        env: &Env,
+    ) -> Id {
         let s = name.to_string();
         if self.holds_sum(recv) {
             return self.sum_inside(name, &format!("`{s}`"));
         }
         let arity = usize::from(BINARY.contains(&s.as_str()));
         if Func::from_name(&s).is_none() && arity == 0 {
-            return self.error(name, format!("the method `{s}` is not supported; {METHODS}"));
+            return self.error(
+                name,
+                format!("the method `{s}` is not supported; {METHODS}"),
+            );
         }
         if args.len() != arity {
             let msg = format!("`{s}` takes {arity} argument(s) besides the receiver");
-            return if args.is_empty() { self.error(name, msg) } else { self.error(all_args, msg) };
+            return if args.is_empty() {
+                self.error(name, msg)
+            } else {
+                self.error(all_args, msg)
+            };
         }
         match s.as_str() {
             "powi" => match int_literal(args[0]) {
@@ -409,10 +518,12 @@ impl Parser {
 /// An integer literal, possibly negated (`-2`), possibly parenthesised.
 fn int_literal(e: &Expr) -> Option<syn::Result<i64>> {
     match e {
-        Expr::Lit(syn::ExprLit { lit: Lit::Int(i), .. }) if matches!(i.suffix(), "" | "i32") => {
-            Some(i.base10_parse::<i64>())
+        Expr::Lit(syn::ExprLit {
+            lit: Lit::Int(i), ..
+        }) if matches!(i.suffix(), "" | "i32") => Some(i.base10_parse::<i64>()),
+        Expr::Unary(u) if matches!(u.op, UnOp::Neg(_)) => {
+            int_literal(&u.expr).map(|r| r.map(|n| -n))
         }
-        Expr::Unary(u) if matches!(u.op, UnOp::Neg(_)) => int_literal(&u.expr).map(|r| r.map(|n| -n)),
         Expr::Paren(p) => int_literal(&p.expr),
         Expr::Group(g) => int_literal(&g.expr),
         _ => None,

@@ -3,17 +3,9 @@
 
 use syn::{BinOp, Expr, Lit};
 
-use super::body::{Binding, Env, Parser, strip};
+use super::body::Parser;
+use super::scope::{Binding, Env, Int, strip};
 use crate::ir::{Affine, Cmp, Component, Id, Var};
-
-/// An integer expression: its affine form when it has one, whether it is taken modulo `N`,
-/// and its value as a number when it can be one.
-#[derive(Clone, Copy)]
-pub struct Int {
-    pub affine: Option<Affine>,
-    pub wrap: bool,
-    pub value: Option<Id>,
-}
 
 const INDEX_FORMS: &str = "index expressions are built from loop variables, the dimension, \
      integer literals, `+ - *`, `% N` and `max`/`min`";
@@ -49,22 +41,30 @@ impl Parser {
         };
         match strip(e) {
             Expr::Lit(l) => match &l.lit {
-                Lit::Int(i) if matches!(i.suffix(), "" | "usize") => match i.base10_parse::<i64>() {
-                    Ok(n) => Some(affine(Affine::constant(n), self.graph.num(n as f64))),
-                    Err(err) => {
-                        self.errors.push(err);
-                        None
+                Lit::Int(i) if matches!(i.suffix(), "" | "usize") => {
+                    match i.base10_parse::<i64>() {
+                        Ok(n) => Some(affine(Affine::constant(n), self.graph.num(n as f64))),
+                        Err(err) => {
+                            self.errors.push(err);
+                            None
+                        }
                     }
-                },
+                }
                 other => {
                     self.error(other, format!("not an integer: {INDEX_FORMS}"));
                     None
                 }
             },
             Expr::Path(p) => {
-                let name = p.path.get_ident().map(ToString::to_string).unwrap_or_default();
+                let name = p
+                    .path
+                    .get_ident()
+                    .map(ToString::to_string)
+                    .unwrap_or_default();
                 match env.get(&name) {
-                    Some(&Binding::Index(i)) => Some(affine(Affine::var(i), self.graph.var(Var::Index(i)))),
+                    Some(&Binding::Index(i)) => {
+                        Some(affine(Affine::var(i), self.graph.var(Var::Index(i))))
+                    }
                     Some(Binding::Dim) => {
                         let value = self.dim_value();
                         Some(affine(Affine::dim(), value))
@@ -84,11 +84,16 @@ impl Parser {
                 }
             }
             Expr::Binary(b) => self.int_binary(b, env),
-            Expr::MethodCall(mc) if (mc.method == "max" || mc.method == "min") && mc.args.len() == 1 => {
+            Expr::MethodCall(mc)
+                if (mc.method == "max" || mc.method == "min") && mc.args.len() == 1 =>
+            {
                 let a = self.int_expr(&mc.receiver, env)?;
                 let b = self.int_expr(&mc.args[0], env)?;
                 let (Some(va), Some(vb)) = (a.value, b.value) else {
-                    self.error(mc, "`max`/`min` of a wrapped index (`% N`) is not supported");
+                    self.error(
+                        mc,
+                        "`max`/`min` of a wrapped index (`% N`) is not supported",
+                    );
                     return None;
                 };
                 let op = if mc.method == "max" { Cmp::Ge } else { Cmp::Le };
@@ -119,7 +124,9 @@ impl Parser {
         let l = self.int_expr(&b.left, env)?;
         let r = self.int_expr(&b.right, env)?;
         if let BinOp::Rem(_) = b.op {
-            let is_dim = r.affine.is_some_and(|a| a == Affine::dim() || Some(a) == self.dim.map(|d| Affine::constant(d as i64)));
+            let is_dim = r.affine.is_some_and(|a| {
+                a == Affine::dim() || Some(a) == self.dim.map(|d| Affine::constant(d as i64))
+            });
             return match (l.affine, is_dim, l.wrap) {
                 (Some(a), true, false) => Some(Int {
                     affine: Some(a),
@@ -133,7 +140,10 @@ impl Parser {
             };
         }
         if l.wrap || r.wrap {
-            self.error(b, "an index taken `% N` cannot be combined further: apply `% N` last");
+            self.error(
+                b,
+                "an index taken `% N` cannot be combined further: apply `% N` last",
+            );
             return None;
         }
         let affine = match (b.op, l.affine, r.affine) {
@@ -152,7 +162,10 @@ impl Parser {
                 BinOp::Sub(_) => self.graph.sub(x, y),
                 BinOp::Mul(_) => self.graph.mul(x, y),
                 _ => {
-                    self.error(b.op, format!("this operator is not supported on indices: {INDEX_FORMS}"));
+                    self.error(
+                        b.op,
+                        format!("this operator is not supported on indices: {INDEX_FORMS}"),
+                    );
                     return None;
                 }
             }),
@@ -239,15 +252,26 @@ impl Parser {
             return (at, at);
         };
         let r = &self.graph.ranges[i.0 as usize];
-        let (start, last) = (r.start, r.end.add_scaled(Affine::constant(1), -1).unwrap_or(r.end));
+        let (start, last) = (
+            r.start,
+            r.end.add_scaled(Affine::constant(1), -1).unwrap_or(r.end),
+        );
         if start.var.is_some() || last.var.is_some() {
             // A range that depends on an outer loop variable: not decided here.
             return (Affine::constant(0), Affine::constant(0));
         }
-        let rest = Affine { var: None, scale: 0, ..at };
+        let rest = Affine {
+            var: None,
+            scale: 0,
+            ..at
+        };
         let at_start = rest.add_scaled(start, at.scale).unwrap_or(rest);
         let at_last = rest.add_scaled(last, at.scale).unwrap_or(rest);
-        if at.scale > 0 { (at_start, at_last) } else { (at_last, at_start) }
+        if at.scale > 0 {
+            (at_start, at_last)
+        } else {
+            (at_last, at_start)
+        }
     }
 }
 

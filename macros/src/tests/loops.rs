@@ -47,7 +47,10 @@ fn expansion_size_does_not_grow_with_the_dimension() {
     // A named dimension expands to the same code, but for the ranges and indices that a
     // literal dimension folds (`0..4 - 1` is `0..3`).
     let named = count(expand(quote!(), chain_item(quote!(N))).expect("the chain expands"));
-    assert!(named.abs_diff(small) * 20 < small, "named: {named}, literal: {small}");
+    assert!(
+        named.abs_diff(small) * 20 < small,
+        "named: {named}, literal: {small}"
+    );
     assert!(small < 3000, "{small} tokens");
 }
 
