@@ -59,3 +59,26 @@ fn expansion_size_does_not_grow_with_the_dimension() {
 fn chain_expansion_snapshot() {
     super::snapshots::check_snapshot("chain", chain_item(quote!(N)));
 }
+
+/// Nested loops (an n-link pendulum): the Hessian blocks are dense, filled by the double loop;
+/// what depends on `i` only is computed once per `i`, outside the loop over `j`.
+#[test]
+fn n_link_expansion_snapshot() {
+    super::snapshots::check_snapshot(
+        "n_link",
+        quote! {
+            /// n-link pendulum, unit masses and lengths.
+            fn n_link(x: [f64; N], v: [f64; N], g: f64) -> f64 {
+                let mut kinetic = 0.0;
+                for i in 0..N {
+                    for j in 0..N {
+                        let m = (N - i.max(j)) as f64;
+                        kinetic += 0.5 * m * (x[i] - x[j]).cos() * v[i] * v[j];
+                    }
+                }
+                let potential: f64 = (0..N).map(|i| -g * (N - i) as f64 * x[i].cos()).sum();
+                kinetic - potential
+            }
+        },
+    );
+}

@@ -181,3 +181,6 @@ impl ::varembed::__private::Lagrangian<N> for Chain {
         ::std::vec![("alpha", self.alpha)]
     }
 }
+const _: () = ::core::assert!(
+    0 < N, "#[lagrangian] fn `chain` reads component 0: its dimension must be at least 1"
+);
