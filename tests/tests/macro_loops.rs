@@ -108,6 +108,112 @@ macro_rules! models {
     };
 }
 
+/// Less common forms in one Lagrangian of dimension 5: a triangular double loop over
+/// `j in i + 1..N`, an inclusive range, an index `let`, mirrored indices `x[N - 1 - i]`, strided
+/// `x[2 * i]`, `else if` with `&&`/`||` on indices, `sin_cos`, a product of two sums, a sum
+/// times a velocity, a sum in a branch and a nested block.
+mod forms {
+    use super::*;
+
+    pub const N: usize = 5;
+
+    #[lagrangian]
+    pub fn forms(x: [f64; N], v: [f64; N], t: f64, k: f64) -> f64 {
+        let mut pairs = 0.0;
+        for i in 0..N {
+            for j in i + 1..N {
+                let (s, c) = (x[i] - x[j]).sin_cos();
+                pairs += k * s * c * v[j] + c / (j - i) as f64;
+            }
+        }
+        let mut mirror = 0.0;
+        for i in 0..=2 {
+            let back = N - 1 - i;
+            mirror += x[i] * x[back] * (back as f64 + 1.0);
+        }
+        let strided: f64 = (0..3).map(|i| x[2 * i] * x[2 * i].exp()).sum();
+        let weighted: f64 = (0..N)
+            .map(|i| {
+                let w = if i == 0 || i == N - 1 {
+                    0.5
+                } else if i > 1 && i < 3 {
+                    2.0
+                } else {
+                    1.0
+                };
+                w * v[i] * v[i]
+            })
+            .sum();
+        let total_x: f64 = (0..N).map(|i| x[i]).sum();
+        let total_v: f64 = (0..N).map(|i| v[i]).sum();
+        let branch = if t > 0.5 { total_x * 0.25 } else { -total_x };
+        pairs + mirror + strided + weighted + 0.1 * total_x * total_v + v[0] * total_x + branch + {
+            let a = x[1] * v[2];
+            a * a
+        }
+    }
+}
+
+fn forms_dual<T: DualNum<Primitive = f64> + Copy>(z: &[T], p: [f64; 2]) -> T {
+    let n = z.len() / 2;
+    let (x, v) = z.split_at(n);
+    let (k, t) = (p[0], p[1]);
+    let mut l = T::zero();
+    for i in 0..n {
+        for j in i + 1..n {
+            let d = x[i] - x[j];
+            l += d.sin() * d.cos() * v[j] * k + d.cos() / (j - i) as f64;
+        }
+    }
+    for i in 0..=2 {
+        l += x[i] * x[n - 1 - i] * ((n - 1 - i) as f64 + 1.0);
+    }
+    for i in 0..3 {
+        l += x[2 * i] * x[2 * i].exp();
+    }
+    for i in 0..n {
+        let w = if i == 0 || i == n - 1 {
+            0.5
+        } else if i == 2 {
+            2.0
+        } else {
+            1.0
+        };
+        l += v[i] * v[i] * w;
+    }
+    let total_x = x.iter().fold(T::zero(), |a, &b| a + b);
+    let total_v = v.iter().fold(T::zero(), |a, &b| a + b);
+    let branch = if t > 0.5 { total_x * 0.25 } else { -total_x };
+    let a = x[1] * v[2];
+    l + total_x * total_v * 0.1 + v[0] * total_x + branch + a * a
+}
+
+/// The forms above against num-dual, on both sides of the branch in `t`.
+#[test]
+fn less_common_forms_match_num_dual() {
+    let mut rng = Rng(0xF02);
+    for t in [0.2, 0.9] {
+        let lag = forms::Forms { k: 0.7 };
+        for _ in 0..20 {
+            let x = rng.vector::<5>(0.8);
+            let v = rng.vector::<5>(1.5);
+            let z: Vec<f64> = x.iter().chain(v.iter()).copied().collect();
+            let (value, grad, hess) = dual_derivatives(&|w| forms_dual(w, [0.7, t]), &z);
+            close("forms L", lag.value(&x, &v, t), value);
+            let (f, q, h) = lag.gradient_and_hessian(&x, &v, t);
+            for i in 0..5 {
+                close("forms f", f[i], grad[i]);
+                close("forms p", q[i], grad[5 + i]);
+                for j in 0..5 {
+                    close(&format!("forms xx[({i}, {j})]"), h.xx[(i, j)], hess[i][j]);
+                    close(&format!("forms xv[({i}, {j})]"), h.xv[(i, j)], hess[i][5 + j]);
+                    close(&format!("forms vv[({i}, {j})]"), h.vv[(i, j)], hess[5 + i][5 + j]);
+                }
+            }
+        }
+    }
+}
+
 models!(n4, 4);
 models!(n16, 16);
 models!(n64, 64);
