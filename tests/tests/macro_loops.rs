@@ -206,8 +206,16 @@ fn less_common_forms_match_num_dual() {
                 close("forms p", q[i], grad[5 + i]);
                 for j in 0..5 {
                     close(&format!("forms xx[({i}, {j})]"), h.xx[(i, j)], hess[i][j]);
-                    close(&format!("forms xv[({i}, {j})]"), h.xv[(i, j)], hess[i][5 + j]);
-                    close(&format!("forms vv[({i}, {j})]"), h.vv[(i, j)], hess[5 + i][5 + j]);
+                    close(
+                        &format!("forms xv[({i}, {j})]"),
+                        h.xv[(i, j)],
+                        hess[i][5 + j],
+                    );
+                    close(
+                        &format!("forms vv[({i}, {j})]"),
+                        h.vv[(i, j)],
+                        hess[5 + i][5 + j],
+                    );
                 }
             }
         }

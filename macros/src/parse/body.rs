@@ -12,7 +12,7 @@ use syn::{BinOp, Expr, Ident, Pat, Stmt};
 
 use super::scope::{Binding, Env, State, strip};
 use super::signature::{Length, Shape, Signature, is_f64};
-use crate::ir::{Graph, Id, IndexVar, Var};
+use crate::ir::{Affine, Graph, Id, IndexVar, Var};
 
 /// One open loop: what it adds to the accumulators declared outside it.
 struct Frame {
@@ -413,9 +413,7 @@ impl Parser {
         let Some(var_name) = self.loop_pattern(&f.pat) else {
             return;
         };
-        let Some(var) = self.range(&f.expr, &var_name, env) else {
-            return;
-        };
+        let var = self.range(&f.expr, &var_name, env);
         let mut inner = env.clone();
         inner.insert(var_name, Binding::Index(var));
         self.frames.push(Frame {
@@ -454,9 +452,7 @@ impl Parser {
         let Some(name) = self.loop_pattern(&closure.inputs[0]) else {
             return self.graph.num(0.0);
         };
-        let Some(var) = self.range(range, &name, env) else {
-            return self.graph.num(0.0);
-        };
+        let var = self.range(range, &name, env);
         let mut inner = env.clone();
         inner.insert(name, Binding::Index(var));
         self.frames.push(Frame {
@@ -498,9 +494,24 @@ impl Parser {
         }
     }
 
-    /// A new loop variable over the range `a..b` or `a..=b`.
-    fn range(&mut self, e: &Expr, name: &str, env: &Env) -> Option<IndexVar> {
-        let e = strip(e);
+    /// A new loop variable over the range `a..b` or `a..=b`. A range in error is reported and
+    /// replaced by an empty one, so that the loop's body is still checked, with its variable
+    /// bound (no "unknown index" follows).
+    fn range(&mut self, e: &Expr, name: &str, env: &Env) -> IndexVar {
+        let (start, end) = self
+            .range_ends(strip(e), env)
+            .unwrap_or((Affine::constant(0), Affine::constant(0)));
+        let var = IndexVar(self.graph.ranges.len() as u32);
+        self.graph.ranges.push(crate::ir::Range {
+            name: name.to_string(),
+            start,
+            end,
+        });
+        var
+    }
+
+    /// The ends of `a..b` (`a..=b` is `a..b + 1`), or `None` after reporting an error.
+    fn range_ends(&mut self, e: &Expr, env: &Env) -> Option<(Affine, Affine)> {
         let Expr::Range(r) = e else {
             self.iteration_error(e);
             return None;
@@ -509,18 +520,12 @@ impl Parser {
             self.error(r, "a loop range needs both ends, e.g. `0..N`");
             return None;
         };
-        let start = self.range_end(start, env)?;
+        let start = self.range_end(start, env);
         let mut end = self.range_end(end, env)?;
         if matches!(r.limits, syn::RangeLimits::Closed(_)) {
             end.c += 1;
         }
-        let var = IndexVar(self.graph.ranges.len() as u32);
-        self.graph.ranges.push(crate::ir::Range {
-            name: name.to_string(),
-            start,
-            end,
-        });
-        Some(var)
+        Some((start?, end))
     }
 }
 
