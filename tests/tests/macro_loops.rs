@@ -528,3 +528,29 @@ fn chain_hessian_is_tridiagonal() {
     assert!(text.lines().count() < 20, "{text}");
     let _ = Vector::<16>::zeros();
 }
+
+/// `hessian_dependence` of models with loops, read off the loop bodies: the n-link pendulum's
+/// mass matrix depends on the angles, its `xx` and `xv` on angles and rates.
+#[test]
+fn dependence_of_loop_models() {
+    use varembed::Dependence;
+    let on = |x: bool, v: bool| Dependence { x, v, t: false };
+    let dep = n4::NLink { g: 1.0, l: 1.0 }.hessian_dependence();
+    assert_eq!(
+        (dep.xx, dep.xv, dep.vv),
+        (on(true, true), on(true, true), on(true, false))
+    );
+    let dep = n4::FputPeriodic {
+        alpha: 0.1,
+        beta: 0.1,
+    }
+    .hessian_dependence();
+    assert_eq!(
+        (dep.xx, dep.xv, dep.vv),
+        (on(true, false), on(false, false), on(false, false))
+    );
+    // `(x[1] v[2])²` makes `xv` depend on both; the sums' products keep `vv` constant.
+    let dep = forms::Forms { k: 1.0 }.hessian_dependence();
+    assert_eq!((dep.xv, dep.vv), (on(true, true), on(true, false)));
+    assert!(forms::Forms { k: 1.0 }.dependence().t);
+}
