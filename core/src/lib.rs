@@ -100,6 +100,8 @@ pub mod __private {
     pub use crate::lagrangian::{
         Dependence, Hessian, HessianDependence, Lagrangian, Matrix, Vector,
     };
+    /// The relay that hands `#[lagrangian(helper)]` fns to the Lagrangians that call them.
+    pub use varembed_macros::__lagrangian_helpers as lagrangian_helpers;
 
     /// The step kernels of the classical schemes.
     pub mod step {

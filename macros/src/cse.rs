@@ -91,6 +91,17 @@ impl Plan {
         Self { temps, temp_index }
     }
 
+    /// A plan binding exactly `temps` (in id order).
+    pub fn with_temps(g: &Graph, mut temps: Vec<Id>) -> Self {
+        temps.sort_unstable();
+        temps.dedup();
+        let mut temp_index = vec![None; g.len()];
+        for (k, &id) in temps.iter().enumerate() {
+            temp_index[id] = Some(k);
+        }
+        Self { temps, temp_index }
+    }
+
     /// A plan that binds nothing: every node is inlined at each use (a negative control for
     /// the CSE tests).
     #[cfg(test)]

@@ -16,6 +16,8 @@
 //! | `a.powi(k)` | `k·a^(k−1)·a'` |
 //! | `a.powf(b)` | `b·a^(b−1)·a' + n·ln a·b'` (the second term, present only when the exponent is not constant, needs `a > 0`) |
 //! | `a.hypot(b)` | `(a·a' + b·b')/n` |
+//! | `if c { a } else { b }` | `if c { a' } else { b' }` (the condition is not differentiated) |
+//! | `a.signum()` | `0` |
 
 use std::collections::HashMap;
 
@@ -24,18 +26,18 @@ use crate::ir::{Derivatives, Func, Graph, HessianDependence, Id, Node, Var};
 /// Differentiates nodes of one graph; keeps the memo between calls so that second
 /// derivatives reuse first ones.
 #[derive(Default)]
-struct Differentiator {
+pub struct Differentiator {
     memo: HashMap<(Id, Var), Id>,
 }
 
 impl Differentiator {
     /// A differentiator with an empty memo.
-    fn new() -> Self {
+    pub fn new() -> Self {
         Self::default()
     }
 
     /// `∂root/∂var`.
-    fn diff(&mut self, g: &mut Graph, root: Id, var: Var) -> Id {
+    pub fn diff(&mut self, g: &mut Graph, root: Id, var: Var) -> Id {
         // Reachable nodes in topological order: every child's derivative exists before its
         // parent's, and no recursion is needed.
         for id in g.reachable(&[root]) {
@@ -137,7 +139,7 @@ impl Differentiator {
                         g.neg(sq)
                     }
                     Func::Abs => g.call(Func::Sign, a),
-                    Func::Sign => return g.num(0.0),
+                    Func::Sign | Func::Signum => return g.num(0.0),
                 };
                 g.mul(outer, da)
             }
@@ -170,6 +172,12 @@ impl Differentiator {
                 let num = g.add(l, r);
                 g.div(num, id)
             }
+            // The branch rule: each branch is differentiated, the condition is kept (its
+            // derivative is zero wherever it is defined).
+            Node::Select(op, l, r, a, b) => g.select(op, l, r, d(a), d(b)),
+            // A sum's derivative is assembled term by term (`assemble.rs`): a body differentiated
+            // here never contains one.
+            Node::Sum(..) => unreachable!("sums are differentiated by assemble.rs"),
         }
     }
 }

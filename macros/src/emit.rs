@@ -18,19 +18,21 @@ use crate::ir::{Dependence, Derivatives, Graph, HessianDependence, Id, Model, Va
 use crate::render::Render;
 
 /// `::varembed::__private::<name>`: the one path by which generated code reaches core.
-fn private(name: &str) -> TokenStream {
+pub fn private(name: &str) -> TokenStream {
     let name = Ident::new(name, Span::call_site());
     quote!(::varembed::__private::#name)
 }
 
 /// The user's fn, the struct, its `DERIVATIVES` (the text `text`) and its `Lagrangian<D>` impl
 /// evaluating `d` by `plans`.
-pub fn emit(model: &Model, d: &Derivatives, plans: &Plans, text: &str) -> TokenStream {
+pub fn emit(
+    model: &Model,
+    d: &Derivatives,
+    plans: &Plans,
+    text: &str,
+    with_item: bool,
+) -> TokenStream {
     let g = &model.graph;
-    let name = &model.struct_name;
-    let item = &model.item;
-    let strukt = structure(model);
-
     let leaf = leaf(&model.consts);
     let types = Types::new(model.dim);
     let (vector, hessian_ty) = (&types.vector, &types.hessian);
@@ -74,16 +76,48 @@ pub fn emit(model: &Model, d: &Derivatives, plans: &Plans, text: &str) -> TokenS
         &types,
     );
 
-    let hessian_dependence = hessian_dependence(&d.hessian_dependence);
-    let dependence = dependence(&d.dependence);
+    let methods = quote!(#value #gradient #hessian #gradient_and_hessian);
+    let dim = &types.dim;
+    shell(
+        model,
+        text,
+        quote!(#dim),
+        methods,
+        (&d.hessian_dependence, &d.dependence),
+        with_item,
+    )
+}
+
+/// The user's fn, the struct, `DERIVATIVES` and the `Lagrangian<dim>` impl holding `methods`
+/// and the dependence flags.
+pub fn shell(
+    model: &Model,
+    text: &str,
+    dim: TokenStream,
+    methods: TokenStream,
+    (hessian_dep, dep): (&HessianDependence, &Dependence),
+    with_item: bool,
+) -> TokenStream {
+    let name = &model.struct_name;
+    let item = &model.item;
+    let item = if with_item {
+        quote! {
+            // The fn stays callable, but the generated struct is the usual entry point: a
+            // program that only uses the struct has not made a mistake worth a `dead_code`
+            // warning.
+            #[allow(dead_code)]
+            #item
+        }
+    } else {
+        quote!()
+    };
+    let strukt = structure(model);
+    let hessian_dependence = hessian_dependence(hessian_dep);
+    let dependence = dependence(dep);
     let constants = constants(&model.consts);
     let lagrangian = private("Lagrangian");
-    let dim = &types.dim;
 
     quote! {
-        // The fn stays callable, but the generated struct is the usual entry point: a program
-        // that only uses the struct has not made a mistake worth a `dead_code` warning.
-        #[allow(dead_code)]
         #item
 
         #strukt
@@ -95,10 +129,7 @@ pub fn emit(model: &Model, d: &Derivatives, plans: &Plans, text: &str) -> TokenS
         }
 
         impl #lagrangian<#dim> for #name {
-            #value
-            #gradient
-            #hessian
-            #gradient_and_hessian
+            #methods
             #hessian_dependence
             #dependence
             #constants
@@ -168,8 +199,17 @@ impl Types {
 
 /// A method on a point `(x, v, t)`, with the parameters the body does not read named `_x` etc.
 fn method(name: TokenStream, ret: TokenStream, body: TokenStream, types: &Types) -> TokenStream {
+    method_on(name, ret, body, &types.vector)
+}
+
+/// A method on a point `(x, v, t)` of type `vector`, unused parameters named `_x` etc.
+pub fn method_on(
+    name: TokenStream,
+    ret: TokenStream,
+    body: TokenStream,
+    vector: &TokenStream,
+) -> TokenStream {
     let (x, v, t) = (param(&body, "x"), param(&body, "v"), param(&body, "t"));
-    let vector = &types.vector;
     quote! {
         #[inline]
         fn #name(&self, #x: &#vector, #v: &#vector, #t: f64) -> #ret {
@@ -271,7 +311,7 @@ fn hessian_dependence(dep: &HessianDependence) -> TokenStream {
     }
 }
 
-fn index(i: usize) -> Literal {
+pub fn index(i: usize) -> Literal {
     Literal::usize_unsuffixed(i)
 }
 
@@ -308,6 +348,9 @@ fn leaf(consts: &[Ident]) -> impl Fn(Var) -> TokenStream + '_ {
         Var::Const(k) => {
             let c = &consts[k];
             quote!(self.#c)
+        }
+        Var::XAt(_) | Var::VAt(_) | Var::Index(_) | Var::Dim => {
+            unreachable!("a model without loops reads literal components only")
         }
     }
 }

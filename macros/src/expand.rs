@@ -9,11 +9,15 @@
 //! | text | [`text::derivatives_text`] | model, derivatives → `String` |
 //! | emit | [`emit::emit`] | model, derivatives, plans, text → tokens |
 //!
-//! On error, [`fallback`] replaces the output.
+//! A Lagrangian with loops (or a named dimension) takes the loop path instead: [`assemble`]
+//! (its terms and their derivatives), [`text::loops_text`], [`scatter::emit`] (loops that add
+//! each term's derivatives into their entries, with scoped temporaries). Helper fns are
+//! gathered first ([`helpers`]). On error, [`fallback`] replaces the output.
 
 use proc_macro2::TokenStream;
 
-use crate::{cse, diff, emit, fallback, parse, text};
+use crate::ir::{Model, Node};
+use crate::{assemble, cse, diff, emit, fallback, helpers, parse, scatter, text};
 
 /// The errors of a rejected fn, with the fn's tokens, which the fallback output keeps.
 #[derive(Debug)]
@@ -31,12 +35,61 @@ impl Rejected {
 
 /// Expands `#[lagrangian(args)] item`. Errors are spanned on the offending tokens.
 pub fn expand(args: TokenStream, item: TokenStream) -> Result<TokenStream, Rejected> {
-    let mut model = match parse::parse(args, item.clone()) {
+    if helpers::is_helper(&args) {
+        return Ok(helpers::define(item));
+    }
+    if let Some(relay) = helpers::start(&args, &item) {
+        return Ok(relay);
+    }
+    expand_with(args, item, Vec::new(), true)
+}
+
+/// `lagrangian_helpers! { … }`: the next helper relay, or the expansion with the helpers.
+pub fn expand_gathered(input: TokenStream) -> TokenStream {
+    match helpers::gather(input) {
+        Ok((args, item, helpers)) => {
+            expand_with(args, item, helpers, false).unwrap_or_else(|r| r.errors.to_compile_error())
+        }
+        Err(next) => next,
+    }
+}
+
+/// Expands `item` with the helper fns `helpers`; `with_item`: emit the fn itself too.
+fn expand_with(
+    args: TokenStream,
+    item: TokenStream,
+    helpers: Vec<syn::ItemFn>,
+    with_item: bool,
+) -> Result<TokenStream, Rejected> {
+    let mut model = match parse::parse_with_helpers(args, item.clone(), helpers) {
         Ok(model) => model,
         Err(errors) => return Err(Rejected { item, errors }),
     };
-    let derivatives = diff::differentiate(&mut model.graph, model.root, model.dim);
-    let plans = cse::plan(&model.graph, model.root, &derivatives);
-    let text = text::derivatives_text(&model, &derivatives);
-    Ok(emit::emit(&model, &derivatives, &plans, &text))
+    let out = if has_loops(&model) {
+        let assembly = match assemble::assemble(&mut model.graph, model.root) {
+            Ok(a) => a,
+            Err(msg) => {
+                let errors = syn::Error::new_spanned(&model.item.sig.ident, msg);
+                return Err(Rejected { item, errors });
+            }
+        };
+        let text = text::loops_text(&model, &assembly);
+        scatter::emit(&model, &assembly, &text, with_item)
+    } else {
+        let derivatives = diff::differentiate(&mut model.graph, model.root, model.dim);
+        let plans = cse::plan(&model.graph, model.root, &derivatives);
+        let text = text::derivatives_text(&model, &derivatives);
+        emit::emit(&model, &derivatives, &plans, &text, with_item)
+    };
+    Ok(out)
+}
+
+/// Whether the model takes the loop path: a named dimension or a sum.
+fn has_loops(model: &Model) -> bool {
+    model.dim_name.is_some()
+        || model
+            .graph
+            .reachable(&[model.root])
+            .into_iter()
+            .any(|id| matches!(model.graph.node(id), Node::Sum(..)))
 }

@@ -6,38 +6,30 @@
 //! created before their parents, hence `Id` order is a topological order: analyses walk the
 //! nodes in increasing id without recursion, and the emitted temporaries follow that order.
 //!
-//! # How loops will enter
+//! # Loops
 //!
-//! Today every variable names a fixed component (`Var::X(2)` is `x[2]`), so `L` of dimension
-//! `D` is one scalar expression and its Hessian has `D²` entries. Lagrangians written with `for`
-//! loops or `(0..N).map(|i| …).sum()` keep the index structure instead, and fit this IR without
-//! changing its shape:
+//! A Lagrangian written with `for` loops or `(0..N).map(|i| …).sum()` keeps its index structure
+//! in this same graph, with three kinds of leaves and one node more:
 //!
-//! - an *index variable* (`IndexVar(u32)`, bound by the loop or closure that introduces it) and
-//!   an *index expression* `enum Index { At(usize), Offset { var: IndexVar, offset: i64 } }`
-//!   (plus a wrap-around modulus for periodic chains); the component variables become
-//!   `Var::X(Index)` and `Var::V(Index)`. All three types are small `Copy + Hash` values, so a
-//!   node holding them is still hash-consed like today's;
-//! - a node `Sum { var: IndexVar, range: (start, end), body: Id }`: its body is built before it,
-//!   so ids stay topological, and `children()` is just `[body]`;
-//! - differentiation of `Sum` is again a `Sum`: `∂/∂x[k] Σ_i f(x[i], x[i + 1])` is
-//!   `Σ_i (∂f/∂x[i])·[i = k] + (∂f/∂x[i + 1])·[i + 1 = k]`, and the Kronecker deltas collapse the
-//!   sum to the (at most two) terms with `i = k` and `i = k − 1`, each substituted at that index.
-//!   The derivative of entry `k` is therefore one body with a free index, the gradient is a
-//!   `map` over `k`, and the Hessian is banded: its nonzero offsets are the differences of the
-//!   index offsets that occur in the body (`{−1, 0, 1}` for a nearest-neighbour chain);
-//! - the dependence analysis ([`Graph::dependence`]) gains one kind of leaf, the index
-//!   variable: CSE asks "depends on `i`?" to scope temporaries (a node that depends on `i` is
-//!   bound inside the loop over `i`, every other node is hoisted out of it), while the
-//!   dependence of the Hessian blocks keeps treating every `Var::X(_)` alike.
+//! - an *index variable* ([`IndexVar`]), bound by the loop or closure that introduces it, with
+//!   its range in [`Graph::ranges`]; an *index expression* ([`Affine`]: `a·i + b·N + c`) and a
+//!   component ([`Component`]: an affine index, optionally taken modulo `N` for periodic
+//!   chains), so that `x[i + 1]` is the leaf `Var::XAt(…)`. Literal components stay
+//!   `Var::X(k)`;
+//! - `Var::Index(i)` and `Var::Dim`: the value of a loop variable and of the dimension as
+//!   numbers (`(N - i) as f64`);
+//! - the node `Sum(i, body)`: `Σ_i body` over the range of `i`. Its body is built before it, so
+//!   ids stay topological.
 //!
-//! The places that read a fixed component today, and gain one arm for `Index` then, are:
-//! the parser (creating `x[i]`), [`Derivatives`] (one row per fixed component, to become a
-//! banded block for a symbolic index), the two renderers (`x[i]` as tokens and as text) and
-//! the evaluator of the tests. Nothing else matches on the component number: the dependence
-//! analysis, simplification and CSE only ask *which kind* of variable a leaf is.
+//! Derivatives of a sum are not unrolled: `assemble.rs` writes `L` as a sum of *terms*, each a
+//! body under a nest of loops, and differentiates each body with respect to the components it
+//! reads. The generated code then keeps the loops and *scatters* each body's derivatives into
+//! the entries its components name (`f[i] += …; f[i + 1] += …`), as a finite-element code
+//! assembles its matrices. The dependence analysis treats every `XAt` like an `X`.
 
 use std::collections::HashMap;
+
+pub use crate::indices::{Affine, Cmp, Component, IndexVar, Range};
 
 use proc_macro2::Ident;
 use syn::{Attribute, ItemFn, Visibility};
@@ -48,10 +40,18 @@ pub type Id = usize;
 /// A leaf variable of the Lagrangian.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Var {
-    /// Position component `x_i`.
+    /// Position component `x_i`, `i` a literal.
     X(usize),
-    /// Velocity component `v_i`.
+    /// Velocity component `v_i`, `i` a literal.
     V(usize),
+    /// Position component at an index that names a loop variable or the dimension.
+    XAt(Component),
+    /// Velocity component at an index that names a loop variable or the dimension.
+    VAt(Component),
+    /// The value of a loop variable, as a number.
+    Index(IndexVar),
+    /// The dimension `N` as a number, when it is a named constant.
+    Dim,
     /// Time `t`.
     T,
     /// Model constant number `k` (a field of the generated struct): fixed for a whole run, so
@@ -78,6 +78,8 @@ pub enum Func {
     Cbrt,
     Recip,
     Abs,
+    /// `f64::signum` (`±1`, NaN for NaN); its derivative is zero.
+    Signum,
     /// `sign(a)` with `sign(0) = 0` (and `sign(NaN) = 0`): the derivative of `abs`. Not
     /// available to the user; emitted as an `if`.
     Sign,
@@ -85,7 +87,7 @@ pub enum Func {
 
 impl Func {
     /// The functions a body may call, by their `f64` method name.
-    const USER: [Func; 16] = [
+    const USER: [Func; 17] = [
         Func::Sin,
         Func::Cos,
         Func::Tan,
@@ -102,6 +104,7 @@ impl Func {
         Func::Cbrt,
         Func::Recip,
         Func::Abs,
+        Func::Signum,
     ];
 
     /// The Rust method name (`Sign` has no method; it is emitted as an `if`).
@@ -123,6 +126,7 @@ impl Func {
             Func::Cbrt => "cbrt",
             Func::Recip => "recip",
             Func::Abs => "abs",
+            Func::Signum => "signum",
             Func::Sign => "sign",
         }
     }
@@ -151,6 +155,7 @@ impl Func {
             Func::Cbrt => a.cbrt(),
             Func::Recip => a.recip(),
             Func::Abs => a.abs(),
+            Func::Signum => a.signum(),
             Func::Sign => sign(a),
         }
     }
@@ -255,6 +260,10 @@ pub enum Node {
     Powi(Id, i32),
     Powf(Id, Id),
     Hypot(Id, Id),
+    /// `if l op r { a } else { b }`.
+    Select(Cmp, Id, Id, Id, Id),
+    /// `Σ_i body` over the range of `i`.
+    Sum(IndexVar, Id),
 }
 
 impl Node {
@@ -262,7 +271,8 @@ impl Node {
     pub fn children(&self) -> Vec<Id> {
         match *self {
             Node::Num(_) | Node::Var(_) => vec![],
-            Node::Neg(a) | Node::Call(_, a) | Node::Powi(a, _) => vec![a],
+            Node::Neg(a) | Node::Call(_, a) | Node::Powi(a, _) | Node::Sum(_, a) => vec![a],
+            Node::Select(_, l, r, a, b) => vec![l, r, a, b],
             Node::Add(a, b)
             | Node::Sub(a, b)
             | Node::Mul(a, b)
@@ -284,6 +294,8 @@ impl Node {
 pub struct Graph {
     nodes: Vec<Node>,
     index: HashMap<Node, Id>,
+    /// The range of each loop variable, by number.
+    pub ranges: Vec<Range>,
 }
 
 impl Graph {
@@ -338,8 +350,8 @@ impl Graph {
         let mut dep = Dependence::NONE;
         for id in self.reachable(ids) {
             match self.nodes[id] {
-                Node::Var(Var::X(_)) => dep.x = true,
-                Node::Var(Var::V(_)) => dep.v = true,
+                Node::Var(Var::X(_) | Var::XAt(_)) => dep.x = true,
+                Node::Var(Var::V(_) | Var::VAt(_)) => dep.v = true,
                 Node::Var(Var::T) => dep.t = true,
                 _ => {}
             }
@@ -380,6 +392,14 @@ impl Graph {
                 Node::Powi(a, n) => val(a).powi(n),
                 Node::Powf(a, b) => val(a).powf(val(b)),
                 Node::Hypot(a, b) => val(a).hypot(val(b)),
+                Node::Select(op, l, r, a, b) => {
+                    if op.eval(val(l), val(r)) {
+                        val(a)
+                    } else {
+                        val(b)
+                    }
+                }
+                Node::Sum(..) => panic!("the test evaluator does not run loops"),
             };
             value.insert(id, x);
         }
@@ -421,8 +441,10 @@ pub struct Model {
     pub vis: Visibility,
     /// Doc comments of the fn, given to the struct.
     pub docs: Vec<Attribute>,
-    /// Dimension `D`.
+    /// Dimension `D` (when it is a named constant: 1, and `dim_name` is set).
     pub dim: usize,
+    /// The named constant that is the dimension (`[f64; N]`), if it is one.
+    pub dim_name: Option<syn::Path>,
     /// `x`, `v` declared as `f64` (printed as `x`, not `x[0]`).
     pub scalar: bool,
     /// The model constants, in order (`Var::Const(k)` is `consts[k]`).

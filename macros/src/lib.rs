@@ -5,17 +5,25 @@
 //! `diff.rs` (symbolic first and second derivatives) → `cse.rs` (which shared nodes each method
 //! binds to temporaries) → `text.rs` (`DERIVATIVES`) → `emit.rs` (the struct and its
 //! `Lagrangian<D>` impl, expressions written by `render.rs`). `ir.rs` is the hash-consed DAG they
-//! share; `simplify.rs` is the smart constructors every node is built through; `fallback.rs` is
-//! what is emitted on error.
+//! share (its integer side, loop variables and index expressions, in `indices.rs`);
+//! `simplify.rs` is the smart constructors every node is built through; `fallback.rs` is what
+//! is emitted on error. A Lagrangian with loops takes `assemble.rs` (its terms and their
+//! derivatives) and `scatter.rs` (loop nests adding them into their entries) in place of
+//! `diff.rs`, `cse.rs` and `emit.rs`'s methods; `helpers.rs` relays `#[lagrangian(helper)]`
+//! fns to the Lagrangians that call them.
 
+mod assemble;
 mod cse;
 mod diff;
 mod emit;
 mod expand;
 mod fallback;
+mod helpers;
+mod indices;
 mod ir;
 mod parse;
 mod render;
+mod scatter;
 mod simplify;
 mod text;
 
@@ -27,7 +35,8 @@ use proc_macro::TokenStream;
 /// Turns `fn name(x, v, [t: f64,] constants: f64...) -> f64 { body }` into a struct that
 /// implements `varembed::Lagrangian<D>` with derivatives computed at compile time.
 ///
-/// `x` and `v` are both `f64` (`D = 1`) or both `[f64; D]`; an optional `t: f64` follows, then
+/// `x` and `v` are both `f64` (`D = 1`) or both `[f64; D]` (`D` a literal or a `const` item);
+/// an optional `t: f64` follows, then
 /// any number of `f64` model constants. The macro keeps the fn as written and adds
 /// `struct CamelCaseName { pub constant: f64, … }` (a unit struct without constants, with the
 /// fn's visibility and docs) implementing `Lagrangian<D>`:
@@ -44,13 +53,18 @@ use proc_macro::TokenStream;
 ///
 /// The generated code reaches `varembed` only through its hidden `__private` module.
 ///
-/// The body may use `let` bindings, `+ - * /`, unary `-`, float and integer literals,
-/// parentheses, `x[i]`/`v[i]` with a literal index, the parameters, the `f64` methods (or
+/// The body may use `let` bindings (also of tuples), `let mut` accumulators with `for i in
+/// a..b { acc += … }`, iterator sums `(a..b).map(|i| …).sum::<f64>()`, `x[i]`/`v[i]` at a
+/// literal or an index expression (`x[i + 1]`, `x[(i + 1) % N]`), indices as numbers
+/// (`(N - i) as f64`), `+ - * /`, unary `-`, literals, the parameters, the `f64` methods (or
 /// `f64::` functions) `sin cos tan asin acos atan sinh cosh tanh exp ln log10 sqrt cbrt recip
-/// abs powi powf hypot` (`powi` with an integer-literal exponent), and `std::f64::consts::*`.
-/// Anything else is a compile error on the offending tokens; all of them are reported at once.
+/// abs signum powi powf hypot max min`, `if c { a } else { b }`, `std::f64::consts::*`, and
+/// helper fns marked `#[lagrangian(helper)]`. The derivatives of loops are loops (the
+/// expansion does not grow with the dimension). Anything else is a compile error on the
+/// offending tokens; all of them are reported at once. `docs/macro.md` has the details.
 ///
-/// Derivative conventions: `abs` is differentiated as `sign(a)·a'` with `sign(0) = 0`;
+/// Derivative conventions: `if` is differentiated branch by branch (the condition is not);
+/// `abs` is differentiated as `sign(a)·a'` with `sign(0) = 0`;
 /// `a.powf(b)` contributes `a^b·ln a·b'` when the exponent is not constant, which needs
 /// `a > 0` (it is NaN otherwise, as is `powf` itself for a negative base).
 ///
@@ -80,4 +94,11 @@ pub fn lagrangian(args: TokenStream, item: TokenStream) -> TokenStream {
     expand::expand(args.into(), item.into())
         .unwrap_or_else(expand::Rejected::into_tokens)
         .into()
+}
+
+/// The relay of `#[lagrangian(helper)]` fns (see `helpers.rs`): not to be called by hand.
+#[doc(hidden)]
+#[proc_macro]
+pub fn __lagrangian_helpers(input: TokenStream) -> TokenStream {
+    expand::expand_gathered(input.into()).into()
 }

@@ -4,15 +4,35 @@
 //! are collected and combined, so one mistake does not hide the next.
 
 mod body;
-mod signature;
+mod expr;
+mod index;
+mod scope;
+pub mod signature;
 
 use proc_macro2::TokenStream;
 use syn::ItemFn;
 
 use crate::ir::Model;
 
-/// Parses the attribute arguments and the fn into a [`Model`].
+/// Parses the attribute arguments and the fn into a [`Model`] (no helper fns).
+#[cfg(test)]
 pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
+    parse_with_helpers(args, item, Vec::new())
+}
+
+/// The errors in the body of a helper fn with parameters `params`.
+pub fn check_helper_body(f: &ItemFn, params: &[proc_macro2::Ident]) -> Vec<syn::Error> {
+    let mut parser = body::Parser::new(Vec::new(), Vec::new());
+    parser.helper_body(&f.sig.ident, &f.block, params);
+    parser.finish().1
+}
+
+/// Parses the fn with the `#[lagrangian(helper)]` fns it may call.
+pub fn parse_with_helpers(
+    args: TokenStream,
+    item: TokenStream,
+    helpers: Vec<ItemFn>,
+) -> syn::Result<Model> {
     let item: ItemFn = syn::parse2(item).map_err(|e| {
         syn::Error::new(
             e.span(),
@@ -24,7 +44,7 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
     })?;
     let mut errors = Vec::new();
     let sig = signature::check(&args, &item, &mut errors);
-    let mut parser = body::Parser::new(errors);
+    let mut parser = body::Parser::new(errors, helpers);
     let root = parser.body(&item.block, &sig);
     let (graph, errors) = parser.finish();
 
@@ -46,6 +66,7 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
         struct_name: sig.struct_name,
         docs,
         dim: sig.dim,
+        dim_name: sig.dim_name,
         scalar: sig.scalar,
         consts: sig.consts,
         graph,

@@ -30,6 +30,16 @@ impl<'a> Render<'a> {
         quote!(#(#lets)*)
     }
 
+    /// The `let` statements of the temporaries `ids` (a subset of the plan's, in its order).
+    pub fn lets(&self, ids: &[Id]) -> TokenStream {
+        let lets = ids.iter().map(|&id| {
+            let name = temp_ident(self.plan.temp(id).expect("a temporary of the plan"));
+            let value = self.define(id).0;
+            quote!(let #name = #value;)
+        });
+        quote!(#(#lets)*)
+    }
+
     /// The expression of a root (a temporary's name when it is one).
     pub fn root(&self, id: Id) -> TokenStream {
         self.operand(id).0
@@ -103,6 +113,13 @@ impl<'a> Render<'a> {
                 let (a, b) = (self.receiver(a), self.root(b));
                 (quote!(#a.hypot(#b)), Prec::Atom)
             }
+            Node::Select(op, l, r, a, b) => {
+                let (l, r) = (self.wrapped(l, Prec::Add), self.wrapped(r, Prec::Add));
+                let (a, b) = (self.root(a), self.root(b));
+                let op: TokenStream = op.symbol().parse().expect("an operator");
+                (quote!(if #l #op #r { #a } else { #b }), Prec::If)
+            }
+            Node::Sum(..) => unreachable!("sums are emitted as loops by scatter.rs"),
         }
     }
 }

@@ -13,7 +13,7 @@
 //! `a + b` and `b + a` (likewise `·`) share one node (swapping them is exact), so
 //! `a·b` and `b·a` are the same node. Nothing is reassociated, so no rounding changes.
 
-use crate::ir::{Func, Graph, Id, Node, Var};
+use crate::ir::{Cmp, Func, Graph, Id, IndexVar, Node, Var};
 
 impl Graph {
     /// The constant `c`.
@@ -200,5 +200,25 @@ impl Graph {
             return self.num(x.hypot(y));
         }
         self.intern(Node::Hypot(a, b))
+    }
+
+    /// `if l op r { a } else { b }`: one branch when both are the same node or the condition is
+    /// a comparison of constants.
+    pub fn select(&mut self, op: Cmp, l: Id, r: Id, a: Id, b: Id) -> Id {
+        if a == b {
+            return a;
+        }
+        if let (Some(x), Some(y)) = (self.num_value(l), self.num_value(r)) {
+            return if op.eval(x, y) { a } else { b };
+        }
+        self.intern(Node::Select(op, l, r, a, b))
+    }
+
+    /// `Σ_i body` over the range of `i` (`0` when the body is `0`).
+    pub fn sum(&mut self, i: IndexVar, body: Id) -> Id {
+        if self.is_num(body, 0.0) {
+            return body;
+        }
+        self.intern(Node::Sum(i, body))
     }
 }

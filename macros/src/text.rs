@@ -3,7 +3,8 @@
 
 use std::collections::HashMap;
 
-use crate::ir::{Derivatives, Func, Graph, Id, Model, Node, Prec, Var, constant_name};
+use crate::assemble::{Assembly, Block};
+use crate::ir::{Affine, Derivatives, Func, Graph, Id, Model, Node, Prec, Var, constant_name};
 
 /// Formulas longer than this are not spelled out (the expansion of a DAG can be exponential).
 const MAX_TEXT_NODES: usize = 4000;
@@ -45,6 +46,49 @@ pub fn derivatives_text(model: &Model, d: &Derivatives) -> String {
                     p.print(id)
                 ));
             }
+        }
+    }
+    lines.join("\n")
+}
+
+/// The text of a Lagrangian with loops: `L` with its sums written `Σ_{i in a..b}`, then each
+/// term's derivatives as the loop that adds them, `for i in a..b: ∂L/∂x[i + 1] += …`.
+pub fn loops_text(model: &Model, a: &Assembly) -> String {
+    let p = Printer {
+        g: &model.graph,
+        model,
+    };
+    let mut lines = vec![format!("L = {}", p.print(model.root))];
+    for term in &a.terms {
+        let head: String = term
+            .loops
+            .iter()
+            .map(|&i| {
+                let r = &p.g.ranges[i.0 as usize];
+                format!(
+                    "for {} in {}..{}: ",
+                    r.name,
+                    p.affine(r.start),
+                    p.affine(r.end)
+                )
+            })
+            .collect();
+        for &(u, id) in &term.gradient {
+            lines.push(format!("{head}∂L/∂{} += {}", p.var(u), p.print(id)));
+        }
+        for e in &term.hessian {
+            let sym = if e.mirror {
+                ", and at the mirrored entry"
+            } else {
+                ""
+            };
+            let _ = Block::Xx;
+            lines.push(format!(
+                "{head}∂²L/∂{}∂{} += {}{sym}",
+                p.var(e.row),
+                p.var(e.col),
+                p.print(e.id)
+            ));
         }
     }
     lines.join("\n")
@@ -107,17 +151,7 @@ impl Printer<'_> {
                 };
                 (s, p)
             }
-            Node::Var(v) => {
-                let s = match v {
-                    Var::X(_) if self.model.scalar => "x".into(),
-                    Var::V(_) if self.model.scalar => "v".into(),
-                    Var::X(i) => format!("x[{i}]"),
-                    Var::V(i) => format!("v[{i}]"),
-                    Var::T => "t".into(),
-                    Var::Const(k) => self.model.consts[k].to_string(),
-                };
-                (s, Prec::Atom)
-            }
+            Node::Var(v) => (self.var(v), Prec::Atom),
             Node::Add(a, b) => bin(a, b, "+", Prec::Add),
             Node::Sub(a, b) => bin(a, b, "-", Prec::Add),
             Node::Mul(a, b) => bin(a, b, "*", Prec::Mul),
@@ -140,6 +174,86 @@ impl Printer<'_> {
                 format!("{}.hypot({})", self.wrap(a, Prec::Atom), self.go(b).0),
                 Prec::Atom,
             ),
+            Node::Select(op, l, r, a, b) => (
+                format!(
+                    "if {} {} {} {{ {} }} else {{ {} }}",
+                    self.wrap(l, Prec::Add),
+                    op.symbol(),
+                    self.wrap(r, Prec::Add),
+                    self.go(a).0,
+                    self.go(b).0
+                ),
+                Prec::If,
+            ),
+            Node::Sum(i, body) => {
+                let r = &self.g.ranges[i.0 as usize];
+                (
+                    format!(
+                        "Σ_{{{} in {}..{}}} {}",
+                        r.name,
+                        self.affine(r.start),
+                        self.affine(r.end),
+                        self.wrap(body, Prec::Atom)
+                    ),
+                    Prec::Neg,
+                )
+            }
         }
+    }
+
+    /// The name of a variable.
+    fn var(&self, v: Var) -> String {
+        match v {
+            Var::X(_) if self.model.scalar => "x".into(),
+            Var::V(_) if self.model.scalar => "v".into(),
+            Var::X(i) => format!("x[{i}]"),
+            Var::V(i) => format!("v[{i}]"),
+            Var::XAt(c) | Var::VAt(c) => {
+                let n = if matches!(v, Var::XAt(_)) { "x" } else { "v" };
+                let at = self.affine(c.at);
+                if c.wrap {
+                    format!("{n}[({at}) % {}]", self.dim())
+                } else {
+                    format!("{n}[{at}]")
+                }
+            }
+            Var::T => "t".into(),
+            Var::Const(k) => self.model.consts[k].to_string(),
+            Var::Index(i) => format!("({} as f64)", self.g.ranges[i.0 as usize].name),
+            Var::Dim => format!("({} as f64)", self.dim()),
+        }
+    }
+
+    fn dim(&self) -> String {
+        match &self.model.dim_name {
+            Some(p) => quote::ToTokens::to_token_stream(p).to_string(),
+            None => self.model.dim.to_string(),
+        }
+    }
+
+    /// An index, `2 * i + N - 1`.
+    fn affine(&self, a: Affine) -> String {
+        let mut parts: Vec<(i64, String)> = Vec::new();
+        if let Some(i) = a.var {
+            parts.push((a.scale, self.g.ranges[i.0 as usize].name.clone()));
+        }
+        parts.push((a.n, self.dim()));
+        parts.push((a.c, String::new()));
+        let mut out = String::new();
+        for (k, what) in parts.into_iter().filter(|p| p.0 != 0) {
+            let mag = k.unsigned_abs();
+            let term = match (what.is_empty(), mag) {
+                (true, _) => mag.to_string(),
+                (false, 1) => what,
+                (false, _) => format!("{mag} * {what}"),
+            };
+            if out.is_empty() {
+                out = if k < 0 { format!("-{term}") } else { term };
+            } else {
+                out.push_str(if k < 0 { " - " } else { " + " });
+                out.push_str(&term);
+            }
+        }
+        if out.is_empty() { "0".into() } else { out }
     }
 }

@@ -91,6 +91,7 @@ const PRIVATE: &[&str] = &[
     "Vector",
     "fft_operator",
     "krylov",
+    "lagrangian_helpers",
     "linalg",
     "operator",
     "step",

@@ -7,4 +7,5 @@ fn ui() {
     t.compile_fail("ui/signature/*.rs");
     t.compile_fail("ui/body/*.rs");
     t.compile_fail("ui/function/*.rs");
+    t.compile_fail("ui/loops/*.rs");
 }

@@ -1,62 +1,80 @@
-//! The body of a `#[lagrangian]` fn, walked into the expression DAG.
+//! The body of a `#[lagrangian]` fn, walked into the expression DAG: statements, `let`
+//! bindings, accumulators and `for` loops. Expressions are in `expr.rs`, integer index
+//! expressions in `index.rs`.
+//!
+//! A loop is a sum: `let mut acc = 0.0; for i in a..b { acc += f(i); }` binds `acc` to
+//! `acc + Σ_i f(i)`. Inside a loop an accumulator declared outside it may only be added to or
+//! subtracted from (`+=`, `-=`), and not read: anything else would be a recurrence, not a sum.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
-use syn::{BinOp, Expr, Ident, Lit, Pat, Stmt, UnOp};
+use syn::{BinOp, Expr, Ident, Pat, Stmt};
 
+use super::scope::{Binding, Env, State, strip};
 use super::signature::{Length, Shape, Signature, is_f64};
-use crate::ir::{Func, Graph, Id, Var, constant_value};
+use crate::ir::{Affine, Graph, Id, IndexVar, Var};
 
-/// What the body of a `#[lagrangian]` fn may contain (appended to every body error).
-const SUPPORTED: &str = "supported in a #[lagrangian] body: `let` bindings, `+ - * /`, \
-     unary `-`, float and integer literals, parentheses, `x[i]`/`v[i]` with a literal index, \
-     the parameters, the f64 methods (or `f64::` functions) sin cos tan asin acos atan sinh \
-     cosh tanh exp ln log10 sqrt cbrt recip abs powi powf hypot, and `std::f64::consts::*`";
-
-/// The usable names in the body.
-#[derive(Clone, Copy)]
-enum Binding {
-    /// A value: a scalar parameter or a `let`.
-    Scalar(Id),
-    /// `x` or `v` declared as an array: only its components can be used.
-    Array { state: State, len: Length },
-}
-
-/// Which of the two state parameters an array is.
-#[derive(Clone, Copy, PartialEq, Eq)]
-enum State {
-    Position,
-    Velocity,
-}
-
-impl State {
-    /// The variable of component `i`.
-    fn component(self, i: usize) -> Var {
-        match self {
-            State::Position => Var::X(i),
-            State::Velocity => Var::V(i),
-        }
-    }
+/// One open loop: what it adds to the accumulators declared outside it.
+struct Frame {
+    var: IndexVar,
+    /// `(accumulator, the sum of what one iteration adds to it)`, in first-update order.
+    adds: Vec<(String, Id)>,
+    /// Accumulators of outer scopes read in this loop.
+    read: HashSet<String>,
 }
 
 /// Walks a body, building its nodes and collecting its errors.
 pub struct Parser {
-    graph: Graph,
-    errors: Vec<syn::Error>,
+    pub(super) graph: Graph,
+    pub(super) errors: Vec<syn::Error>,
+    frames: Vec<Frame>,
+    /// The helper fns the body may call, by name.
+    pub(super) helpers: HashMap<String, syn::ItemFn>,
+    /// Helpers being inlined (to reject recursion).
+    pub(super) inlining: Vec<String>,
+    /// The dimension, when it is a literal.
+    pub(super) dim: Option<usize>,
+    /// Checking a helper on its own: calls of other helpers are not resolved.
+    pub(super) checking_helper: bool,
+    /// A helper was found to call itself (through others) while inlining.
+    pub(super) recursion: bool,
 }
 
 impl Parser {
     /// A parser that appends to `errors` (those of the signature).
-    pub fn new(errors: Vec<syn::Error>) -> Self {
+    pub fn new(errors: Vec<syn::Error>, helpers: Vec<syn::ItemFn>) -> Self {
         Self {
             graph: Graph::new(),
             errors,
+            frames: Vec::new(),
+            helpers: helpers
+                .into_iter()
+                .map(|h| (h.sig.ident.to_string(), h))
+                .collect(),
+            inlining: Vec::new(),
+            dim: None,
+            checking_helper: false,
+            recursion: false,
         }
+    }
+
+    /// Checks the body of a helper fn with parameters `params`.
+    pub fn helper_body(&mut self, name: &Ident, block: &syn::Block, params: &[Ident]) {
+        self.checking_helper = true;
+        self.inlining.push(name.to_string());
+        let mut env = Env::new();
+        for (k, p) in params.iter().enumerate() {
+            env.insert(
+                p.to_string(),
+                Binding::Scalar(self.graph.var(Var::Const(k))),
+            );
+        }
+        self.block(block, &mut env);
     }
 
     /// `L` as a node of the graph: the value of `block` with the parameters of `sig` bound.
     pub fn body(&mut self, block: &syn::Block, sig: &Signature) -> Id {
-        let mut env: HashMap<String, Binding> = HashMap::new();
+        let mut env = Env::new();
         let states = [State::Position, State::Velocity];
         for ((name, shape), state) in sig.states.iter().zip(states) {
             let binding = match *shape {
@@ -64,6 +82,15 @@ impl Parser {
                 Shape::Array(len) => Binding::Array { state, len },
             };
             env.insert(name.to_string(), binding);
+        }
+        if let Some(Length::Known(d)) = sig.states.first().and_then(|s| match s.1 {
+            Shape::Array(len) => Some(len),
+            Shape::Scalar => None,
+        }) {
+            self.dim = Some(d);
+        }
+        if let Some(name) = sig.dim_name.as_ref().and_then(|p| p.get_ident()) {
+            env.insert(name.to_string(), Binding::Dim);
         }
         if let Some(t) = &sig.time {
             env.insert(t.to_string(), Binding::Scalar(self.graph.var(Var::T)));
@@ -78,56 +105,39 @@ impl Parser {
     }
 
     /// The graph built and the errors collected.
-    pub fn finish(self) -> (Graph, Vec<syn::Error>) {
+    pub fn finish(self) -> (crate::ir::Graph, Vec<syn::Error>) {
         (self.graph, self.errors)
     }
 
-    fn error(&mut self, tokens: impl quote::ToTokens, msg: impl std::fmt::Display) -> Id {
+    pub(super) fn error(
+        &mut self,
+        tokens: impl quote::ToTokens,
+        msg: impl std::fmt::Display,
+    ) -> Id {
         self.errors.push(syn::Error::new_spanned(tokens, msg));
         // A placeholder so that the walk goes on and reports the next error too.
         self.graph.num(0.0)
     }
 
-    fn unsupported(&mut self, tokens: impl quote::ToTokens, what: &str) -> Id {
-        self.error(tokens, format!("{what} not supported; {SUPPORTED}"))
-    }
-
-    fn block(&mut self, block: &syn::Block, env: &mut HashMap<String, Binding>) -> Id {
-        let mut result = None;
+    /// The value of a block that ends in an expression (a fn body, a closure's block).
+    pub(super) fn block(&mut self, block: &syn::Block, env: &mut Env) -> Id {
         let n = block.stmts.len();
-        for (k, stmt) in block.stmts.iter().enumerate() {
-            let last = k + 1 == n;
-            match stmt {
-                Stmt::Local(local) => {
-                    let Some(init) = &local.init else {
-                        self.error(local, "a `let` needs a value: `let name = expression;`");
-                        continue;
-                    };
-                    if let Some((_, diverge)) = &init.diverge {
-                        self.unsupported(diverge, "`let ... else` is");
-                    }
-                    let value = self.expr(&init.expr, env);
-                    if let Some(name) = self.let_pattern(&local.pat) {
-                        env.insert(name, Binding::Scalar(value));
-                    }
-                }
-                Stmt::Expr(e, None) if last => result = Some(self.expr(e, env)),
-                Stmt::Expr(e, _) => {
-                    self.unsupported(e, "a statement here is");
-                }
-                Stmt::Item(item) => {
-                    self.unsupported(item, "an item inside the body is");
-                }
-                Stmt::Macro(m) => {
-                    self.unsupported(&m.mac, "a macro is");
-                }
-            }
+        for stmt in block.stmts.iter().take(n.saturating_sub(1)) {
+            self.statement(stmt, env);
         }
-        match result {
-            Some(id) => id,
-            None => {
+        match block.stmts.last() {
+            Some(Stmt::Expr(e, None)) if !matches!(e, Expr::ForLoop(_)) => self.expr(e, env),
+            Some(last) => {
+                self.statement(last, env);
                 self.errors.push(syn::Error::new(
                     block.brace_token.span.close(),
+                    "the body must end with the value of `L` (an expression without `;`)",
+                ));
+                self.graph.num(0.0)
+            }
+            None => {
+                self.errors.push(syn::Error::new(
+                    block.brace_token.span.join(),
                     "the body must end with the value of `L` (an expression without `;`)",
                 ));
                 self.graph.num(0.0)
@@ -135,286 +145,411 @@ impl Parser {
         }
     }
 
-    fn let_pattern(&mut self, pat: &Pat) -> Option<String> {
-        match pat {
-            Pat::Ident(pi) if pi.by_ref.is_none() && pi.subpat.is_none() => {
-                if let Some(m) = &pi.mutability {
-                    // Reported, and the name stays bound so that its uses are not errors too.
+    fn statement(&mut self, stmt: &Stmt, env: &mut Env) {
+        match stmt {
+            Stmt::Local(local) => {
+                let Some(init) = &local.init else {
+                    self.error(local, "a `let` needs a value: `let name = expression;`");
+                    return;
+                };
+                if let Some((_, diverge)) = &init.diverge {
                     self.error(
-                        m,
-                        "`let mut` is not supported: bindings are immutable values",
+                        diverge,
+                        "`let … else` is not supported: write `let name = expression;`",
                     );
                 }
-                Some(pi.ident.to_string())
+                self.let_binding(&local.pat, &init.expr, env);
             }
+            Stmt::Expr(Expr::ForLoop(f), _) => self.for_loop(f, env),
+            Stmt::Expr(Expr::Binary(b), Some(_)) if is_compound(b.op) => {
+                self.compound(&b.left, b.op, &b.right, env)
+            }
+            Stmt::Expr(Expr::Assign(a), Some(_)) => self.assign(a, env),
+            Stmt::Expr(e @ (Expr::While(_) | Expr::Loop(_)), _) => {
+                self.expr(e, env);
+            }
+            Stmt::Expr(e, _) => {
+                self.error(
+                    e,
+                    "a statement here is not supported: a body is `let`s, `for` loops adding to a `let mut` accumulator, and the value of `L` at the end",
+                );
+            }
+            Stmt::Item(syn::Item::Use(u)) if is_consts_use(&u.tree) => {}
+            Stmt::Item(syn::Item::Fn(f)) => {
+                self.error(
+                    &f.sig.ident,
+                    "a fn inside the body is not supported: define it next to the Lagrangian with `#[lagrangian(helper)]`",
+                );
+            }
+            Stmt::Item(item) => {
+                self.error(item, "an item inside the body is not supported");
+            }
+            Stmt::Macro(m) => {
+                self.error(&m.mac, "a macro is not supported in a #[lagrangian] body");
+            }
+        }
+    }
+
+    /// `let pattern = init;`: a name, `mut` name (an accumulator), typed name or tuple.
+    fn let_binding(&mut self, pat: &Pat, init: &Expr, env: &mut Env) {
+        match pat {
+            Pat::Tuple(pt) => {
+                let values = self.tuple_values(init, pt.elems.len(), env);
+                for (p, value) in pt.elems.iter().zip(values) {
+                    self.bind(p, value, env);
+                }
+            }
+            Pat::Type(pt) if matches!(&*pt.pat, Pat::Tuple(_)) => {
+                self.let_binding(&pt.pat, init, env)
+            }
+            _ => {
+                if self.is_int(init, env) {
+                    return self.bind_int(pat, init, env);
+                }
+                let value = self.expr(init, env);
+                self.bind(pat, value, env);
+            }
+        }
+    }
+
+    /// The values of `init` as an `n`-tuple: `(a, b)` or `a.sin_cos()`.
+    fn tuple_values(&mut self, init: &Expr, n: usize, env: &mut Env) -> Vec<Id> {
+        match init {
+            Expr::Tuple(t) if t.elems.len() == n => {
+                t.elems.iter().map(|e| self.expr(e, env)).collect()
+            }
+            Expr::Paren(p) => self.tuple_values(&p.expr, n, env),
+            Expr::MethodCall(mc) if mc.method == "sin_cos" && mc.args.is_empty() && n == 2 => {
+                let a = self.expr(&mc.receiver, env);
+                let s = self.graph.call(crate::ir::Func::Sin, a);
+                let c = self.graph.call(crate::ir::Func::Cos, a);
+                vec![s, c]
+            }
+            other => {
+                let e = self.error(
+                    other,
+                    format!("a tuple `let` needs a tuple of {n} values, e.g. `let (a, b) = (x[0], x[1]);`, or `a.sin_cos()`"),
+                );
+                vec![e; n]
+            }
+        }
+    }
+
+    /// Binds one name (or `_`) of a `let` to `value`.
+    fn bind(&mut self, pat: &Pat, value: Id, env: &mut Env) {
+        match pat {
+            Pat::Ident(pi) if pi.by_ref.is_none() && pi.subpat.is_none() => {
+                let binding = if pi.mutability.is_some() {
+                    Binding::Mut {
+                        id: value,
+                        depth: self.frames.len(),
+                    }
+                } else {
+                    Binding::Scalar(value)
+                };
+                env.insert(pi.ident.to_string(), binding);
+            }
+            Pat::Wild(_) => {}
             Pat::Type(pt) => {
                 if !is_f64(&pt.ty) {
-                    self.error(&pt.ty, "a `let` binding must be an `f64`");
-                    return None;
+                    self.error(&pt.ty, "a `let` binding must be an `f64` (or an index)");
                 }
-                self.let_pattern(&pt.pat)
+                self.bind(&pt.pat, value, env)
             }
             other => {
                 self.error(
                     other,
-                    "a `let` binding must be a plain name, e.g. `let r2 = x * x;`",
+                    "a `let` binding must be a plain name or a tuple of names, e.g. `let r2 = x * x;`",
+                );
+            }
+        }
+    }
+
+    /// `let k = i + 1;`: an integer binding, usable where a loop variable is.
+    fn bind_int(&mut self, pat: &Pat, init: &Expr, env: &mut Env) {
+        match pat {
+            Pat::Ident(pi) if pi.mutability.is_none() && pi.subpat.is_none() => {
+                if let Some(value) = self.int_expr(init, env) {
+                    env.insert(pi.ident.to_string(), Binding::Int(value));
+                }
+            }
+            Pat::Type(pt) => self.bind_int(&pt.pat, init, env),
+            other => {
+                self.error(other, "an index `let` must be a plain immutable name");
+            }
+        }
+    }
+
+    /// `acc += e`, `acc -= e`, `acc *= e`, `acc /= e`.
+    fn compound(&mut self, left: &Expr, op: BinOp, right: &Expr, env: &mut Env) {
+        let Some((name, id, depth)) = self.accumulator(left, env) else {
+            return;
+        };
+        let value = self.expr(right, env);
+        let inner = depth < self.frames.len();
+        match op {
+            BinOp::AddAssign(_) | BinOp::SubAssign(_) if inner => {
+                let value = match op {
+                    BinOp::SubAssign(_) => self.graph.neg(value),
+                    _ => value,
+                };
+                if self.frames[depth..].iter().any(|f| f.read.contains(&name)) {
+                    self.error(
+                        left,
+                        format!("`{name}` is read and updated in the same loop: a loop may only add to an accumulator (`{name} += …`)"),
+                    );
+                    return;
+                }
+                self.add_to(&name, value, env);
+            }
+            _ if inner => {
+                self.error(
+                    op,
+                    format!("inside a loop, `{name}` can only be added to (`+=`) or subtracted from (`-=`): a loop is a sum"),
+                );
+            }
+            _ => {
+                let new = match op {
+                    BinOp::AddAssign(_) => self.graph.add(id, value),
+                    BinOp::SubAssign(_) => self.graph.sub(id, value),
+                    BinOp::MulAssign(_) => self.graph.mul(id, value),
+                    _ => self.graph.div(id, value),
+                };
+                env.insert(name, Binding::Mut { id: new, depth });
+            }
+        }
+    }
+
+    /// `acc = e`, outside any loop that did not declare `acc`.
+    fn assign(&mut self, a: &syn::ExprAssign, env: &mut Env) {
+        let Some((name, _, depth)) = self.accumulator(&a.left, env) else {
+            return;
+        };
+        if depth < self.frames.len() {
+            self.error(
+                a,
+                format!(
+                    "inside a loop, `{name}` can only be added to (`{name} += …`): a loop is a sum"
+                ),
+            );
+            return;
+        }
+        let value = self.expr(&a.right, env);
+        env.insert(name, Binding::Mut { id: value, depth });
+    }
+
+    /// The accumulator named by `left`: its name, value and depth.
+    fn accumulator(&mut self, left: &Expr, env: &Env) -> Option<(String, Id, usize)> {
+        if let Expr::Index(ix) = strip(left) {
+            self.error(
+                ix,
+                "`x` and `v` cannot be changed: they are the point the Lagrangian is evaluated at",
+            );
+            return None;
+        }
+        let name = match left {
+            Expr::Path(p) => p.path.get_ident().map(Ident::to_string),
+            _ => None,
+        };
+        match name.as_ref().and_then(|n| env.get(n)) {
+            Some(&Binding::Mut { id, depth }) => Some((name.unwrap_or_default(), id, depth)),
+            Some(Binding::Array { .. }) => {
+                self.error(left, "`x` and `v` cannot be changed: they are the point the Lagrangian is evaluated at");
+                None
+            }
+            Some(_) => {
+                self.error(left, "only a `let mut` accumulator can be updated");
+                None
+            }
+            None => {
+                self.error(
+                    left,
+                    "only a `let mut` accumulator declared in the body can be updated",
                 );
                 None
             }
         }
     }
 
-    fn expr(&mut self, e: &Expr, env: &HashMap<String, Binding>) -> Id {
-        match e {
-            Expr::Paren(p) => self.expr(&p.expr, env),
-            Expr::Group(g) => self.expr(&g.expr, env),
-            Expr::Lit(l) => self.literal(&l.lit),
-            Expr::Unary(u) => match u.op {
-                UnOp::Neg(_) => {
-                    // `x.powi(-2)`-style integer literals are handled in `powi`; here `-lit`
-                    // and `-expr` are both ordinary negations.
-                    let a = self.expr(&u.expr, env);
-                    self.graph.neg(a)
-                }
-                _ => self.unsupported(u.op, "this unary operator is"),
-            },
-            Expr::Binary(b) => {
-                let l = self.expr(&b.left, env);
-                let r = self.expr(&b.right, env);
-                match b.op {
-                    BinOp::Add(_) => self.graph.add(l, r),
-                    BinOp::Sub(_) => self.graph.sub(l, r),
-                    BinOp::Mul(_) => self.graph.mul(l, r),
-                    BinOp::Div(_) => self.graph.div(l, r),
-                    op => self.unsupported(op, "this operator is"),
-                }
+    /// Records `name += value` in the innermost loop.
+    fn add_to(&mut self, name: &str, value: Id, env: &mut Env) {
+        let Some(frame) = self.frames.last_mut() else {
+            if let Some(Binding::Mut { id, depth }) = env.get(name).cloned() {
+                let new = self.graph.add(id, value);
+                env.insert(name.to_string(), Binding::Mut { id: new, depth });
             }
-            Expr::Path(p) => self.path(p, env),
-            Expr::Index(ix) => self.index(ix, env),
-            Expr::MethodCall(mc) => {
-                if let Some(tf) = &mc.turbofish {
-                    return self.unsupported(tf, "a turbofish is");
-                }
-                let recv = self.expr(&mc.receiver, env);
-                let args: Vec<&Expr> = mc.args.iter().collect();
-                self.function(&mc.method, recv, &args, &mc.args, env)
-            }
-            Expr::Call(call) => {
-                let Expr::Path(fp) = &*call.func else {
-                    return self.unsupported(&call.func, "calling this is");
-                };
-                let segs: Vec<String> = fp
-                    .path
-                    .segments
-                    .iter()
-                    .map(|s| s.ident.to_string())
-                    .collect();
-                let generic = fp.path.segments.iter().any(|s| !s.arguments.is_none());
-                if fp.qself.is_some()
-                    || generic
-                    || segs.len() != 2
-                    || segs[0] != "f64"
-                    || call.args.is_empty()
-                {
-                    return self.unsupported(
-                        &call.func,
-                        "calling a function other than the listed `f64::` functions is",
-                    );
-                }
-                let method = &fp.path.segments[1].ident;
-                if Func::from_name(&method.to_string()).is_none()
-                    && !["powi", "powf", "hypot"].contains(&segs[1].as_str())
-                {
-                    return self.unsupported(method, &format!("`f64::{method}` is"));
-                }
-                let recv = self.expr(&call.args[0], env);
-                let args: Vec<&Expr> = call.args.iter().skip(1).collect();
-                self.function(method, recv, &args, &call.args, env)
-            }
-            Expr::If(x) => self.unsupported(
-                x.if_token,
-                "`if` is not supported: L must be one smooth formula, and branching is",
-            ),
-            Expr::Match(x) => self.unsupported(x.match_token, "`match` is"),
-            Expr::ForLoop(x) => self.unsupported(x.for_token, "a loop is"),
-            Expr::While(x) => self.unsupported(x.while_token, "a loop is"),
-            Expr::Loop(x) => self.unsupported(x.loop_token, "a loop is"),
-            Expr::Closure(x) => self.unsupported(x, "a closure is"),
-            Expr::Macro(m) => self.unsupported(&m.mac, "a macro is"),
-            Expr::Reference(r) => self.unsupported(r.and_token, "a reference is"),
-            Expr::Cast(c) => self.unsupported(c, "a cast is"),
-            Expr::Block(b) => self.unsupported(b, "a nested block is"),
-            Expr::Return(r) => self.unsupported(r.return_token, "`return` is"),
-            Expr::Assign(a) => self.unsupported(a, "an assignment is"),
-            Expr::Field(f) => self.unsupported(f, "a field access is"),
-            Expr::Tuple(t) => self.unsupported(t, "a tuple is"),
-            Expr::Array(a) => self.unsupported(a, "an array is"),
-            other => self.unsupported(other, "this expression is"),
-        }
-    }
-
-    fn literal(&mut self, lit: &Lit) -> Id {
-        let parsed = match lit {
-            Lit::Float(f) if matches!(f.suffix(), "" | "f64") => f.base10_parse::<f64>(),
-            Lit::Int(i) if matches!(i.suffix(), "" | "f64") => i.base10_parse::<f64>(),
-            other => {
-                return self.unsupported(other, "this literal is (only `f64` numbers are)");
-            }
+            return;
         };
-        match parsed {
-            Ok(x) => self.graph.num(x),
-            Err(e) => {
-                self.errors.push(e);
-                self.graph.num(0.0)
-            }
+        match frame.adds.iter_mut().find(|(n, _)| n == name) {
+            Some((_, acc)) => *acc = self.graph.add(*acc, value),
+            None => frame.adds.push((name.to_string(), value)),
         }
     }
 
-    fn path(&mut self, p: &syn::ExprPath, env: &HashMap<String, Binding>) -> Id {
-        if p.qself.is_some() || p.path.segments.iter().any(|s| !s.arguments.is_none()) {
-            return self.unsupported(p, "this path is");
-        }
-        let segs: Vec<String> = p
-            .path
-            .segments
+    /// Notes that an outer accumulator is read in the open loops (see [`Parser::compound`]).
+    pub(super) fn read_accumulator(&mut self, name: &str, depth: usize, at: &Expr) -> bool {
+        let updated = self.frames[depth.min(self.frames.len())..]
             .iter()
-            .map(|s| s.ident.to_string())
-            .collect();
-        if segs.len() == 1 && p.path.leading_colon.is_none() {
-            return match env.get(&segs[0]) {
-                Some(Binding::Scalar(id)) => *id,
-                Some(Binding::Array { .. }) => self.error(
-                    p,
-                    format!("`{}` is an array: use its components `{}[i]`", segs[0], segs[0]),
-                ),
-                None => self.error(
-                    p,
-                    format!(
-                        "unknown name `{}`: the body may use the parameters, its own `let` bindings and `std::f64::consts::*`",
-                        segs[0]
-                    ),
-                ),
-            };
+            .any(|f| f.adds.iter().any(|(n, _)| n == name));
+        if updated {
+            self.error(
+                at,
+                format!("`{name}` is read and updated in the same loop: a loop may only add to an accumulator (`{name} += …`)"),
+            );
+            return false;
         }
-        let n = segs.len();
-        let prefix: Vec<&str> = segs[..n - 1].iter().map(String::as_str).collect();
-        let consts_path = matches!(
-            prefix.as_slice(),
-            ["std", "f64", "consts"] | ["core", "f64", "consts"] | ["f64", "consts"]
-        );
-        if consts_path && let Some(c) = constant_value(&segs[n - 1]) {
-            return self.graph.num(c);
+        let from = depth.min(self.frames.len());
+        for f in &mut self.frames[from..] {
+            f.read.insert(name.to_string());
         }
-        self.unsupported(p, "this path is")
+        true
     }
 
-    fn index(&mut self, ix: &syn::ExprIndex, env: &HashMap<String, Binding>) -> Id {
-        let name = match &*ix.expr {
-            Expr::Path(p) if p.qself.is_none() => p.path.get_ident().map(Ident::to_string),
-            _ => None,
+    /// `for i in a..b { … }`: each accumulator it adds to gets `Σ_i` of what one iteration adds.
+    fn for_loop(&mut self, f: &syn::ExprForLoop, env: &mut Env) {
+        if let Some(label) = &f.label {
+            self.error(label, "a loop label is not supported");
+        }
+        let Some(var_name) = self.loop_pattern(&f.pat) else {
+            return;
         };
-        let binding = name.as_ref().and_then(|n| env.get(n).copied());
-        let (state, len) = match binding {
-            Some(Binding::Array { state, len }) => (state, len),
-            Some(Binding::Scalar(_)) => {
-                let n = name.unwrap_or_default();
-                return self.error(
-                    &ix.expr,
-                    format!(
-                        "`{n}` is a scalar: only `x` and `v` declared as `[f64; D]` can be indexed"
-                    ),
-                );
+        let var = self.range(&f.expr, &var_name, env);
+        let mut inner = env.clone();
+        inner.insert(var_name, Binding::Index(var));
+        self.frames.push(Frame {
+            var,
+            adds: Vec::new(),
+            read: HashSet::new(),
+        });
+        for stmt in &f.body.stmts {
+            match stmt {
+                Stmt::Expr(e, None) if !matches!(e, Expr::ForLoop(_)) => {
+                    self.error(e, "a loop body is statements (`acc += …;`), not a value");
+                }
+                s => self.statement(s, &mut inner),
             }
-            None => {
-                return self.unsupported(&ix.expr, "indexing anything but `x` and `v` is");
-            }
-        };
-        let index = match &*ix.index {
-            Expr::Lit(syn::ExprLit {
-                lit: Lit::Int(i), ..
-            }) => i.base10_parse::<usize>(),
-            other => {
-                return self.error(other, "the index must be an integer literal, e.g. `x[0]`");
-            }
-        };
-        match (index, len) {
-            (Ok(i), Length::Known(dim)) if i >= dim => self.error(
-                &ix.index,
-                format!("index {i} is out of bounds: the dimension is {dim}"),
-            ),
-            (Ok(i), _) => self.graph.var(state.component(i)),
-            (Err(e), _) => {
-                self.errors.push(e);
-                self.graph.num(0.0)
-            }
+        }
+        let frame = self.frames.pop().expect("pushed above");
+        for (name, body) in frame.adds {
+            let sum = self.graph.sum(frame.var, body);
+            self.add_to(&name, sum, env);
         }
     }
 
-    /// A method `recv.name(args)` or the function `f64::name(recv, args)`.
-    fn function(
+    /// `(a..b).map(|i| body).sum()`, with the receiver of `sum` and the closure given.
+    pub(super) fn iterator_sum(
         &mut self,
-        name: &Ident,
-        recv: Id,
-        args: &[&Expr],
-        all_args: &dyn quote::ToTokens,
-        env: &HashMap<String, Binding>,
+        range: &Expr,
+        closure: &syn::ExprClosure,
+        env: &Env,
     ) -> Id {
-        let s = name.to_string();
-        let arity = match s.as_str() {
-            "powi" | "powf" | "hypot" => 1,
-            _ => 0,
+        if closure.inputs.len() != 1 {
+            return self.error(
+                &closure.inputs,
+                "the closure of a sum takes one index, e.g. `|i| x[i] * x[i]`",
+            );
+        }
+        let Some(name) = self.loop_pattern(&closure.inputs[0]) else {
+            return self.graph.num(0.0);
         };
-        if Func::from_name(&s).is_none() && arity == 0 {
-            return self.unsupported(name, &format!("the method `{s}` is"));
+        let var = self.range(range, &name, env);
+        let mut inner = env.clone();
+        inner.insert(name, Binding::Index(var));
+        self.frames.push(Frame {
+            var,
+            adds: Vec::new(),
+            read: HashSet::new(),
+        });
+        let body = self.expr(&closure.body, &inner);
+        let frame = self.frames.pop().expect("pushed above");
+        if let Some((name, _)) = frame.adds.first() {
+            return self.error(
+                &closure.body,
+                format!("a closure cannot update `{name}`: write a `for` loop"),
+            );
         }
-        if args.len() != arity {
-            let msg = format!("`{s}` takes {arity} argument(s) besides the receiver");
-            return if args.is_empty() {
-                self.error(name, msg)
-            } else {
-                self.error(all_args, msg)
-            };
-        }
-        match s.as_str() {
-            "powi" => match int_literal(args[0]) {
-                Some(Ok(n)) if n != i64::from(i32::MIN) && i32::try_from(n).is_ok() => {
-                    self.graph.powi(recv, n as i32)
-                }
-                Some(Ok(_)) | Some(Err(_)) => {
-                    self.error(args[0], "the `powi` exponent is out of range for `i32`")
-                }
-                None => self.error(
-                    args[0],
-                    "the `powi` exponent must be an integer literal (use `powf` for a general exponent)",
-                ),
-            },
-            "powf" => {
-                let b = self.expr(args[0], env);
-                self.graph.powf(recv, b)
+        self.graph.sum(var, body)
+    }
+
+    /// The loop variable's name: a plain identifier.
+    fn loop_pattern(&mut self, pat: &Pat) -> Option<String> {
+        match pat {
+            Pat::Ident(pi)
+                if pi.by_ref.is_none() && pi.subpat.is_none() && pi.mutability.is_none() =>
+            {
+                Some(pi.ident.to_string())
             }
-            "hypot" => {
-                let b = self.expr(args[0], env);
-                self.graph.hypot(recv, b)
+            Pat::Type(pt) => self.loop_pattern(&pt.pat),
+            Pat::Wild(w) => {
+                self.error(w, "name the loop index, e.g. `for i in 0..N`");
+                None
             }
-            _ => match Func::from_name(&s) {
-                Some(f) => self.graph.call(f, recv),
-                None => self.unsupported(name, &format!("the method `{s}` is")),
-            },
+            other => {
+                self.error(
+                    other,
+                    "loop over indices, e.g. `for i in 0..N { … x[i] … }`, not over tuples of values",
+                );
+                None
+            }
         }
+    }
+
+    /// A new loop variable over the range `a..b` or `a..=b`. A range in error is reported and
+    /// replaced by an empty one, so that the loop's body is still checked, with its variable
+    /// bound (no "unknown index" follows).
+    fn range(&mut self, e: &Expr, name: &str, env: &Env) -> IndexVar {
+        let (start, end) = self
+            .range_ends(strip(e), env)
+            .unwrap_or((Affine::constant(0), Affine::constant(0)));
+        let var = IndexVar(self.graph.ranges.len() as u32);
+        self.graph.ranges.push(crate::ir::Range {
+            name: name.to_string(),
+            start,
+            end,
+        });
+        var
+    }
+
+    /// The ends of `a..b` (`a..=b` is `a..b + 1`), or `None` after reporting an error.
+    fn range_ends(&mut self, e: &Expr, env: &Env) -> Option<(Affine, Affine)> {
+        let Expr::Range(r) = e else {
+            self.iteration_error(e);
+            return None;
+        };
+        let (Some(start), Some(end)) = (&r.start, &r.end) else {
+            self.error(r, "a loop range needs both ends, e.g. `0..N`");
+            return None;
+        };
+        let start = self.range_end(start, env);
+        let mut end = self.range_end(end, env)?;
+        if matches!(r.limits, syn::RangeLimits::Closed(_)) {
+            end.c += 1;
+        }
+        Some((start?, end))
     }
 }
 
-/// An integer literal, possibly negated (`-2`), possibly parenthesised.
-fn int_literal(e: &Expr) -> Option<syn::Result<i64>> {
-    match e {
-        Expr::Lit(syn::ExprLit {
-            lit: Lit::Int(i), ..
-        }) if matches!(i.suffix(), "" | "i32") => Some(i.base10_parse::<i64>()),
-        Expr::Unary(u) if matches!(u.op, UnOp::Neg(_)) => {
-            int_literal(&u.expr).map(|r| r.map(|n| -n))
-        }
-        Expr::Paren(p) => int_literal(&p.expr),
-        Expr::Group(g) => int_literal(&g.expr),
-        _ => None,
+/// `+=`, `-=`, `*=`, `/=`.
+fn is_compound(op: BinOp) -> bool {
+    matches!(
+        op,
+        BinOp::AddAssign(_) | BinOp::SubAssign(_) | BinOp::MulAssign(_) | BinOp::DivAssign(_)
+    )
+}
+
+/// `use std::f64::consts::PI;` (or `{PI, E}`, `*`): harmless, the body names them anyway.
+fn is_consts_use(tree: &syn::UseTree) -> bool {
+    let mut t = tree;
+    let mut path = Vec::new();
+    while let syn::UseTree::Path(p) = t {
+        path.push(p.ident.to_string());
+        t = &p.tree;
     }
+    matches!(
+        path.iter()
+            .map(String::as_str)
+            .collect::<Vec<_>>()
+            .as_slice(),
+        ["std", "f64", "consts"] | ["core", "f64", "consts"]
+    )
 }

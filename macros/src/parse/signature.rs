@@ -21,6 +21,8 @@ pub enum Shape {
 pub enum Length {
     /// A valid literal length.
     Known(usize),
+    /// A named constant (`[f64; N]` with `const N: usize = …;` in scope).
+    Named,
     /// The length was rejected (and reported): any index is accepted, so that only the
     /// declaration is an error.
     Rejected,
@@ -35,8 +37,10 @@ pub struct Signature {
     pub time: Option<Ident>,
     /// The model constants, in order.
     pub consts: Vec<Ident>,
-    /// Dimension `D` (1 when it could not be read).
+    /// Dimension `D` (1 when it could not be read or is named).
     pub dim: usize,
+    /// The named constant that is the dimension, if it is one.
+    pub dim_name: Option<syn::Path>,
     /// `x`, `v` declared as `f64`.
     pub scalar: bool,
     /// Name of the generated struct.
@@ -50,7 +54,7 @@ pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) ->
     if !args.is_empty() {
         errors.push(syn::Error::new_spanned(
             args,
-            "#[lagrangian] takes no arguments: model constants are the fn's parameters after `x`, `v` (and `t`)",
+            "#[lagrangian] takes no arguments (or `helper`, on a helper fn): model constants are the fn's parameters after `x`, `v` (and `t`)",
         ));
     }
     if let Some(c) = &sig.constness {
@@ -80,7 +84,7 @@ pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) ->
     if !sig.generics.params.is_empty() || sig.generics.where_clause.is_some() {
         errors.push(syn::Error::new_spanned(
             &sig.generics,
-            "a #[lagrangian] fn cannot be generic: its variables are `f64` or `[f64; D]` with a literal `D`",
+            "a #[lagrangian] fn cannot be generic: its variables are `f64` or `[f64; N]` with `N` a literal or a `const` item",
         ));
     }
     if let Some(var) = &sig.variadic {
@@ -124,6 +128,7 @@ pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) ->
         }
     }
     let mut dim = 1;
+    let mut dim_name = None;
     let mut scalar = true;
     let mut shapes = [Shape::Scalar; 2];
     let mut has_t = false;
@@ -170,6 +175,11 @@ pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) ->
             scalar = false;
             if let Length::Known(d) = len {
                 dim = d;
+            }
+            if let (Length::Named, Type::Array(arr)) = (len, &names[0].1)
+                && let Expr::Path(p) = &arr.len
+            {
+                dim_name = Some(p.path.clone());
             }
         }
         for (k, (name, ty)) in names.iter().enumerate().skip(2) {
@@ -228,6 +238,7 @@ pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) ->
         time: has_t.then(|| names[2].0.clone()),
         consts,
         dim,
+        dim_name,
         scalar,
         struct_name,
     }
@@ -290,9 +301,15 @@ fn state_type(ty: &Type) -> (Shape, Option<syn::Error>) {
                 Err(e) => rejected(e),
             };
         }
+        if let Expr::Path(p) = &arr.len
+            && p.qself.is_none()
+            && p.path.get_ident().is_some()
+        {
+            return (Shape::Array(Length::Named), elem);
+        }
         return rejected(syn::Error::new_spanned(
             &arr.len,
-            "the dimension must be an integer literal, e.g. `[f64; 2]`",
+            "the dimension must be an integer literal or the name of a `const`, e.g. `[f64; 2]` or `[f64; N]`",
         ));
     }
     (

@@ -37,6 +37,7 @@ fn random_trees_match_finite_differences() {
             Var::V(i) => point[2 + i],
             Var::T => point[4],
             Var::Const(_) => 1.0 + 0.5 * point[5],
+            _ => unreachable!("the random trees have no loops"),
         };
         // The point with `w` moved to `val`.
         let env_at = |w: Var, val: f64| move |u: Var| if u == w { val } else { base(u) };

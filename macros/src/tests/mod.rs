@@ -5,6 +5,7 @@
 mod cse;
 mod derivatives;
 mod emit;
+mod loops;
 mod snapshots;
 
 use std::collections::HashMap;

@@ -14,7 +14,7 @@ fn pretty(ts: TokenStream) -> String {
 
 /// Compares the pretty-printed expansion of `item` with `macros/tests/expand/<name>.expanded.rs`;
 /// with `UPDATE_EXPAND=1` rewrites the file first (review the diff).
-fn check_snapshot(name: &str, item: TokenStream) {
+pub(super) fn check_snapshot(name: &str, item: TokenStream) {
     let out = pretty(expand(quote!(), item).expect("the model expands"));
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join(format!("tests/expand/{name}.expanded.rs"));

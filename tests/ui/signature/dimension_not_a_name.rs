@@ -3,7 +3,7 @@ use varembed::lagrangian;
 const N: usize = 2;
 
 #[lagrangian]
-fn free(x: [f64; N], v: [f64; N]) -> f64 {
+fn free(x: [f64; 2 * N], v: [f64; 2 * N]) -> f64 {
     0.5 * v[0] * v[0] + x[1]
 }
 

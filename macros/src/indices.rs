@@ -1,0 +1,152 @@
+//! The integer side of the IR: loop variables, their ranges, index expressions and the
+//! comparisons of conditions. Small `Copy + Hash` values, so that nodes holding them are
+//! hash-consed like the others.
+
+/// A loop variable: each loop or summing closure binds a new one.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct IndexVar(pub u32);
+
+/// An integer index `scale·i + n·N + c` (`i` a loop variable, `N` the dimension).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Affine {
+    pub var: Option<IndexVar>,
+    pub scale: i64,
+    pub n: i64,
+    pub c: i64,
+}
+
+impl Affine {
+    /// The constant `c`.
+    pub fn constant(c: i64) -> Self {
+        Self {
+            var: None,
+            scale: 0,
+            n: 0,
+            c,
+        }
+    }
+
+    /// The loop variable `i`.
+    pub fn var(i: IndexVar) -> Self {
+        Self {
+            var: Some(i),
+            scale: 1,
+            n: 0,
+            c: 0,
+        }
+    }
+
+    /// The dimension `N`.
+    pub fn dim() -> Self {
+        Self {
+            var: None,
+            scale: 0,
+            n: 1,
+            c: 0,
+        }
+    }
+
+    /// `self + k·other`, or `None` when that mixes two loop variables.
+    pub fn add_scaled(self, other: Affine, k: i64) -> Option<Self> {
+        let var = match (self.var, other.var) {
+            (Some(a), Some(b)) if a != b && self.scale != 0 && other.scale != 0 => return None,
+            (Some(a), _) if self.scale != 0 => Some(a),
+            (_, Some(b)) if other.scale != 0 => Some(b),
+            _ => None,
+        };
+        let out = Self {
+            var,
+            scale: self.scale + k * other.scale,
+            n: self.n + k * other.n,
+            c: self.c + k * other.c,
+        };
+        Some(out.normal())
+    }
+
+    /// `k·self`.
+    pub fn scaled(self, k: i64) -> Self {
+        Self {
+            var: self.var,
+            scale: k * self.scale,
+            n: k * self.n,
+            c: k * self.c,
+        }
+        .normal()
+    }
+
+    fn normal(mut self) -> Self {
+        if self.scale == 0 {
+            self.var = None;
+        }
+        self
+    }
+
+    /// The constant value, when the index names neither a loop variable nor `N`.
+    pub fn as_constant(self) -> Option<i64> {
+        (self.var.is_none() && self.n == 0).then_some(self.c)
+    }
+
+    /// Substitutes the value `n` for `N`.
+    pub fn at_dim(self, n: Option<usize>) -> Self {
+        match n {
+            Some(d) => Self {
+                n: 0,
+                c: self.c + self.n * d as i64,
+                ..self
+            },
+            None => self,
+        }
+    }
+}
+
+/// The component a state array is read at: `at`, or `at mod N` for a periodic index.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Component {
+    pub at: Affine,
+    pub wrap: bool,
+}
+
+/// The range `start..end` of a loop variable, and the name it was written with.
+#[derive(Clone, Debug)]
+pub struct Range {
+    pub name: String,
+    pub start: Affine,
+    pub end: Affine,
+}
+
+/// A comparison in a condition.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Cmp {
+    Lt,
+    Le,
+    Gt,
+    Ge,
+    Eq,
+    Ne,
+}
+
+impl Cmp {
+    /// The operator as written in Rust.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Cmp::Lt => "<",
+            Cmp::Le => "<=",
+            Cmp::Gt => ">",
+            Cmp::Ge => ">=",
+            Cmp::Eq => "==",
+            Cmp::Ne => "!=",
+        }
+    }
+
+    /// Evaluates `a op b`.
+    pub fn eval(self, a: f64, b: f64) -> bool {
+        match self {
+            Cmp::Lt => a < b,
+            Cmp::Le => a <= b,
+            Cmp::Gt => a > b,
+            Cmp::Ge => a >= b,
+            Cmp::Eq => a == b,
+            Cmp::Ne => a != b,
+        }
+    }
+}

@@ -1,0 +1,531 @@
+//! Expressions of a `#[lagrangian]` body: numbers, the parameters, `x[…]`, arithmetic, the
+//! `f64` functions, `if`, casts of indices, iterator sums and calls of helper fns.
+
+use syn::{BinOp, Expr, Ident, Lit, UnOp};
+
+use super::body::Parser;
+use super::scope::{Binding, Env, State, strip};
+use super::signature::Length;
+use crate::ir::{Cmp, Func, Id, Var, constant_value};
+
+/// The `f64` functions a body may call, for the error on any other.
+const METHODS: &str = "the f64 methods are sin cos tan asin acos atan sinh cosh tanh exp ln \
+     log10 sqrt cbrt recip abs signum powi powf hypot max min";
+
+/// The functions of one argument besides the receiver.
+const BINARY: [&str; 5] = ["powi", "powf", "hypot", "max", "min"];
+
+impl Parser {
+    pub(super) fn expr(&mut self, e: &Expr, env: &Env) -> Id {
+        match e {
+            Expr::Paren(p) => self.expr(&p.expr, env),
+            Expr::Group(g) => self.expr(&g.expr, env),
+            Expr::Lit(l) => self.literal(&l.lit),
+            Expr::Unary(u) => match u.op {
+                UnOp::Neg(_) => {
+                    let a = self.expr(&u.expr, env);
+                    self.graph.neg(a)
+                }
+                _ => self.error(u.op, "only unary `-` is supported on numbers"),
+            },
+            Expr::Binary(b) => {
+                let l = self.expr(&b.left, env);
+                let r = self.expr(&b.right, env);
+                match b.op {
+                    BinOp::Add(_) => self.graph.add(l, r),
+                    BinOp::Sub(_) => self.graph.sub(l, r),
+                    BinOp::Mul(_) => self.graph.mul(l, r),
+                    BinOp::Div(_) if self.holds_sum(r) => self.sum_inside(&b.right, "a divisor"),
+                    BinOp::Div(_) => self.graph.div(l, r),
+                    op => self.error(
+                        op,
+                        "this operator is not supported on numbers: use `+ - * /`",
+                    ),
+                }
+            }
+            Expr::Path(p) => self.path(p, env),
+            Expr::Index(ix) => self.index(ix, env),
+            Expr::MethodCall(mc) => self.method_call(mc, env),
+            Expr::Call(call) => self.call(call, env),
+            Expr::If(x) => self.conditional(x, env),
+            Expr::Block(b) if b.label.is_none() => self.block(&b.block, &mut env.clone()),
+            Expr::Cast(c) => {
+                if !super::signature::is_f64(&c.ty) {
+                    return self.error(&c.ty, "only casts `as f64` of an index are supported");
+                }
+                if self.is_int(&c.expr, env) {
+                    self.int_value(&c.expr, env)
+                } else {
+                    self.expr(&c.expr, env)
+                }
+            }
+            Expr::ForLoop(x) => self.error(
+                x.for_token,
+                "a `for` loop is a statement: add to a `let mut` accumulator, then use it",
+            ),
+            Expr::Match(x) => self.error(
+                x.match_token,
+                "`match` is not supported: use `if c { a } else { b }`",
+            ),
+            Expr::While(x) => self.error(
+                x.while_token,
+                "`while` is not supported: loop over a range, `for i in 0..N`",
+            ),
+            Expr::Loop(x) => self.error(
+                x.loop_token,
+                "`loop` is not supported: loop over a range, `for i in 0..N`",
+            ),
+            Expr::Closure(x) => self.error(
+                x,
+                "a closure is supported only in `(a..b).map(|i| …).sum::<f64>()`",
+            ),
+            Expr::Macro(m) => {
+                self.error(&m.mac, "a macro is not supported in a #[lagrangian] body")
+            }
+            Expr::Reference(r) => self.error(
+                r.and_token,
+                "a reference is not supported: the body works on `f64` values",
+            ),
+            Expr::Return(r) => self.error(
+                r.return_token,
+                "`return` is not supported: the body ends with the value of `L`",
+            ),
+            Expr::Assign(a) => self.error(a, "an assignment is a statement: end it with `;`"),
+            Expr::Field(f) => self.error(
+                f,
+                "a field access is not supported: model constants are parameters of the fn",
+            ),
+            Expr::Tuple(t) => self.error(
+                t,
+                "a tuple is supported only in a tuple `let`, `let (a, b) = (…, …);`",
+            ),
+            Expr::Array(a) => self.error(
+                a,
+                "an array is not supported: index `x` and `v` with a loop",
+            ),
+            other => self.error(
+                other,
+                "this expression is not supported in a #[lagrangian] body",
+            ),
+        }
+    }
+
+    fn literal(&mut self, lit: &Lit) -> Id {
+        let parsed = match lit {
+            Lit::Float(f) if matches!(f.suffix(), "" | "f64") => f.base10_parse::<f64>(),
+            Lit::Int(i) if matches!(i.suffix(), "" | "f64") => i.base10_parse::<f64>(),
+            other => {
+                return self.error(
+                    other,
+                    "this literal is not supported: only `f64` numbers are",
+                );
+            }
+        };
+        match parsed {
+            Ok(x) => self.graph.num(x),
+            Err(e) => {
+                self.errors.push(e);
+                self.graph.num(0.0)
+            }
+        }
+    }
+
+    fn path(&mut self, p: &syn::ExprPath, env: &Env) -> Id {
+        if p.qself.is_some() || p.path.segments.iter().any(|s| !s.arguments.is_none()) {
+            return self.error(p, "this path is not supported");
+        }
+        let segs: Vec<String> = p
+            .path
+            .segments
+            .iter()
+            .map(|s| s.ident.to_string())
+            .collect();
+        if segs.len() == 1 && p.path.leading_colon.is_none() {
+            let name = &segs[0];
+            return match env.get(name).cloned() {
+                Some(Binding::Scalar(id)) => id,
+                Some(Binding::Mut { id, depth }) => {
+                    let e = Expr::Path(p.clone());
+                    if self.read_accumulator(name, depth, &e) {
+                        id
+                    } else {
+                        self.graph.num(0.0)
+                    }
+                }
+                Some(Binding::Array { .. }) => {
+                    self.error(p, format!("`{name}` is an array: use its components `{name}[i]`"))
+                }
+                Some(Binding::Index(_) | Binding::Int(_) | Binding::Dim) => {
+                    self.error(p, format!("`{name}` is an index: use it as a number with `{name} as f64`"))
+                }
+                None => match constant_value(name) {
+                    // `use std::f64::consts::PI;` at the top of the module.
+                    Some(c) => self.graph.num(c),
+                    None => self.error(
+                        p,
+                        format!("unknown name `{name}`: the body may use the parameters, its own `let` bindings and `std::f64::consts`"),
+                    ),
+                },
+            };
+        }
+        let n = segs.len();
+        let prefix: Vec<&str> = segs[..n - 1].iter().map(String::as_str).collect();
+        let consts_path = matches!(
+            prefix.as_slice(),
+            ["std", "f64", "consts"] | ["core", "f64", "consts"] | ["f64", "consts"]
+        );
+        if consts_path && let Some(c) = constant_value(&segs[n - 1]) {
+            return self.graph.num(c);
+        }
+        self.error(
+            p,
+            "unknown path: the body may name the constants of `std::f64::consts`",
+        )
+    }
+
+    fn index(&mut self, ix: &syn::ExprIndex, env: &Env) -> Id {
+        let name = match &*ix.expr {
+            Expr::Path(p) if p.qself.is_none() => p.path.get_ident().map(Ident::to_string),
+            _ => None,
+        };
+        let (state, len) = match name.as_ref().and_then(|n| env.get(n)) {
+            Some(&Binding::Array { state, len }) => (state, len),
+            Some(Binding::Scalar(_)) => {
+                let n = name.unwrap_or_default();
+                return self.error(
+                    &ix.expr,
+                    format!(
+                        "`{n}` is a scalar: only `x` and `v` declared as `[f64; D]` can be indexed"
+                    ),
+                );
+            }
+            _ => return self.error(&ix.expr, "only `x` and `v` can be indexed"),
+        };
+        if let Expr::Lit(syn::ExprLit {
+            lit: Lit::Int(i), ..
+        }) = strip(&ix.index)
+        {
+            return match (i.base10_parse::<usize>(), len) {
+                (Ok(i), Length::Known(dim)) if i >= dim => self.error(
+                    &ix.index,
+                    format!("index {i} is out of bounds: the dimension is {dim}"),
+                ),
+                (Ok(i), _) => self.graph.var(state.component(i)),
+                (Err(e), _) => {
+                    self.errors.push(e);
+                    self.graph.num(0.0)
+                }
+            };
+        }
+        match self.component(&ix.index, env) {
+            Some(c) => match c.at.as_constant() {
+                Some(k) if !c.wrap => self.graph.var(state.component(k as usize)),
+                _ => self.graph.var(match state {
+                    State::Position => Var::XAt(c),
+                    State::Velocity => Var::VAt(c),
+                }),
+            },
+            None => self.graph.num(0.0),
+        }
+    }
+
+    fn method_call(&mut self, mc: &syn::ExprMethodCall, env: &Env) -> Id {
+        let name = mc.method.to_string();
+        if name == "sum" {
+            return self.sum_call(mc, env);
+        }
+        if [
+            "iter",
+            "into_iter",
+            "zip",
+            "windows",
+            "map",
+            "enumerate",
+            "fold",
+            "dot",
+        ]
+        .contains(&name.as_str())
+        {
+            return self.iteration_error(&Expr::MethodCall(mc.clone()));
+        }
+        if let Some(tf) = &mc.turbofish {
+            return self.error(tf, "a turbofish is supported only on `sum::<f64>()`");
+        }
+        if self.is_int(&mc.receiver, env) {
+            return self.int_value(&Expr::MethodCall(mc.clone()), env);
+        }
+        let recv = self.expr(&mc.receiver, env);
+        let args: Vec<&Expr> = mc.args.iter().collect();
+        self.function(&mc.method, recv, &args, &mc.args, env)
+    }
+
+    /// `(a..b).map(|i| …).sum::<f64>()`.
+    fn sum_call(&mut self, mc: &syn::ExprMethodCall, env: &Env) -> Id {
+        if let Some(tf) = &mc.turbofish {
+            let f64_only = tf.args.len() == 1
+                && matches!(&tf.args[0], syn::GenericArgument::Type(t) if super::signature::is_f64(t));
+            if !f64_only {
+                return self.error(tf, "a sum is `sum::<f64>()` or `sum()`");
+            }
+        }
+        if let Expr::MethodCall(map) = strip(&mc.receiver)
+            && map.method == "map"
+            && map.args.len() == 1
+            && let Expr::Closure(closure) = strip(&map.args[0])
+            && matches!(strip(&map.receiver), Expr::Range(_))
+        {
+            return self.iterator_sum(&map.receiver, closure, env);
+        }
+        self.iteration_error(&mc.receiver)
+    }
+
+    /// The error for iterating anything but a range, with the index form to write instead.
+    pub(super) fn iteration_error(&mut self, e: &Expr) -> Id {
+        let text = quote::ToTokens::to_token_stream(e).to_string();
+        let hint = if text.contains("windows") {
+            "write neighbours with an index: `(0..N - 1).map(|i| f(x[i], x[i + 1])).sum::<f64>()`"
+        } else if text.contains("zip") {
+            "write pairs with an index: `(0..N).map(|i| f(x[i], v[i])).sum::<f64>()`"
+        } else if text.contains("dot") {
+            "write the dot product as a sum: `(0..N).map(|i| v[i] * v[i]).sum::<f64>()`"
+        } else {
+            "iterate over indices: `(0..N).map(|i| … x[i] …).sum::<f64>()` or `for i in 0..N`"
+        };
+        self.error(e, format!("only ranges of indices can be iterated: {hint}"))
+    }
+
+    fn call(&mut self, call: &syn::ExprCall, env: &Env) -> Id {
+        let Expr::Path(fp) = &*call.func else {
+            return self.error(&call.func, "calling this is not supported");
+        };
+        let segs: Vec<String> = fp
+            .path
+            .segments
+            .iter()
+            .map(|s| s.ident.to_string())
+            .collect();
+        if segs.len() == 1 && fp.qself.is_none() {
+            return self.helper_call(&segs[0], call, env);
+        }
+        let generic = fp.path.segments.iter().any(|s| !s.arguments.is_none());
+        if fp.qself.is_some()
+            || generic
+            || segs.len() != 2
+            || segs[0] != "f64"
+            || call.args.is_empty()
+        {
+            return self.error(
+                &call.func,
+                "only the `f64::` functions and helper fns can be called",
+            );
+        }
+        let method = &fp.path.segments[1].ident;
+        if Func::from_name(&segs[1]).is_none() && !BINARY.contains(&segs[1].as_str()) {
+            return self.error(
+                method,
+                format!("`f64::{method}` is not supported; {METHODS}"),
+            );
+        }
+        let recv = self.expr(&call.args[0], env);
+        let args: Vec<&Expr> = call.args.iter().skip(1).collect();
+        self.function(method, recv, &args, &call.args, env)
+    }
+
+    /// A call of a `#[lagrangian(helper)]` fn: its body, with its parameters bound to the
+    /// arguments. Errors inside the helper are reported at its definition, not here.
+    fn helper_call(&mut self, name: &str, call: &syn::ExprCall, env: &Env) -> Id {
+        if self.inlining.iter().any(|h| h == name) {
+            self.recursion = true;
+            return self.error(
+                &call.func,
+                format!("`{name}` calls itself: a helper cannot be recursive"),
+            );
+        }
+        let Some(helper) = self.helpers.get(name).cloned() else {
+            if self.checking_helper {
+                return self.graph.num(0.0);
+            }
+            return self.error(
+                &call.func,
+                format!("`{name}` is not a helper: mark it `#[lagrangian(helper)]`, or use an `f64` method"),
+            );
+        };
+        let params: Vec<String> = helper
+            .sig
+            .inputs
+            .iter()
+            .filter_map(|a| match a {
+                syn::FnArg::Typed(pt) => match &*pt.pat {
+                    syn::Pat::Ident(pi) => Some(pi.ident.to_string()),
+                    _ => None,
+                },
+                syn::FnArg::Receiver(_) => None,
+            })
+            .collect();
+        if params.len() != call.args.len() {
+            return self.error(
+                &call.args,
+                format!("`{name}` takes {} argument(s)", params.len()),
+            );
+        }
+        let mut inner = Env::new();
+        for (p, a) in params.into_iter().zip(&call.args) {
+            let value = self.expr(a, env);
+            inner.insert(p, Binding::Scalar(value));
+        }
+        let errors = self.errors.len();
+        self.inlining.push(name.to_string());
+        let value = self.block(&helper.block, &mut inner);
+        self.inlining.pop();
+        // The helper's own errors are reported at its definition; a recursion through other
+        // helpers is only seen here, and is reported at the outermost call.
+        self.errors.truncate(errors);
+        if self.inlining.is_empty() && std::mem::take(&mut self.recursion) {
+            return self.error(&call.func, format!("`{name}` is recursive (it calls itself, directly or through other helpers): a helper cannot be"));
+        }
+        value
+    }
+
+    /// `if c { a } else { b }`: both branches are differentiated, the condition is not.
+    fn conditional(&mut self, x: &syn::ExprIf, env: &Env) -> Id {
+        let Some((_, else_branch)) = &x.else_branch else {
+            return self.error(
+                x.if_token,
+                "an `if` needs an `else`: `if c { a } else { b }`",
+            );
+        };
+        let then = self.block(&x.then_branch, &mut env.clone());
+        let other = self.expr(else_branch, env);
+        self.condition(&x.cond, env, then, other)
+    }
+
+    /// `if cond { then } else { other }` for a condition made of comparisons.
+    fn condition(&mut self, cond: &Expr, env: &Env, then: Id, other: Id) -> Id {
+        match strip(cond) {
+            Expr::Binary(b) => {
+                let op = match b.op {
+                    BinOp::Lt(_) => Cmp::Lt,
+                    BinOp::Le(_) => Cmp::Le,
+                    BinOp::Gt(_) => Cmp::Gt,
+                    BinOp::Ge(_) => Cmp::Ge,
+                    BinOp::Eq(_) => Cmp::Eq,
+                    BinOp::Ne(_) => Cmp::Ne,
+                    BinOp::And(_) => {
+                        let inner = self.condition(&b.right, env, then, other);
+                        return self.condition(&b.left, env, inner, other);
+                    }
+                    BinOp::Or(_) => {
+                        let inner = self.condition(&b.right, env, then, other);
+                        return self.condition(&b.left, env, then, inner);
+                    }
+                    _ => return self.condition_error(cond),
+                };
+                let int = self.is_int(&b.left, env) || self.is_int(&b.right, env);
+                let (l, r) = if int {
+                    (self.int_value(&b.left, env), self.int_value(&b.right, env))
+                } else {
+                    (self.expr(&b.left, env), self.expr(&b.right, env))
+                };
+                if self.holds_sum(l) || self.holds_sum(r) {
+                    return self.sum_inside(cond, "a condition");
+                }
+                self.graph.select(op, l, r, then, other)
+            }
+            Expr::Unary(u) if matches!(u.op, UnOp::Not(_)) => {
+                self.condition(&u.expr, env, other, then)
+            }
+            _ => self.condition_error(cond),
+        }
+    }
+
+    fn condition_error(&mut self, cond: &Expr) -> Id {
+        self.error(cond, "a condition is a comparison of numbers (`<`, `<=`, `>`, `>=`, `==`, `!=`), possibly combined with `&&`, `||`, `!`")
+    }
+
+    /// Whether `id` holds a sum: a sum may only enter `L` linearly (`assemble.rs`).
+    fn holds_sum(&self, id: Id) -> bool {
+        self.graph
+            .reachable(&[id])
+            .into_iter()
+            .any(|n| matches!(self.graph.node(n), crate::ir::Node::Sum(..)))
+    }
+
+    /// The error for a sum used where `L` would stop being a sum of terms.
+    fn sum_inside(&mut self, at: &dyn quote::ToTokens, what: &str) -> Id {
+        self.error(
+            at,
+            format!("a sum cannot be inside {what}: the Lagrangian must be a sum of terms, with functions applied inside each sum"),
+        )
+    }
+
+    /// A method `recv.name(args)` or the function `f64::name(recv, args)`.
+    fn function(
+        &mut self,
+        name: &Ident,
+        recv: Id,
+        args: &[&Expr],
+        all_args: &dyn quote::ToTokens,
+        env: &Env,
+    ) -> Id {
+        let s = name.to_string();
+        if self.holds_sum(recv) {
+            return self.sum_inside(name, &format!("`{s}`"));
+        }
+        let arity = usize::from(BINARY.contains(&s.as_str()));
+        if Func::from_name(&s).is_none() && arity == 0 {
+            return self.error(
+                name,
+                format!("the method `{s}` is not supported; {METHODS}"),
+            );
+        }
+        if args.len() != arity {
+            let msg = format!("`{s}` takes {arity} argument(s) besides the receiver");
+            return if args.is_empty() {
+                self.error(name, msg)
+            } else {
+                self.error(all_args, msg)
+            };
+        }
+        match s.as_str() {
+            "powi" => match int_literal(args[0]) {
+                Some(Ok(n)) if n != i64::from(i32::MIN) && i32::try_from(n).is_ok() => self.graph.powi(recv, n as i32),
+                Some(Ok(_)) | Some(Err(_)) => self.error(args[0], "the `powi` exponent is out of range for `i32`"),
+                None => self.error(
+                    args[0],
+                    "the `powi` exponent must be an integer literal (use `powf` for a general exponent)",
+                ),
+            },
+            "powf" | "hypot" | "max" | "min" => {
+                let b = self.expr(args[0], env);
+                if self.holds_sum(b) {
+                    return self.sum_inside(args[0], &format!("`{s}`"));
+                }
+                match s.as_str() {
+                    "powf" => self.graph.powf(recv, b),
+                    "hypot" => self.graph.hypot(recv, b),
+                    "max" => self.graph.select(Cmp::Ge, recv, b, recv, b),
+                    _ => self.graph.select(Cmp::Le, recv, b, recv, b),
+                }
+            }
+            _ => match Func::from_name(&s) {
+                Some(f) => self.graph.call(f, recv),
+                None => self.error(name, format!("the method `{s}` is not supported")),
+            },
+        }
+    }
+}
+
+/// An integer literal, possibly negated (`-2`), possibly parenthesised.
+fn int_literal(e: &Expr) -> Option<syn::Result<i64>> {
+    match e {
+        Expr::Lit(syn::ExprLit {
+            lit: Lit::Int(i), ..
+        }) if matches!(i.suffix(), "" | "i32") => Some(i.base10_parse::<i64>()),
+        Expr::Unary(u) if matches!(u.op, UnOp::Neg(_)) => {
+            int_literal(&u.expr).map(|r| r.map(|n| -n))
+        }
+        Expr::Paren(p) => int_literal(&p.expr),
+        Expr::Group(g) => int_literal(&g.expr),
+        _ => None,
+    }
+}

@@ -1,0 +1,63 @@
+//! What names mean in a body ([`Binding`]), shared by the statement, expression and index
+//! walkers.
+
+use std::collections::HashMap;
+
+use syn::Expr;
+
+use super::signature::Length;
+use crate::ir::{Affine, Id, IndexVar, Var};
+
+/// The usable names in the body.
+#[derive(Clone)]
+pub enum Binding {
+    /// A value: a scalar parameter or a `let`.
+    Scalar(Id),
+    /// `x` or `v` declared as an array: only its components can be used.
+    Array { state: State, len: Length },
+    /// A loop variable.
+    Index(IndexVar),
+    /// The named dimension `N`.
+    Dim,
+    /// An integer `let` (an index expression).
+    Int(Int),
+    /// A `let mut` accumulator, declared at loop depth `depth`.
+    Mut { id: Id, depth: usize },
+}
+
+/// Which of the two state parameters an array is.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum State {
+    Position,
+    Velocity,
+}
+
+impl State {
+    /// The variable of component `i`.
+    pub fn component(self, i: usize) -> Var {
+        match self {
+            State::Position => Var::X(i),
+            State::Velocity => Var::V(i),
+        }
+    }
+}
+
+pub type Env = HashMap<String, Binding>;
+
+/// An integer expression: its affine form when it has one, whether it is taken modulo `N`,
+/// and its value as a number when it can be one.
+#[derive(Clone, Copy)]
+pub struct Int {
+    pub affine: Option<Affine>,
+    pub wrap: bool,
+    pub value: Option<Id>,
+}
+
+/// `e` without parentheses and invisible groups.
+pub fn strip(e: &Expr) -> &Expr {
+    match e {
+        Expr::Paren(p) => strip(&p.expr),
+        Expr::Group(g) => strip(&g.expr),
+        other => other,
+    }
+}

@@ -1,0 +1,518 @@
+//! The emitting stage for a Lagrangian with loops: each method is the loop nest of the
+//! [`Assembly`]'s terms, adding every term's value or derivatives into its outputs
+//! (`value += …`, `fx[i + 1] += …`, `xx[(i, i + 1)] += …`). The code has one loop per loop of
+//! the user's fn, whatever the dimension.
+//!
+//! Temporaries are scoped: a node is bound inside the innermost loop whose variable it reads
+//! (none: before every loop), so a value that does not change along a loop is computed once
+//! outside it, and a node used twice in one iteration is computed once per iteration.
+
+use std::collections::HashMap;
+
+use proc_macro2::{Ident, Literal, Span, TokenStream};
+use quote::{format_ident, quote};
+
+use crate::assemble::{Assembly, Block};
+use crate::cse::Plan;
+use crate::emit::{method_on, private, shell};
+use crate::ir::{Affine, Component, Graph, Id, IndexVar, Model, Node, Var};
+use crate::render::Render;
+
+/// What an output adds to.
+#[derive(Clone, Copy)]
+enum Target {
+    Value,
+    Gradient(Var),
+    Hessian(Block, Var, Var),
+}
+
+/// One loop of the nest (the root scope has no variable).
+#[derive(Default)]
+struct Scope {
+    var: Option<IndexVar>,
+    outputs: Vec<(Target, Id)>,
+    children: Vec<usize>,
+    parent: Option<usize>,
+    depth: usize,
+}
+
+/// The loop nest of one method.
+struct Nest {
+    scopes: Vec<Scope>,
+}
+
+impl Nest {
+    /// The nest of `a`'s terms, with the outputs `pick` gives for each.
+    fn new(a: &Assembly, pick: &dyn Fn(&crate::assemble::Term) -> Vec<(Target, Id)>) -> Self {
+        let mut scopes = vec![Scope::default()];
+        let mut by_path: HashMap<Vec<IndexVar>, usize> = HashMap::new();
+        for term in &a.terms {
+            let mut at = 0;
+            for (k, &var) in term.loops.iter().enumerate() {
+                let path = term.loops[..=k].to_vec();
+                at = *by_path.entry(path).or_insert_with(|| {
+                    scopes.push(Scope {
+                        var: Some(var),
+                        parent: Some(at),
+                        depth: k + 1,
+                        ..Scope::default()
+                    });
+                    let new = scopes.len() - 1;
+                    scopes[at].children.push(new);
+                    new
+                });
+            }
+            scopes[at].outputs.extend(pick(term));
+        }
+        Self { scopes }
+    }
+
+    /// The loop variables from the root to scope `s`.
+    fn path(&self, mut s: usize) -> Vec<IndexVar> {
+        let mut path = Vec::new();
+        while let Some(v) = self.scopes[s].var {
+            path.push(v);
+            s = self.scopes[s].parent.expect("a loop has a parent");
+        }
+        path.reverse();
+        path
+    }
+
+    /// The ancestor of `s` at `depth`.
+    fn ancestor(&self, mut s: usize, depth: usize) -> usize {
+        while self.scopes[s].depth > depth {
+            s = self.scopes[s].parent.expect("deeper than the root");
+        }
+        s
+    }
+
+    /// The temporaries of each scope, and the plan binding all of them.
+    fn plan(&self, g: &Graph, free: &[Vec<IndexVar>]) -> (Plan, Vec<Vec<Id>>) {
+        let n = self.scopes.len();
+        let mut extra: Vec<Vec<Id>> = vec![Vec::new(); n];
+        let mut expanded_in: Vec<Vec<Id>> = vec![Vec::new(); n];
+        let mut bound = std::collections::HashSet::new();
+        // Children have larger numbers than their parents: deepest first.
+        for s in (0..n).rev() {
+            let path = self.path(s);
+            let home = |id: Id| {
+                free[id]
+                    .iter()
+                    .map(|v| {
+                        path.iter()
+                            .position(|p| p == v)
+                            .map_or(path.len(), |k| k + 1)
+                    })
+                    .max()
+                    .unwrap_or(0)
+            };
+            let depth = self.scopes[s].depth;
+            let mut uses: HashMap<Id, usize> = HashMap::new();
+            let mut stack: Vec<Id> = self.scopes[s].outputs.iter().map(|o| o.1).collect();
+            for (_, id) in &self.scopes[s].outputs {
+                *uses.entry(*id).or_default() += 1;
+            }
+            let forced: Vec<Id> = extra[s].clone();
+            stack.extend(&forced);
+            let mut expanded = std::collections::HashSet::new();
+            while let Some(id) = stack.pop() {
+                let node = g.node(id);
+                if node.is_leaf() {
+                    continue;
+                }
+                let h = home(id);
+                if h < depth {
+                    // Computed outside this loop, once.
+                    let a = self.ancestor(s, h);
+                    if !extra[a].contains(&id) {
+                        extra[a].push(id);
+                    }
+                    continue;
+                }
+                if !expanded.insert(id) {
+                    continue;
+                }
+                let sign = matches!(node, Node::Call(crate::ir::Func::Sign, _));
+                for c in node.children() {
+                    *uses.entry(c).or_default() += if sign { 2 } else { 1 };
+                    stack.push(c);
+                }
+            }
+            bound.extend(
+                expanded
+                    .iter()
+                    .copied()
+                    .filter(|id| uses.get(id).copied().unwrap_or(0) >= 2 || forced.contains(id)),
+            );
+            expanded_in[s] = expanded.into_iter().collect();
+        }
+        // A node bound in one loop is written by its name everywhere, so every loop that
+        // evaluates it binds it.
+        let temps: Vec<Vec<Id>> = expanded_in
+            .into_iter()
+            .map(|mut ids| {
+                ids.retain(|id| bound.contains(id));
+                ids.sort_unstable();
+                ids
+            })
+            .collect();
+        let all = bound.into_iter().collect();
+        (Plan::with_temps(g, all), temps)
+    }
+}
+
+/// The loop variables each node reads, for every node.
+fn free_vars(g: &Graph) -> Vec<Vec<IndexVar>> {
+    let mut free: Vec<Vec<IndexVar>> = Vec::with_capacity(g.len());
+    for id in 0..g.len() {
+        let mut vars: Vec<IndexVar> = match g.node(id) {
+            Node::Var(Var::XAt(c) | Var::VAt(c)) => c.at.var.into_iter().collect(),
+            Node::Var(Var::Index(i)) => vec![i],
+            Node::Sum(i, body) => free[body].iter().copied().filter(|&v| v != i).collect(),
+            node => node
+                .children()
+                .iter()
+                .flat_map(|&c| free[c].clone())
+                .collect(),
+        };
+        vars.sort_unstable();
+        vars.dedup();
+        free.push(vars);
+    }
+    free
+}
+
+/// How loop variables, indices and the dimension are written.
+pub struct Names<'a> {
+    g: &'a Graph,
+    dim: TokenStream,
+    vars: Vec<Ident>,
+}
+
+impl<'a> Names<'a> {
+    /// The names of `model`'s loop variables: each as written, unless a loop nest of `a` holds
+    /// two of that name (or it is a name the methods use), then with its number.
+    pub fn new(model: &'a Model, a: &Assembly) -> Self {
+        let g = &model.graph;
+        let dim = match &model.dim_name {
+            Some(p) => quote!(#p),
+            None => {
+                let d = Literal::usize_unsuffixed(model.dim);
+                quote!(#d)
+            }
+        };
+        let vars = g
+            .ranges
+            .iter()
+            .enumerate()
+            .map(|(k, r)| {
+                let clash = a.terms.iter().any(|t| {
+                    t.loops
+                        .iter()
+                        .filter(|i| g.ranges[i.0 as usize].name == r.name)
+                        .count()
+                        > 1
+                });
+                let reserved = ["x", "v", "t", "fx", "fv", "xx", "xv", "vv", "value"]
+                    .contains(&r.name.as_str())
+                    || r.name.starts_with('e');
+                if clash || reserved {
+                    format_ident!("{}_{}", r.name.trim_start_matches("r#"), k)
+                } else {
+                    Ident::new(&r.name, Span::call_site())
+                }
+            })
+            .collect();
+        Self { g, dim, vars }
+    }
+
+    /// `scale·i + n·N + c` as a `usize` expression (positive terms first, so that it does not
+    /// underflow where its value is a valid index).
+    pub fn affine(&self, a: Affine) -> TokenStream {
+        let mut pos = Vec::new();
+        let mut neg = Vec::new();
+        let mut term = |k: i64, what: TokenStream| {
+            let mag = Literal::i64_unsuffixed(k.abs());
+            let t = if k.abs() == 1 {
+                what
+            } else {
+                quote!(#mag * #what)
+            };
+            if k > 0 {
+                pos.push(t)
+            } else if k < 0 {
+                neg.push(t)
+            }
+        };
+        if let Some(i) = a.var {
+            let name = &self.vars[i.0 as usize];
+            term(a.scale, quote!(#name));
+        }
+        let dim = &self.dim;
+        term(a.n, quote!(#dim));
+        if a.c != 0 {
+            let c = Literal::i64_unsuffixed(a.c.abs());
+            if a.c > 0 {
+                pos.push(quote!(#c))
+            } else {
+                neg.push(quote!(#c))
+            }
+        }
+        if pos.is_empty() {
+            pos.push(quote!(0));
+        }
+        quote!(#(#pos)+* #(- #neg)*)
+    }
+
+    fn component(&self, c: Component) -> TokenStream {
+        let at = self.affine(c.at);
+        let dim = &self.dim;
+        if c.wrap { quote!((#at) % #dim) } else { at }
+    }
+
+    /// The index of a state component.
+    fn position(&self, v: Var) -> TokenStream {
+        match v {
+            Var::X(k) | Var::V(k) => {
+                let k = Literal::usize_unsuffixed(k);
+                quote!(#k)
+            }
+            Var::XAt(c) | Var::VAt(c) => self.component(c),
+            _ => unreachable!("only state components are differentiated"),
+        }
+    }
+
+    /// The tokens of a leaf.
+    pub fn leaf(&self, consts: &[Ident], v: Var) -> TokenStream {
+        match v {
+            Var::X(_) | Var::XAt(_) => {
+                let i = self.position(v);
+                quote!(x[#i])
+            }
+            Var::V(_) | Var::VAt(_) => {
+                let i = self.position(v);
+                quote!(v[#i])
+            }
+            Var::T => quote!(t),
+            Var::Const(k) => {
+                let c = &consts[k];
+                quote!(self.#c)
+            }
+            Var::Index(i) => {
+                let name = &self.vars[i.0 as usize];
+                quote!((#name as f64))
+            }
+            Var::Dim => {
+                let dim = &self.dim;
+                quote!((#dim as f64))
+            }
+        }
+    }
+
+    fn range(&self, i: IndexVar) -> TokenStream {
+        let r = &self.g.ranges[i.0 as usize];
+        let (start, end) = (self.affine(r.start), self.affine(r.end));
+        quote!(#start..#end)
+    }
+}
+
+/// The `Lagrangian<N>` impl of a model with loops.
+pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenStream {
+    let g = &model.graph;
+    let names = Names::new(model, a);
+    let free = free_vars(g);
+    let dim = names.dim.clone();
+    let vector = {
+        let v = private("Vector");
+        quote!(#v<#dim>)
+    };
+    let hessian_ty = {
+        let h = private("Hessian");
+        quote!(#h<#dim>)
+    };
+    let value_out = |t: &crate::assemble::Term| vec![(Target::Value, t.value)];
+    let gradient_out = |t: &crate::assemble::Term| {
+        t.gradient
+            .iter()
+            .map(|&(u, id)| (Target::Gradient(u), id))
+            .collect::<Vec<_>>()
+    };
+    let hessian_out = |t: &crate::assemble::Term| {
+        let mut out = Vec::new();
+        for e in &t.hessian {
+            out.push((Target::Hessian(e.block, e.row, e.col), e.id));
+            if e.mirror {
+                out.push((Target::Hessian(e.block, e.col, e.row), e.id));
+            }
+        }
+        out
+    };
+    let both_out = |t: &crate::assemble::Term| {
+        let mut out = gradient_out(t);
+        out.extend(hessian_out(t));
+        out
+    };
+    let body = |pick: &dyn Fn(&crate::assemble::Term) -> Vec<(Target, Id)>| {
+        let nest = Nest::new(a, pick);
+        let (plan, temps) = nest.plan(g, &free);
+        let leaf = |v: Var| names.leaf(&model.consts, v);
+        let r = Render::new(g, &plan, &leaf);
+        let mut used = [false; 6];
+        let code = scope(&nest, 0, &temps, &r, &names, &mut used);
+        (code, used)
+    };
+    let [fx, fv, xx, xv, vv] =
+        ["fx", "fv", "xx", "xv", "vv"].map(|n| Ident::new(n, Span::call_site()));
+    let (vec_expr, mat_expr) = {
+        let (v, m) = (private("Vector"), private("Matrix"));
+        (quote!(#v::<#dim>), quote!(#m::<#dim>))
+    };
+    let decl = |name: &Ident, used: bool, zeros: &TokenStream| {
+        if used {
+            quote!(let mut #name = #zeros::zeros();)
+        } else {
+            quote!(let #name = #zeros::zeros();)
+        }
+    };
+    let gradient_decls = |used: &[bool; 6]| {
+        let (a, b) = (decl(&fx, used[1], &vec_expr), decl(&fv, used[2], &vec_expr));
+        quote!(#a #b)
+    };
+    let hessian_decls = |used: &[bool; 6]| {
+        let (a, b, c) = (
+            decl(&xx, used[3], &mat_expr),
+            decl(&xv, used[4], &mat_expr),
+            decl(&vv, used[5], &mat_expr),
+        );
+        quote!(#a #b #c)
+    };
+    let hessian = private("Hessian");
+
+    let (code, _) = body(&value_out);
+    let value = method_on(
+        quote!(value),
+        quote!(f64),
+        quote!(let mut value = 0.0; #code value),
+        &vector,
+    );
+    let (code, used) = body(&gradient_out);
+    let decls = gradient_decls(&used);
+    let gradient = method_on(
+        quote!(gradient),
+        quote!((#vector, #vector)),
+        quote!(#decls #code (#fx, #fv)),
+        &vector,
+    );
+    let (code, used) = body(&hessian_out);
+    let decls = hessian_decls(&used);
+    let hessian_m = method_on(
+        quote!(hessian),
+        quote!(#hessian_ty),
+        quote!(#decls #code #hessian { #xx, #xv, #vv }),
+        &vector,
+    );
+    let (code, used) = body(&both_out);
+    let decls = (gradient_decls(&used), hessian_decls(&used));
+    let (gd, hd) = decls;
+    let both = method_on(
+        quote!(gradient_and_hessian),
+        quote!((#vector, #vector, #hessian_ty)),
+        quote!(#gd #hd #code (#fx, #fv, #hessian { #xx, #xv, #vv })),
+        &vector,
+    );
+    // A literal component `x[k]` of a named dimension `N` is checked when `N` is known.
+    let largest = (0..g.len())
+        .filter_map(|id| match g.node(id) {
+            Node::Var(Var::X(k) | Var::V(k)) => Some(k),
+            _ => None,
+        })
+        .max();
+    let bounds = match (&model.dim_name, largest) {
+        (Some(n), Some(k)) => {
+            let msg = format!(
+                "#[lagrangian] fn `{}` reads component {k}: its dimension must be at least {}",
+                model.item.sig.ident,
+                k + 1
+            );
+            let k = Literal::usize_unsuffixed(k);
+            quote!(
+                const _: () = ::core::assert!(#k < #n, #msg);
+            )
+        }
+        _ => quote!(),
+    };
+    let methods = quote! {
+        #value
+        #gradient
+        #hessian_m
+        #both
+    };
+    let shell = shell(
+        model,
+        text,
+        dim,
+        methods,
+        (&a.hessian_dependence, &a.dependence),
+        with_item,
+    );
+    quote!(#shell #bounds)
+}
+
+/// The code of scope `s`: its temporaries, its outputs, then its inner loops.
+fn scope(
+    nest: &Nest,
+    s: usize,
+    temps: &[Vec<Id>],
+    r: &Render<'_>,
+    names: &Names<'_>,
+    used: &mut [bool; 6],
+) -> TokenStream {
+    let lets = r.lets(&temps[s]);
+    let outputs: Vec<TokenStream> = nest.scopes[s]
+        .outputs
+        .iter()
+        .map(|&(target, id)| {
+            let e = r.root(id);
+            match target {
+                Target::Value => {
+                    used[0] = true;
+                    quote!(value += #e;)
+                }
+                Target::Gradient(u) => {
+                    let i = names.position(u);
+                    let (k, name) = if matches!(u, Var::X(_) | Var::XAt(_)) {
+                        (1, quote!(fx))
+                    } else {
+                        (2, quote!(fv))
+                    };
+                    used[k] = true;
+                    quote!(#name[#i] += #e;)
+                }
+                Target::Hessian(block, row, col) => {
+                    let (i, j) = (names.position(row), names.position(col));
+                    let (k, name) = match block {
+                        Block::Xx => (3, quote!(xx)),
+                        Block::Xv => (4, quote!(xv)),
+                        Block::Vv => (5, quote!(vv)),
+                    };
+                    used[k] = true;
+                    quote!(#name[(#i, #j)] += #e;)
+                }
+            }
+        })
+        .collect();
+    let children: Vec<TokenStream> = nest.scopes[s]
+        .children
+        .iter()
+        .map(|&c| scope(nest, c, temps, r, names, used))
+        .collect();
+    let inner = quote!(#lets #(#outputs)* #(#children)*);
+    match nest.scopes[s].var {
+        None => inner,
+        Some(i) => {
+            let var = &names.vars[i.0 as usize];
+            let range = names.range(i);
+            quote!(for #var in #range { #inner })
+        }
+    }
+}

@@ -1,0 +1,84 @@
+//! Lagrangians with loops: the expansion does not grow with the dimension, and its snapshot.
+
+use proc_macro2::{TokenStream, TokenTree};
+use quote::quote;
+
+use crate::expand::expand;
+
+/// Number of tokens, groups counted with their contents.
+fn count(ts: TokenStream) -> usize {
+    ts.into_iter()
+        .map(|tt| match tt {
+            TokenTree::Group(g) => 1 + count(g.stream()),
+            _ => 1,
+        })
+        .sum()
+}
+
+/// An FPUT chain with fixed ends, dimension `dim` (a literal or a `const` name).
+pub(super) fn chain_item(dim: TokenStream) -> TokenStream {
+    quote! {
+        /// α-FPUT chain with fixed ends.
+        fn chain(x: [f64; #dim], v: [f64; #dim], alpha: f64) -> f64 {
+            let mut l = 0.0;
+            for i in 0..#dim {
+                l += 0.5 * v[i] * v[i];
+            }
+            for i in 0..#dim - 1 {
+                let d = x[i + 1] - x[i];
+                l -= 0.5 * d * d + alpha / 3.0 * d.powi(3);
+            }
+            l - 0.5 * x[0] * x[0] - 0.5 * x[#dim - 1] * x[#dim - 1]
+        }
+    }
+}
+
+/// The expansion of a chain of 4 and of 10⁴ particles has the same number of tokens: the
+/// derivatives of the loops are loops, not unrolled entries.
+#[test]
+fn expansion_size_does_not_grow_with_the_dimension() {
+    let size = |n: usize| {
+        let lit = proc_macro2::Literal::usize_unsuffixed(n);
+        let out = expand(quote!(), chain_item(quote!(#lit))).expect("the chain expands");
+        count(out)
+    };
+    let (small, large) = (size(4), size(10_000));
+    assert_eq!(small, large, "4 particles: {small} tokens, 10⁴: {large}");
+    // A named dimension expands to the same code, but for the ranges and indices that a
+    // literal dimension folds (`0..4 - 1` is `0..3`).
+    let named = count(expand(quote!(), chain_item(quote!(N))).expect("the chain expands"));
+    assert!(
+        named.abs_diff(small) * 20 < small,
+        "named: {named}, literal: {small}"
+    );
+    assert!(small < 3000, "{small} tokens");
+}
+
+/// The generated code of a chain: loops adding into the gradient and the three diagonals.
+#[test]
+fn chain_expansion_snapshot() {
+    super::snapshots::check_snapshot("chain", chain_item(quote!(N)));
+}
+
+/// Nested loops (an n-link pendulum): the Hessian blocks are dense, filled by the double loop;
+/// what depends on `i` only is computed once per `i`, outside the loop over `j`.
+#[test]
+fn n_link_expansion_snapshot() {
+    super::snapshots::check_snapshot(
+        "n_link",
+        quote! {
+            /// n-link pendulum, unit masses and lengths.
+            fn n_link(x: [f64; N], v: [f64; N], g: f64) -> f64 {
+                let mut kinetic = 0.0;
+                for i in 0..N {
+                    for j in 0..N {
+                        let m = (N - i.max(j)) as f64;
+                        kinetic += 0.5 * m * (x[i] - x[j]).cos() * v[i] * v[j];
+                    }
+                }
+                let potential: f64 = (0..N).map(|i| -g * (N - i) as f64 * x[i].cos()).sum();
+                kinetic - potential
+            }
+        },
+    );
+}
