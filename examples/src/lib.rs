@@ -9,6 +9,7 @@
 #![deny(missing_docs)]
 
 pub mod ivp_scene;
+pub mod output;
 pub mod plot;
 pub mod reference;
 pub mod report;

@@ -2,6 +2,7 @@
 //! work–precision. Text is left to the SVG viewer (no font is loaded), so the tour needs no
 //! system font library.
 
+use crate::output::{self, OutputError};
 use crate::scene::{Figure, SweepLine};
 use plotters::coord::{CoordTranslate, Shift};
 use plotters::prelude::*;
@@ -79,10 +80,24 @@ fn finish<'a, CT: CoordTranslate>(
     Ok(())
 }
 
+/// Runs `draw` on the file `path`, naming the file if it fails.
+fn drawn(
+    path: &Path,
+    draw: impl FnOnce(&Path) -> Result<(), Box<dyn Error>>,
+) -> output::Result<()> {
+    draw(path).map_err(|e| OutputError::Plot {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })
+}
+
 /// Draws a figure with linear axes into `dir/figure.file`.
-pub fn linear(dir: &Path, figure: &Figure) -> Result<(), Box<dyn Error>> {
-    let path = dir.join(&figure.file);
-    let root = canvas(&path)?;
+pub fn linear(dir: &Path, figure: &Figure) -> output::Result<()> {
+    drawn(&dir.join(&figure.file), |path| draw_linear(path, figure))
+}
+
+fn draw_linear(path: &Path, figure: &Figure) -> Result<(), Box<dyn Error>> {
+    let root = canvas(path)?;
     let points = || figure.series.iter().flat_map(|s| s.points.iter());
     let (x0, x1) = span(points().map(|p| p.0));
     let (y0, y1) = span(points().map(|p| p.1));
@@ -115,9 +130,18 @@ pub fn work_precision(
     file: &str,
     title: &str,
     lines: &[SweepLine],
+) -> output::Result<()> {
+    drawn(&dir.join(file), |path| {
+        draw_work_precision(path, title, lines)
+    })
+}
+
+fn draw_work_precision(
+    path: &Path,
+    title: &str,
+    lines: &[SweepLine],
 ) -> Result<(), Box<dyn Error>> {
-    let path = dir.join(file);
-    let root = canvas(&path)?;
+    let root = canvas(path)?;
     let points = || lines.iter().flat_map(|l| l.points.iter());
     let (x0, x1) = log_span(points().map(|p| p.seconds));
     let (y0, y1) = log_span(points().map(|p| p.error));

@@ -1,10 +1,9 @@
 //! The report folder: one markdown summary (`README.md`) and the SVG figures of every scene.
 
+use crate::output::{self, OutputError};
 use crate::plot;
 use crate::scene::SceneReport;
-use std::error::Error;
 use std::fmt::Write as _;
-use std::fs;
 use std::path::Path;
 
 /// The markers between which [`update_section`] replaces text.
@@ -53,8 +52,8 @@ pub fn summary_table(scenes: &[SceneReport]) -> String {
 
 /// Writes every figure and `README.md` into `dir` (created if needed); returns the summary
 /// table.
-pub fn write(dir: &Path, scenes: &[SceneReport], header: &str) -> Result<String, Box<dyn Error>> {
-    fs::create_dir_all(dir)?;
+pub fn write(dir: &Path, scenes: &[SceneReport], header: &str) -> output::Result<String> {
+    output::create_dir_all(dir)?;
     let table = summary_table(scenes);
     let mut md = String::new();
     let _ = writeln!(
@@ -114,25 +113,50 @@ pub fn write(dir: &Path, scenes: &[SceneReport], header: &str) -> Result<String,
         }
         let _ = writeln!(md, "```\n");
     }
-    fs::write(dir.join("README.md"), md)?;
+    output::write(&dir.join("README.md"), md)?;
     Ok(table)
+}
+
+/// Rewrites the committed documents of the checkout at `root` from a full tour: the summary in
+/// `README.md` (the pendulum's work–precision figure, the summary `table` and the `header`
+/// saying how it was generated). The report folder itself is written by [`write`].
+pub fn update_docs(
+    root: &Path,
+    _scenes: &[SceneReport],
+    table: &str,
+    header: &str,
+) -> output::Result<()> {
+    let section = format!(
+        "![pendulum work–precision](report/pendulum-work-precision.svg)\n\n{table}\n{header}\n"
+    );
+    update_section(&root.join("README.md"), &section)
 }
 
 /// Replaces the text between [`SUMMARY_START`] and [`SUMMARY_END`] in `file` with `content`.
 /// Errors if the markers are missing (the file is left untouched).
-pub fn update_section(file: &Path, content: &str) -> Result<(), Box<dyn Error>> {
-    let text = fs::read_to_string(file)?;
-    let (Some(start), Some(end)) = (text.find(SUMMARY_START), text.find(SUMMARY_END)) else {
-        return Err(format!("{} lacks the tour summary markers", file.display()).into());
+pub fn update_section(file: &Path, content: &str) -> output::Result<()> {
+    update_between(file, SUMMARY_START, SUMMARY_END, content)
+}
+
+/// Replaces the text between the markers `start` and `end` in `file` with `content`. Errors if
+/// the markers are missing or out of order (the file is left untouched).
+pub fn update_between(
+    file: &Path,
+    start: &'static str,
+    end: &'static str,
+    content: &str,
+) -> output::Result<()> {
+    let text = output::read_to_string(file)?;
+    let markers = OutputError::Markers {
+        path: file.to_path_buf(),
+        start,
     };
-    if end < start {
-        return Err(format!("{}: tour summary markers out of order", file.display()).into());
+    let (Some(i), Some(j)) = (text.find(start), text.find(end)) else {
+        return Err(markers);
+    };
+    if j < i {
+        return Err(markers);
     }
-    let updated = format!(
-        "{}{SUMMARY_START}\n{content}{}",
-        &text[..start],
-        &text[end..]
-    );
-    fs::write(file, updated)?;
-    Ok(())
+    let updated = format!("{}{start}\n{content}{}", &text[..i], &text[j..]);
+    output::write(file, updated)
 }
