@@ -23,7 +23,9 @@
 //!   ([`HessianDependence`], [`Dependence`]), [`IntoVector`], [`Vector`], [`Matrix`], and the
 //!   [`lagrangian`](macro@lagrangian) attribute that derives an implementation from a function.
 //! - Solving: [`Solution`] and its [`Warning`]s, [`Start`], [`NewtonOptions`],
-//!   [`FractionalSolver`].
+//!   [`FractionalSolver`]; a solution's values at its nodes (times, positions, velocities,
+//!   momenta, energy; CSV export): [`NodeValues`], [`NodeState`], [`NodeRule`],
+//!   [`NodeFormula`].
 //! - Comparing the two schemes: [`Comparison`], [`CompareOptions`], [`Reference`],
 //!   [`SchemeReport`]; convergence over `N, 2N, 4N, …`: [`Convergence`], [`Level`], and the one
 //!   definition of the observed order, [`observed_order`] ([`observed_orders`] along a run)
@@ -51,7 +53,7 @@
 
 // Imports go one way. From the bottom up, each module imports only modules before it:
 // lagrangian, error, side, weights, toeplitz, grid, linalg, regularity, options, operator, fft_operator,
-// embedding, step, ode, discretisation, solve (krylov, newton, solution, guard, fractional, bvp, ivp),
+// embedding, step, ode, discretisation, solve (krylov, newton, nodes, solution, guard, fractional, bvp, ivp),
 // compare, problem.
 mod compare;
 mod discretisation;
@@ -89,6 +91,7 @@ pub use options::{FractionalSolver, NewtonOptions};
 pub use problem::{Problem, curve_from_flat};
 pub use side::Side;
 pub use solve::ivp::Start;
+pub use solve::nodes::{NodeFormula, NodeRule, NodeState, NodeValues};
 pub use solve::solution::{Solution, Warning};
 pub use varembed_macros::lagrangian;
 

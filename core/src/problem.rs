@@ -41,8 +41,8 @@ pub fn curve_from_flat<const D: usize>(values: &[f64]) -> Result<Vec<Vector<D>>>
 /// A Lagrangian on a grid under a discrete embedding.
 ///
 /// The Grünwald–Letnikov operators are dense: on grids of more than 256 steps,
-/// [`velocity`](Self::velocity), [`residual`](Self::residual), [`action`](Self::action) and
-/// [`energy`](Self::energy) (and so the comparisons and the dense-LU Newton's residual) apply
+/// [`quadrature_velocities`](Self::quadrature_velocities), [`residual`](Self::residual),
+/// [`action`](Self::action) and [`quadrature_energies`](Self::quadrature_energies) (and so the comparisons and the dense-LU Newton's residual) apply
 /// them by FFT, `O(N log N)`, instead of `O(N²)` loops, with the weights transformed once per
 /// problem. The two routes agree to round-off.
 ///
@@ -196,9 +196,31 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
         self.discretisation.rows(scheme)
     }
 
-    /// The discrete velocity `V = −σ Δ_σ Q` (or `−σ Δ^α_σ Q`) on the quadrature rows `I_σ`.
-    pub fn velocity(&self, q: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
-        self.discretisation.velocity(q)
+    /// The discrete velocity `V_k = −σ Δ_σ Q_k` (or `−σ Δ^α_σ Q_k`) on the quadrature rows
+    /// `k ∈ I_σ`, each paired with its node index `k` (`1..=N` for σ = −, `0..=N−1` for σ = +).
+    /// The velocities of a solution at all its nodes are
+    /// [`Solution::node_values`](crate::Solution::node_values).
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Side, Vector, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn free(_x: f64, v: f64) -> f64 {
+    ///     0.5 * v * v
+    /// }
+    ///
+    /// let grid = Grid::new(0.0, 1.0, 2)?;
+    /// let q = [0.0, 1.0, 3.0].map(Vector::<1>::new);
+    /// let backward = Problem::new(&Free, grid, Embedding::finite_difference(Side::Backward));
+    /// let v = backward.quadrature_velocities(&q)?;
+    /// assert_eq!(v, [(1, Vector::<1>::new(2.0)), (2, Vector::<1>::new(4.0))]);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn quadrature_velocities(&self, q: &[Vector<D>]) -> Result<Vec<(usize, Vector<D>)>> {
+        let rows = self.embedding().quadrature_rows(self.grid().n());
+        Ok(rows.zip(self.discretisation.velocity(q)?).collect())
     }
 
     /// The residual of `scheme` at `Q` (`N + 1` nodes), one entry per row of
@@ -221,9 +243,30 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
         self.discretisation.action(q)
     }
 
-    /// `E_k = V_k·∂L/∂v(Q_k, V_k, t_k) − L(Q_k, V_k, t_k)` on the quadrature nodes `I_σ`.
-    pub fn energy(&self, q: &[Vector<D>]) -> Result<Vec<f64>> {
-        self.discretisation.energy(q)
+    /// `E_k = V_k·∂L/∂v(Q_k, V_k, t_k) − L(Q_k, V_k, t_k)` on the quadrature rows `k ∈ I_σ`,
+    /// each paired with its node index `k`, `V` being the discrete velocity of
+    /// [`quadrature_velocities`](Self::quadrature_velocities). The energy of a solution at all
+    /// its nodes is [`Solution::node_values`](crate::Solution::node_values).
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Side, Vector, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn free(_x: f64, v: f64) -> f64 {
+    ///     0.5 * v * v
+    /// }
+    ///
+    /// let grid = Grid::new(0.0, 1.0, 2)?;
+    /// let q = [0.0, 1.0, 3.0].map(Vector::<1>::new);
+    /// let forward = Problem::new(&Free, grid, Embedding::finite_difference(Side::Forward));
+    /// assert_eq!(forward.quadrature_energies(&q)?, [(0, 2.0), (1, 8.0)]);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn quadrature_energies(&self, q: &[Vector<D>]) -> Result<Vec<(usize, f64)>> {
+        let rows = self.embedding().quadrature_rows(self.grid().n());
+        Ok(rows.zip(self.discretisation.energy(q)?).collect())
     }
 
     /// Solves the boundary value problem `Q_0 = qa`, `Q_N = qb` for `scheme`, from the straight

@@ -8,4 +8,5 @@ pub(crate) mod guard;
 pub mod ivp;
 pub mod krylov;
 pub mod newton;
+pub mod nodes;
 pub mod solution;

@@ -43,11 +43,9 @@ impl EnergyRun {
         let exact = -Q0.cos();
         let run = |scheme| -> varembed::Result<Vec<(f64, f64)>> {
             let solution = problem.solve_ivp(scheme, Q0, 0.0)?;
-            let energy = problem.energy(&solution.q)?;
-            Ok(problem
-                .embedding()
-                .quadrature_rows(steps)
-                .zip(energy)
+            let energy = problem.quadrature_energies(&solution.q)?;
+            Ok(energy
+                .into_iter()
                 .map(|(k, e)| (grid.t(k), e - exact))
                 .collect())
         };
