@@ -15,6 +15,7 @@ pub mod reference;
 pub mod report;
 pub mod scene;
 pub mod scenes;
+pub mod ticks;
 
 use scene::{Context, SceneReport};
 

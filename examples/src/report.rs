@@ -55,6 +55,7 @@ pub fn summary_table(scenes: &[SceneReport]) -> String {
 pub fn write(dir: &Path, scenes: &[SceneReport], header: &str) -> output::Result<String> {
     output::create_dir_all(dir)?;
     let table = summary_table(scenes);
+    let mut html = Html::default();
     let mut md = String::new();
     let _ = writeln!(
         md,
@@ -62,6 +63,11 @@ pub fn write(dir: &Path, scenes: &[SceneReport], header: &str) -> output::Result
     );
     for scene in scenes {
         let wp = work_precision_file(scene);
+        let wp_caption = format!(
+            "{}: work–precision, max error against the {} over the wall time of one solve, one \
+             marker per N",
+            scene.title, scene.reference
+        );
         plot::work_precision(
             dir,
             &wp,
@@ -72,13 +78,21 @@ pub fn write(dir: &Path, scenes: &[SceneReport], header: &str) -> output::Result
             plot::linear(dir, figure)?;
         }
         let _ = writeln!(md, "## {}\n", scene.title);
+        html.section(&scene.title);
         for note in &scene.notes {
             let _ = writeln!(md, "{note}\n");
         }
         let _ = writeln!(md, "Errors against: {}.\n", scene.reference);
-        let _ = writeln!(md, "![work–precision]({wp})\n");
-        for figure in &scene.figures {
-            let _ = writeln!(md, "![{}]({})\n", figure.title, figure.file);
+        let figures = std::iter::once((wp.as_str(), wp_caption.as_str())).chain(
+            scene
+                .figures
+                .iter()
+                .map(|f| (f.file.as_str(), f.title.as_str())),
+        );
+        for (file, caption) in figures {
+            // The alt text is not shown by every viewer: the caption is a line of its own.
+            let _ = writeln!(md, "![{caption}]({file})\n\n*{caption}.*\n");
+            html.figure(file, caption);
         }
         let _ = writeln!(
             md,
@@ -114,7 +128,49 @@ pub fn write(dir: &Path, scenes: &[SceneReport], header: &str) -> output::Result
         let _ = writeln!(md, "```\n");
     }
     output::write(&dir.join("README.md"), md)?;
+    output::write(&dir.join("index.html"), html.finish(header))?;
     Ok(table)
+}
+
+/// `index.html`: every figure of the report with its caption, scene by scene, for a browser.
+#[derive(Default)]
+struct Html {
+    body: String,
+}
+
+impl Html {
+    fn section(&mut self, title: &str) {
+        let _ = writeln!(self.body, "<h2>{}</h2>", escape(title));
+    }
+
+    fn figure(&mut self, file: &str, caption: &str) {
+        let (file, caption) = (escape(file), escape(caption));
+        let _ = writeln!(
+            self.body,
+            "<figure><img src=\"{file}\" alt=\"{caption}\"><figcaption>{caption}</figcaption></figure>"
+        );
+    }
+
+    fn finish(self, header: &str) -> String {
+        format!(
+            "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n\
+             <title>varembed: the tour</title>\n<style>body {{ font-family: sans-serif; \
+             max-width: 960px; margin: auto; }} img {{ max-width: 100%; }} figcaption {{ \
+             font-style: italic; margin-bottom: 2em; }}</style>\n</head>\n<body>\n\
+             <h1>varembed: the tour</h1>\n<p>{}</p>\n<p>Tables, notes and sweeps: \
+             <a href=\"README.md\">README.md</a>.</p>\n{}</body>\n</html>\n",
+            escape(header),
+            self.body
+        )
+    }
+}
+
+/// `text` with the HTML metacharacters escaped.
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
 }
 
 /// Rewrites the committed documents of the checkout at `root` from a full tour: the summary in

@@ -130,6 +130,15 @@ fn quick_tour_writes_a_complete_finite_report() {
             "summary does not link {file}"
         );
     }
+    // index.html shows every figure with a caption.
+    let index = fs::read_to_string(dir.join("index.html")).expect("index.html");
+    for file in &files[1..] {
+        assert!(
+            index.contains(&format!("<img src=\"{file}\"")),
+            "index.html does not show {file}"
+        );
+    }
+    assert_eq!(index.matches("<figcaption>").count(), files.len() - 1);
     fs::remove_dir_all(&dir).expect("clean up");
 }
 
