@@ -47,6 +47,8 @@
 //! - `docs/solvers.md`: initial value problems (the starts, the step kernels, when a step is
 //!   explicit), boundary value problems (banded Newton; dense LU and FFT Newton–Krylov for the
 //!   fractional embeddings), the typed errors;
+//! - `docs/choosing.md`: which embedding and scheme for which problem — orders, what each
+//!   conserves, cost per step, stability limits, the recommended scheme;
 //! - `docs/macro.md`: what the [`lagrangian`](macro@lagrangian) attribute accepts and generates;
 //! - `docs/architecture.md`: the workspace, the module graph, where the tests live.
 #![deny(missing_docs)]
@@ -157,6 +159,11 @@ pub struct DocsSchemes;
 #[doc = include_str!("../../docs/solvers.md")]
 #[cfg(doctest)]
 pub struct DocsSolvers;
+
+/// `docs/choosing.md`.
+#[doc = include_str!("../../docs/choosing.md")]
+#[cfg(doctest)]
+pub struct DocsChoosing;
 
 /// `docs/macro.md`.
 #[doc = include_str!("../../docs/macro.md")]

@@ -123,7 +123,7 @@ fn run(args: &Args) -> Result<(), Box<dyn Error>> {
     let table = report::write(&out, &reports, &header)?;
     println!("{table}");
     if let Some(root) = checkout {
-        report::update_docs(&root, &reports, &table, &header)?;
+        report::update_docs(&root, &table, &header)?;
         println!("README.md summary and docs tables updated.");
     }
     println!(

@@ -10,6 +10,10 @@ use std::path::Path;
 pub const SUMMARY_START: &str = "<!-- tour-summary:start -->";
 /// See [`SUMMARY_START`].
 pub const SUMMARY_END: &str = "<!-- tour-summary:end -->";
+/// The markers of the cost table in `docs/choosing.md` ([`cost_table`]).
+pub const COST_START: &str = "<!-- cost-per-step:start -->";
+/// See [`COST_START`].
+pub const COST_END: &str = "<!-- cost-per-step:end -->";
 
 /// The file name of a scene's work–precision figure.
 pub fn work_precision_file(scene: &SceneReport) -> String {
@@ -173,19 +177,63 @@ fn escape(text: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// Rewrites the committed documents of the checkout at `root` from a full tour: the summary in
-/// `README.md` (the pendulum's work–precision figure, the summary `table` and the `header`
-/// saying how it was generated). The report folder itself is written by [`write`].
-pub fn update_docs(
-    root: &Path,
-    _scenes: &[SceneReport],
-    table: &str,
-    header: &str,
-) -> output::Result<()> {
+/// Rewrites the committed documents of the checkout at `root` from a full tour whose report
+/// [`write`] has just written to `root/report`: the summary in `README.md` (the pendulum's
+/// work–precision figure, the summary `table` and the `header` saying how it was generated),
+/// and the cost table of `docs/choosing.md`, read off `report/README.md` by [`cost_table`].
+pub fn update_docs(root: &Path, table: &str, header: &str) -> output::Result<()> {
     let section = format!(
         "![pendulum work–precision](report/pendulum-work-precision.svg)\n\n{table}\n{header}\n"
     );
-    update_section(&root.join("README.md"), &section)
+    update_section(&root.join("README.md"), &section)?;
+    let report = output::read_to_string(&root.join("report").join("README.md"))?;
+    update_between(
+        &root.join("docs").join("choosing.md"),
+        COST_START,
+        COST_END,
+        &cost_table(&report),
+    )
+}
+
+/// The cost per step of every scheme of every scene, read off a report's markdown (the
+/// `README.md` that [`write`] produces): per sweep line, its finest `N`, the wall time of that
+/// solve and the time per step. Reading the committed report rather than a run keeps the page
+/// that shows the table and the report it cites in agreement (a test compares them).
+pub fn cost_table(report: &str) -> String {
+    let mut rows: Vec<(String, String, usize, f64)> = Vec::new();
+    let mut scene = None;
+    for line in report.lines() {
+        if let Some(title) = line.strip_prefix("## ") {
+            scene = (title != "Summary").then(|| title.to_string());
+            continue;
+        }
+        let Some(scene) = &scene else { continue };
+        let cells: Vec<&str> = line.split('|').map(str::trim).collect();
+        // A sweep row: `| scheme | N | max error | time (s) | order |`.
+        let [_, label, n, _, seconds, _, _] = cells[..] else {
+            continue;
+        };
+        let (Ok(n), Ok(seconds)) = (n.parse::<usize>(), seconds.parse::<f64>()) else {
+            continue;
+        };
+        match rows.last_mut() {
+            // The rows of a line come in increasing N: keep the last, the finest.
+            Some(last) if last.0 == *scene && last.1 == label => (last.2, last.3) = (n, seconds),
+            _ => rows.push((scene.clone(), label.to_string(), n, seconds)),
+        }
+    }
+    let mut table = String::from(
+        "| scene | scheme | finest N | time of the solve (s) | cost per step (ns) |\n\
+         | --- | --- | ---: | ---: | ---: |\n",
+    );
+    for (scene, label, n, seconds) in rows {
+        let _ = writeln!(
+            table,
+            "| {scene} | {label} | {n} | {seconds:.2e} | {:.0} |",
+            seconds / n as f64 * 1e9
+        );
+    }
+    table
 }
 
 /// Replaces the text between [`SUMMARY_START`] and [`SUMMARY_END`] in `file` with `content`.
