@@ -33,8 +33,9 @@ use crate::lagrangian::{Lagrangian, Vector};
 use crate::linalg::max_norm;
 use crate::options::SolverOptions;
 use crate::solve::bvp;
-use crate::solve::ivp::{Ivp, Start};
+use crate::solve::ivp::Ivp;
 use crate::solve::solution::Solution;
+use crate::solve::start::Start;
 use std::time::{Duration, Instant};
 
 pub(crate) mod order;

@@ -10,3 +10,4 @@ pub mod krylov;
 pub mod newton;
 pub mod nodes;
 pub mod solution;
+pub mod start;

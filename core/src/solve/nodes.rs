@@ -6,6 +6,9 @@
 //! scheme has the discrete Legendre transforms of its discrete Lagrangian, a direct scheme only
 //! its velocity operator. [`NodeRule`] names the formula and its order; [`rule`] is the one
 //! place that decides it for an embedding and a scheme (one match arm per embedding family).
+//! The exports (CSV, `serde`) are in `nodes/export.rs`.
+
+mod export;
 
 use crate::embedding::{Embedding, EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
@@ -14,9 +17,28 @@ use crate::lagrangian::{Lagrangian, Vector};
 use crate::linalg::solve_small;
 use crate::options::NewtonOptions;
 use crate::side::Side;
-use std::fmt::{self, Write as _};
+use std::fmt;
 
 /// How a solution's velocities and momenta at the nodes are computed, and their order.
+///
+/// # Example
+///
+/// ```
+/// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+///
+/// #[lagrangian]
+/// fn oscillator(x: f64, v: f64) -> f64 {
+///     0.5 * v * v - 0.5 * x * x
+/// }
+///
+/// let grid = Grid::new(0.0, 1.0, 10)?;
+/// let problem = Problem::new(&Oscillator, grid, Embedding::finite_difference(Side::Backward));
+/// let nodes = problem.solve_ivp(Scheme::Variational, 1.0, 0.0)?.node_values(&Oscillator)?;
+/// assert!(matches!(nodes.rule.formula, varembed::NodeFormula::DiscreteLegendre { .. }));
+/// assert_eq!(nodes.rule.order, 1);
+/// assert_eq!(nodes.rule.to_string(), "discrete Legendre transforms, order 1");
+/// # Ok::<(), varembed::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NodeRule {
     /// The formula.
@@ -28,6 +50,26 @@ pub struct NodeRule {
 }
 
 /// Which formula gives the velocities and momenta at the nodes.
+///
+/// # Example
+///
+/// ```
+/// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+///
+/// #[lagrangian]
+/// fn oscillator(x: f64, v: f64) -> f64 {
+///     0.5 * v * v - 0.5 * x * x
+/// }
+///
+/// let grid = Grid::new(0.0, 1.0, 10)?;
+/// let problem = Problem::new(&Oscillator, grid, Embedding::finite_difference(Side::Backward));
+/// let nodes = problem.solve_ivp(Scheme::Variational, 1.0, 0.0)?.node_values(&Oscillator)?;
+/// let direct = problem.solve_ivp(Scheme::Direct, 1.0, 0.0)?.node_values(&Oscillator)?;
+/// assert_eq!(direct.rule.formula, varembed::NodeFormula::VelocityOperator);
+/// // The direct scheme's velocity at t_1 is its backward difference (Q_1 − Q_0)/h.
+/// assert_eq!(direct.v[1][0], (direct.q[1][0] - direct.q[0][0]) / 0.1);
+/// # Ok::<(), varembed::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum NodeFormula {
@@ -39,6 +81,9 @@ pub enum NodeFormula {
     /// equation is `p_k^+ = p_k^−`, so either side gives the same momentum up to the solver's
     /// tolerance). The velocity `v_k` solves `∂L/∂v(Q_k, v_k, t_k) = p_k` (Newton's method on
     /// `∂²L/∂v²`, from the neighbouring difference quotient).
+    ///
+    /// <!-- tex: L_d(Q_k, Q_{k+1}) = h \sum_i w_i \, L\big((1 - \theta_i) Q_k + \theta_i Q_{k+1}, \tfrac{Q_{k+1} - Q_k}{h}, t_k + \theta_i h\big), \qquad p_k^- = -\frac{\partial L_d}{\partial Q_k}, \quad p_{k+1}^+ = \frac{\partial L_d}{\partial Q_{k+1}} -->
+    /// <math display="block"><mrow><msub><mi>L</mi><mi>d</mi></msub><mo stretchy="false">&#x00028;</mo><msub><mi>Q</mi><mi>k</mi></msub><mo>&#x0002C;</mo><msub><mi>Q</mi><mrow><mi>k</mi><mo>&#x0002B;</mo><mn>1</mn></mrow></msub><mo stretchy="false">&#x00029;</mo><mo>&#x0003D;</mo><mi>h</mi><munder><mo>&#x02211;</mo><mi>i</mi></munder><msub><mi>w</mi><mi>i</mi></msub><mspace width="0.167em" /><mi>L</mi><mo minsize="1.2em" maxsize="1.2em">(</mo><mo stretchy="false">&#x00028;</mo><mn>1</mn><mo>&#x02212;</mo><msub><mi>&#x003B8;</mi><mi>i</mi></msub><mo stretchy="false">&#x00029;</mo><msub><mi>Q</mi><mi>k</mi></msub><mo>&#x0002B;</mo><msub><mi>&#x003B8;</mi><mi>i</mi></msub><msub><mi>Q</mi><mrow><mi>k</mi><mo>&#x0002B;</mo><mn>1</mn></mrow></msub><mo>&#x0002C;</mo><mstyle displaystyle="false" scriptlevel="0"><mfrac><mrow><msub><mi>Q</mi><mrow><mi>k</mi><mo>&#x0002B;</mo><mn>1</mn></mrow></msub><mo>&#x02212;</mo><msub><mi>Q</mi><mi>k</mi></msub></mrow><mrow><mi>h</mi></mrow></mfrac></mstyle><mo>&#x0002C;</mo><msub><mi>t</mi><mi>k</mi></msub><mo>&#x0002B;</mo><msub><mi>&#x003B8;</mi><mi>i</mi></msub><mi>h</mi><mo minsize="1.2em" maxsize="1.2em">)</mo><mo>&#x0002C;</mo><mspace width="2em" /><msubsup><mi>p</mi><mi>k</mi><mo>&#x02212;</mo></msubsup><mo>&#x0003D;</mo><mo>&#x02212;</mo><mfrac><mrow><mo>&#x02202;</mo><msub><mi>L</mi><mi>d</mi></msub></mrow><mrow><mo>&#x02202;</mo><msub><mi>Q</mi><mi>k</mi></msub></mrow></mfrac><mo>&#x0002C;</mo><mspace width="1em" /><msubsup><mi>p</mi><mrow><mi>k</mi><mo>&#x0002B;</mo><mn>1</mn></mrow><mo>&#x0002B;</mo></msubsup><mo>&#x0003D;</mo><mfrac><mrow><mo>&#x02202;</mo><msub><mi>L</mi><mi>d</mi></msub></mrow><mrow><mo>&#x02202;</mo><msub><mi>Q</mi><mrow><mi>k</mi><mo>&#x0002B;</mo><mn>1</mn></mrow></msub></mrow></mfrac></mrow></math>
     DiscreteLegendre {
         /// The points `(θ_i, w_i)` of the discrete Lagrangian's quadrature.
         points: &'static [(f64, f64)],
@@ -99,6 +144,26 @@ pub(crate) fn rule(embedding: &Embedding, scheme: Scheme) -> Result<NodeRule> {
 }
 
 /// One node of a solution: `(t_k, Q_k, v_k, p_k)` and the energy there.
+///
+/// # Example
+///
+/// ```
+/// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+///
+/// #[lagrangian]
+/// fn oscillator(x: f64, v: f64) -> f64 {
+///     0.5 * v * v - 0.5 * x * x
+/// }
+///
+/// let grid = Grid::new(0.0, 1.0, 10)?;
+/// let problem = Problem::new(&Oscillator, grid, Embedding::finite_difference(Side::Backward));
+/// let nodes = problem.solve_ivp(Scheme::Variational, 1.0, 0.0)?.node_values(&Oscillator)?;
+/// let last = nodes.get(10).expect("N = 10");
+/// assert_eq!(last.t, 1.0);
+/// assert_eq!(last.p, last.v); // p = ∂L/∂v = v
+/// assert!((last.energy.unwrap() - 0.5).abs() < 0.05); // E = ½v² + ½x² = ½, to O(h)
+/// # Ok::<(), varembed::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NodeState<const D: usize> {
     /// The time `t_k = a + k h` (`t_N = b` exactly).
@@ -117,6 +182,26 @@ pub struct NodeState<const D: usize> {
 /// A solution's values at its nodes `t_0, …, t_N`, index `k` being node `k` in every field.
 ///
 /// Built by [`Solution::node_values`](crate::Solution::node_values).
+///
+/// # Example
+///
+/// ```
+/// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+///
+/// #[lagrangian]
+/// fn oscillator(x: f64, v: f64) -> f64 {
+///     0.5 * v * v - 0.5 * x * x
+/// }
+///
+/// let grid = Grid::new(0.0, 1.0, 10)?;
+/// let problem = Problem::new(&Oscillator, grid, Embedding::finite_difference(Side::Backward));
+/// let nodes = problem.solve_ivp(Scheme::Variational, 1.0, 0.0)?.node_values(&Oscillator)?;
+/// assert_eq!(nodes.len(), 11);
+/// assert_eq!(nodes.t[10], 1.0);
+/// let max_error = nodes.iter().map(|n| (n.q[0] - n.t.cos()).abs()).fold(0.0, f64::max);
+/// assert!(max_error < 0.05);
+/// # Ok::<(), varembed::Error>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct NodeValues<const D: usize> {
     /// `t_k = a + k h` (`t_N = b` exactly).
@@ -154,12 +239,14 @@ impl<const D: usize> NodeValues<D> {
         let steps: Vec<Vector<D>> = (0..n).map(|k| (q[k + 1] - q[k]) / h).collect();
         let (v, p) = match rule.formula {
             NodeFormula::DiscreteLegendre { points } => {
+                // p_k^− = −∂L_d(Q_k, Q_{k+1})/∂Q_k = Σ_i w_i [p_i − h (1 − θ_i) f_i] for k < N,
+                // p_N^+ = ∂L_d(Q_{N−1}, Q_N)/∂Q_N = Σ_i w_i [p_i + h θ_i f_i].
                 let p: Vec<Vector<D>> = (0..=n)
                     .map(|k| {
                         if k < n {
-                            legendre_minus(lagrangian, grid, points, q, &steps, k)
+                            step_sum(lagrangian, grid, points, q, &steps, k, |theta| theta - 1.0)
                         } else {
-                            legendre_plus(lagrangian, grid, points, q, &steps, n - 1)
+                            step_sum(lagrangian, grid, points, q, &steps, n - 1, |theta| theta)
                         }
                     })
                     .collect();
@@ -206,16 +293,68 @@ impl<const D: usize> NodeValues<D> {
     }
 
     /// The number of nodes, `N + 1`.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn oscillator(x: f64, v: f64) -> f64 {
+    ///     0.5 * v * v - 0.5 * x * x
+    /// }
+    ///
+    /// let grid = Grid::new(0.0, 1.0, 10)?;
+    /// let problem = Problem::new(&Oscillator, grid, Embedding::finite_difference(Side::Backward));
+    /// let nodes = problem.solve_ivp(Scheme::Variational, 1.0, 0.0)?.node_values(&Oscillator)?;
+    /// assert_eq!(nodes.len(), 11);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn len(&self) -> usize {
         self.t.len()
     }
 
     /// Always `false`: a solution has at least two nodes.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn oscillator(x: f64, v: f64) -> f64 {
+    ///     0.5 * v * v - 0.5 * x * x
+    /// }
+    ///
+    /// let grid = Grid::new(0.0, 1.0, 10)?;
+    /// let problem = Problem::new(&Oscillator, grid, Embedding::finite_difference(Side::Backward));
+    /// let nodes = problem.solve_ivp(Scheme::Variational, 1.0, 0.0)?.node_values(&Oscillator)?;
+    /// assert!(!nodes.is_empty());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn is_empty(&self) -> bool {
         self.t.is_empty()
     }
 
     /// Node `k`, `None` when `k > N`.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn oscillator(x: f64, v: f64) -> f64 {
+    ///     0.5 * v * v - 0.5 * x * x
+    /// }
+    ///
+    /// let grid = Grid::new(0.0, 1.0, 10)?;
+    /// let problem = Problem::new(&Oscillator, grid, Embedding::finite_difference(Side::Backward));
+    /// let nodes = problem.solve_ivp(Scheme::Variational, 1.0, 0.0)?.node_values(&Oscillator)?;
+    /// assert_eq!(nodes.get(0).map(|n| n.t), Some(0.0));
+    /// assert!(nodes.get(11).is_none());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn get(&self, k: usize) -> Option<NodeState<D>> {
         (k < self.len()).then(|| NodeState {
             t: self.t[k],
@@ -227,70 +366,27 @@ impl<const D: usize> NodeValues<D> {
     }
 
     /// The nodes in order, each as `(t, q, v, p)` with its energy.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn oscillator(x: f64, v: f64) -> f64 {
+    ///     0.5 * v * v - 0.5 * x * x
+    /// }
+    ///
+    /// let grid = Grid::new(0.0, 1.0, 10)?;
+    /// let problem = Problem::new(&Oscillator, grid, Embedding::finite_difference(Side::Backward));
+    /// let nodes = problem.solve_ivp(Scheme::Variational, 1.0, 0.0)?.node_values(&Oscillator)?;
+    /// let times: Vec<f64> = nodes.iter().map(|node| node.t).collect();
+    /// assert_eq!(times, nodes.t);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn iter(&self) -> impl ExactSizeIterator<Item = NodeState<D>> + '_ {
         (0..self.len()).map(|k| self.get(k).expect("k ≤ N"))
     }
-
-    /// The CSV header: `t,q0,…,q{D−1},v0,…,v{D−1},p0,…,p{D−1}`, then `E` when the energy is
-    /// known.
-    pub fn csv_header(&self) -> String {
-        let mut header = String::from("t");
-        for name in ["q", "v", "p"] {
-            for i in 0..D {
-                let _ = write!(header, ",{name}{i}");
-            }
-        }
-        if self.energy.is_some() {
-            header.push_str(",E");
-        }
-        header
-    }
-
-    /// The nodes as CSV: [`csv_header`](Self::csv_header), then one line per node. Every number
-    /// is written in Rust's shortest round-trip form (`{:e}`, e.g. `1.25e-1`), so that parsing
-    /// it back with `str::parse::<f64>` gives the same bits.
-    pub fn to_csv(&self) -> String {
-        let mut csv = self.csv_header();
-        csv.push('\n');
-        for node in self.iter() {
-            let _ = write!(csv, "{:e}", node.t);
-            for x in node.q.iter().chain(node.v.iter()).chain(node.p.iter()) {
-                let _ = write!(csv, ",{x:e}");
-            }
-            if let Some(e) = node.energy {
-                let _ = write!(csv, ",{e:e}");
-            }
-            csv.push('\n');
-        }
-        csv
-    }
-}
-
-/// `p_k^− = −∂L_d(Q_k, Q_{k+1})/∂Q_k = Σ_i w_i [p_i − h (1 − θ_i) f_i]`, with `f_i`, `p_i` the
-/// gradient of `L` at the quadrature point `i` of step `k → k+1`.
-fn legendre_minus<const D: usize, L: Lagrangian<D> + ?Sized>(
-    lagrangian: &L,
-    grid: &Grid,
-    points: &[(f64, f64)],
-    q: &[Vector<D>],
-    steps: &[Vector<D>],
-    k: usize,
-) -> Vector<D> {
-    step_sum(lagrangian, grid, points, q, steps, k, |theta| {
-        -(1.0 - theta)
-    })
-}
-
-/// `p_{k+1}^+ = ∂L_d(Q_k, Q_{k+1})/∂Q_{k+1} = Σ_i w_i [p_i + h θ_i f_i]` on step `k → k+1`.
-fn legendre_plus<const D: usize, L: Lagrangian<D> + ?Sized>(
-    lagrangian: &L,
-    grid: &Grid,
-    points: &[(f64, f64)],
-    q: &[Vector<D>],
-    steps: &[Vector<D>],
-    k: usize,
-) -> Vector<D> {
-    step_sum(lagrangian, grid, points, q, steps, k, |theta| theta)
 }
 
 /// `Σ_i w_i [p_i + h c(θ_i) f_i]` over the quadrature points of step `k → k+1`.
@@ -360,34 +456,4 @@ fn invert_momentum<const D: usize, L: Lagrangian<D> + ?Sized>(
         iterations: options.max_iterations,
         residual,
     })
-}
-
-#[cfg(feature = "serde")]
-mod serde_impls {
-    use super::{NodeState, NodeValues};
-    use serde::ser::{Serialize, SerializeSeq, SerializeStruct, Serializer};
-
-    /// `{"t": …, "q": [..], "v": [..], "p": [..], "energy": … or null}`.
-    impl<const D: usize> Serialize for NodeState<D> {
-        fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-            let mut s = serializer.serialize_struct("NodeState", 5)?;
-            s.serialize_field("t", &self.t)?;
-            s.serialize_field("q", self.q.as_slice())?;
-            s.serialize_field("v", self.v.as_slice())?;
-            s.serialize_field("p", self.p.as_slice())?;
-            s.serialize_field("energy", &self.energy)?;
-            s.end()
-        }
-    }
-
-    /// The sequence of the nodes' [`NodeState`]s.
-    impl<const D: usize> Serialize for NodeValues<D> {
-        fn serialize<S: Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
-            let mut seq = serializer.serialize_seq(Some(self.len()))?;
-            for node in self.iter() {
-                seq.serialize_element(&node)?;
-            }
-            seq.end()
-        }
-    }
 }

@@ -42,6 +42,24 @@ impl fmt::Display for Warning {
 }
 
 /// A discrete curve computed by a solver, with how it was computed.
+///
+/// # Example
+///
+/// ```
+/// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+///
+/// #[lagrangian]
+/// fn pendulum(x: f64, v: f64) -> f64 {
+///     0.5 * v * v + x.cos()
+/// }
+///
+/// let problem = Problem::new(&Pendulum, Grid::new(0.0, 1.0, 100)?, Embedding::finite_difference(Side::Forward));
+/// let solution = problem.solve_ivp(Scheme::Direct, 0.5, 0.0)?;
+/// assert_eq!((solution.scheme, solution.q.len()), (Scheme::Direct, 101));
+/// assert!(solution.newton_iterations > 0 || solution.explicit_steps > 0);
+/// assert!(solution.warnings.is_empty());
+/// # Ok::<(), varembed::Error>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Solution<const D: usize> {
     /// The scheme solved.
@@ -139,14 +157,65 @@ impl<const D: usize> Solution<D> {
     }
 
     /// Component `i` of every node, `None` when `i ≥ D`.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn free(_x: [f64; 2], v: [f64; 2]) -> f64 {
+    ///     0.5 * (v[0] * v[0] + v[1] * v[1])
+    /// }
+    ///
+    /// let problem = Problem::new(&Free, Grid::new(0.0, 1.0, 4)?, Embedding::finite_difference(Side::Backward));
+    /// let line = problem.solve_bvp(Scheme::Variational, [0.0, 1.0], [2.0, -1.0])?;
+    /// assert_eq!(line.component(0).unwrap(), [0.0, 0.5, 1.0, 1.5, 2.0]);
+    /// assert!(line.component(2).is_none());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn component(&self, i: usize) -> Option<Vec<f64>> {
         (i < D).then(|| self.q.iter().map(|x| x[i]).collect())
     }
     /// The last node `Q_N`.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn free(_x: [f64; 2], v: [f64; 2]) -> f64 {
+    ///     0.5 * (v[0] * v[0] + v[1] * v[1])
+    /// }
+    ///
+    /// let problem = Problem::new(&Free, Grid::new(0.0, 1.0, 4)?, Embedding::finite_difference(Side::Backward));
+    /// let line = problem.solve_bvp(Scheme::Variational, [0.0, 1.0], [2.0, -1.0])?;
+    /// assert_eq!(line.last(), varembed::Vector::<2>::new(2.0, -1.0));
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn last(&self) -> Vector<D> {
         *self.q.last().expect("a solution has N + 1 ≥ 2 nodes")
     }
     /// Max over nodes of `|Q_k − other_k|∞`; `None` when the lengths differ.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn free(_x: [f64; 2], v: [f64; 2]) -> f64 {
+    ///     0.5 * (v[0] * v[0] + v[1] * v[1])
+    /// }
+    ///
+    /// let problem = Problem::new(&Free, Grid::new(0.0, 1.0, 4)?, Embedding::finite_difference(Side::Backward));
+    /// let line = problem.solve_bvp(Scheme::Variational, [0.0, 1.0], [2.0, -1.0])?;
+    /// let shifted: Vec<_> = line.q.iter().map(|q| q.add_scalar(0.25)).collect();
+    /// assert_eq!(line.max_distance(&shifted), Some(0.25));
+    /// assert_eq!(line.max_distance(&shifted[1..]), None);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn max_distance(&self, other: &[Vector<D>]) -> Option<f64> {
         (other.len() == self.q.len()).then(|| {
             self.q
