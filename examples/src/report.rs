@@ -178,7 +178,7 @@ fn escape(text: &str) -> String {
 }
 
 /// Rewrites the committed documents of the checkout at `root` from a full tour whose report
-/// [`write`] has just written to `root/report`: the summary in `README.md` (the pendulum's
+/// [`write()`] has just written to `root/report`: the summary in `README.md` (the pendulum's
 /// work–precision figure, the summary `table` and the `header` saying how it was generated),
 /// and the cost table of `docs/choosing.md`, read off `report/README.md` by [`cost_table`].
 pub fn update_docs(root: &Path, table: &str, header: &str) -> output::Result<()> {
@@ -196,7 +196,7 @@ pub fn update_docs(root: &Path, table: &str, header: &str) -> output::Result<()>
 }
 
 /// The cost per step of every scheme of every scene, read off a report's markdown (the
-/// `README.md` that [`write`] produces): per sweep line, its finest `N`, the wall time of that
+/// `README.md` that [`write()`] produces): per sweep line, its finest `N`, the wall time of that
 /// solve and the time per step. Reading the committed report rather than a run keeps the page
 /// that shows the table and the report it cites in agreement (a test compares them).
 pub fn cost_table(report: &str) -> String {
