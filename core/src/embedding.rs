@@ -69,6 +69,13 @@ impl fmt::Display for Scheme {
 }
 
 /// The three families of discrete embeddings of the paper.
+///
+/// ```
+/// use varembed::{Embedding, EmbeddingKind, Side};
+/// let kind = Embedding::grunwald_letnikov(Side::Forward, 0.5)?.kind();
+/// assert_eq!(kind, EmbeddingKind::GrunwaldLetnikov { alpha: 0.5 });
+/// # Ok::<(), varembed::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum EmbeddingKind {
     /// Gauss-FDEσ (paper §2.1): the direct scheme substitutes `d/dt ↦ −σΔ_σ`. Not coherent.

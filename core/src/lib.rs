@@ -78,10 +78,9 @@ mod test_models;
 mod toeplitz;
 mod weights;
 
+pub use compare::convergence::{Convergence, Level};
 pub use compare::order::{OrderStatus, observed_order, observed_orders};
-pub use compare::{
-    CompareOptions, Comparison, Convergence, Level, Reference, SchemeReport, max_error,
-};
+pub use compare::{CompareOptions, Comparison, Reference, SchemeReport, max_error};
 pub use embedding::{Embedding, EmbeddingKind, Scheme};
 pub use error::{Error, Location, Result};
 pub use grid::Grid;

@@ -2,7 +2,8 @@
 //! comparison.
 
 use super::Problem;
-use crate::compare::{CompareOptions, Comparer, Comparison, Convergence};
+use crate::compare::convergence::Convergence;
+use crate::compare::{CompareOptions, Comparer, Comparison};
 use crate::embedding::Scheme;
 use crate::error::Result;
 use crate::lagrangian::{IntoVector, Lagrangian};

@@ -9,6 +9,18 @@ use std::fmt;
 
 /// Something a caller should know about a returned solution that is not an error: the solve
 /// succeeded, but the numbers may not mean what they seem.
+///
+/// ```
+/// use varembed::{Embedding, Grid, Problem, Scheme, Side, Warning, lagrangian};
+/// #[lagrangian]
+/// fn pendulum(x: f64, v: f64) -> f64 {
+///     0.5 * v * v + x.cos()
+/// }
+/// let gle = Embedding::grunwald_letnikov(Side::Backward, 0.4)?;
+/// let solution = Problem::new(&Pendulum, Grid::new(0.0, 1.0, 20)?, gle).solve_bvp(Scheme::Variational, 0.0, 1.0)?;
+/// assert_eq!(solution.warnings, [Warning::IllPosedFractional { alpha: 0.4 }]);
+/// # Ok::<(), varembed::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Warning {
