@@ -9,7 +9,7 @@
 //! order of convergence, Newton iterations and wall time; and the largest distance between the
 //! two solutions.
 //!
-//! The observed order has one definition, [`observed_order`]: between successive grids of a
+//! The observed order has one definition, [`observed_order`](crate::observed_order): between successive grids of a
 //! doubling run it is `log₂(e_N / e_{2N})`, with `e` the error against the reference when there
 //! is one, otherwise the self-convergence estimate `e_N = ‖Q_N − Q_{2N}‖` (max-norm over the
 //! nodes of the coarser grid), so that `log₂(‖Q_N − Q_{2N}‖ / ‖Q_{2N} − Q_{4N}‖)`. One order
@@ -33,16 +33,28 @@ use crate::lagrangian::{Lagrangian, Vector};
 use crate::linalg::max_norm;
 use crate::options::SolverOptions;
 use crate::solve::bvp;
-use crate::solve::ivp::{Ivp, Start};
+use crate::solve::ivp::Ivp;
 use crate::solve::solution::Solution;
+use crate::solve::start::Start;
 use std::time::{Duration, Instant};
 
+pub(crate) mod convergence;
 pub(crate) mod order;
 mod table;
 
-use order::{OrderStatus, observed_order, observed_orders, order_statuses};
+use convergence::{Convergence, Level};
+
+use order::OrderStatus;
 
 /// `max_k |Q_k − q(t_k)|∞`: the error of the discrete curve `q` on `grid` against `reference`.
+///
+/// ```
+/// use varembed::{Grid, Vector, max_error};
+/// let grid = Grid::new(0.0, 1.0, 2)?;
+/// let q = [0.0, 0.5, 0.9].map(Vector::<1>::new);
+/// assert!((max_error(&grid, &q, |t| Vector::<1>::new(t)) - 0.1).abs() < 1e-15);
+/// # Ok::<(), varembed::Error>(())
+/// ```
 pub fn max_error<const D: usize>(
     grid: &Grid,
     q: &[Vector<D>],
@@ -75,6 +87,18 @@ fn distance_on_coarse_nodes<const D: usize>(
 }
 
 /// What errors are measured against.
+///
+/// ```
+/// # use varembed::{CompareOptions, Embedding, Grid, Problem, Reference, Scheme, Side, Vector, lagrangian};
+/// # #[lagrangian]
+/// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+/// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 20)?, Embedding::finite_difference(Side::Backward));
+/// let exact = |t: f64| Vector::<1>::new(t.cos());
+/// let options = CompareOptions { reference: Reference::Exact(&exact), ..Default::default() };
+/// let comparison = problem.compare_ivp_with(1.0, 0.0, &options)?;
+/// assert_eq!(comparison.reference, "exact solution");
+/// # Ok::<(), varembed::Error>(())
+/// ```
 #[derive(Clone, Copy)]
 pub enum Reference<'a, const D: usize> {
     /// No reference: errors are not reported, the order is the self-convergence estimate.
@@ -109,6 +133,19 @@ impl<const D: usize> Reference<'_, D> {
 
 /// Options of the comparisons ([`Problem::compare_ivp_with`](crate::Problem::compare_ivp_with), [`Problem::compare_bvp_with`](crate::Problem::compare_bvp_with)) and
 /// of the convergence runs ([`Problem::convergence_ivp`](crate::Problem::convergence_ivp), [`Problem::convergence_bvp`](crate::Problem::convergence_bvp)).
+///
+/// ```
+/// # use varembed::{CompareOptions, Embedding, Grid, Problem, Reference, Scheme, Side, Vector, lagrangian};
+/// # #[lagrangian]
+/// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+/// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 20)?, Embedding::finite_difference(Side::Backward));
+/// let exact = |t: f64| Vector::<1>::new(t.cos());
+/// let options = CompareOptions { reference: Reference::Exact(&exact), ..Default::default() };
+/// let options = CompareOptions { order: false, ..options };
+/// let comparison = problem.compare_ivp_with(1.0, 0.0, &options)?;
+/// assert_eq!((comparison.extra_solves, comparison.direct.order), (0, None));
+/// # Ok::<(), varembed::Error>(())
+/// ```
 #[derive(Clone, Copy)]
 pub struct CompareOptions<'a, const D: usize> {
     /// The reference for the error column.
@@ -134,6 +171,19 @@ impl<const D: usize> Default for CompareOptions<'_, D> {
 }
 
 /// One scheme's line of a [`Comparison`].
+///
+/// ```
+/// # use varembed::{CompareOptions, Embedding, Grid, Problem, Reference, Scheme, Side, Vector, lagrangian};
+/// # #[lagrangian]
+/// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+/// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 20)?, Embedding::finite_difference(Side::Backward));
+/// let exact = |t: f64| Vector::<1>::new(t.cos());
+/// let options = CompareOptions { reference: Reference::Exact(&exact), ..Default::default() };
+/// let comparison = problem.compare_ivp_with(1.0, 0.0, &options)?;
+/// let report = &comparison.variational;
+/// assert!(report.error.unwrap() < 0.05 && report.energy_deviation.unwrap() < 0.05);
+/// # Ok::<(), varembed::Error>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct SchemeReport<const D: usize> {
     /// The solution.
@@ -148,7 +198,7 @@ pub struct SchemeReport<const D: usize> {
     /// classical embedding); `None` otherwise ([`Comparison::energy_not_conserved`] says why),
     /// since the drift of a quantity the problem does not conserve is no error.
     pub energy_deviation: Option<f64>,
-    /// [`observed_order`] from `N` to the next grid of the run (`2N`), if the run has one.
+    /// [`observed_order`](crate::observed_order) from `N` to the next grid of the run (`2N`), if the run has one.
     pub order: Option<f64>,
     /// How far [`order`](Self::order) can be trusted ([`Convergence::order_status_at`]), when
     /// there is one.
@@ -172,6 +222,19 @@ pub struct SchemeReport<const D: usize> {
 /// runs the comparison was built from. The energy is reported only where the flow conserves
 /// it. `Display` prints the table with its legend and the solutions' warnings;
 /// [`to_markdown`](Self::to_markdown) the same as markdown.
+///
+/// ```
+/// # use varembed::{CompareOptions, Embedding, Grid, Problem, Reference, Scheme, Side, Vector, lagrangian};
+/// # #[lagrangian]
+/// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+/// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 20)?, Embedding::finite_difference(Side::Backward));
+/// let exact = |t: f64| Vector::<1>::new(t.cos());
+/// let options = CompareOptions { reference: Reference::Exact(&exact), ..Default::default() };
+/// let comparison = problem.compare_ivp_with(1.0, 0.0, &options)?;
+/// assert_eq!(comparison.grid.n(), 20);
+/// assert!(comparison.to_string().contains("variational"));
+/// # Ok::<(), varembed::Error>(())
+/// ```
 #[derive(Clone, Debug)]
 pub struct Comparison<const D: usize> {
     /// What was solved: "initial value problem" or "boundary value problem".
@@ -203,107 +266,6 @@ pub struct Comparison<const D: usize> {
     /// [`CompareOptions::order`], 0 without, and 0 for
     /// [`Problem::compare_runs`](crate::Problem::compare_runs), which reads the runs it is given.
     pub extra_solves: usize,
-}
-
-/// One solved grid of a [`Convergence`] run.
-#[derive(Clone, Debug)]
-pub struct Level<const D: usize> {
-    /// The solution; its grid has the level's `N`.
-    pub solution: Solution<D>,
-    /// Wall time of the solve (measured once: each grid is solved once).
-    pub wall_time: Duration,
-    /// `max_k |Q_k − q(t_k)|∞` against the reference, if there is one.
-    pub error: Option<f64>,
-}
-
-impl<const D: usize> Level<D> {
-    /// The number of steps `N`.
-    pub fn n(&self) -> usize {
-        self.solution.grid.n()
-    }
-}
-
-/// One scheme of one problem solved on `N, 2N, 4N, …` steps over the same interval
-/// ([`Problem::convergence_ivp`](crate::Problem::convergence_ivp), [`Problem::convergence_bvp`](crate::Problem::convergence_bvp)): every solution with its error
-/// and wall time, and the [`observed_order`] between successive grids.
-#[derive(Clone, Debug)]
-pub struct Convergence<const D: usize> {
-    /// What was solved: "initial value problem" or "boundary value problem".
-    pub kind: &'static str,
-    /// The scheme.
-    pub scheme: Scheme,
-    /// Which reference the errors are against ("none" without one).
-    pub reference: String,
-    /// The grids that solved, by increasing `N`.
-    pub levels: Vec<Level<D>>,
-    /// The sizes whose solve failed, with the error (e.g. Newton not converging on a coarse
-    /// grid): reported, not hidden. The orders skip them.
-    pub failures: Vec<(usize, Error)>,
-}
-
-impl<const D: usize> Convergence<D> {
-    /// The level on `n` steps, if it solved.
-    pub fn level(&self, n: usize) -> Option<&Level<D>> {
-        self.levels.iter().find(|level| level.n() == n)
-    }
-
-    /// `(N, e_N)` per level, the errors the orders are computed from: the error against the
-    /// reference, or without one the self-convergence estimate `‖Q_N − Q_{N'}‖` on the nodes
-    /// of the `N` grid, `N'` the next level (so the last level has none).
-    pub fn error_estimates(&self) -> Vec<(usize, f64)> {
-        self.scaled_estimates()
-            .into_iter()
-            .map(|(n, e, _)| (n, e))
-            .collect()
-    }
-
-    /// [`error_estimates`](Self::error_estimates) with the size of the solutions each is
-    /// measured on (`max_k |Q_k|∞`), the scale of its round-off.
-    fn scaled_estimates(&self) -> Vec<(usize, f64, f64)> {
-        let size = |level: &Level<D>| max_norm(&level.solution.q);
-        self.levels
-            .iter()
-            .enumerate()
-            .filter_map(|(i, level)| match level.error {
-                Some(e) => Some((level.n(), e, size(level))),
-                None => {
-                    let next = self.levels.get(i + 1)?;
-                    distance_on_coarse_nodes(&level.solution.q, &next.solution.q)
-                        .map(|e| (level.n(), e, size(level).max(size(next))))
-                }
-            })
-            .collect()
-    }
-
-    /// The [`OrderStatus`] of each of the [`orders`](Self::orders).
-    pub fn order_statuses(&self) -> Vec<OrderStatus> {
-        order_statuses(&self.scaled_estimates())
-    }
-
-    /// The [`OrderStatus`] of [`order_at`](Self::order_at)`(n)`, if there is that order.
-    pub fn order_status_at(&self, n: usize) -> Option<OrderStatus> {
-        let errors = self.scaled_estimates();
-        let i = errors.iter().position(|&(m, _, _)| m == n)?;
-        order_statuses(&errors[i..]).first().copied()
-    }
-
-    /// The [`observed_order`] between each pair of successive [`error_estimates`]
-    /// (`log₂(e_N / e_{2N})` on a run without failures).
-    ///
-    /// [`error_estimates`]: Self::error_estimates
-    pub fn orders(&self) -> Vec<f64> {
-        observed_orders(&self.error_estimates())
-    }
-
-    /// The [`observed_order`] from the level on `n` steps to the next one, if both have an
-    /// error estimate: entry `i` of [`orders`](Self::orders) when `n` is the `i`-th.
-    pub fn order_at(&self, n: usize) -> Option<f64> {
-        let errors = self.error_estimates();
-        let i = errors.iter().position(|&(m, _)| m == n)?;
-        errors
-            .get(i + 1)
-            .map(|&fine| observed_order(errors[i], fine))
-    }
 }
 
 /// What a comparison needs of a problem: its discretisation (the Lagrangian, the grid, the

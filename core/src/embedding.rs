@@ -9,6 +9,37 @@ use std::fmt;
 use std::ops::RangeInclusive;
 
 /// Which discrete scheme of an embedding.
+///
+/// With `f_k = ∂L/∂x` and `p_k = ∂L/∂v` at `(Q_k, V_k, t_k)` on the quadrature rows, the
+/// direct scheme's rows are, for Gauss-FDEσ (`k = 2..=N` for σ = −, `0..=N−2` for σ = +) and
+/// for the coherent embeddings (`k = 1..=N−1`),
+///
+/// <!-- tex: f_k + \sigma \, (\Delta_\sigma p)_k = 0 \qquad \text{and} \qquad f_k - \sigma \, (\Delta_{-\sigma} p)_k = 0 \quad (\Delta^\alpha_{-\sigma} \text{ for Gauss-GLE}\sigma), -->
+/// <math display="block"><mrow><msub><mi>f</mi><mi>k</mi></msub><mo>&#x0002B;</mo><mi>&#x003C3;</mi><mspace width="0.167em" /><mo stretchy="false">&#x00028;</mo><msub><mi>&#x00394;</mi><mi>&#x003C3;</mi></msub><mi>p</mi><msub><mo stretchy="false">&#x00029;</mo><mi>k</mi></msub><mo>&#x0003D;</mo><mn>0</mn><mspace width="2em" /><mtext>and</mtext><mspace width="2em" /><msub><mi>f</mi><mi>k</mi></msub><mo>&#x02212;</mo><mi>&#x003C3;</mi><mspace width="0.167em" /><mo stretchy="false">&#x00028;</mo><msub><mi>&#x00394;</mi><mrow><mo>&#x02212;</mo><mi>&#x003C3;</mi></mrow></msub><mi>p</mi><msub><mo stretchy="false">&#x00029;</mo><mi>k</mi></msub><mo>&#x0003D;</mo><mn>0</mn><mspace width="1em" /><mo stretchy="false">&#x00028;</mo><msubsup><mi>&#x00394;</mi><mrow><mo>&#x02212;</mo><mi>&#x003C3;</mi></mrow><mi>&#x003B1;</mi></msubsup><mtext>&#x000A0;for&#x000A0;Gauss-GLE</mtext><mi>&#x003C3;</mi><mo stretchy="false">&#x00029;</mo><mo>&#x0002C;</mo></mrow></math>
+///
+/// and the variational scheme's rows are the gradient of the discrete action, through the
+/// transpose of the velocity operator `D = −σΔ_σ`:
+///
+/// <!-- tex: \frac{1}{h} \frac{\partial S_h}{\partial Q_k} = f_k + (D^{\top} p)_k = 0, \qquad k = 1, \dots, N-1. -->
+/// <math display="block"><mrow><mfrac><mrow><mn>1</mn></mrow><mrow><mi>h</mi></mrow></mfrac><mfrac><mrow><mo>&#x02202;</mo><msub><mi>S</mi><mi>h</mi></msub></mrow><mrow><mo>&#x02202;</mo><msub><mi>Q</mi><mi>k</mi></msub></mrow></mfrac><mo>&#x0003D;</mo><msub><mi>f</mi><mi>k</mi></msub><mo>&#x0002B;</mo><mo stretchy="false">&#x00028;</mo><msup><mi>D</mi><mrow><mo>&#x022A4;</mo></mrow></msup><mi>p</mi><msub><mo stretchy="false">&#x00029;</mo><mi>k</mi></msub><mo>&#x0003D;</mo><mn>0</mn><mo>&#x0002C;</mo><mspace width="2em" /><mi>k</mi><mo>&#x0003D;</mo><mn>1</mn><mo>&#x0002C;</mo><mo>&#x02026;</mo><mo>&#x0002C;</mo><mi>N</mi><mo>&#x02212;</mo><mn>1</mn><mo>&#x0002E;</mo></mrow></math>
+///
+/// # Example
+///
+/// ```
+/// use varembed::{Embedding, Grid, Problem, Scheme, Side, Vector, lagrangian};
+///
+/// #[lagrangian]
+/// fn free(_x: f64, v: f64) -> f64 {
+///     0.5 * v * v
+/// }
+///
+/// // Under Gauss-FDE−, the direct rows are k = 2..=N and the variational ones k = 1..=N−1.
+/// let problem = Problem::new(&Free, Grid::new(0.0, 1.0, 4)?, Embedding::finite_difference(Side::Backward));
+/// assert_eq!(problem.residual_rows(Scheme::Direct), 2..=4);
+/// assert_eq!(problem.residual_rows(Scheme::Variational), 1..=3);
+/// assert_eq!(Scheme::Direct.to_string(), "direct");
+/// # Ok::<(), varembed::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Scheme {
     /// The direct embedding of the Euler–Lagrange equation: the embedding's operators
@@ -38,6 +69,13 @@ impl fmt::Display for Scheme {
 }
 
 /// The three families of discrete embeddings of the paper.
+///
+/// ```
+/// use varembed::{Embedding, EmbeddingKind, Side};
+/// let kind = Embedding::grunwald_letnikov(Side::Forward, 0.5)?.kind();
+/// assert_eq!(kind, EmbeddingKind::GrunwaldLetnikov { alpha: 0.5 });
+/// # Ok::<(), varembed::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum EmbeddingKind {
     /// Gauss-FDEσ (paper §2.1): the direct scheme substitutes `d/dt ↦ −σΔ_σ`. Not coherent.
@@ -89,6 +127,23 @@ pub enum EmbeddingKind {
 
 /// A discrete embedding: a family and a side σ.
 ///
+/// Its velocity of a curve `Q = (Q_0, …, Q_N)` lives on the quadrature rows `k ∈ I_σ`:
+///
+/// <!-- tex: V_k = -\sigma \Delta_\sigma Q_k, \qquad \Delta_- Q_k = \frac{Q_k - Q_{k-1}}{h}, \quad \Delta_+ Q_k = \frac{Q_k - Q_{k+1}}{h}, \qquad I_- = \{1, \dots, N\}, \quad I_+ = \{0, \dots, N-1\} -->
+/// <math display="block"><mrow><msub><mi>V</mi><mi>k</mi></msub><mo>&#x0003D;</mo><mo>&#x02212;</mo><mi>&#x003C3;</mi><msub><mi>&#x00394;</mi><mi>&#x003C3;</mi></msub><msub><mi>Q</mi><mi>k</mi></msub><mo>&#x0002C;</mo><mspace width="2em" /><msub><mi>&#x00394;</mi><mo>&#x02212;</mo></msub><msub><mi>Q</mi><mi>k</mi></msub><mo>&#x0003D;</mo><mfrac><mrow><msub><mi>Q</mi><mi>k</mi></msub><mo>&#x02212;</mo><msub><mi>Q</mi><mrow><mi>k</mi><mo>&#x02212;</mo><mn>1</mn></mrow></msub></mrow><mrow><mi>h</mi></mrow></mfrac><mo>&#x0002C;</mo><mspace width="1em" /><msub><mi>&#x00394;</mi><mo>&#x0002B;</mo></msub><msub><mi>Q</mi><mi>k</mi></msub><mo>&#x0003D;</mo><mfrac><mrow><msub><mi>Q</mi><mi>k</mi></msub><mo>&#x02212;</mo><msub><mi>Q</mi><mrow><mi>k</mi><mo>&#x0002B;</mo><mn>1</mn></mrow></msub></mrow><mrow><mi>h</mi></mrow></mfrac><mo>&#x0002C;</mo><mspace width="2em" /><msub><mi>I</mi><mo>&#x02212;</mo></msub><mo>&#x0003D;</mo><mo stretchy="false">&#x0007B;</mo><mn>1</mn><mo>&#x0002C;</mo><mo>&#x02026;</mo><mo>&#x0002C;</mo><mi>N</mi><mo stretchy="false">&#x0007D;</mo><mo>&#x0002C;</mo><mspace width="1em" /><msub><mi>I</mi><mo>&#x0002B;</mo></msub><mo>&#x0003D;</mo><mo stretchy="false">&#x0007B;</mo><mn>0</mn><mo>&#x0002C;</mo><mo>&#x02026;</mo><mo>&#x0002C;</mo><mi>N</mi><mo>&#x02212;</mo><mn>1</mn><mo stretchy="false">&#x0007D;</mo></mrow></math>
+///
+/// and for Gauss-GLEσ the Grünwald–Letnikov operators take the place of `Δ_±`:
+///
+/// <!-- tex: \Delta^\alpha_- Q_k = h^{-\alpha} \sum_{r=0}^{k} \alpha_r Q_{k-r}, \qquad \Delta^\alpha_+ Q_k = h^{-\alpha} \sum_{r=0}^{N-k} \alpha_r Q_{k+r}, \qquad \alpha_0 = 1, \quad \alpha_r = \alpha_{r-1} \frac{r - 1 - \alpha}{r} -->
+/// <math display="block"><mrow><msubsup><mi>&#x00394;</mi><mo>&#x02212;</mo><mi>&#x003B1;</mi></msubsup><msub><mi>Q</mi><mi>k</mi></msub><mo>&#x0003D;</mo><msup><mi>h</mi><mrow><mo>&#x02212;</mo><mi>&#x003B1;</mi></mrow></msup><munderover><mo>&#x02211;</mo><mrow><mi>r</mi><mo>&#x0003D;</mo><mn>0</mn></mrow><mrow><mi>k</mi></mrow></munderover><msub><mi>&#x003B1;</mi><mi>r</mi></msub><msub><mi>Q</mi><mrow><mi>k</mi><mo>&#x02212;</mo><mi>r</mi></mrow></msub><mo>&#x0002C;</mo><mspace width="2em" /><msubsup><mi>&#x00394;</mi><mo>&#x0002B;</mo><mi>&#x003B1;</mi></msubsup><msub><mi>Q</mi><mi>k</mi></msub><mo>&#x0003D;</mo><msup><mi>h</mi><mrow><mo>&#x02212;</mo><mi>&#x003B1;</mi></mrow></msup><munderover><mo>&#x02211;</mo><mrow><mi>r</mi><mo>&#x0003D;</mo><mn>0</mn></mrow><mrow><mi>N</mi><mo>&#x02212;</mo><mi>k</mi></mrow></munderover><msub><mi>&#x003B1;</mi><mi>r</mi></msub><msub><mi>Q</mi><mrow><mi>k</mi><mo>&#x0002B;</mo><mi>r</mi></mrow></msub><mo>&#x0002C;</mo><mspace width="2em" /><msub><mi>&#x003B1;</mi><mn>0</mn></msub><mo>&#x0003D;</mo><mn>1</mn><mo>&#x0002C;</mo><mspace width="1em" /><msub><mi>&#x003B1;</mi><mi>r</mi></msub><mo>&#x0003D;</mo><msub><mi>&#x003B1;</mi><mrow><mi>r</mi><mo>&#x02212;</mo><mn>1</mn></mrow></msub><mfrac><mrow><mi>r</mi><mo>&#x02212;</mo><mn>1</mn><mo>&#x02212;</mo><mi>&#x003B1;</mi></mrow><mrow><mi>r</mi></mrow></mfrac></mrow></math>
+///
+/// The variational scheme makes the discrete action stationary:
+///
+/// <!-- tex: S_h(Q) = h \sum_{k \in I_\sigma} L(Q_k, V_k, t_k) -->
+/// <math display="block"><mrow><msub><mi>S</mi><mi>h</mi></msub><mo stretchy="false">&#x00028;</mo><mi>Q</mi><mo stretchy="false">&#x00029;</mo><mo>&#x0003D;</mo><mi>h</mi><munder><mo>&#x02211;</mo><mrow><mi>k</mi><mo>&#x02208;</mo><msub><mi>I</mi><mi>&#x003C3;</mi></msub></mrow></munder><mi>L</mi><mo stretchy="false">&#x00028;</mo><msub><mi>Q</mi><mi>k</mi></msub><mo>&#x0002C;</mo><msub><mi>V</mi><mi>k</mi></msub><mo>&#x0002C;</mo><msub><mi>t</mi><mi>k</mi></msub><mo stretchy="false">&#x00029;</mo></mrow></math>
+///
+/// (index ranges and signs: the repository's `docs/conventions.md`).
+///
 /// # Example
 ///
 /// ```
@@ -106,6 +161,14 @@ pub struct Embedding {
 
 impl Embedding {
     /// Gauss-FDEσ.
+    ///
+    /// ```
+    /// use varembed::{Embedding, EmbeddingKind, Side};
+    /// let fde = Embedding::finite_difference(Side::Forward);
+    /// assert_eq!((fde.kind(), fde.side()), (EmbeddingKind::FiniteDifference, Side::Forward));
+    /// assert!(!fde.is_coherent());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn finite_difference(side: Side) -> Self {
         Embedding {
             kind: EmbeddingKind::FiniteDifference,
@@ -113,6 +176,14 @@ impl Embedding {
         }
     }
     /// The asymmetric Gauss-FDEσ.
+    ///
+    /// ```
+    /// use varembed::{Embedding, EmbeddingKind, Side};
+    /// let asym = Embedding::asymmetric(Side::Backward);
+    /// assert_eq!(asym.kind(), EmbeddingKind::Asymmetric);
+    /// assert!(asym.is_coherent());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn asymmetric(side: Side) -> Self {
         Embedding {
             kind: EmbeddingKind::Asymmetric,
@@ -120,6 +191,14 @@ impl Embedding {
         }
     }
     /// Gauss-GLEσ of order α; errors unless `0 < α ≤ 1`.
+    ///
+    /// ```
+    /// use varembed::{Embedding, EmbeddingKind, Side};
+    /// let gle = Embedding::grunwald_letnikov(Side::Backward, 0.7)?;
+    /// assert_eq!(gle.kind(), EmbeddingKind::GrunwaldLetnikov { alpha: 0.7 });
+    /// assert!(Embedding::grunwald_letnikov(Side::Backward, 0.0).is_err());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn grunwald_letnikov(side: Side, alpha: f64) -> Result<Self> {
         if !(alpha > 0.0 && alpha <= 1.0) {
             return Err(Error::AlphaOutOfRange { alpha });
@@ -170,14 +249,33 @@ impl Embedding {
     }
 
     /// The family.
+    ///
+    /// ```
+    /// use varembed::{Embedding, EmbeddingKind, Side};
+    /// assert_eq!(Embedding::asymmetric(Side::Forward).kind(), EmbeddingKind::Asymmetric);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn kind(&self) -> EmbeddingKind {
         self.kind
     }
     /// The side σ.
+    ///
+    /// ```
+    /// use varembed::{Embedding, EmbeddingKind, Side};
+    /// assert_eq!(Embedding::asymmetric(Side::Forward).side(), Side::Forward);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn side(&self) -> Side {
         self.side
     }
     /// The order α (1 for the classical embeddings).
+    ///
+    /// ```
+    /// use varembed::{Embedding, EmbeddingKind, Side};
+    /// assert_eq!(Embedding::finite_difference(Side::Forward).alpha(), 1.0);
+    /// assert_eq!(Embedding::grunwald_letnikov(Side::Forward, 0.6)?.alpha(), 0.6);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn alpha(&self) -> f64 {
         match self.kind {
             EmbeddingKind::GrunwaldLetnikov { alpha } => alpha,
@@ -186,10 +284,24 @@ impl Embedding {
     }
     /// Whether the embedding is Grünwald–Letnikov (even at α = 1, where its operators equal
     /// the classical ones but are stored densely).
+    ///
+    /// ```
+    /// use varembed::{Embedding, EmbeddingKind, Side};
+    /// assert!(Embedding::grunwald_letnikov(Side::Forward, 1.0)?.is_fractional());
+    /// assert!(!Embedding::asymmetric(Side::Forward).is_fractional());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn is_fractional(&self) -> bool {
         matches!(self.kind, EmbeddingKind::GrunwaldLetnikov { .. })
     }
     /// Whether the paper proves the embedding coherent (direct = variational).
+    ///
+    /// ```
+    /// use varembed::{Embedding, EmbeddingKind, Side};
+    /// assert!(Embedding::grunwald_letnikov(Side::Backward, 0.5)?.is_coherent());
+    /// assert!(!Embedding::finite_difference(Side::Backward).is_coherent());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn is_coherent(&self) -> bool {
         match self.kind {
             EmbeddingKind::FiniteDifference => false,
@@ -229,6 +341,13 @@ impl Embedding {
     }
 
     /// The Gauss σ-quadrature rows `I_σ`: `1..=N` for σ = −, `0..=N−1` for σ = +.
+    ///
+    /// ```
+    /// use varembed::{Embedding, EmbeddingKind, Side};
+    /// assert_eq!(Embedding::finite_difference(Side::Backward).quadrature_rows(4), 1..=4);
+    /// assert_eq!(Embedding::finite_difference(Side::Forward).quadrature_rows(4), 0..=3);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn quadrature_rows(&self, n: usize) -> RangeInclusive<usize> {
         match self.side {
             Side::Backward => 1..=n,
@@ -239,6 +358,13 @@ impl Embedding {
     /// The rows of the direct scheme (the table in `docs/schemes.md`): Gauss-FDE− `2..=N`,
     /// Gauss-FDE+ `0..=N−2`, the coherent embeddings `1..=N−1`. Always `N − 1` rows (empty when
     /// `N = 1`).
+    ///
+    /// ```
+    /// use varembed::{Embedding, Side};
+    /// assert_eq!(Embedding::finite_difference(Side::Forward).direct_rows(4), 0..=2);
+    /// assert_eq!(Embedding::asymmetric(Side::Forward).direct_rows(4), 1..=3);
+    /// assert!(Embedding::asymmetric(Side::Forward).direct_rows(1).is_empty());
+    /// ```
     #[allow(clippy::reversed_empty_ranges)] // an empty range is the right answer for N = 1
     pub fn direct_rows(&self, n: usize) -> RangeInclusive<usize> {
         match (self.kind, self.side) {

@@ -3,6 +3,12 @@
 use thiserror::Error;
 
 /// Where a solver failed.
+///
+/// ```
+/// use varembed::Location;
+/// assert_eq!(Location::Step(3).to_string(), "step 3 (node Q_3)");
+/// assert_eq!(Location::Node(0).to_string(), "node Q_0");
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Location {
     /// A step of an initial value problem: the index `n` of the node `Q_n` being computed
@@ -26,6 +32,12 @@ impl std::fmt::Display for Location {
 }
 
 /// Everything that can go wrong in varembed.
+///
+/// ```
+/// use varembed::{Embedding, Error, Side};
+/// let error = Embedding::grunwald_letnikov(Side::Backward, 1.5).unwrap_err();
+/// assert!(matches!(error, Error::AlphaOutOfRange { alpha } if alpha == 1.5));
+/// ```
 #[derive(Clone, Debug, Error, PartialEq)]
 pub enum Error {
     /// The grid `[a, b]` with `N` steps is not usable.
@@ -206,6 +218,15 @@ pub enum Error {
 }
 
 /// `Result` with [`Error`](enum@Error).
+///
+/// ```
+/// fn steps(n: usize) -> varembed::Result<f64> {
+///     Ok(varembed::Grid::new(0.0, 1.0, n)?.h())
+/// }
+/// assert_eq!(steps(4)?, 0.25);
+/// assert!(steps(0).is_err());
+/// # Ok::<(), varembed::Error>(())
+/// ```
 pub type Result<T> = std::result::Result<T, Error>;
 
 /// [`Error::WrongLength`] unless `found == expected`.

@@ -23,6 +23,13 @@ pub struct Grid {
 impl Grid {
     /// The grid of `[a, b]` with `n` steps. Errors unless `a`, `b` are finite, `a < b`, `n ≥ 1`
     /// and `h = (b − a)/n` is a positive normal number.
+    ///
+    /// ```
+    /// assert!(varembed::Grid::new(0.0, 1.0, 10).is_ok());
+    /// let error = varembed::Grid::new(1.0, 0.0, 10).unwrap_err();
+    /// assert_eq!(error.to_string(), "invalid grid [1, 0] with N = 10: a must be smaller than b");
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn new(a: f64, b: f64, n: usize) -> Result<Self> {
         let invalid = |reason| Err(Error::InvalidGrid { a, b, n, reason });
         if !a.is_finite() || !b.is_finite() {
@@ -42,22 +49,52 @@ impl Grid {
     }
 
     /// Left end `a`.
+    ///
+    /// ```
+    /// let grid = varembed::Grid::new(1.0, 2.0, 4)?;
+    /// assert_eq!(grid.a(), 1.0);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn a(&self) -> f64 {
         self.a
     }
     /// Right end `b`.
+    ///
+    /// ```
+    /// let grid = varembed::Grid::new(1.0, 2.0, 4)?;
+    /// assert_eq!(grid.b(), 2.0);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn b(&self) -> f64 {
         self.b
     }
     /// Number of steps `N`.
+    ///
+    /// ```
+    /// let grid = varembed::Grid::new(1.0, 2.0, 4)?;
+    /// assert_eq!(grid.n(), 4);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn n(&self) -> usize {
         self.n
     }
     /// Step size `h`.
+    ///
+    /// ```
+    /// let grid = varembed::Grid::new(1.0, 2.0, 4)?;
+    /// assert_eq!(grid.h(), 0.25);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn h(&self) -> f64 {
         self.h
     }
     /// Node `t_k = a + k h` (`t_N = b` exactly).
+    ///
+    /// ```
+    /// let grid = varembed::Grid::new(1.0, 2.0, 4)?;
+    /// assert_eq!((grid.t(1), grid.t(4)), (1.25, 2.0));
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn t(&self, k: usize) -> f64 {
         if k == self.n {
             self.b
@@ -66,6 +103,12 @@ impl Grid {
         }
     }
     /// All nodes `t_0, …, t_N`.
+    ///
+    /// ```
+    /// let grid = varembed::Grid::new(1.0, 2.0, 4)?;
+    /// assert_eq!(grid.nodes(), [1.0, 1.25, 1.5, 1.75, 2.0]);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn nodes(&self) -> Vec<f64> {
         (0..=self.n).map(|k| self.t(k)).collect()
     }

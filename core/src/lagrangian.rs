@@ -10,11 +10,30 @@
 use nalgebra::{SMatrix, SVector};
 
 /// A point of `R^D`.
+///
+/// ```
+/// use varembed::Vector;
+/// let x = Vector::<2>::new(3.0, 4.0);
+/// assert_eq!(x.norm(), 5.0);
+/// ```
 pub type Vector<const D: usize> = SVector<f64, D>;
 /// A `D × D` block.
+///
+/// ```
+/// use varembed::{Matrix, Vector};
+/// let m = Matrix::<2>::new(2.0, 0.0, 0.0, 3.0);
+/// assert_eq!(m * Vector::<2>::new(1.0, 1.0), Vector::<2>::new(2.0, 3.0));
+/// ```
 pub type Matrix<const D: usize> = SMatrix<f64, D, D>;
 
 /// A point of `R^D` given as `f64` (when `D = 1`), `[f64; D]` or [`Vector<D>`].
+///
+/// ```
+/// use varembed::{IntoVector, Vector};
+/// let from_f64: Vector<1> = 2.0.into_vector();
+/// let from_array: Vector<2> = [1.0, 2.0].into_vector();
+/// assert_eq!((from_f64[0], from_array[1]), (2.0, 2.0));
+/// ```
 pub trait IntoVector<const D: usize> {
     /// The point as a [`Vector<D>`].
     fn into_vector(self) -> Vector<D>;
@@ -42,6 +61,16 @@ impl<const D: usize> IntoVector<D> for Vector<D> {
 ///
 /// `xx[(i, j)] = ∂²L/∂x_i∂x_j`, `xv[(i, j)] = ∂²L/∂x_i∂v_j`, `vv[(i, j)] = ∂²L/∂v_i∂v_j`.
 /// The fourth block is `L_vx = xvᵀ`.
+///
+/// ```
+/// use varembed::{Lagrangian, Vector};
+/// #[varembed::lagrangian]
+/// fn spring(x: f64, v: f64, k: f64) -> f64 {
+///     0.5 * v * v - 0.5 * k * x * x
+/// }
+/// let h = Spring { k: 4.0 }.hessian(&Vector::<1>::new(1.0), &Vector::<1>::new(0.0), 0.0);
+/// assert_eq!((h.xx[(0, 0)], h.xv[(0, 0)], h.vv[(0, 0)]), (-4.0, 0.0, 1.0));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Hessian<const D: usize> {
     /// `∂²L/∂x∂x`.
@@ -57,6 +86,16 @@ pub struct Hessian<const D: usize> {
 /// `true` is always safe (it only costs the closed-form update of a step); `false` is a
 /// promise the solvers rely on. Model constants do not count: `½ m v²` has a second derivative
 /// in `v` that depends on nothing.
+///
+/// ```
+/// use varembed::{Dependence, Lagrangian};
+/// #[varembed::lagrangian]
+/// fn spring(x: f64, v: f64, k: f64) -> f64 {
+///     0.5 * v * v - 0.5 * k * x * x
+/// }
+/// // The macro decides it symbolically: L depends on x and v, not on t.
+/// assert_eq!(Spring { k: 1.0 }.dependence(), Dependence { x: true, v: true, t: false });
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Dependence {
     /// May depend on the position `x`.
@@ -69,12 +108,20 @@ pub struct Dependence {
 
 impl Dependence {
     /// May depend on everything (nothing is known).
+    ///
+    /// ```
+    /// assert!(varembed::Dependence::ALL.t);
+    /// ```
     pub const ALL: Dependence = Dependence {
         x: true,
         v: true,
         t: true,
     };
     /// Depends on nothing: a constant.
+    ///
+    /// ```
+    /// assert!(!varembed::Dependence::NONE.x);
+    /// ```
     pub const NONE: Dependence = Dependence {
         x: false,
         v: false,
@@ -83,6 +130,17 @@ impl Dependence {
 }
 
 /// What each second-derivative block of a Lagrangian depends on (see [`Hessian`]).
+///
+/// ```
+/// use varembed::{Dependence, Lagrangian};
+/// #[varembed::lagrangian]
+/// fn spring(x: f64, v: f64, k: f64) -> f64 {
+///     0.5 * v * v - 0.5 * k * x * x
+/// }
+/// // Every block of the spring's Hessian is a constant: each step is taken in closed form.
+/// let blocks = Spring { k: 1.0 }.hessian_dependence();
+/// assert_eq!((blocks.xx, blocks.vv), (Dependence::NONE, Dependence::NONE));
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct HessianDependence {
     /// What `∂²L/∂x∂x` depends on.
@@ -95,6 +153,10 @@ pub struct HessianDependence {
 
 impl HessianDependence {
     /// Every block may depend on everything.
+    ///
+    /// ```
+    /// assert_eq!(varembed::HessianDependence::ALL.vv, varembed::Dependence::ALL);
+    /// ```
     pub const ALL: HessianDependence = HessianDependence {
         xx: Dependence::ALL,
         xv: Dependence::ALL,

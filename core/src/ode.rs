@@ -55,11 +55,25 @@ pub struct DifferentialOperator<'a, const D: usize> {
 
 impl<'a, const D: usize> DifferentialOperator<'a, D> {
     /// The zero operator.
+    ///
+    /// ```
+    /// assert_eq!(varembed::DifferentialOperator::<1>::new().order(), 0);
+    /// ```
     pub fn new() -> Self {
         DifferentialOperator { terms: Vec::new() }
     }
 
     /// Adds the term `f(q, t) · (d/dt)^order [g(q, t)]`.
+    ///
+    /// ```
+    /// use varembed::{DifferentialOperator, Grid, Side, Vector};
+    /// // d/dt [sin q], embedded as (sin Q_k − sin Q_{k−1})/h.
+    /// let op = DifferentialOperator::<1>::new().term(1, |_, _| 1.0, |q, _| q.map(f64::sin));
+    /// let scheme = op.embed(Side::Backward, Grid::new(0.0, 1.0, 2)?);
+    /// let r = scheme.residual(&[0.0, 0.5, 1.0].map(Vector::<1>::new))?;
+    /// assert!((r[0][0] - 0.5f64.sin() / 0.5).abs() < 1e-15);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn term(
         mut self,
         order: usize,
@@ -75,16 +89,33 @@ impl<'a, const D: usize> DifferentialOperator<'a, D> {
     }
 
     /// Adds the linear term `coefficient · q^{(order)}`.
+    ///
+    /// ```
+    /// let op = varembed::DifferentialOperator::<1>::new().linear(3, 2.0);
+    /// assert_eq!(op.order(), 3);
+    /// ```
     pub fn linear(self, order: usize, coefficient: f64) -> Self {
         self.term(order, move |_, _| coefficient, |q, _| *q)
     }
 
     /// The highest order `m` of the terms.
+    ///
+    /// ```
+    /// let op = varembed::DifferentialOperator::<2>::new().linear(1, 1.0).linear(2, 1.0);
+    /// assert_eq!(op.order(), 2);
+    /// ```
     pub fn order(&self) -> usize {
         self.terms.iter().map(|t| t.order).max().unwrap_or(0)
     }
 
     /// The direct embedding of `O` under FDEσ on `grid`.
+    ///
+    /// ```
+    /// use varembed::{DifferentialOperator, Grid, Side, Vector};
+    /// let op = DifferentialOperator::<1>::new().linear(2, 1.0).linear(0, 1.0); // q̈ + q
+    /// assert_eq!(op.embed(Side::Forward, Grid::new(0.0, 1.0, 10)?).rows(), 0..=8);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn embed(&self, side: Side, grid: Grid) -> DirectEmbedding<'_, 'a, D> {
         DirectEmbedding {
             operator: self,
@@ -96,6 +127,15 @@ impl<'a, const D: usize> DifferentialOperator<'a, D> {
 }
 
 /// `O^h`: a [`DifferentialOperator`] embedded under FDEσ on a grid.
+///
+/// ```
+/// use varembed::{DifferentialOperator, Grid, Side, Vector};
+/// let op = DifferentialOperator::<1>::new().linear(2, 1.0).linear(0, 1.0); // q̈ + q
+/// let scheme = op.embed(Side::Backward, Grid::new(0.0, 1.0, 100)?);
+/// let q = scheme.solve_ivp(&[Vector::<1>::new(1.0), Vector::<1>::new(0.01f64.cos())])?;
+/// assert!((q[100][0] - 1f64.cos()).abs() < 0.05); // q = cos t, first order
+/// # Ok::<(), varembed::Error>(())
+/// ```
 pub struct DirectEmbedding<'o, 'a, const D: usize> {
     operator: &'o DifferentialOperator<'a, D>,
     side: Side,
@@ -105,12 +145,29 @@ pub struct DirectEmbedding<'o, 'a, const D: usize> {
 
 impl<const D: usize> DirectEmbedding<'_, '_, D> {
     /// The same embedding with other Newton options for [`solve_ivp`](Self::solve_ivp).
+    ///
+    /// ```
+    /// use varembed::{DifferentialOperator, Grid, Side, Vector};
+    /// let op = DifferentialOperator::<1>::new().linear(2, 1.0).linear(0, 1.0); // q̈ + q
+    /// let strict = varembed::NewtonOptions { tolerance: 1e-14, max_iterations: 10 };
+    /// let scheme = op.embed(Side::Backward, Grid::new(0.0, 1.0, 10)?).with_newton(strict);
+    /// assert_eq!(scheme.solve_ivp(&[Vector::<1>::new(1.0); 2])?.len(), 11);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn with_newton(mut self, newton: NewtonOptions) -> Self {
         self.newton = newton;
         self
     }
 
     /// The rows `k` of `O^h(Q)_k = 0`: `m..=N` (σ = −) or `0..=N−m` (σ = +); empty if `m > N`.
+    ///
+    /// ```
+    /// use varembed::{DifferentialOperator, Grid, Side, Vector};
+    /// let op = DifferentialOperator::<1>::new().linear(2, 1.0).linear(0, 1.0); // q̈ + q
+    /// assert_eq!(op.embed(Side::Backward, Grid::new(0.0, 1.0, 10)?).rows(), 2..=10);
+    /// assert!(op.embed(Side::Backward, Grid::new(0.0, 1.0, 1)?).rows().is_empty());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     #[allow(clippy::reversed_empty_ranges)] // empty when the grid is shorter than the order
     pub fn rows(&self) -> RangeInclusive<usize> {
         let (n, m) = (self.grid.n(), self.operator.order());
@@ -156,6 +213,15 @@ impl<const D: usize> DirectEmbedding<'_, '_, D> {
     }
 
     /// `O^h(Q)` on [`rows`](Self::rows); `Q` has `N + 1` nodes.
+    ///
+    /// ```
+    /// use varembed::{DifferentialOperator, Grid, Side, Vector};
+    /// let op = DifferentialOperator::<1>::new().linear(2, 1.0).linear(0, 1.0); // q̈ + q
+    /// let scheme = op.embed(Side::Backward, Grid::new(0.0, 2.0, 2)?); // h = 1
+    /// // (Q_2 − 2Q_1 + Q_0)/h² + Q_2 with Q = (0, 1, 3): 1 + 3.
+    /// assert_eq!(scheme.residual(&[0.0, 1.0, 3.0].map(Vector::<1>::new))?, [Vector::<1>::new(4.0)]);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn residual(&self, q: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
         check_len("discrete curve Q", self.grid.n() + 1, q.len())?;
         if let Some(k) = q.iter().position(|x| !x.iter().all(|c| c.is_finite())) {
@@ -185,6 +251,16 @@ impl<const D: usize> DirectEmbedding<'_, '_, D> {
     /// (step `10⁻⁶ (1 + |y_j|)`), since the terms are arbitrary closures; Newton then converges
     /// linearly with a ratio of about `10⁻⁸`, and exactly in one step for linear operators up to
     /// that ratio. Errors carry the index of the node being computed.
+    ///
+    /// ```
+    /// use varembed::{DifferentialOperator, Grid, Side, Vector};
+    /// let op = DifferentialOperator::<1>::new().linear(2, 1.0).linear(0, 1.0); // q̈ + q
+    /// let scheme = op.embed(Side::Forward, Grid::new(0.0, 1.0, 10)?);
+    /// let q = scheme.solve_ivp(&[Vector::<1>::new(1.0); 2])?;
+    /// assert!(scheme.residual(&q)?.iter().all(|r| r[0].abs() < 1e-6));
+    /// assert!(scheme.solve_ivp(&[Vector::<1>::new(1.0)]).is_err()); // needs m = 2 nodes
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn solve_ivp(&self, initial: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
         let (n, m) = (self.grid.n(), self.operator.order());
         check_len("initial nodes Q_0..Q_{m−1}", m.min(n + 1), initial.len())?;

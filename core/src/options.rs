@@ -13,6 +13,11 @@
 /// `y` the unknowns): the velocity `(y − b)/h` loses `ε|y|/h` to cancellation, which
 /// `J ∼ L_vv/h` carries into the residual, so with small `h` and large coordinates no tolerance
 /// below that is reachable.
+///
+/// ```
+/// let options = varembed::NewtonOptions { tolerance: 1e-10, ..Default::default() };
+/// assert_eq!(options.max_iterations, 50);
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NewtonOptions {
     /// Relative tolerance (default `1e-12`).
@@ -24,6 +29,10 @@ pub struct NewtonOptions {
 
 impl NewtonOptions {
     /// Multiple of `ε ‖J‖∞ ‖y‖∞` below which a residual is round-off (see [`NewtonOptions`]).
+    ///
+    /// ```
+    /// assert_eq!(varembed::NewtonOptions::ROUND_OFF_FLOOR, 64.0);
+    /// ```
     pub const ROUND_OFF_FLOOR: f64 = 64.0;
 }
 
@@ -38,6 +47,10 @@ impl Default for NewtonOptions {
 
 /// Which linear algebra solves the Newton systems of a fractional (Gauss-GLEσ) boundary value
 /// problem. Set with `Problem::with_fractional_solver`.
+///
+/// ```
+/// assert_eq!(varembed::FractionalSolver::default(), varembed::FractionalSolver::Auto);
+/// ```
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum FractionalSolver {
     /// Dense LU when the system is small (`(N − 1)·d ≤`
@@ -58,9 +71,17 @@ pub enum FractionalSolver {
 
 impl FractionalSolver {
     /// Unknowns `(N − 1)·d` up to which [`FractionalSolver::Auto`] uses dense LU.
+    ///
+    /// ```
+    /// assert!(varembed::FractionalSolver::DENSE_LIMIT > 0);
+    /// ```
     pub const DENSE_LIMIT: usize = 400;
     /// Unknowns up to which [`FractionalSolver::Auto`] falls back to dense LU when the Krylov
     /// solver fails.
+    ///
+    /// ```
+    /// assert!(varembed::FractionalSolver::DENSE_FALLBACK_LIMIT > 0);
+    /// ```
     pub const DENSE_FALLBACK_LIMIT: usize = 1500;
 }
 

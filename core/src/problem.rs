@@ -2,7 +2,6 @@
 //! solver settings. It evaluates through its [`Discretisation`] and hands the parts each solver
 //! needs to the solvers.
 
-use crate::compare::{CompareOptions, Comparer, Comparison, Convergence};
 use crate::discretisation::Discretisation;
 use crate::embedding::{Embedding, Scheme};
 use crate::error::{Error, Result};
@@ -10,9 +9,11 @@ use crate::grid::Grid;
 use crate::lagrangian::{IntoVector, Lagrangian, Vector};
 use crate::options::{FractionalSolver, NewtonOptions, SolverOptions};
 use crate::solve::bvp;
-use crate::solve::ivp::{Ivp, Start};
 use crate::solve::solution::Solution;
 use std::ops::RangeInclusive;
+
+mod comparisons;
+mod initial_value;
 
 /// A discrete curve from a flat array `[Q_0[0], …, Q_0[D−1], Q_1[0], …]`.
 ///
@@ -41,8 +42,8 @@ pub fn curve_from_flat<const D: usize>(values: &[f64]) -> Result<Vec<Vector<D>>>
 /// A Lagrangian on a grid under a discrete embedding.
 ///
 /// The Grünwald–Letnikov operators are dense: on grids of more than 256 steps,
-/// [`velocity`](Self::velocity), [`residual`](Self::residual), [`action`](Self::action) and
-/// [`energy`](Self::energy) (and so the comparisons and the dense-LU Newton's residual) apply
+/// [`quadrature_velocities`](Self::quadrature_velocities), [`residual`](Self::residual),
+/// [`action`](Self::action) and [`quadrature_energies`](Self::quadrature_energies) (and so the comparisons and the dense-LU Newton's residual) apply
 /// them by FFT, `O(N log N)`, instead of `O(N²)` loops, with the weights transformed once per
 /// problem. The two routes agree to round-off.
 ///
@@ -76,6 +77,17 @@ pub struct Problem<'l, L: ?Sized, const D: usize> {
 
 impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
     /// The problem of `lagrangian` on `grid` under `embedding`, with default Newton options.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// assert_eq!(problem.grid().n(), 10);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn new(lagrangian: &'l L, grid: Grid, embedding: Embedding) -> Self {
         Problem {
             discretisation: Discretisation::new(lagrangian, grid, embedding),
@@ -84,6 +96,18 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
     }
 
     /// The same problem with other Newton options.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// let strict = NewtonOptions { tolerance: 1e-14, max_iterations: 20 };
+    /// assert_eq!(problem.with_newton(strict).newton_options().tolerance, 1e-14);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn with_newton(mut self, newton: NewtonOptions) -> Self {
         self.options.newton = newton;
         self
@@ -164,41 +188,142 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
     }
 
     /// Whether the initial value problems run the blow-up guard.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// assert!(problem.blow_up_guard());
+    /// assert!(!problem.with_blow_up_guard(false).blow_up_guard());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn blow_up_guard(&self) -> bool {
         self.options.blow_up_guard
     }
 
     /// The linear solver of the fractional boundary value problems.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// assert_eq!(problem.fractional_solver(), varembed::FractionalSolver::Auto);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn fractional_solver(&self) -> FractionalSolver {
         self.options.fractional
     }
 
     /// The grid.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// assert_eq!(problem.grid().h(), 0.1);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn grid(&self) -> &Grid {
         self.discretisation.grid()
     }
     /// The embedding.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// assert_eq!(problem.embedding().side(), Side::Backward);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn embedding(&self) -> &Embedding {
         self.discretisation.embedding()
     }
     /// The Lagrangian.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// assert_eq!(problem.lagrangian().value(&Vector::<1>::new(1.0), &Vector::<1>::new(0.0), 0.0), -0.5);
+    /// # use varembed::Lagrangian;
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn lagrangian(&self) -> &'l L {
         self.discretisation.lagrangian()
     }
     /// The Newton options.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// assert_eq!(*problem.newton_options(), NewtonOptions::default());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn newton_options(&self) -> &NewtonOptions {
         &self.options.newton
     }
 
     /// The nodes `k` of the equations of `scheme` (the table in `docs/schemes.md`); entry `i`
     /// of [`residual`](Self::residual) is row `rows.start() + i`.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// assert_eq!(problem.residual_rows(Scheme::Direct), 2..=10);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn residual_rows(&self, scheme: Scheme) -> RangeInclusive<usize> {
         self.discretisation.rows(scheme)
     }
 
-    /// The discrete velocity `V = −σ Δ_σ Q` (or `−σ Δ^α_σ Q`) on the quadrature rows `I_σ`.
-    pub fn velocity(&self, q: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
-        self.discretisation.velocity(q)
+    /// The discrete velocity `V_k = −σ Δ_σ Q_k` (or `−σ Δ^α_σ Q_k`) on the quadrature rows
+    /// `k ∈ I_σ`, each paired with its node index `k` (`1..=N` for σ = −, `0..=N−1` for σ = +).
+    /// The velocities of a solution at all its nodes are
+    /// [`Solution::node_values`](crate::Solution::node_values).
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Side, Vector, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn free(_x: f64, v: f64) -> f64 {
+    ///     0.5 * v * v
+    /// }
+    ///
+    /// let grid = Grid::new(0.0, 1.0, 2)?;
+    /// let q = [0.0, 1.0, 3.0].map(Vector::<1>::new);
+    /// let backward = Problem::new(&Free, grid, Embedding::finite_difference(Side::Backward));
+    /// let v = backward.quadrature_velocities(&q)?;
+    /// assert_eq!(v, [(1, Vector::<1>::new(2.0)), (2, Vector::<1>::new(4.0))]);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn quadrature_velocities(&self, q: &[Vector<D>]) -> Result<Vec<(usize, Vector<D>)>> {
+        let rows = self.embedding().quadrature_rows(self.grid().n());
+        Ok(rows.zip(self.discretisation.velocity(q)?).collect())
     }
 
     /// The residual of `scheme` at `Q` (`N + 1` nodes), one entry per row of
@@ -212,18 +337,66 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
     ///   the velocity operator `D = −σ Δ_σ`.
     ///
     /// The two are computed by separate code: comparing them is the paper's coherence test.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// let q: Vec<Vector<1>> = (0..=10).map(|k| Vector::<1>::new((0.1 * k as f64).cos())).collect();
+    /// // cos t solves the oscillator up to the scheme's O(h) truncation.
+    /// let rows = problem.residual(Scheme::Variational, &q)?;
+    /// assert_eq!(rows.len(), 9);
+    /// assert!(rows.iter().all(|r| r[0].abs() < 1e-2));
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn residual(&self, scheme: Scheme, q: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
         self.discretisation.residual(scheme, q)
     }
 
     /// The discrete action `S_h(Q) = h Σ_{k∈I_σ} L(Q_k, V_k, t_k)`.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// let rest = vec![Vector::<1>::zeros(); 11];
+    /// assert_eq!(problem.action(&rest)?, 0.0);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn action(&self, q: &[Vector<D>]) -> Result<f64> {
         self.discretisation.action(q)
     }
 
-    /// `E_k = V_k·∂L/∂v(Q_k, V_k, t_k) − L(Q_k, V_k, t_k)` on the quadrature nodes `I_σ`.
-    pub fn energy(&self, q: &[Vector<D>]) -> Result<Vec<f64>> {
-        self.discretisation.energy(q)
+    /// `E_k = V_k·∂L/∂v(Q_k, V_k, t_k) − L(Q_k, V_k, t_k)` on the quadrature rows `k ∈ I_σ`,
+    /// each paired with its node index `k`, `V` being the discrete velocity of
+    /// [`quadrature_velocities`](Self::quadrature_velocities). The energy of a solution at all
+    /// its nodes is [`Solution::node_values`](crate::Solution::node_values).
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Side, Vector, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn free(_x: f64, v: f64) -> f64 {
+    ///     0.5 * v * v
+    /// }
+    ///
+    /// let grid = Grid::new(0.0, 1.0, 2)?;
+    /// let q = [0.0, 1.0, 3.0].map(Vector::<1>::new);
+    /// let forward = Problem::new(&Free, grid, Embedding::finite_difference(Side::Forward));
+    /// assert_eq!(forward.quadrature_energies(&q)?, [(0, 2.0), (1, 8.0)]);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn quadrature_energies(&self, q: &[Vector<D>]) -> Result<Vec<(usize, f64)>> {
+        let rows = self.embedding().quadrature_rows(self.grid().n());
+        Ok(rows.zip(self.discretisation.energy(q)?).collect())
     }
 
     /// Solves the boundary value problem `Q_0 = qa`, `Q_N = qb` for `scheme`, from the straight
@@ -234,6 +407,19 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
     /// [`Error::NewtonDidNotConverge`] (iterations, last residual) and [`Error::NotFinite`],
     /// located at the global Newton iteration; on the fractional fast path (see
     /// [`FractionalSolver`]) also [`Error::KrylovDidNotConverge`].
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// // q = sin t / sin 1 from q(0) = 0 to q(1) = 1.
+    /// let solution = problem.solve_bvp(Scheme::Variational, 0.0, 1.0)?;
+    /// assert!((solution.q[5][0] - 0.5f64.sin() / 1f64.sin()).abs() < 1e-3);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn solve_bvp(
         &self,
         scheme: Scheme,
@@ -246,191 +432,20 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
 
     /// Solves the boundary value problem from an initial guess of all `N + 1` nodes; its first
     /// and last nodes are the boundary values.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// let guess = vec![Vector::<1>::new(1.0); 11];
+    /// let solution = problem.solve_bvp_from(Scheme::Variational, &guess)?;
+    /// assert_eq!((solution.q[0][0], solution.q[10][0]), (1.0, 1.0));
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn solve_bvp_from(&self, scheme: Scheme, guess: &[Vector<D>]) -> Result<Solution<D>> {
         bvp::solve(&self.discretisation, &self.options, scheme, guess)
-    }
-}
-
-// Initial value problems: each method hands the problem's parts to the IVP solver.
-impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
-    /// The parts of this problem an initial value problem needs.
-    fn ivp(&self) -> Ivp<'_, L, D> {
-        Ivp::new(&self.discretisation, &self.options)
-    }
-
-    /// The discrete Legendre start: `Q_1` from `Q_0 = q(a)` and `π_0 = ∂L/∂v(q(a), q̇(a), a)`,
-    /// by the variational step equation of this side (σ=−: `∂L/∂v(Q_1, (Q_1−Q_0)/h, t_1) = π_0`;
-    /// σ=+: `p_0 − h f_0 = π_0` at `(Q_0, (Q_1−Q_0)/h, t_0)`).
-    pub fn legendre_start(
-        &self,
-        q0: impl IntoVector<D>,
-        v0: impl IntoVector<D>,
-    ) -> Result<Vector<D>> {
-        self.ivp()
-            .legendre_start(q0.into_vector(), v0.into_vector())
-    }
-
-    /// The second-order start `Q_1 = Q_0 + h q̇(a) + ½h² q̈(a)`, with `q̈(a)` solved from the
-    /// Euler–Lagrange equation at `a`: `L_vv q̈ = ∂L/∂x − L_vx q̇ − ∂²L/∂v∂t`.
-    ///
-    /// `∂²L/∂v∂t` is not among the Hessian blocks; it is taken by a central difference of
-    /// `∂L/∂v` in `t` with step `10⁻⁵ (1 + |a|)` (error `O(10⁻¹⁰)`, far below the `O(h³)` of the
-    /// start itself; exactly zero for a Lagrangian that does not depend on `t`).
-    /// Errors with [`Error::SingularJacobian`] at step 1 when `L_vv` is singular.
-    pub fn second_order_start(
-        &self,
-        q0: impl IntoVector<D>,
-        v0: impl IntoVector<D>,
-    ) -> Result<Vector<D>> {
-        self.ivp()
-            .second_order_start(q0.into_vector(), v0.into_vector())
-    }
-
-    /// Solves the initial value problem with the chosen [`Start`] for `Q_1` (ignored by the
-    /// one-step Gauss–Legendre integrators).
-    pub fn solve_ivp_with(
-        &self,
-        scheme: Scheme,
-        q0: impl IntoVector<D>,
-        v0: impl IntoVector<D>,
-        start: Start,
-    ) -> Result<Solution<D>> {
-        self.ivp()
-            .solve(scheme, q0.into_vector(), v0.into_vector(), start)
-    }
-
-    /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` with `scheme`, starting from
-    /// the discrete Legendre start (the same `Q_1` for both schemes).
-    ///
-    /// A step whose equation is affine in the newest node (as declared by
-    /// [`Lagrangian::hessian_dependence`]) is taken in closed form, with no Newton iteration.
-    ///
-    /// Under [`Embedding::gauss_legendre`] the run is the one-step Gauss–Legendre map of
-    /// `(q_k, p_k)` from `p_0 = ∂L/∂v(q(a), q̇(a), a)` (no start; the momenta are in
-    /// [`Solution::momenta`]), each step a Newton solve of its stage velocities; it has no
-    /// eigenvalue check (A-stable on the oscillator, see `docs/solvers.md`), the rest applies.
-    ///
-    /// Errors: [`Error::Unsupported`] for Gauss-GLEσ and for the direct scheme of
-    /// Gauss–Legendre; at step `n`,
-    /// [`Error::SingularJacobian`], [`Error::NewtonDidNotConverge`] (with the last residual) or
-    /// [`Error::Unstable`] (the linearised step map, checked at step 2 and every 1024 steps, has
-    /// a real eigenvalue below −1 or one of modulus ≥ 2: the step is too large for the scheme)
-    /// or [`Error::NotFinite`] (e.g. a recurrence overflowing between two checks); for a
-    /// Lagrangian that does not depend on `t`, [`Error::BlowUp`] over a window of steps where the
-    /// energy grew far beyond the early run's (see
-    /// [`with_blow_up_guard`](Self::with_blow_up_guard)).
-    pub fn solve_ivp(
-        &self,
-        scheme: Scheme,
-        q0: impl IntoVector<D>,
-        v0: impl IntoVector<D>,
-    ) -> Result<Solution<D>> {
-        self.ivp()
-            .solve(scheme, q0.into_vector(), v0.into_vector(), Start::Legendre)
-    }
-
-    /// Runs the recurrence of `scheme` from given first nodes `Q_0`, `Q_1`.
-    pub fn solve_ivp_from_nodes(
-        &self,
-        scheme: Scheme,
-        q0: impl IntoVector<D>,
-        q1: impl IntoVector<D>,
-    ) -> Result<Solution<D>> {
-        self.ivp()
-            .solve_from_nodes(scheme, q0.into_vector(), q1.into_vector())
-    }
-}
-
-// Comparisons of the two schemes: each method hands the problem's parts to the comparison.
-impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
-    fn comparer(&self) -> Comparer<'_, '_, L, D> {
-        Comparer {
-            discretisation: &self.discretisation,
-            options: &self.options,
-        }
-    }
-
-    /// Compares both schemes on the initial value problem `q(a) = q0`, `q̇(a) = v0` (discrete
-    /// Legendre start, no reference, observed order by self-convergence).
-    pub fn compare_ivp(
-        &self,
-        q0: impl IntoVector<D>,
-        v0: impl IntoVector<D>,
-    ) -> Result<Comparison<D>> {
-        self.compare_ivp_with(q0, v0, &CompareOptions::default())
-    }
-
-    /// [`compare_ivp`](Self::compare_ivp) with options.
-    pub fn compare_ivp_with(
-        &self,
-        q0: impl IntoVector<D>,
-        v0: impl IntoVector<D>,
-        options: &CompareOptions<'_, D>,
-    ) -> Result<Comparison<D>> {
-        self.comparer()
-            .compare_ivp(q0.into_vector(), v0.into_vector(), options)
-    }
-
-    /// Compares both schemes on the boundary value problem `Q_0 = qa`, `Q_N = qb`.
-    pub fn compare_bvp(
-        &self,
-        qa: impl IntoVector<D>,
-        qb: impl IntoVector<D>,
-    ) -> Result<Comparison<D>> {
-        self.compare_bvp_with(qa, qb, &CompareOptions::default())
-    }
-
-    /// [`compare_bvp`](Self::compare_bvp) with options (the start is not used).
-    pub fn compare_bvp_with(
-        &self,
-        qa: impl IntoVector<D>,
-        qb: impl IntoVector<D>,
-        options: &CompareOptions<'_, D>,
-    ) -> Result<Comparison<D>> {
-        self.comparer()
-            .compare_bvp(qa.into_vector(), qb.into_vector(), options)
-    }
-
-    /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` with `scheme` on
-    /// `N, 2N, …, 2^{levels−1} N` steps (`N` this problem's), with `options.start`, timing each
-    /// solve and measuring its error against `options.reference`. A size that fails is recorded
-    /// in [`Convergence::failures`] and the run goes on.
-    pub fn convergence_ivp(
-        &self,
-        scheme: Scheme,
-        q0: impl IntoVector<D>,
-        v0: impl IntoVector<D>,
-        options: &CompareOptions<'_, D>,
-        levels: usize,
-    ) -> Convergence<D> {
-        self.comparer()
-            .convergence_ivp(scheme, q0.into_vector(), v0.into_vector(), options, levels)
-    }
-
-    /// [`convergence_ivp`](Self::convergence_ivp) for the boundary value problem `Q_0 = qa`,
-    /// `Q_N = qb` (the start is not used).
-    pub fn convergence_bvp(
-        &self,
-        scheme: Scheme,
-        qa: impl IntoVector<D>,
-        qb: impl IntoVector<D>,
-        options: &CompareOptions<'_, D>,
-        levels: usize,
-    ) -> Convergence<D> {
-        self.comparer()
-            .convergence_bvp(scheme, qa.into_vector(), qb.into_vector(), options, levels)
-    }
-
-    /// The comparison at this problem's grid from a run of each scheme that solved it (same
-    /// data and options, e.g. the sweeps of a work–precision report): nothing is solved again,
-    /// the solutions, errors and wall times are the runs', and each order is
-    /// [`Convergence::order_at`] this `N`. Errors if a run failed at this `N` (that failure), or
-    /// is of the wrong scheme, or did not solve this problem's grid and embedding.
-    pub fn compare_runs(
-        &self,
-        direct: &Convergence<D>,
-        variational: &Convergence<D>,
-    ) -> Result<Comparison<D>> {
-        self.comparer().compare_runs(direct, variational)
     }
 }

@@ -103,6 +103,27 @@ pub struct IvpScene<'a, L, const D: usize> {
     pub variants: Vec<Variant>,
     /// How the trajectory is drawn.
     pub trajectory: Trajectory,
+    /// The units of the model's time, position and energy, for the figures' axis titles.
+    pub units: Units,
+}
+
+/// The units a nondimensional model measures time, position and energy in (e.g. `√(l/g)`,
+/// `rad`, `mgl` for a pendulum), as the figures' axis titles print them.
+#[derive(Clone, Copy, Debug)]
+pub struct Units {
+    /// Unit of `t`.
+    pub time: &'static str,
+    /// Unit of `q`.
+    pub position: &'static str,
+    /// Unit of the energy `E`.
+    pub energy: &'static str,
+}
+
+impl Units {
+    /// `time t (unit)`.
+    pub fn time_axis(&self) -> String {
+        format!("time t ({})", self.time)
+    }
 }
 
 /// Everything an initial value scene solved, as the library returned it.
@@ -324,15 +345,16 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
                 nodes(&c.variational.solution.q, i),
             ));
         }
+        let position = self.units.position;
         let (x_label, y_label) = match self.trajectory {
-            Trajectory::Time => ("t", "q"),
-            Trajectory::Plane => ("q0", "q1"),
+            Trajectory::Time => (self.units.time_axis(), format!("q ({position})")),
+            Trajectory::Plane => (format!("q0 ({position})"), format!("q1 ({position})")),
         };
         Figure {
             file: format!("{}-trajectory.svg", self.name),
             title: format!("{}: {}, N = {}", self.title, c.embedding, grid.n()),
-            x_label: x_label.to_string(),
-            y_label: y_label.to_string(),
+            x_label,
+            y_label,
             series,
         }
     }
@@ -358,8 +380,8 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
                 c.embedding,
                 grid.n()
             ),
-            x_label: "t".to_string(),
-            y_label: "E_k − E(t_k)".to_string(),
+            x_label: self.units.time_axis(),
+            y_label: format!("energy error E_k − E(t_k) ({})", self.units.energy),
             series: vec![
                 Series::new("direct", error(&c.direct.energy)),
                 Series::new("variational", error(&c.variational.energy)),

@@ -9,11 +9,13 @@
 #![deny(missing_docs)]
 
 pub mod ivp_scene;
+pub mod output;
 pub mod plot;
 pub mod reference;
 pub mod report;
 pub mod scene;
 pub mod scenes;
+pub mod ticks;
 
 use scene::{Context, SceneReport};
 

@@ -1,48 +1,105 @@
-//! The main job: `cargo run --release -p varembed-examples [-- --quick] [-- --out DIR]`.
+//! The main job: `cargo run --release -p varembed-examples [-- --quick] [--out DIR] [--update-docs]`.
 //!
-//! Runs every scene, prints its comparison tables, and writes the report folder (default
-//! `report/` at the repository root): `README.md` with the summary table and every scene's
-//! notes, tables and sweeps, and the SVG figures. A full run also rewrites the summary table in
-//! the repository's README (between the `tour-summary` markers); `--quick` (small grids, short
-//! sweeps) writes to `target/tour-quick/` and leaves the README alone.
+//! Runs every scene, prints its comparison tables, and writes the report folder: `README.md`
+//! with the summary table and every scene's notes, tables and sweeps, and the SVG figures. The
+//! folder is decided when the tour runs: `--out DIR`, or by default `target/varembed-report/`
+//! (`target/varembed-report-quick/` with `--quick`) under the Cargo workspace containing the
+//! current directory — ignored by git, so the tour leaves a checkout clean. It is printed at
+//! the end.
+//!
+//! `--update-docs` is for refreshing the committed results on purpose: it writes the report to
+//! the checkout's `report/` and rewrites the summary in its `README.md` and the generated
+//! tables of its `docs/` pages (between their markers). It needs the full tour (not `--quick`)
+//! and a checkout at or above the current directory.
 
 use indicatif::{ProgressBar, ProgressStyle};
 use std::error::Error;
 use std::path::PathBuf;
+use std::process::ExitCode;
 use std::time::Instant;
-use varembed_examples::report;
 use varembed_examples::scene::{Context, Mode};
+use varembed_examples::{output, report};
 
-const USAGE: &str = "usage: varembed-tour [--quick] [--out DIR]";
+const USAGE: &str = "usage: varembed-tour [--quick] [--out DIR] [--update-docs]";
 
-fn main() -> Result<(), Box<dyn Error>> {
-    let manifest = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let root = manifest.parent().unwrap_or(&manifest).to_path_buf();
-    let mut mode = Mode::Full;
-    let mut out = None;
+/// What the command line asked for.
+struct Args {
+    mode: Mode,
+    out: Option<PathBuf>,
+    update_docs: bool,
+}
+
+fn parse_args() -> Result<Option<Args>, String> {
+    let mut parsed = Args {
+        mode: Mode::Full,
+        out: None,
+        update_docs: false,
+    };
     let mut args = std::env::args().skip(1);
     while let Some(arg) = args.next() {
         match arg.as_str() {
-            "--quick" => mode = Mode::Quick,
-            "--out" => out = Some(PathBuf::from(args.next().ok_or(USAGE)?)),
-            "-h" | "--help" => {
-                println!("{USAGE}");
-                return Ok(());
-            }
-            other => return Err(format!("unknown argument {other:?}\n{USAGE}").into()),
+            "--quick" => parsed.mode = Mode::Quick,
+            "--out" => parsed.out = Some(PathBuf::from(args.next().ok_or(USAGE)?)),
+            "--update-docs" => parsed.update_docs = true,
+            "-h" | "--help" => return Ok(None),
+            other => return Err(format!("unknown argument {other:?}\n{USAGE}")),
         }
     }
-    let default_out = match mode {
-        Mode::Full => root.join("report"),
-        Mode::Quick => root.join("target").join("tour-quick"),
+    if parsed.update_docs && (parsed.mode == Mode::Quick || parsed.out.is_some()) {
+        return Err(format!(
+            "--update-docs writes the full tour into the checkout: it takes neither --quick nor \
+             --out\n{USAGE}"
+        ));
+    }
+    Ok(Some(parsed))
+}
+
+fn main() -> ExitCode {
+    let args = match parse_args() {
+        Ok(Some(args)) => args,
+        Ok(None) => {
+            println!("{USAGE}");
+            return ExitCode::SUCCESS;
+        }
+        Err(message) => {
+            eprintln!("{message}");
+            return ExitCode::from(2);
+        }
     };
-    let update_readme = mode == Mode::Full && out.is_none();
-    let out = out.unwrap_or(default_out);
+    match run(&args) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(error) => {
+            // Display, not Debug: every error names what it was about (a path, a step).
+            eprintln!("error: {error}");
+            let mut source = error.source();
+            while let Some(cause) = source {
+                eprintln!("  caused by: {cause}");
+                source = cause.source();
+            }
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn run(args: &Args) -> Result<(), Box<dyn Error>> {
+    let cwd = output::at("read", &PathBuf::from("."), std::env::current_dir())?;
+    let checkout = args
+        .update_docs
+        .then(|| output::checkout_root(&cwd))
+        .transpose()?;
+    let out = match (&checkout, &args.out) {
+        (Some(root), _) => root.join("report"),
+        (None, Some(dir)) => dir.clone(),
+        (None, None) => output::default_dir(&cwd, args.mode == Mode::Quick),
+    };
+
+    // Created before the tour runs, so an unwritable folder fails in a second, not after it.
+    output::create_dir_all(&out)?;
 
     let progress = ProgressBar::new(0).with_style(ProgressStyle::with_template(
         "{spinner} {msg:24} [{bar:40}] {pos}/{len} solves ({elapsed})",
     )?);
-    let cx = Context::new(mode, progress);
+    let cx = Context::new(args.mode, progress);
     let started = Instant::now();
     let reports = varembed_examples::run_tour(&cx, |scene| {
         cx.progress.suspend(|| {
@@ -56,22 +113,18 @@ fn main() -> Result<(), Box<dyn Error>> {
     let elapsed = started.elapsed();
     let header = format!(
         "Generated by `cargo run --release -p varembed-examples{}` in {:.1} s.",
-        if mode == Mode::Quick {
-            " -- --quick"
-        } else {
-            ""
+        match (args.mode, args.update_docs) {
+            (Mode::Quick, _) => " -- --quick",
+            (Mode::Full, true) => " -- --update-docs",
+            (Mode::Full, false) => "",
         },
         elapsed.as_secs_f64()
     );
     let table = report::write(&out, &reports, &header)?;
     println!("{table}");
-    if update_readme {
-        let readme = root.join("README.md");
-        let section = format!(
-            "![pendulum work–precision](report/pendulum-work-precision.svg)\n\n{table}\n{header}\n"
-        );
-        report::update_section(&readme, &section)?;
-        println!("README.md summary updated.");
+    if let Some(root) = checkout {
+        report::update_docs(&root, &table, &header)?;
+        println!("README.md summary and docs tables updated.");
     }
     println!(
         "Report written to {} ({:.1} s).",

@@ -1,15 +1,25 @@
 //! SVG figures with plotters: linear axes for trajectories and energy errors, log–log for
 //! work–precision. Text is left to the SVG viewer (no font is loaded), so the tour needs no
 //! system font library.
+//!
+//! Labels are for reading ([`ticks`](crate::ticks)): powers of ten on log axes, plain numbers
+//! on linear ones (a common factor `×10ᵏ` goes into the axis title), and the legend sits in a
+//! strip under the plot, where it cannot cover a curve.
 
+use crate::output::{self, OutputError};
 use crate::scene::{Figure, SweepLine};
-use plotters::coord::{CoordTranslate, Shift};
+use crate::ticks::{common_exponent, plain, power_of_ten, scaled_title};
+use plotters::coord::Shift;
 use plotters::prelude::*;
 use std::error::Error;
 use std::path::Path;
 
 /// Size of every figure, in SVG pixels.
-const SIZE: (u32, u32) = (900, 560);
+const SIZE: (u32, u32) = (900, 600);
+
+/// Height of one row of the legend strip, and entries per row.
+const LEGEND_ROW: u32 = 22;
+const LEGEND_COLUMNS: usize = 3;
 
 /// The line colours, in legend order.
 const PALETTE: [RGBColor; 8] = [
@@ -58,54 +68,103 @@ fn log_span(values: impl Iterator<Item = f64>) -> (f64, f64) {
     (lo / 1.5, hi * 1.5)
 }
 
-fn canvas(path: &Path) -> Result<DrawingArea<SVGBackend<'_>, Shift>, Box<dyn Error>> {
-    let root = SVGBackend::new(path, SIZE).into_drawing_area();
-    root.fill(&WHITE)?;
-    Ok(root)
+/// One legend entry: its label, colour and line width.
+struct Entry<'a> {
+    label: &'a str,
+    colour: RGBColor,
+    width: u32,
 }
 
-/// Draws the legend and writes the file.
-fn finish<'a, CT: CoordTranslate>(
-    chart: &mut ChartContext<'a, SVGBackend<'a>, CT>,
-    root: &DrawingArea<SVGBackend<'a>, Shift>,
+/// The figure's canvas split into the plot (with the caption) and the legend strip under it.
+type Areas<'a> = (
+    DrawingArea<SVGBackend<'a>, Shift>,
+    DrawingArea<SVGBackend<'a>, Shift>,
+    DrawingArea<SVGBackend<'a>, Shift>,
+);
+
+fn canvas(path: &Path, entries: usize) -> Result<Areas<'_>, Box<dyn Error>> {
+    let root = SVGBackend::new(path, SIZE).into_drawing_area();
+    root.fill(&WHITE)?;
+    let rows = entries.div_ceil(LEGEND_COLUMNS) as u32;
+    let (plot, legend) = root.split_vertically(SIZE.1 - rows * LEGEND_ROW - 12);
+    Ok((root, plot, legend))
+}
+
+/// Draws the legend entries in rows of [`LEGEND_COLUMNS`] into the strip under the plot.
+fn legend(
+    area: &DrawingArea<SVGBackend<'_>, Shift>,
+    entries: &[Entry],
 ) -> Result<(), Box<dyn Error>> {
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::UpperRight)
-        .background_style(WHITE.mix(0.85))
-        .border_style(BLACK)
-        .draw()?;
-    root.present()?;
+    let column = (SIZE.0 as i32 - 100) / LEGEND_COLUMNS as i32;
+    for (i, entry) in entries.iter().enumerate() {
+        let x = 90 + column * (i % LEGEND_COLUMNS) as i32;
+        let y = 8 + LEGEND_ROW as i32 * (i / LEGEND_COLUMNS) as i32;
+        let style = entry.colour.stroke_width(entry.width);
+        area.draw(&PathElement::new(vec![(x, y + 7), (x + 28, y + 7)], style))?;
+        area.draw(&Text::new(
+            entry.label.to_string(),
+            (x + 36, y),
+            ("sans-serif", 15).into_font(),
+        ))?;
+    }
     Ok(())
 }
 
+/// Runs `draw` on the file `path`, naming the file if it fails.
+fn drawn(
+    path: &Path,
+    draw: impl FnOnce(&Path) -> Result<(), Box<dyn Error>>,
+) -> output::Result<()> {
+    draw(path).map_err(|e| OutputError::Plot {
+        path: path.to_path_buf(),
+        message: e.to_string(),
+    })
+}
+
 /// Draws a figure with linear axes into `dir/figure.file`.
-pub fn linear(dir: &Path, figure: &Figure) -> Result<(), Box<dyn Error>> {
-    let path = dir.join(&figure.file);
-    let root = canvas(&path)?;
+pub fn linear(dir: &Path, figure: &Figure) -> output::Result<()> {
+    drawn(&dir.join(&figure.file), |path| draw_linear(path, figure))
+}
+
+fn draw_linear(path: &Path, figure: &Figure) -> Result<(), Box<dyn Error>> {
+    let (root, plot, strip) = canvas(path, figure.series.len())?;
     let points = || figure.series.iter().flat_map(|s| s.points.iter());
     let (x0, x1) = span(points().map(|p| p.0));
     let (y0, y1) = span(points().map(|p| p.1));
-    let mut chart = ChartBuilder::on(&root)
+    // Plain numbers on both axes: a very small or very large axis shows its values over 10ᵏ
+    // and says so in its title.
+    let (kx, ky) = (common_exponent(x0, x1), common_exponent(y0, y1));
+    let (sx, sy) = (10f64.powi(-kx), 10f64.powi(-ky));
+    let (x0, x1, y0, y1) = (x0 * sx, x1 * sx, y0 * sy, y1 * sy);
+    let (step_x, step_y) = ((x1 - x0) / 10.0, (y1 - y0) / 10.0);
+    let mut chart = ChartBuilder::on(&plot)
         .caption(&figure.title, ("sans-serif", 18))
         .margin(12)
-        .x_label_area_size(45)
-        .y_label_area_size(85)
+        .x_label_area_size(50)
+        .y_label_area_size(80)
         .build_cartesian_2d(x0..x1, y0..y1)?;
     chart
         .configure_mesh()
-        .x_desc(figure.x_label.as_str())
-        .y_desc(figure.y_label.as_str())
-        .y_label_formatter(&|y| format!("{y:.2e}"))
+        .x_desc(scaled_title(&figure.x_label, kx))
+        .y_desc(scaled_title(&figure.y_label, ky))
+        .x_label_formatter(&|x| plain(*x, step_x))
+        .y_label_formatter(&|y| plain(*y, step_y))
         .draw()?;
+    let mut entries = Vec::new();
     for (i, series) in figure.series.iter().enumerate() {
-        let style = colour(i).stroke_width(if i == 0 { 1 } else { 2 });
-        chart
-            .draw_series(LineSeries::new(series.points.iter().copied(), style))?
-            .label(series.label.as_str())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+        let width = if i == 0 { 1 } else { 2 };
+        let style = colour(i).stroke_width(width);
+        let scaled = series.points.iter().map(|&(x, y)| (x * sx, y * sy));
+        chart.draw_series(LineSeries::new(scaled, style))?;
+        entries.push(Entry {
+            label: &series.label,
+            colour: colour(i),
+            width,
+        });
     }
-    finish(&mut chart, &root)
+    legend(&strip, &entries)?;
+    root.present()?;
+    Ok(())
 }
 
 /// Draws the work–precision figure of a sweep (error against wall time, log–log, one line per
@@ -115,25 +174,35 @@ pub fn work_precision(
     file: &str,
     title: &str,
     lines: &[SweepLine],
+) -> output::Result<()> {
+    drawn(&dir.join(file), |path| {
+        draw_work_precision(path, title, lines)
+    })
+}
+
+fn draw_work_precision(
+    path: &Path,
+    title: &str,
+    lines: &[SweepLine],
 ) -> Result<(), Box<dyn Error>> {
-    let path = dir.join(file);
-    let root = canvas(&path)?;
+    let (root, plot, strip) = canvas(path, lines.len())?;
     let points = || lines.iter().flat_map(|l| l.points.iter());
     let (x0, x1) = log_span(points().map(|p| p.seconds));
     let (y0, y1) = log_span(points().map(|p| p.error));
-    let mut chart = ChartBuilder::on(&root)
+    let mut chart = ChartBuilder::on(&plot)
         .caption(title, ("sans-serif", 18))
         .margin(12)
-        .x_label_area_size(45)
-        .y_label_area_size(85)
+        .x_label_area_size(50)
+        .y_label_area_size(80)
         .build_cartesian_2d((x0..x1).log_scale(), (y0..y1).log_scale())?;
     chart
         .configure_mesh()
         .x_desc("wall time of the solve (s)")
-        .y_desc("max error")
-        .x_label_formatter(&|x| format!("{x:.0e}"))
-        .y_label_formatter(&|y| format!("{y:.0e}"))
+        .y_desc("max error max_k |Q_k − q(t_k)| (units of q)")
+        .x_label_formatter(&|x| power_of_ten(*x))
+        .y_label_formatter(&|y| power_of_ten(*y))
         .draw()?;
+    let mut entries = Vec::new();
     for (i, line) in lines.iter().enumerate() {
         let style = colour(i).stroke_width(2);
         let xy: Vec<(f64, f64)> = line
@@ -142,11 +211,15 @@ pub fn work_precision(
             .filter(|p| p.seconds > 0.0 && p.error > 0.0)
             .map(|p| (p.seconds, p.error))
             .collect();
-        chart
-            .draw_series(LineSeries::new(xy.iter().copied(), style))?
-            .label(line.label.as_str())
-            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], style));
+        chart.draw_series(LineSeries::new(xy.iter().copied(), style))?;
         chart.draw_series(xy.iter().map(|&p| Circle::new(p, 3, colour(i).filled())))?;
+        entries.push(Entry {
+            label: &line.label,
+            colour: colour(i),
+            width: 2,
+        });
     }
-    finish(&mut chart, &root)
+    legend(&strip, &entries)?;
+    root.present()?;
+    Ok(())
 }

@@ -130,6 +130,15 @@ fn quick_tour_writes_a_complete_finite_report() {
             "summary does not link {file}"
         );
     }
+    // index.html shows every figure with a caption.
+    let index = fs::read_to_string(dir.join("index.html")).expect("index.html");
+    for file in &files[1..] {
+        assert!(
+            index.contains(&format!("<img src=\"{file}\"")),
+            "index.html does not show {file}"
+        );
+    }
+    assert_eq!(index.matches("<figcaption>").count(), files.len() - 1);
     fs::remove_dir_all(&dir).expect("clean up");
 }
 
@@ -276,4 +285,41 @@ fn a_failing_table_is_a_row_with_its_error() {
         report.tables[0],
         format!("{failed}\n  (discrete Legendre start)")
     );
+}
+
+/// The binary's failures are sentences naming their path, not a bare `Os { code: 2, … }`: an
+/// output folder under a regular file cannot be created, and the tour says which one before
+/// running any scene.
+#[test]
+fn the_tour_binary_names_the_folder_it_cannot_create() {
+    let dir = std::env::temp_dir().join(format!("varembed-tour-bin-{}", std::process::id()));
+    fs::create_dir_all(&dir).expect("temp dir");
+    let file = dir.join("a-file");
+    fs::write(&file, "not a folder").expect("write");
+    let out = file.join("report");
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_varembed-tour"))
+        .args(["--quick", "--out"])
+        .arg(&out)
+        .output()
+        .expect("the tour binary runs");
+    assert!(!run.status.success());
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(
+        stderr.starts_with(&format!(
+            "error: could not create folder {}: ",
+            out.display()
+        )),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("Os {"), "{stderr}");
+    // Asking to update the docs outside a checkout fails the same way, naming where it looked.
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_varembed-tour"))
+        .arg("--update-docs")
+        .current_dir(&dir)
+        .output()
+        .expect("the tour binary runs");
+    assert!(!run.status.success());
+    let stderr = String::from_utf8_lossy(&run.stderr);
+    assert!(stderr.contains(&dir.display().to_string()), "{stderr}");
+    fs::remove_dir_all(&dir).expect("clean up");
 }

@@ -115,8 +115,7 @@ fn newton_criterion<L: Lagrangian<D>, const D: usize>(
     q: &[Vector<D>],
 ) -> (f64, bool) {
     let r = problem.residual(scheme, q).unwrap();
-    let v = problem.velocity(q).unwrap();
-    let rows = problem.embedding().quadrature_rows(problem.grid().n());
+    let v = problem.quadrature_velocities(q).unwrap();
     let (mut f_max, mut p_max) = (0.0f64, 0.0f64);
     let (mut xx, mut xv, mut vv) = (0.0f64, 0.0f64, 0.0f64);
     let norm = |m: &Matrix<D>| {
@@ -124,7 +123,8 @@ fn newton_criterion<L: Lagrangian<D>, const D: usize>(
             .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
             .fold(0.0, f64::max)
     };
-    for (k, vk) in rows.zip(&v) {
+    for (k, vk) in &v {
+        let (k, vk) = (*k, vk);
         let t = problem.grid().t(k);
         let (f, p) = problem.lagrangian().gradient(&q[k], vk, t);
         let hs = problem.lagrangian().hessian(&q[k], vk, t);

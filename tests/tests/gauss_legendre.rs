@@ -264,7 +264,7 @@ fn the_errors_name_what_is_not_offered() {
     assert!(unsupported(
         problem.residual(Scheme::Variational, &q).map(|_| ())
     ));
-    assert!(unsupported(problem.energy(&q).map(|_| ())));
+    assert!(unsupported(problem.quadrature_energies(&q).map(|_| ())));
     assert!(unsupported(problem.action(&q).map(|_| ())));
     assert!(unsupported(
         problem.solve_bvp(Scheme::Variational, 0.0, 1.0).map(|_| ())
@@ -347,6 +347,45 @@ fn a_time_dependent_lagrangian_is_of_order_two_s() {
         assert!(
             orders.iter().all(|o| (o - 2.0 * s as f64).abs() <= 0.3),
             "s = {s}: {errors:?} {orders:?}"
+        );
+    }
+}
+
+/// The values at the nodes of a Gauss–Legendre run are the scheme's own `(q_k, p_k)`, with the
+/// velocity from `∂L/∂v = p_k`: on the oscillator `p = v = q̇ = −sin t`, of order `2s` at every
+/// node, the last included.
+#[test]
+fn node_values_carry_the_schemes_momenta_at_order_2s() {
+    let model = Oscillator { omega: 1.0 };
+    for s in 1..=3 {
+        let errors: Vec<(usize, f64)> = [20, 40]
+            .into_iter()
+            .map(|n| {
+                let grid = Grid::new(0.0, 2.0, n).unwrap();
+                let run = Problem::new(&model, grid, gauss(s))
+                    .with_newton(NewtonOptions {
+                        tolerance: 1e-15,
+                        ..NewtonOptions::default()
+                    })
+                    .solve_ivp(Scheme::Variational, 1.0, 0.0)
+                    .unwrap();
+                let nodes = run.node_values(&model).unwrap();
+                assert_eq!(nodes.rule.order, 2 * s as u32);
+                assert_eq!(nodes.p, run.momenta);
+                let error = nodes
+                    .iter()
+                    .map(|node| {
+                        assert!((node.v[0] - node.p[0]).abs() <= 1e-12);
+                        (node.p[0] + node.t.sin()).abs()
+                    })
+                    .fold(0.0, f64::max);
+                (n, error)
+            })
+            .collect();
+        let order = varembed::observed_order(errors[0], errors[1]);
+        assert!(
+            (order - 2.0 * s as f64).abs() < 0.3,
+            "s = {s}: errors {errors:?}, order {order}"
         );
     }
 }

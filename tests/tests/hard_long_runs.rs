@@ -25,7 +25,8 @@ fn energies<L: Lagrangian<D>, const D: usize>(
     problem: &Problem<'_, L, D>,
     q: &[Vector<D>],
 ) -> Vec<f64> {
-    problem.energy(q).unwrap()
+    let rows = problem.quadrature_energies(q).unwrap();
+    rows.into_iter().map(|(_, e)| e).collect()
 }
 
 /// Max |E − E₀| over a slice of energies.

@@ -1,5 +1,5 @@
-//! The module graphs of `core` and `macros` have no cycles, and no source file is too long to
-//! read as one concept.
+//! The module graphs of `core` and `macros` have no cycles, no source file is too long to read
+//! as one concept, and every formula of core's rustdoc is rendered.
 //!
 //! A module is a file. An edge `a → b` is any path in `a` that names an item of `b` through
 //! `crate::`, `super::` or `self::` (in `use` declarations, expressions, types or patterns).
@@ -315,4 +315,45 @@ fn no_source_file_is_longer_than_the_limit() {
         }
     }
     assert!(long.is_empty(), "files over {MAX_LINES} lines: {long:?}");
+}
+
+/// The formulas of the core crate's rustdoc are pre-rendered MathML (`docs/math/render.py`,
+/// described in `docs/architecture.md`): every LaTeX source line `<!-- tex: … -->` is followed
+/// by its rendered `<math display="block">` line, well formed, so that no formula is shown as
+/// raw source or breaks the page.
+#[test]
+fn every_formula_is_rendered_as_mathml() {
+    let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../core/src");
+    let mut files = Vec::new();
+    rust_files(&src, &mut files);
+    let mut formulas = 0;
+    for file in files {
+        let text = std::fs::read_to_string(&file).expect("source");
+        let lines: Vec<&str> = text.lines().collect();
+        for (i, line) in lines.iter().enumerate() {
+            if !line.contains("<!-- tex: ") {
+                continue;
+            }
+            formulas += 1;
+            let next = lines.get(i + 1).copied().unwrap_or("");
+            let where_ = format!("{}:{}", file.display(), i + 2);
+            assert!(
+                next.contains("<math display=\"block\">") && next.trim_end().ends_with("</math>"),
+                "{where_}: the formula is not rendered; run python3 docs/math/render.py"
+            );
+            assert!(
+                !next.contains("<merror"),
+                "{where_}: LaTeX the renderer rejected"
+            );
+            // Balanced tags: as many closing tags as opening ones (self-closing aside).
+            let opening = next.matches('<').count() - next.matches("</").count();
+            let self_closing = next.matches("/>").count();
+            assert_eq!(
+                opening - self_closing,
+                next.matches("</").count(),
+                "{where_}: unbalanced MathML"
+            );
+        }
+    }
+    assert!(formulas >= 5, "only {formulas} formulas");
 }

@@ -17,9 +17,10 @@
 use varembed::{
     CompareOptions, Comparison, Convergence, Dependence, DifferentialOperator, DirectEmbedding,
     Embedding, EmbeddingKind, Error, FractionalSolver, Grid, Hessian, HessianDependence,
-    IntoVector, Lagrangian, Level, Location, Matrix, NewtonOptions, OrderStatus, Problem,
-    Reference, Result, Scheme, SchemeReport, Side, Solution, Start, Vector, Warning,
-    curve_from_flat, lagrangian, max_error, observed_order, observed_orders,
+    IntoVector, Lagrangian, Level, Location, Matrix, NewtonOptions, NodeFormula, NodeRule,
+    NodeState, NodeValues, OrderStatus, Problem, Reference, Result, Scheme, SchemeReport, Side,
+    Solution, Start, Vector, Warning, curve_from_flat, lagrangian, max_error, observed_order,
+    observed_orders,
 };
 
 /// Compiles only while the public types keep their auto traits.
@@ -28,6 +29,7 @@ fn auto_traits<L: Lagrangian<2> + Sync + 'static>() {
     fn shared<T: Send + Sync>() {}
     shared::<Problem<'static, L, 2>>();
     shared::<Solution<2>>();
+    shared::<NodeValues<2>>();
     shared::<Comparison<2>>();
     shared::<Convergence<2>>();
     shared::<OrderStatus>();
@@ -62,6 +64,10 @@ const ROOT: &[&str] = &[
     "Location",
     "Matrix",
     "NewtonOptions",
+    "NodeFormula",
+    "NodeRule",
+    "NodeState",
+    "NodeValues",
     "OrderStatus",
     "Problem",
     "Reference",

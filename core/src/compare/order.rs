@@ -26,6 +26,11 @@ pub fn observed_order((n_coarse, e_coarse): (usize, f64), (n_fine, e_fine): (usi
 
 /// [`observed_order`] between each pair of successive entries of `(N, e)`, ordered by
 /// increasing `N`: one order fewer than entries.
+///
+/// ```
+/// let orders = varembed::observed_orders(&[(10, 0.4), (20, 0.1), (40, 0.025)]);
+/// assert_eq!(orders, [2.0, 2.0]);
+/// ```
 pub fn observed_orders(errors: &[(usize, f64)]) -> Vec<f64> {
     errors
         .windows(2)
@@ -47,6 +52,12 @@ pub fn observed_orders(errors: &[(usize, f64)]) -> Vec<f64> {
 /// - else [`PreAsymptotic`](Self::PreAsymptotic) when `|p(N) − p(2N)| >`
 ///   [`TOLERANCE`](Self::TOLERANCE)` = 0.1` (e.g. the orders −0.29, 3.18 of a coarse run);
 /// - else [`Asymptotic`](Self::Asymptotic).
+///
+/// ```
+/// use varembed::OrderStatus;
+/// assert_eq!(OrderStatus::PreAsymptotic.mark(), "*");
+/// assert_eq!(OrderStatus::Asymptotic.mark(), "");
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum OrderStatus {
     /// The next order agrees within [`TOLERANCE`](Self::TOLERANCE).
@@ -62,8 +73,16 @@ pub enum OrderStatus {
 
 impl OrderStatus {
     /// Largest difference between successive orders for an order to count as asymptotic.
+    ///
+    /// ```
+    /// assert_eq!(varembed::OrderStatus::TOLERANCE, 0.1);
+    /// ```
     pub const TOLERANCE: f64 = 0.1;
     /// An error at most this times the solution's size is at round-off.
+    ///
+    /// ```
+    /// assert!(varembed::OrderStatus::ROUND_OFF < 1e-13);
+    /// ```
     pub const ROUND_OFF: f64 = 100.0 * f64::EPSILON;
 
     /// The mark printed after an order of this status in the comparison table and the report:

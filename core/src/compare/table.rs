@@ -38,6 +38,16 @@ fn cells<const D: usize>(name: &str, r: &SchemeReport<D>) -> [String; 7] {
 
 impl<const D: usize> Comparison<D> {
     /// The warnings of the two solutions (e.g. [`Warning::IllPosedFractional`]), each once.
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, Problem, Side, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 20)?, Embedding::finite_difference(Side::Backward));
+    /// let comparison = problem.compare_ivp(1.0, 0.0)?;
+    /// assert!(comparison.warnings().is_empty());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn warnings(&self) -> Vec<Warning> {
         let mut all = self.direct.solution.warnings.clone();
         for w in &self.variational.solution.warnings {
@@ -51,6 +61,17 @@ impl<const D: usize> Comparison<D> {
     /// What every column of the table shows, as `(column, explanation)`: where the errors
     /// come from, how the order was computed (from how many more solves, or read off the runs)
     /// and what its marks mean, and why the energy column is empty when it is.
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, Problem, Side, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 20)?, Embedding::finite_difference(Side::Backward));
+    /// let comparison = problem.compare_ivp(1.0, 0.0)?;
+    /// let legend = comparison.legend();
+    /// assert!(legend.iter().any(|(column, _)| *column == "order"));
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn legend(&self) -> Vec<(&'static str, String)> {
         let n = self.grid.n();
         let error = match self.direct.error {
@@ -120,6 +141,17 @@ impl<const D: usize> Comparison<D> {
 
     /// The table as markdown: the heading line, a markdown table, the distance between the
     /// solutions, the warnings and the legend as a list.
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, Problem, Side, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 20)?, Embedding::finite_difference(Side::Backward));
+    /// let comparison = problem.compare_ivp(1.0, 0.0)?;
+    /// let markdown = comparison.to_markdown();
+    /// assert!(markdown.contains("| direct |"));
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn to_markdown(&self) -> String {
         let escape = |s: &str| s.replace('|', "\\|");
         let row = |cells: &[String]| {

@@ -1,3 +1,4 @@
+use super::order::{observed_order, observed_orders, order_statuses};
 use super::*;
 use crate::embedding::Embedding;
 use crate::lagrangian::{Dependence, Hessian, Matrix};

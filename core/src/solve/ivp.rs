@@ -24,20 +24,8 @@ use crate::solve::gauss::GaussIvp;
 use crate::solve::guard::BlowUpGuard;
 use crate::solve::newton::newton_step;
 use crate::solve::solution::Solution;
+use crate::solve::start::Start;
 use crate::step::{Step, StepKind, StepTimes, Update};
-
-/// How an initial value problem gets its second node `Q_1` from `q(a)` and `q̇(a)`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
-pub enum Start {
-    /// The discrete Legendre transform of the variational scheme
-    /// ([`Problem::legendre_start`](crate::Problem::legendre_start)): keeps the discrete momentum maps exact, positions first
-    /// order.
-    #[default]
-    Legendre,
-    /// `Q_1 = Q_0 + h q̇(a) + ½h² q̈(a)` ([`Problem::second_order_start`](crate::Problem::second_order_start)): positions second
-    /// order on `L = ½|v|² − U` for the variational schemes.
-    SecondOrder,
-}
 
 /// What an initial value problem is made of: the Lagrangian, the grid, the embedding and the
 /// Newton options of its implicit steps.

@@ -9,4 +9,6 @@ pub(crate) mod guard;
 pub mod ivp;
 pub mod krylov;
 pub mod newton;
+pub mod nodes;
 pub mod solution;
+pub mod start;

@@ -1,12 +1,26 @@
 //! [`Solution`]: what every solver returns.
 
 use crate::embedding::{Embedding, Scheme};
+use crate::error::Result;
 use crate::grid::Grid;
-use crate::lagrangian::Vector;
+use crate::lagrangian::{Lagrangian, Vector};
+use crate::solve::nodes::NodeValues;
 use std::fmt;
 
 /// Something a caller should know about a returned solution that is not an error: the solve
 /// succeeded, but the numbers may not mean what they seem.
+///
+/// ```
+/// use varembed::{Embedding, Grid, Problem, Scheme, Side, Warning, lagrangian};
+/// #[lagrangian]
+/// fn pendulum(x: f64, v: f64) -> f64 {
+///     0.5 * v * v + x.cos()
+/// }
+/// let gle = Embedding::grunwald_letnikov(Side::Backward, 0.4)?;
+/// let solution = Problem::new(&Pendulum, Grid::new(0.0, 1.0, 20)?, gle).solve_bvp(Scheme::Variational, 0.0, 1.0)?;
+/// assert_eq!(solution.warnings, [Warning::IllPosedFractional { alpha: 0.4 }]);
+/// # Ok::<(), varembed::Error>(())
+/// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[non_exhaustive]
 pub enum Warning {
@@ -40,6 +54,24 @@ impl fmt::Display for Warning {
 }
 
 /// A discrete curve computed by a solver, with how it was computed.
+///
+/// # Example
+///
+/// ```
+/// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+///
+/// #[lagrangian]
+/// fn pendulum(x: f64, v: f64) -> f64 {
+///     0.5 * v * v + x.cos()
+/// }
+///
+/// let problem = Problem::new(&Pendulum, Grid::new(0.0, 1.0, 100)?, Embedding::finite_difference(Side::Forward));
+/// let solution = problem.solve_ivp(Scheme::Direct, 0.5, 0.0)?;
+/// assert_eq!((solution.scheme, solution.q.len()), (Scheme::Direct, 101));
+/// assert!(solution.newton_iterations > 0 || solution.explicit_steps > 0);
+/// assert!(solution.warnings.is_empty());
+/// # Ok::<(), varembed::Error>(())
+/// ```
 #[derive(Clone, Debug, PartialEq)]
 pub struct Solution<const D: usize> {
     /// The scheme solved.
@@ -63,15 +95,142 @@ pub struct Solution<const D: usize> {
 }
 
 impl<const D: usize> Solution<D> {
+    /// The times of the nodes, `t_k = a + k h` for `k = 0..=N` (`t_N = b` exactly), aligned
+    /// with [`q`](Self::q).
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn oscillator(x: f64, v: f64) -> f64 {
+    ///     0.5 * v * v - 0.5 * x * x
+    /// }
+    ///
+    /// let grid = Grid::new(0.0, 0.3, 3)?;
+    /// let problem = Problem::new(&Oscillator, grid, Embedding::finite_difference(Side::Backward));
+    /// let solution = problem.solve_ivp(Scheme::Variational, 1.0, 0.0)?;
+    /// let t = solution.times();
+    /// assert_eq!(t.len(), solution.q.len());
+    /// assert_eq!((t[0], t[3]), (0.0, 0.3));
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn times(&self) -> Vec<f64> {
+        self.grid.nodes()
+    }
+
+    /// Time, position, velocity, momentum and (for an autonomous Lagrangian) energy at every
+    /// node `t_k`, `k = 0..=N`. `lagrangian` must be the one the solution was computed with.
+    ///
+    /// The velocities and momenta of a variational scheme are its discrete Legendre
+    /// transforms; those of a direct scheme come from its velocity operator
+    /// ([`NodeFormula`](crate::NodeFormula)). Both are first order at every node, the end nodes
+    /// included, for the Gauss-FDEσ embeddings ([`NodeRule::order`](crate::NodeRule::order)
+    /// says so for each embedding and scheme).
+    ///
+    /// Errors: [`Error::Unsupported`](crate::Error::Unsupported) for Gauss-GLEσ (the fractional
+    /// velocity has no value at the end node outside `I_σ`); at node `k`,
+    /// [`Error::SingularJacobian`](crate::Error::SingularJacobian) or
+    /// [`Error::NewtonDidNotConverge`](crate::Error::NewtonDidNotConverge) when `∂L/∂v = p_k`
+    /// cannot be solved for the velocity, [`Error::NotFinite`](crate::Error::NotFinite) when a
+    /// value is not finite.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+    ///
+    /// /// `L = ½mv² − ½kx²`: `p = m v`.
+    /// #[lagrangian]
+    /// fn spring(x: f64, v: f64, m: f64, k: f64) -> f64 {
+    ///     0.5 * m * v * v - 0.5 * k * x * x
+    /// }
+    ///
+    /// let lag = Spring { m: 2.0, k: 2.0 }; // ω = 1
+    /// let grid = Grid::new(0.0, 1.0, 1000)?;
+    /// let problem = Problem::new(&lag, grid, Embedding::finite_difference(Side::Backward));
+    /// let solution = problem.solve_ivp(Scheme::Variational, 1.0, 0.0)?;
+    /// let nodes = solution.node_values(&lag)?;
+    /// assert_eq!(nodes.rule.order, 1);
+    /// for node in nodes.iter() {
+    ///     assert!((node.p[0] - 2.0 * node.v[0]).abs() < 1e-12);
+    ///     assert!((node.v[0] + node.t.sin()).abs() < 1e-3); // q = cos t, first order
+    /// }
+    /// let energy = nodes.energy.expect("autonomous");
+    /// assert!(energy.iter().all(|e| (e - 1.0).abs() < 1e-3)); // E = ½mv² + ½kx² = 1
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn node_values<L: Lagrangian<D> + ?Sized>(&self, lagrangian: &L) -> Result<NodeValues<D>> {
+        NodeValues::new(
+            lagrangian,
+            &self.grid,
+            &self.embedding,
+            self.scheme,
+            (&self.q, &self.momenta),
+        )
+    }
+
     /// Component `i` of every node, `None` when `i ≥ D`.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn free(_x: [f64; 2], v: [f64; 2]) -> f64 {
+    ///     0.5 * (v[0] * v[0] + v[1] * v[1])
+    /// }
+    ///
+    /// let problem = Problem::new(&Free, Grid::new(0.0, 1.0, 4)?, Embedding::finite_difference(Side::Backward));
+    /// let line = problem.solve_bvp(Scheme::Variational, [0.0, 1.0], [2.0, -1.0])?;
+    /// assert_eq!(line.component(0).unwrap(), [0.0, 0.5, 1.0, 1.5, 2.0]);
+    /// assert!(line.component(2).is_none());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn component(&self, i: usize) -> Option<Vec<f64>> {
         (i < D).then(|| self.q.iter().map(|x| x[i]).collect())
     }
     /// The last node `Q_N`.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn free(_x: [f64; 2], v: [f64; 2]) -> f64 {
+    ///     0.5 * (v[0] * v[0] + v[1] * v[1])
+    /// }
+    ///
+    /// let problem = Problem::new(&Free, Grid::new(0.0, 1.0, 4)?, Embedding::finite_difference(Side::Backward));
+    /// let line = problem.solve_bvp(Scheme::Variational, [0.0, 1.0], [2.0, -1.0])?;
+    /// assert_eq!(line.last(), varembed::Vector::<2>::new(2.0, -1.0));
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn last(&self) -> Vector<D> {
         *self.q.last().expect("a solution has N + 1 ≥ 2 nodes")
     }
     /// Max over nodes of `|Q_k − other_k|∞`; `None` when the lengths differ.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn free(_x: [f64; 2], v: [f64; 2]) -> f64 {
+    ///     0.5 * (v[0] * v[0] + v[1] * v[1])
+    /// }
+    ///
+    /// let problem = Problem::new(&Free, Grid::new(0.0, 1.0, 4)?, Embedding::finite_difference(Side::Backward));
+    /// let line = problem.solve_bvp(Scheme::Variational, [0.0, 1.0], [2.0, -1.0])?;
+    /// let shifted: Vec<_> = line.q.iter().map(|q| q.add_scalar(0.25)).collect();
+    /// assert_eq!(line.max_distance(&shifted), Some(0.25));
+    /// assert_eq!(line.max_distance(&shifted[1..]), None);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn max_distance(&self, other: &[Vector<D>]) -> Option<f64> {
         (other.len() == self.q.len()).then(|| {
             self.q

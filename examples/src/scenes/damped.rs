@@ -11,7 +11,7 @@
 //! variational scheme of the time-dependent `L` keeps the exact decay of its discrete momentum
 //! map rather than the energy (there is no conserved energy).
 
-use crate::ivp_scene::{IvpScene, Trajectory, standard_variants};
+use crate::ivp_scene::{IvpScene, Trajectory, Units, standard_variants};
 use crate::reference::ReferenceCurve;
 use crate::scene::{Context, Doubling, SceneReport, SweepLine, SweepPoint, doubling};
 use std::time::Instant;
@@ -110,6 +110,11 @@ pub fn scene<'a>(cx: &Context, reference: &'a ReferenceCurve<1>) -> IvpScene<'a,
         sweep: doubling(cx.pick(500, 100), cx.pick(7, 4)),
         variants: standard_variants(),
         trajectory: Trajectory::Time,
+        units: Units {
+            time: "1/ω₀",
+            position: "q(0)",
+            energy: "ω₀² q(0)²",
+        },
     }
 }
 

@@ -3,7 +3,7 @@
 //! step of both schemes is implicit (Newton with the macro's Jacobian), and neither the
 //! second-order start nor the Störmer–Verlet structure of separable Lagrangians applies.
 
-use crate::ivp_scene::{IvpScene, Trajectory, standard_variants};
+use crate::ivp_scene::{IvpScene, Trajectory, Units, standard_variants};
 use crate::reference::ReferenceCurve;
 use crate::scene::{Context, SceneReport, doubling};
 use std::f64::consts::FRAC_PI_2;
@@ -81,6 +81,11 @@ pub fn scene<'a>(
         sweep: doubling(cx.pick(2000, 1000), cx.pick(6, 4)),
         variants: standard_variants(),
         trajectory: Trajectory::Time,
+        units: Units {
+            time: "√(l/g)",
+            position: "rad",
+            energy: "m g l",
+        },
     }
 }
 

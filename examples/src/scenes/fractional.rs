@@ -206,8 +206,8 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
         figures: vec![Figure {
             file: "fractional-trajectory.svg".to_string(),
             title: format!("Fractional pendulum BVP, q(0) = 0, q(1) = 1, N = {table_n}"),
-            x_label: "t".to_string(),
-            y_label: "q".to_string(),
+            x_label: "time t (√(l/g))".to_string(),
+            y_label: "angle q (rad)".to_string(),
             series: trajectories,
         }],
     })

@@ -2,7 +2,7 @@
 //! scene with a closed-form solution of the continuous problem *and* of every discrete scheme
 //! (see `tests/tests/harmonic_exact.rs`), so the orders here are the textbook ones.
 
-use crate::ivp_scene::{IvpScene, Trajectory, standard_variants};
+use crate::ivp_scene::{IvpScene, Trajectory, Units, standard_variants};
 use crate::reference::ReferenceCurve;
 use crate::scene::{Context, SceneReport, doubling};
 use varembed::{Embedding, Side, Vector, lagrangian};
@@ -63,6 +63,11 @@ pub fn scene<'a>(
         sweep: doubling(cx.pick(500, 100), cx.pick(7, 4)),
         variants: standard_variants(),
         trajectory: Trajectory::Time,
+        units: Units {
+            time: "1/ω",
+            position: "q(0)",
+            energy: "ω² q(0)²",
+        },
     }
 }
 

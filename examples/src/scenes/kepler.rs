@@ -9,7 +9,7 @@
 //! spread of `J` grows like `ε N^{3/2}` — below 10⁻¹² up to `N ≈ 2000` steps per orbit, ~10⁻¹⁰
 //! at `N = 64000`. The direct scheme's spread is of order one.
 
-use crate::ivp_scene::{IvpScene, Trajectory, standard_variants};
+use crate::ivp_scene::{IvpScene, Trajectory, Units, standard_variants};
 use crate::reference::ReferenceCurve;
 use crate::scene::{Context, Figure, SceneReport, Series, doubling};
 use std::f64::consts::PI;
@@ -102,6 +102,11 @@ pub fn scene<'a>(cx: &Context, reference: &'a ReferenceCurve<2>) -> IvpScene<'a,
         sweep: doubling(4000, cx.pick(6, 5)),
         variants: standard_variants(),
         trajectory: Trajectory::Plane,
+        units: Units {
+            time: "√(a³/GM), a the semi-major axis",
+            position: "a",
+            energy: "GM m/a",
+        },
     }
 }
 
@@ -138,8 +143,8 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
             title: format!(
                 "Kepler: discrete angular momentum J_k / J_0 − 1, Gauss-FDE−, N = {table_n}"
             ),
-            x_label: "t".to_string(),
-            y_label: "J_k / J_0 − 1".to_string(),
+            x_label: "time t (√(a³/GM), a the semi-major axis)".to_string(),
+            y_label: "relative error J_k / J_0 − 1 (dimensionless)".to_string(),
             series: vec![
                 Series::new("direct", relative(&direct)),
                 Series::new("variational", relative(&variational)),

@@ -3,7 +3,7 @@
 //! grows exponentially. Energy is not conserved (`∂L/∂t ≠ 0`); the energy figure shows
 //! `E_k − E(q(t_k), q̇(t_k), t_k)` against the reference's energy at the same time.
 
-use crate::ivp_scene::{IvpScene, Trajectory, standard_variants};
+use crate::ivp_scene::{IvpScene, Trajectory, Units, standard_variants};
 use crate::reference::ReferenceCurve;
 use crate::scene::{Context, SceneReport, doubling};
 use varembed::{Embedding, Side, Vector, lagrangian};
@@ -69,6 +69,11 @@ pub fn scene<'a>(cx: &Context, reference: &'a ReferenceCurve<1>) -> IvpScene<'a,
         sweep: doubling(cx.pick(500, 200), cx.pick(7, 4)),
         variants: standard_variants(),
         trajectory: Trajectory::Time,
+        units: Units {
+            time: "1/ω",
+            position: "q(0)",
+            energy: "ω² q(0)²",
+        },
     }
 }
 

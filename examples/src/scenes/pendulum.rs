@@ -2,7 +2,7 @@
 //! against DOP853 on `q̈ = −sin q` (written by hand, not by the macro). Besides the standard
 //! sweep, a long run of 10⁵ steps shows the energy behaviour of each scheme.
 
-use crate::ivp_scene::{IvpScene, Trajectory, standard_variants};
+use crate::ivp_scene::{IvpScene, Trajectory, Units, standard_variants};
 use crate::reference::ReferenceCurve;
 use crate::scene::{Context, Figure, SceneReport, Series, doubling};
 use varembed::{Embedding, Grid, Problem, Scheme, Side, Vector, lagrangian};
@@ -43,11 +43,9 @@ impl EnergyRun {
         let exact = -Q0.cos();
         let run = |scheme| -> varembed::Result<Vec<(f64, f64)>> {
             let solution = problem.solve_ivp(scheme, Q0, 0.0)?;
-            let energy = problem.energy(&solution.q)?;
-            Ok(problem
-                .embedding()
-                .quadrature_rows(steps)
-                .zip(energy)
+            let energy = problem.quadrature_energies(&solution.q)?;
+            Ok(energy
+                .into_iter()
                 .map(|(k, e)| (grid.t(k), e - exact))
                 .collect())
         };
@@ -123,6 +121,11 @@ pub fn scene<'a>(cx: &Context, reference: &'a ReferenceCurve<1>) -> IvpScene<'a,
         sweep: doubling(cx.pick(500, 100), cx.pick(7, 4)),
         variants: standard_variants(),
         trajectory: Trajectory::Time,
+        units: Units {
+            time: "√(l/g)",
+            position: "rad",
+            energy: "m g l",
+        },
     }
 }
 
@@ -151,8 +154,8 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
             "Pendulum: energy error E_k − E over {} steps, h = 0.01, Gauss-FDE−",
             long.steps
         ),
-        x_label: "t".to_string(),
-        y_label: "E_k − E".to_string(),
+        x_label: "time t (√(l/g))".to_string(),
+        y_label: "energy error E_k − E (m g l)".to_string(),
         series: vec![
             Series::new("direct", long.direct),
             Series::new("variational", long.variational),

@@ -1,0 +1,196 @@
+//! [`Problem`]'s comparisons of the two schemes: each method hands the problem's parts to the
+//! comparison.
+
+use super::Problem;
+use crate::compare::convergence::Convergence;
+use crate::compare::{CompareOptions, Comparer, Comparison};
+use crate::embedding::Scheme;
+use crate::error::Result;
+use crate::lagrangian::{IntoVector, Lagrangian};
+
+impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
+    fn comparer(&self) -> Comparer<'_, '_, L, D> {
+        Comparer {
+            discretisation: &self.discretisation,
+            options: &self.options,
+        }
+    }
+
+    /// Compares both schemes on the initial value problem `q(a) = q0`, `q̇(a) = v0` (discrete
+    /// Legendre start, no reference, observed order by self-convergence).
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// let comparison = problem.compare_ivp(1.0, 0.0)?;
+    /// assert!(comparison.max_distance > 0.0); // Gauss-FDE− is not coherent
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn compare_ivp(
+        &self,
+        q0: impl IntoVector<D>,
+        v0: impl IntoVector<D>,
+    ) -> Result<Comparison<D>> {
+        self.compare_ivp_with(q0, v0, &CompareOptions::default())
+    }
+
+    /// [`compare_ivp`](Self::compare_ivp) with options.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// let exact = |t: f64| Vector::<1>::new(t.cos());
+    /// let options = varembed::CompareOptions { reference: varembed::Reference::Exact(&exact), ..Default::default() };
+    /// let comparison = problem.compare_ivp_with(1.0, 0.0, &options)?;
+    /// assert!(comparison.variational.error.unwrap() < 0.1);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn compare_ivp_with(
+        &self,
+        q0: impl IntoVector<D>,
+        v0: impl IntoVector<D>,
+        options: &CompareOptions<'_, D>,
+    ) -> Result<Comparison<D>> {
+        self.comparer()
+            .compare_ivp(q0.into_vector(), v0.into_vector(), options)
+    }
+
+    /// Compares both schemes on the boundary value problem `Q_0 = qa`, `Q_N = qb`.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// let comparison = problem.compare_bvp(0.0, 1.0)?;
+    /// assert!(comparison.direct.residual_of_other > 0.0);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn compare_bvp(
+        &self,
+        qa: impl IntoVector<D>,
+        qb: impl IntoVector<D>,
+    ) -> Result<Comparison<D>> {
+        self.compare_bvp_with(qa, qb, &CompareOptions::default())
+    }
+
+    /// [`compare_bvp`](Self::compare_bvp) with options (the start is not used).
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// let options = varembed::CompareOptions { order: false, ..Default::default() };
+    /// let comparison = problem.compare_bvp_with(0.0, 1.0, &options)?;
+    /// assert_eq!(comparison.extra_solves, 0);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn compare_bvp_with(
+        &self,
+        qa: impl IntoVector<D>,
+        qb: impl IntoVector<D>,
+        options: &CompareOptions<'_, D>,
+    ) -> Result<Comparison<D>> {
+        self.comparer()
+            .compare_bvp(qa.into_vector(), qb.into_vector(), options)
+    }
+
+    /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` with `scheme` on
+    /// `N, 2N, …, 2^{levels−1} N` steps (`N` this problem's), with `options.start`, timing each
+    /// solve and measuring its error against `options.reference`. A size that fails is recorded
+    /// in [`Convergence::failures`] and the run goes on.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// let exact = |t: f64| Vector::<1>::new(t.cos());
+    /// let options = varembed::CompareOptions { reference: varembed::Reference::Exact(&exact), ..Default::default() };
+    /// let run = problem.convergence_ivp(Scheme::Direct, 1.0, 0.0, &options, 3);
+    /// assert_eq!(run.levels.len(), 3);
+    /// assert!((run.orders()[1] - 1.0).abs() < 0.2);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn convergence_ivp(
+        &self,
+        scheme: Scheme,
+        q0: impl IntoVector<D>,
+        v0: impl IntoVector<D>,
+        options: &CompareOptions<'_, D>,
+        levels: usize,
+    ) -> Convergence<D> {
+        self.comparer()
+            .convergence_ivp(scheme, q0.into_vector(), v0.into_vector(), options, levels)
+    }
+
+    /// [`convergence_ivp`](Self::convergence_ivp) for the boundary value problem `Q_0 = qa`,
+    /// `Q_N = qb` (the start is not used).
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// let options = varembed::CompareOptions::default();
+    /// let run = problem.convergence_bvp(Scheme::Variational, 0.0, 1.0, &options, 2);
+    /// assert_eq!(run.levels[1].n(), 20);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn convergence_bvp(
+        &self,
+        scheme: Scheme,
+        qa: impl IntoVector<D>,
+        qb: impl IntoVector<D>,
+        options: &CompareOptions<'_, D>,
+        levels: usize,
+    ) -> Convergence<D> {
+        self.comparer()
+            .convergence_bvp(scheme, qa.into_vector(), qb.into_vector(), options, levels)
+    }
+
+    /// The comparison at this problem's grid from a run of each scheme that solved it (same
+    /// data and options, e.g. the sweeps of a work–precision report): nothing is solved again,
+    /// the solutions, errors and wall times are the runs', and each order is
+    /// [`Convergence::order_at`] this `N`. Errors if a run failed at this `N` (that failure), or
+    /// is of the wrong scheme, or did not solve this problem's grid and embedding.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// let options = varembed::CompareOptions::default();
+    /// let direct = problem.convergence_ivp(Scheme::Direct, 1.0, 0.0, &options, 2);
+    /// let variational = problem.convergence_ivp(Scheme::Variational, 1.0, 0.0, &options, 2);
+    /// let comparison = problem.compare_runs(&direct, &variational)?;
+    /// assert_eq!(comparison.grid.n(), 10);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn compare_runs(
+        &self,
+        direct: &Convergence<D>,
+        variational: &Convergence<D>,
+    ) -> Result<Comparison<D>> {
+        self.comparer().compare_runs(direct, variational)
+    }
+}
