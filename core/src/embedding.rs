@@ -37,7 +37,8 @@ impl fmt::Display for Scheme {
     }
 }
 
-/// The three families of discrete embeddings of the paper.
+/// The families of discrete embeddings: the three of the paper, and the two symmetric ones
+/// (midpoint and trapezoidal) whose discrete Lagrangians are second order.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum EmbeddingKind {
     /// Gauss-FDEσ (paper §2.1): the direct scheme substitutes `d/dt ↦ −σΔ_σ`. Not coherent.
@@ -71,9 +72,28 @@ pub enum EmbeddingKind {
         /// The order `0 < α ≤ 1`.
         alpha: f64,
     },
+    /// The midpoint embedding: the discrete Lagrangian
+    /// `L_d(Q_k, Q_{k+1}) = h L((Q_k + Q_{k+1})/2, (Q_{k+1} − Q_k)/h, t_k + h/2)`. Its
+    /// variational scheme is the implicit midpoint rule's variational integrator (on a linear
+    /// system, the Cayley transform: A-stable); its direct scheme evaluates `∂L/∂x` at the node
+    /// with the centred velocity. Not coherent: the two schemes differ by `O(h²)`
+    /// (docs/schemes.md).
+    Midpoint,
+    /// The trapezoidal embedding: the discrete Lagrangian
+    /// `L_d(Q_k, Q_{k+1}) = h/2 [L(Q_k, V, t_k) + L(Q_{k+1}, V, t_{k+1})]`,
+    /// `V = (Q_{k+1} − Q_k)/h`. Its variational scheme is Störmer–Verlet on `½|v|² − U(x)`
+    /// (stable for `ωh < 2`); its direct scheme evaluates `∂L/∂x` at the node with the centred
+    /// velocity. Not coherent on Lagrangians with an `x`–`v` coupling (docs/schemes.md).
+    Trapezoidal,
 }
 
 /// A discrete embedding: a family and a side σ.
+///
+/// The symmetric embeddings ([`Embedding::midpoint`], [`Embedding::trapezoidal`]) look at
+/// both neighbours of a node and have no side of their own: for them [`side`](Self::side) is
+/// [`Side::Backward`], which says only how their interval values are stored: the velocity
+/// `V_k = (Q_k − Q_{k−1})/h` of the interval `[t_{k−1}, t_k]` sits on row `k`, rows `1..=N`
+/// as for `Δ_−` (docs/conventions.md).
 ///
 /// # Example
 ///
@@ -116,6 +136,41 @@ impl Embedding {
         })
     }
 
+    /// The midpoint embedding ([`EmbeddingKind::Midpoint`]): classical, second order.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Scheme, Side};
+    /// let midpoint = Embedding::midpoint();
+    /// assert_eq!(midpoint.to_string(), "midpoint");
+    /// assert_eq!(midpoint.side(), Side::Backward); // rows 1..=N, one per interval
+    /// assert!(!midpoint.is_coherent());
+    /// assert_eq!(midpoint.order(Scheme::Variational), 2);
+    /// ```
+    pub fn midpoint() -> Self {
+        Embedding {
+            kind: EmbeddingKind::Midpoint,
+            side: Side::Backward,
+        }
+    }
+    /// The trapezoidal embedding ([`EmbeddingKind::Trapezoidal`]): classical, second order.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Scheme};
+    /// let trapezoidal = Embedding::trapezoidal();
+    /// assert_eq!(trapezoidal.to_string(), "trapezoidal");
+    /// assert_eq!(trapezoidal.order(Scheme::Direct), 2);
+    /// ```
+    pub fn trapezoidal() -> Self {
+        Embedding {
+            kind: EmbeddingKind::Trapezoidal,
+            side: Side::Backward,
+        }
+    }
+
     /// The family.
     pub fn kind(&self) -> EmbeddingKind {
         self.kind
@@ -136,9 +191,48 @@ impl Embedding {
     pub fn is_fractional(&self) -> bool {
         matches!(self.kind, EmbeddingKind::GrunwaldLetnikov { .. })
     }
-    /// Whether the paper proves the embedding coherent (direct = variational).
+    /// Whether the embedding is coherent (direct = variational): proved by the paper for the
+    /// asymmetric Gauss-FDEσ and Gauss-GLEσ. Gauss-FDEσ is not; neither are the midpoint and
+    /// trapezoidal embeddings, whose direct scheme evaluates `∂L/∂x` once at the node where
+    /// the variational one averages it over the two neighbouring intervals (docs/schemes.md).
     pub fn is_coherent(&self) -> bool {
-        !matches!(self.kind, EmbeddingKind::FiniteDifference)
+        matches!(
+            self.kind,
+            EmbeddingKind::Asymmetric | EmbeddingKind::GrunwaldLetnikov { .. }
+        )
+    }
+    /// Whether the embedding is symmetric (midpoint or trapezoidal): its discrete Lagrangian
+    /// `L_d(Q_k, Q_{k+1})` reads the whole interval, with no side.
+    pub fn is_symmetric(&self) -> bool {
+        matches!(
+            self.kind,
+            EmbeddingKind::Midpoint | EmbeddingKind::Trapezoidal
+        )
+    }
+
+    /// The order of `scheme` in `h` on a smooth solution of a classical problem: the exponent
+    /// `p` of the maximum nodal error `O(h^p)`, for an initial value problem started by
+    /// [`Start::Legendre`](crate::Start::Legendre) and for a boundary value problem.
+    ///
+    /// - Gauss-FDEσ and the asymmetric Gauss-FDEσ: 1, both schemes. On `L = ½ vᵀMv − U(x)`
+    ///   with a constant `M` the variational recurrence is Störmer–Verlet: its boundary value
+    ///   problem, and its initial value problem from
+    ///   [`Start::SecondOrder`](crate::Start::SecondOrder), are second order there, and only
+    ///   there (the discrete Legendre start, a mass matrix `M(x)` or an `x`–`v` coupling leave
+    ///   it at 1).
+    /// - Midpoint and trapezoidal: 2, both schemes, on every smooth Lagrangian (each scheme is
+    ///   symmetric, and the discrete Legendre start `p_0 = −D₁L_d(Q_0, Q_1)` is second order).
+    /// - Gauss-GLEσ: 1 at α = 1 (the Gauss-FDEσ operators); for `α < 1` the order depends on
+    ///   the data (the solution is in general singular at the ends): what is returned, 1, is
+    ///   the order of consistency of the operators, not a promise (docs/schemes.md).
+    pub fn order(&self, scheme: Scheme) -> u32 {
+        let _ = scheme; // every family has one order for both schemes
+        match self.kind {
+            EmbeddingKind::Midpoint | EmbeddingKind::Trapezoidal => 2,
+            EmbeddingKind::FiniteDifference
+            | EmbeddingKind::Asymmetric
+            | EmbeddingKind::GrunwaldLetnikov { .. } => 1,
+        }
     }
 
     /// The operator `Δ_σ` (or `Δ^α_σ`): the velocity is `V = −σ Δ_σ Q` on the quadrature rows.
@@ -206,6 +300,8 @@ impl fmt::Display for Embedding {
             EmbeddingKind::FiniteDifference => write!(f, "Gauss-FDE{s}"),
             EmbeddingKind::Asymmetric => write!(f, "asymmetric Gauss-FDE{s}"),
             EmbeddingKind::GrunwaldLetnikov { alpha } => write!(f, "Gauss-GLE{s} (α = {alpha})"),
+            EmbeddingKind::Midpoint => f.write_str("midpoint"),
+            EmbeddingKind::Trapezoidal => f.write_str("trapezoidal"),
         }
     }
 }

@@ -59,6 +59,7 @@ mod embedding;
 mod error;
 mod fft_operator;
 mod grid;
+mod interval;
 mod lagrangian;
 mod linalg;
 mod ode;

@@ -9,3 +9,4 @@ pub mod ivp;
 pub mod krylov;
 pub mod newton;
 pub mod solution;
+pub(crate) mod stability;
