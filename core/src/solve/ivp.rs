@@ -16,7 +16,7 @@ use crate::regularity::{
     check_constants, check_finite, check_initial_data, check_vv, hessian_in_domain, pivot_range,
 };
 use crate::side::Side;
-use crate::solve::guard::BlowUpGuard;
+use crate::solve::guard::{BlowUpGuard, EnergyPoint};
 use crate::solve::newton::newton_step;
 use crate::solve::solution::Solution;
 use crate::solve::stability::{Verdict, step_map_verdict};
@@ -314,10 +314,12 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
         let (h, inv_h) = (grid.h(), 1.0 / grid.h());
         let (mut a, mut b) = (q[0], q[1]);
         let (mut iterations, mut explicit_steps) = (0, 0);
-        let side = self.embedding.side();
+        let at = match kind.symmetric() {
+            Some((rule, _)) => EnergyPoint::Interval(rule),
+            None => EnergyPoint::Node(self.embedding.side()),
+        };
         let drifts = matches!(kind, StepKind::DirectBackward | StepKind::DirectForward);
-        let mut guard =
-            BlowUpGuard::new(self.lagrangian, side, drifts, n_steps, self.blow_up_guard);
+        let mut guard = BlowUpGuard::new(self.lagrangian, at, drifts, n_steps, self.blow_up_guard);
         // The run goes in stretches of `stride` steps: the guard's sample (and, every
         // STABILITY_CHECK_INTERVAL steps, a multiple of the stride, the stability and
         // degeneracy checks) runs between stretches, so the stepping loop itself tests nothing
