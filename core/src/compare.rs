@@ -153,6 +153,9 @@ pub struct SchemeReport<const D: usize> {
     /// How far [`order`](Self::order) can be trusted ([`Convergence::order_status_at`]), when
     /// there is one.
     pub order_status: Option<OrderStatus>,
+    /// The scheme's order on a smooth solution of a general Lagrangian,
+    /// [`Embedding::order`](crate::Embedding::order), shown next to the observed one.
+    pub theoretical_order: Option<u32>,
     /// Wall time of the solve on `N` steps.
     pub wall_time: Duration,
 }
@@ -430,6 +433,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Comparer<'_, '_, L, D> {
                 energy_deviation,
                 order: run.order_at(n),
                 order_status: run.order_status_at(n),
+                theoretical_order: self.discretisation.embedding().order(scheme),
                 wall_time: level.wall_time,
             })
         };

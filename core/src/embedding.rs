@@ -146,7 +146,7 @@ impl Embedding {
     /// assert_eq!(midpoint.to_string(), "midpoint");
     /// assert_eq!(midpoint.side(), Side::Backward); // rows 1..=N, one per interval
     /// assert!(!midpoint.is_coherent());
-    /// assert_eq!(midpoint.order(Scheme::Variational), 2);
+    /// assert_eq!(midpoint.order(Scheme::Variational), Some(2));
     /// ```
     pub fn midpoint() -> Self {
         Embedding {
@@ -162,7 +162,7 @@ impl Embedding {
     /// use varembed::{Embedding, Scheme};
     /// let trapezoidal = Embedding::trapezoidal();
     /// assert_eq!(trapezoidal.to_string(), "trapezoidal");
-    /// assert_eq!(trapezoidal.order(Scheme::Direct), 2);
+    /// assert_eq!(trapezoidal.order(Scheme::Direct), Some(2));
     /// ```
     pub fn trapezoidal() -> Self {
         Embedding {
@@ -210,28 +210,28 @@ impl Embedding {
         )
     }
 
-    /// The order of `scheme` in `h` on a smooth solution of a classical problem: the exponent
+    /// The order of `scheme` in `h` on a smooth solution of a general Lagrangian: the exponent
     /// `p` of the maximum nodal error `O(h^p)`, for an initial value problem started by
-    /// [`Start::Legendre`](crate::Start::Legendre) and for a boundary value problem.
+    /// [`Start::Legendre`](crate::Start::Legendre) and for a boundary value problem; `None`
+    /// where no one order holds.
     ///
     /// - Gauss-FDEσ and the asymmetric Gauss-FDEσ: 1, both schemes. On `L = ½ vᵀMv − U(x)`
-    ///   with a constant `M` the variational recurrence is Störmer–Verlet: its boundary value
-    ///   problem, and its initial value problem from
-    ///   [`Start::SecondOrder`](crate::Start::SecondOrder), are second order there, and only
-    ///   there (the discrete Legendre start, a mass matrix `M(x)` or an `x`–`v` coupling leave
-    ///   it at 1).
-    /// - Midpoint and trapezoidal: 2, both schemes, on every smooth Lagrangian (each scheme is
-    ///   symmetric, and the discrete Legendre start `p_0 = −D₁L_d(Q_0, Q_1)` is second order).
-    /// - Gauss-GLEσ: 1 at α = 1 (the Gauss-FDEσ operators); for `α < 1` the order depends on
-    ///   the data (the solution is in general singular at the ends): what is returned, 1, is
-    ///   the order of consistency of the operators, not a promise (docs/schemes.md).
-    pub fn order(&self, scheme: Scheme) -> u32 {
+    ///   with a constant `M` their variational recurrence is Störmer–Verlet, second order as a
+    ///   boundary value problem and from [`Start::SecondOrder`](crate::Start::SecondOrder) —
+    ///   there, and only there (the discrete Legendre start, a mass matrix `M(x)` or an
+    ///   `x`–`v` coupling leave it at 1).
+    /// - Midpoint and trapezoidal: 2, both schemes, on every smooth Lagrangian, separable or
+    ///   not (each scheme is symmetric, and the discrete Legendre start
+    ///   `p_0 = −D₁L_d(Q_0, Q_1)` is second order).
+    /// - Gauss-GLEσ: 1 at α = 1 (the Gauss-FDEσ operators); `None` for `α < 1`, where the
+    ///   order depends on the data: the solution of a fractional problem is in general
+    ///   singular at the ends (docs/schemes.md).
+    pub fn order(&self, scheme: Scheme) -> Option<u32> {
         let _ = scheme; // every family has one order for both schemes
         match self.kind {
-            EmbeddingKind::Midpoint | EmbeddingKind::Trapezoidal => 2,
-            EmbeddingKind::FiniteDifference
-            | EmbeddingKind::Asymmetric
-            | EmbeddingKind::GrunwaldLetnikov { .. } => 1,
+            EmbeddingKind::Midpoint | EmbeddingKind::Trapezoidal => Some(2),
+            EmbeddingKind::FiniteDifference | EmbeddingKind::Asymmetric => Some(1),
+            EmbeddingKind::GrunwaldLetnikov { alpha } => (alpha == 1.0).then_some(1),
         }
     }
 

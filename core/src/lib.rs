@@ -10,7 +10,9 @@
 //! to the equation (the **direct** scheme: substitute the discrete operators into
 //! Euler–Lagrange) or to the functional (the **variational** scheme: the critical points of the
 //! discrete action `S_h(Q) = h Σ_{k∈I_σ} L(Q_k, V_k, t_k)`). The embedding is **coherent** when the
-//! two roads meet. Gauss-FDEσ is not coherent; its asymmetric version and Gauss-GLEσ are.
+//! two roads meet. Gauss-FDEσ is not coherent; its asymmetric version and Gauss-GLEσ are. The
+//! midpoint and trapezoidal embeddings ([`Embedding::midpoint`], [`Embedding::trapezoidal`])
+//! are second order, both schemes, and not coherent.
 //!
 //! # Public API
 //!
