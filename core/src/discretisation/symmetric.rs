@@ -18,7 +18,7 @@ use super::{Discretisation, Pointwise};
 use crate::embedding::{EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::interval::{Interval, IntervalJacobian, Rule, node_force, node_force_jacobian};
-use crate::lagrangian::{Lagrangian, Matrix, Vector};
+use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
 
 impl<L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'_, L, D> {
     /// The discrete Lagrangian of the embedding.
@@ -40,10 +40,23 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'_, L, D> {
         }
     }
 
+    /// The direct schemes' force at node `k` of `Q`, with its Hessian blocks.
+    fn node_force(&self, q: &[Vector<D>], k: usize) -> (Vector<D>, Hessian<D>) {
+        let t = self.grid.t(k);
+        node_force(
+            self.lagrangian,
+            &q[k - 1],
+            &q[k],
+            &q[k + 1],
+            t,
+            self.grid.h(),
+        )
+    }
+
     /// The interval values and the node forces of `Q` (see [`Pointwise`]).
     pub(super) fn symmetric_pointwise(&self, q: &[Vector<D>]) -> Result<Pointwise<D>> {
         self.check_curve(q)?;
-        let (n, h, rule) = (self.grid.n(), self.grid.h(), self.rule());
+        let (n, rule) = (self.grid.n(), self.rule());
         let zeros = vec![Vector::<D>::zeros(); n + 1];
         let mut pw = Pointwise {
             v: zeros.clone(),
@@ -67,14 +80,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'_, L, D> {
             pw.f_left[k] = g.force_left;
         }
         for k in 1..n {
-            let (f, _) = node_force(
-                self.lagrangian,
-                &q[k - 1],
-                &q[k],
-                &q[k + 1],
-                self.grid.t(k),
-                h,
-            );
+            let (f, _) = self.node_force(q, k);
             if !finite(&f) {
                 return Err(Error::NotFinite {
                     at: Location::Node(k),
@@ -162,14 +168,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'_, L, D> {
                     blocks[2] += after.force_left[1] * 0.5;
                 }
                 Scheme::Direct => {
-                    let (_, hs) = node_force(
-                        self.lagrangian,
-                        &q[k - 1],
-                        &q[k],
-                        &q[k + 1],
-                        self.grid.t(k),
-                        h,
-                    );
+                    let (_, hs) = self.node_force(q, k);
                     for (block, df) in blocks.iter_mut().zip(node_force_jacobian(&hs, h)) {
                         *block += df;
                     }
