@@ -142,7 +142,8 @@ pub struct SchemeReport<const D: usize> {
     pub residual_of_other: f64,
     /// Max over the nodes of `|Q_k − q(t_k)|∞` against the reference, if any.
     pub error: Option<f64>,
-    /// `E = V_k·∂L/∂v − L` at the quadrature nodes `I_σ`.
+    /// `E = V_k·∂L/∂v − L` at the quadrature nodes `I_σ` (per interval for the midpoint and
+    /// trapezoidal embeddings: [`Problem::energy`](crate::Problem::energy)).
     pub energy: Vec<f64>,
     /// `max_k |E_k − E_first|`, where the flow conserves `E` (an autonomous Lagrangian under a
     /// classical embedding); `None` otherwise ([`Comparison::energy_not_conserved`] says why),

@@ -216,12 +216,16 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
         self.discretisation.residual(scheme, q)
     }
 
-    /// The discrete action `S_h(Q) = h Σ_{k∈I_σ} L(Q_k, V_k, t_k)`.
+    /// The discrete action `S_h(Q) = h Σ_{k∈I_σ} L(Q_k, V_k, t_k)`; for the midpoint and
+    /// trapezoidal embeddings `Σ_{k=1}^{N} L_d(Q_{k−1}, Q_k)` (docs/schemes.md).
     pub fn action(&self, q: &[Vector<D>]) -> Result<f64> {
         self.discretisation.action(q)
     }
 
-    /// `E_k = V_k·∂L/∂v(Q_k, V_k, t_k) − L(Q_k, V_k, t_k)` on the quadrature nodes `I_σ`.
+    /// `E_k = V_k·∂L/∂v(Q_k, V_k, t_k) − L(Q_k, V_k, t_k)` on the quadrature nodes `I_σ`; for
+    /// the midpoint and trapezoidal embeddings, per interval `k = 1..=N`, where their `L_d`
+    /// evaluates `L`: at `((Q_{k−1} + Q_k)/2, V_k, t_k − h/2)`, or the mean of the values at
+    /// both ends.
     pub fn energy(&self, q: &[Vector<D>]) -> Result<Vec<f64>> {
         self.discretisation.energy(q)
     }

@@ -317,3 +317,48 @@ fn initial_value_runs_solve_the_global_rows_and_the_boundary_value_problem() {
         }
     }
 }
+
+/// The action and the energy of both embeddings on the oscillator, written out by hand:
+/// `S_h = Σ_k h L(Q̄_k, V_k)` or `Σ_k h/2 [L(Q_{k−1}, V_k) + L(Q_k, V_k)]`, and `E` per interval
+/// at the same points.
+#[test]
+fn action_and_energy_are_those_of_the_discrete_lagrangian() {
+    let omega = 1.3;
+    let model = Oscillator { omega };
+    let n = 7;
+    let grid = Grid::new(0.5, 1.9, n).unwrap();
+    let h = grid.h();
+    let q: Vec<Vector<1>> = (0..=n)
+        .map(|k| Vector::<1>::new((1.1 * k as f64).sin() + 0.2))
+        .collect();
+    let lagrangian = |x: f64, v: f64| 0.5 * v * v - 0.5 * omega * omega * x * x;
+    let energy = |x: f64, v: f64| 0.5 * v * v + 0.5 * omega * omega * x * x;
+    for embedding in symmetric() {
+        let midpoint = embedding == Embedding::midpoint();
+        let at = |f: &dyn Fn(f64, f64) -> f64, k: usize| {
+            let (a, b) = (q[k - 1][0], q[k][0]);
+            let v = (b - a) / h;
+            if midpoint {
+                f((a + b) / 2.0, v)
+            } else {
+                (f(a, v) + f(b, v)) / 2.0
+            }
+        };
+        let problem = Problem::new(&model, grid, embedding);
+        let action: f64 = (1..=n).map(|k| h * at(&lagrangian, k)).sum();
+        assert!(
+            (problem.action(&q).unwrap() - action).abs() < 1e-13,
+            "{embedding}"
+        );
+        let energies = problem.energy(&q).unwrap();
+        assert_eq!(energies.len(), n);
+        for (k, e) in (1..=n).zip(&energies) {
+            assert!(
+                (e - at(&energy, k)).abs() < 1e-12,
+                "{embedding} interval {k}"
+            );
+        }
+        let v = problem.velocity(&q).unwrap();
+        assert!((v[0][0] - (q[1][0] - q[0][0]) / h).abs() < 1e-12);
+    }
+}

@@ -89,7 +89,8 @@ impl<const D: usize> Comparison<D> {
         );
         let energy = match self.energy_not_conserved {
             None => "max_k |E_k − E_first| of the discrete energy E_k = V_k·∂L/∂v − L on the \
-                     quadrature nodes: L is autonomous and the embedding classical, so the flow \
+                     quadrature nodes (per interval for the midpoint and trapezoidal \
+                     embeddings): L is autonomous and the embedding classical, so the flow \
                      conserves E and the drift is the scheme's"
                 .to_string(),
             Some(reason) => format!("— : {reason}, so its drift would measure nothing"),
