@@ -192,7 +192,8 @@ pub struct SchemeReport<const D: usize> {
     pub residual_of_other: f64,
     /// Max over the nodes of `|Q_k − q(t_k)|∞` against the reference, if any.
     pub error: Option<f64>,
-    /// `E = V_k·∂L/∂v − L` at the quadrature nodes `I_σ`.
+    /// `E = V_k·∂L/∂v − L` at the quadrature nodes `I_σ` (per interval for the midpoint and
+    /// trapezoidal embeddings: [`Problem::energy`](crate::Problem::energy)).
     pub energy: Vec<f64>,
     /// `max_k |E_k − E_first|`, where the flow conserves `E` (an autonomous Lagrangian under a
     /// classical embedding); `None` otherwise ([`Comparison::energy_not_conserved`] says why),
@@ -203,6 +204,9 @@ pub struct SchemeReport<const D: usize> {
     /// How far [`order`](Self::order) can be trusted ([`Convergence::order_status_at`]), when
     /// there is one.
     pub order_status: Option<OrderStatus>,
+    /// The scheme's order on a smooth solution of a general Lagrangian,
+    /// [`Embedding::order`](crate::Embedding::order), shown next to the observed one.
+    pub theoretical_order: Option<u32>,
     /// Wall time of the solve on `N` steps.
     pub wall_time: Duration,
 }
@@ -392,6 +396,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Comparer<'_, '_, L, D> {
                 energy_deviation,
                 order: run.order_at(n),
                 order_status: run.order_status_at(n),
+                theoretical_order: self.discretisation.embedding().order(scheme),
                 wall_time: level.wall_time,
             })
         };

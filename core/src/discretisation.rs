@@ -52,10 +52,17 @@ pub(crate) struct Discretisation<'l, L: ?Sized, const D: usize> {
 
 /// `V`, `f = ∂L/∂x`, `p = ∂L/∂v` at the quadrature nodes, stored by node index `0..=N` (the one
 /// node outside `I_σ` holds zeros and is never read by a valid row).
+///
+/// For the symmetric embeddings entry `k ∈ 1..=N` belongs to the interval `[t_{k−1}, t_k]`:
+/// `v` its velocity, `p` its momentum `P`, `f` its force `F_w` and `f_left` its force `F_u`
+/// (see the interval module); `f_node[k]`, `k ∈ 1..=N−1`, is the force of the direct scheme at
+/// node `k` with the centred velocity. Both extra vectors are empty for the other embeddings.
 pub(crate) struct Pointwise<const D: usize> {
     pub v: Vec<Vector<D>>,
     pub f: Vec<Vector<D>>,
     pub p: Vec<Vector<D>>,
+    pub f_left: Vec<Vector<D>>,
+    pub f_node: Vec<Vector<D>>,
 }
 
 impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
@@ -176,6 +183,9 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
 
     /// The discrete action `S_h(Q) = h Σ_{k∈I_σ} L(Q_k, V_k, t_k)`.
     pub(crate) fn action(&self, q: &[Vector<D>]) -> Result<f64> {
+        if self.embedding.is_symmetric() {
+            return self.symmetric_action(q);
+        }
         let v = self.velocity(q)?;
         let mut s = 0.0;
         for (k, vk) in self.embedding.quadrature_rows(self.grid.n()).zip(&v) {
@@ -191,6 +201,9 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
 
     /// `E_k = V_k·∂L/∂v(Q_k, V_k, t_k) − L(Q_k, V_k, t_k)` on the quadrature nodes `I_σ`.
     pub(crate) fn energy(&self, q: &[Vector<D>]) -> Result<Vec<f64>> {
+        if self.embedding.is_symmetric() {
+            return self.symmetric_energy(q);
+        }
         let v = self.velocity(q)?;
         Ok(self
             .embedding
@@ -220,12 +233,17 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
 
     /// `V`, `f` and `p` at the quadrature nodes of `Q`.
     pub(crate) fn pointwise(&self, q: &[Vector<D>]) -> Result<Pointwise<D>> {
+        if self.embedding.is_symmetric() {
+            return self.symmetric_pointwise(q);
+        }
         let v_rows = self.velocity(q)?;
         let n = self.grid.n();
         let mut pw = Pointwise {
             v: vec![Vector::<D>::zeros(); n + 1],
             f: vec![Vector::<D>::zeros(); n + 1],
             p: vec![Vector::<D>::zeros(); n + 1],
+            f_left: Vec::new(),
+            f_node: Vec::new(),
         };
         for (k, vk) in self.embedding.quadrature_rows(n).zip(v_rows) {
             let (f, p) = self.lagrangian.gradient(&q[k], &vk, self.grid.t(k));
@@ -261,6 +279,10 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
                 rows.map(|k| pw.f[k] - adjoint_p[k - first] * sigma)
                     .collect()
             }
+            // The force at the node, the momenta of the two intervals differenced.
+            EmbeddingKind::Midpoint | EmbeddingKind::Trapezoidal => {
+                self.symmetric_residual(Scheme::Direct, pw)
+            }
             // `check_curve` refuses a one-step embedding before any pointwise value exists.
             EmbeddingKind::GaussLegendre { .. } => {
                 unreachable!("Gauss–Legendre has no values on the nodes")
@@ -270,6 +292,9 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
 
     /// The variational path: `f + Dᵀ p` on the interior nodes, `D = −σ Δ_σ`.
     fn variational_residual(&self, pw: &Pointwise<D>) -> Vec<Vector<D>> {
+        if self.embedding.is_symmetric() {
+            return self.symmetric_residual(Scheme::Variational, pw);
+        }
         let sigma = self.embedding.side().sign();
         let n = self.grid.n();
         let p_rows: Vec<Vector<D>> = self.embedding.quadrature_rows(n).map(|k| pw.p[k]).collect();
@@ -296,6 +321,9 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
         pw: &Pointwise<D>,
         mut add: impl FnMut(usize, usize, &Matrix<D>),
     ) {
+        if self.embedding.is_symmetric() {
+            return self.assemble_symmetric_jacobian(scheme, q, add);
+        }
         let n = self.grid.n();
         let sigma = self.embedding.side().sign();
         let hess: Vec<Option<_>> = (0..=n)
@@ -371,6 +399,8 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
         jac
     }
 }
+
+mod symmetric;
 
 #[cfg(test)]
 mod tests {
@@ -463,6 +493,8 @@ mod tests {
             embeddings.push(Embedding::asymmetric(side));
             embeddings.push(Embedding::grunwald_letnikov(side, 0.6).unwrap());
         }
+        embeddings.push(Embedding::midpoint());
+        embeddings.push(Embedding::trapezoidal());
         let q: Vec<Vector<2>> = (0..=n)
             .map(|k| Vector::<2>::new((k as f64 * 0.7).sin(), (k as f64 * 0.3).cos() - 0.5))
             .collect();

@@ -68,7 +68,8 @@ impl fmt::Display for Scheme {
     }
 }
 
-/// The three families of discrete embeddings of the paper.
+/// The families of discrete embeddings: the three of the paper, and the two symmetric ones
+/// (midpoint and trapezoidal) whose discrete Lagrangians are second order.
 ///
 /// ```
 /// use varembed::{Embedding, EmbeddingKind, Side};
@@ -123,6 +124,19 @@ pub enum EmbeddingKind {
         /// The number of stages `1 ≤ s ≤ 4`.
         stages: usize,
     },
+    /// The midpoint embedding: the discrete Lagrangian
+    /// `L_d(Q_k, Q_{k+1}) = h L((Q_k + Q_{k+1})/2, (Q_{k+1} − Q_k)/h, t_k + h/2)`. Its
+    /// variational scheme is the implicit midpoint rule's variational integrator (on a linear
+    /// system, the Cayley transform: A-stable); its direct scheme evaluates `∂L/∂x` at the node
+    /// with the centred velocity. Not coherent: the two schemes differ by `O(h²)`
+    /// (docs/schemes.md).
+    Midpoint,
+    /// The trapezoidal embedding: the discrete Lagrangian
+    /// `L_d(Q_k, Q_{k+1}) = h/2 [L(Q_k, V, t_k) + L(Q_{k+1}, V, t_{k+1})]`,
+    /// `V = (Q_{k+1} − Q_k)/h`. Its variational scheme is Störmer–Verlet on `½|v|² − U(x)`
+    /// (stable for `ωh < 2`); its direct scheme evaluates `∂L/∂x` at the node with the centred
+    /// velocity. Not coherent on Lagrangians with an `x`–`v` coupling (docs/schemes.md).
+    Trapezoidal,
 }
 
 /// A discrete embedding: a family and a side σ.
@@ -143,6 +157,12 @@ pub enum EmbeddingKind {
 /// <math display="block"><mrow><msub><mi>S</mi><mi>h</mi></msub><mo stretchy="false">&#x00028;</mo><mi>Q</mi><mo stretchy="false">&#x00029;</mo><mo>&#x0003D;</mo><mi>h</mi><munder><mo>&#x02211;</mo><mrow><mi>k</mi><mo>&#x02208;</mo><msub><mi>I</mi><mi>&#x003C3;</mi></msub></mrow></munder><mi>L</mi><mo stretchy="false">&#x00028;</mo><msub><mi>Q</mi><mi>k</mi></msub><mo>&#x0002C;</mo><msub><mi>V</mi><mi>k</mi></msub><mo>&#x0002C;</mo><msub><mi>t</mi><mi>k</mi></msub><mo stretchy="false">&#x00029;</mo></mrow></math>
 ///
 /// (index ranges and signs: the repository's `docs/conventions.md`).
+///
+/// The symmetric embeddings ([`Embedding::midpoint`], [`Embedding::trapezoidal`]) look at
+/// both neighbours of a node and have no side of their own: for them [`side`](Self::side) is
+/// [`Side::Backward`], which says only how their interval values are stored: the velocity
+/// `V_k = (Q_k − Q_{k−1})/h` of the interval `[t_{k−1}, t_k]` sits on row `k`, rows `1..=N`
+/// as for `Δ_−` (docs/conventions.md).
 ///
 /// # Example
 ///
@@ -248,6 +268,41 @@ impl Embedding {
         })
     }
 
+    /// The midpoint embedding ([`EmbeddingKind::Midpoint`]): classical, second order.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Scheme, Side};
+    /// let midpoint = Embedding::midpoint();
+    /// assert_eq!(midpoint.to_string(), "midpoint");
+    /// assert_eq!(midpoint.side(), Side::Backward); // rows 1..=N, one per interval
+    /// assert!(!midpoint.is_coherent());
+    /// assert_eq!(midpoint.order(Scheme::Variational), Some(2));
+    /// ```
+    pub fn midpoint() -> Self {
+        Embedding {
+            kind: EmbeddingKind::Midpoint,
+            side: Side::Backward,
+        }
+    }
+    /// The trapezoidal embedding ([`EmbeddingKind::Trapezoidal`]): classical, second order.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Scheme};
+    /// let trapezoidal = Embedding::trapezoidal();
+    /// assert_eq!(trapezoidal.to_string(), "trapezoidal");
+    /// assert_eq!(trapezoidal.order(Scheme::Direct), Some(2));
+    /// ```
+    pub fn trapezoidal() -> Self {
+        Embedding {
+            kind: EmbeddingKind::Trapezoidal,
+            side: Side::Backward,
+        }
+    }
+
     /// The family.
     ///
     /// ```
@@ -294,21 +349,24 @@ impl Embedding {
     pub fn is_fractional(&self) -> bool {
         matches!(self.kind, EmbeddingKind::GrunwaldLetnikov { .. })
     }
-    /// Whether the paper proves the embedding coherent (direct = variational).
+    /// Whether the embedding is coherent (direct = variational): proved by the paper for the
+    /// asymmetric Gauss-FDEσ and Gauss-GLEσ. Gauss-FDEσ is not; neither are the midpoint and
+    /// trapezoidal embeddings, whose direct scheme evaluates `∂L/∂x` once at the node where
+    /// the variational one averages it over the two neighbouring intervals (docs/schemes.md);
+    /// the Gauss–Legendre integrators have no direct scheme to be coherent with.
     ///
     /// ```
     /// use varembed::{Embedding, EmbeddingKind, Side};
     /// assert!(Embedding::grunwald_letnikov(Side::Backward, 0.5)?.is_coherent());
     /// assert!(!Embedding::finite_difference(Side::Backward).is_coherent());
+    /// assert!(!Embedding::midpoint().is_coherent());
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn is_coherent(&self) -> bool {
-        match self.kind {
-            EmbeddingKind::FiniteDifference => false,
-            // No direct scheme to be coherent with.
-            EmbeddingKind::GaussLegendre { .. } => false,
-            _ => true,
-        }
+        matches!(
+            self.kind,
+            EmbeddingKind::Asymmetric | EmbeddingKind::GrunwaldLetnikov { .. }
+        )
     }
 
     /// Whether the embedding is a one-step integrator of `(q, p)` with internal stages rather
@@ -317,6 +375,45 @@ impl Embedding {
     /// and boundary value problems are [`Error::Unsupported`].
     pub(crate) fn is_one_step(&self) -> bool {
         matches!(self.kind, EmbeddingKind::GaussLegendre { .. })
+    }
+    /// Whether the embedding is symmetric (midpoint or trapezoidal): its discrete Lagrangian
+    /// `L_d(Q_k, Q_{k+1})` reads the whole interval, with no side.
+    pub fn is_symmetric(&self) -> bool {
+        matches!(
+            self.kind,
+            EmbeddingKind::Midpoint | EmbeddingKind::Trapezoidal
+        )
+    }
+
+    /// The order of `scheme` in `h` on a smooth solution of a general Lagrangian: the exponent
+    /// `p` of the maximum nodal error `O(h^p)`, for an initial value problem started by
+    /// [`Start::Legendre`](crate::Start::Legendre) and for a boundary value problem; `None`
+    /// where no one order holds.
+    ///
+    /// - Gauss-FDEσ and the asymmetric Gauss-FDEσ: 1, both schemes. On `L = ½ vᵀMv − U(x)`
+    ///   with a constant `M` their variational recurrence is Störmer–Verlet, second order as a
+    ///   boundary value problem and from [`Start::SecondOrder`](crate::Start::SecondOrder) —
+    ///   there, and only there (the discrete Legendre start, a mass matrix `M(x)` or an
+    ///   `x`–`v` coupling leave it at 1).
+    /// - Midpoint and trapezoidal: 2, both schemes, on every smooth Lagrangian, separable or
+    ///   not (each scheme is symmetric, and the discrete Legendre start
+    ///   `p_0 = −D₁L_d(Q_0, Q_1)` is second order).
+    /// - Gauss–Legendre with `s` stages: `2s`, variational only (`None` for the direct
+    ///   scheme, which it does not have).
+    /// - Gauss-GLEσ: 1 at α = 1 (the Gauss-FDEσ operators); `None` for `α < 1`, where the
+    ///   order depends on the data: the solution of a fractional problem is in general
+    ///   singular at the ends (docs/schemes.md).
+    pub fn order(&self, scheme: Scheme) -> Option<u32> {
+        // Every family but Gauss–Legendre has one order for both schemes.
+        match self.kind {
+            EmbeddingKind::Midpoint | EmbeddingKind::Trapezoidal => Some(2),
+            EmbeddingKind::FiniteDifference | EmbeddingKind::Asymmetric => Some(1),
+            EmbeddingKind::GrunwaldLetnikov { alpha } => (alpha == 1.0).then_some(1),
+            // Variational only: no order for a direct scheme that does not exist.
+            EmbeddingKind::GaussLegendre { stages } => {
+                (scheme == Scheme::Variational).then_some(2 * stages as u32)
+            }
+        }
     }
 
     /// The operator `Δ_σ` (or `Δ^α_σ`): the velocity is `V = −σ Δ_σ Q` on the quadrature rows.
@@ -399,6 +496,8 @@ impl fmt::Display for Embedding {
             EmbeddingKind::Asymmetric => write!(f, "asymmetric Gauss-FDE{s}"),
             EmbeddingKind::GrunwaldLetnikov { alpha } => write!(f, "Gauss-GLE{s} (α = {alpha})"),
             EmbeddingKind::GaussLegendre { stages } => write!(f, "Gauss–Legendre s = {stages}"),
+            EmbeddingKind::Midpoint => f.write_str("midpoint"),
+            EmbeddingKind::Trapezoidal => f.write_str("trapezoidal"),
         }
     }
 }

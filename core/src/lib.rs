@@ -10,7 +10,9 @@
 //! to the equation (the **direct** scheme: substitute the discrete operators into
 //! Euler–Lagrange) or to the functional (the **variational** scheme: the critical points of the
 //! discrete action `S_h(Q) = h Σ_{k∈I_σ} L(Q_k, V_k, t_k)`). The embedding is **coherent** when the
-//! two roads meet. Gauss-FDEσ is not coherent; its asymmetric version and Gauss-GLEσ are.
+//! two roads meet. Gauss-FDEσ is not coherent; its asymmetric version and Gauss-GLEσ are. The
+//! midpoint and trapezoidal embeddings ([`Embedding::midpoint`], [`Embedding::trapezoidal`])
+//! are second order, both schemes, and not coherent.
 //!
 //! # Public API
 //!
@@ -65,6 +67,7 @@ mod error;
 mod fft_operator;
 mod gauss_legendre;
 mod grid;
+mod interval;
 mod lagrangian;
 mod linalg;
 mod ode;

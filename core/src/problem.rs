@@ -356,7 +356,8 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
         self.discretisation.residual(scheme, q)
     }
 
-    /// The discrete action `S_h(Q) = h Σ_{k∈I_σ} L(Q_k, V_k, t_k)`.
+    /// The discrete action `S_h(Q) = h Σ_{k∈I_σ} L(Q_k, V_k, t_k)`; for the midpoint and
+    /// trapezoidal embeddings `Σ_{k=1}^{N} L_d(Q_{k−1}, Q_k)` (docs/schemes.md).
     ///
     /// # Example
     ///
@@ -375,7 +376,9 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
 
     /// `E_k = V_k·∂L/∂v(Q_k, V_k, t_k) − L(Q_k, V_k, t_k)` on the quadrature rows `k ∈ I_σ`,
     /// each paired with its node index `k`, `V` being the discrete velocity of
-    /// [`quadrature_velocities`](Self::quadrature_velocities). The energy of a solution at all
+    /// [`quadrature_velocities`](Self::quadrature_velocities); for the midpoint and trapezoidal
+    /// embeddings, per interval `k = 1..=N`, where their `L_d` evaluates `L`: at
+    /// `((Q_{k−1} + Q_k)/2, V_k, t_k − h/2)`, or the mean of the values at both ends. The energy of a solution at all
     /// its nodes is [`Solution::node_values`](crate::Solution::node_values).
     ///
     /// # Example

@@ -46,7 +46,26 @@
 //! constant `M` the variational backward step is closed-form too, and the direct backward step
 //! only when `U` is quadratic (`L_xx = −U″` must be constant). [`Update::plan`] decides this once per run, and when the blocks in `J` are
 //! constants it inverts `J` once for the whole run.
+//!
+//! # The symmetric embeddings
+//!
+//! The midpoint and trapezoidal schemes are three-point recurrences of the same shape, written
+//! with the interval momentum `P` and forces `F_u`, `F_w` of the interval module
+//! (`D₁L_d = h/2 F_u − P`, `D₂L_d = h/2 F_w + P`), `[a, b]` and `[b, y]` the two intervals:
+//!
+//! | [`StepKind`] | momentum `π` from `(a, b)` | equation `G(y) = π` |
+//! | --- | --- | --- |
+//! | `MidpointVariational`, `TrapezoidalVariational` | `D₂L_d(a, b) = (P + h/2 F_w)[a, b]` | `−D₁L_d(b, y) = (P − h/2 F_u)[b, y]` |
+//! | `MidpointDirect`, `TrapezoidalDirect` | `P[a, b]` | `P[b, y] − h f(b, (y − a)/(2h), t_b)` |
+//!
+//! (the discrete Euler–Lagrange equation, and the direct row of docs/schemes.md, times `−h`).
+//! The direct equation reads the oldest node `a` as well, through the centred velocity: a
+//! [`Step`] carries it. Their Jacobians are `∂P/∂y − h/2 ∂F_u/∂y` and `∂P/∂y − L_xv/2` (the
+//! last block at the node with the centred velocity). These steps always run Newton's method
+//! (from the linear extrapolation `2b − a`); on `L = ½|v|² − U(x)` the trapezoidal ones are
+//! affine, and Newton stops after one iteration.
 
+use crate::interval::{Interval, Rule, node_force};
 use crate::lagrangian::{Dependence, Hessian, HessianDependence, Lagrangian, Matrix, Vector};
 use crate::linalg::solve_small;
 
@@ -61,16 +80,55 @@ pub enum StepKind {
     DirectBackward,
     /// Direct embedding of Gauss-FDE+ (σ = +).
     DirectForward,
+    /// Variational integrator of the midpoint embedding.
+    MidpointVariational,
+    /// Direct scheme of the midpoint embedding.
+    MidpointDirect,
+    /// Variational integrator of the trapezoidal embedding.
+    TrapezoidalVariational,
+    /// Direct scheme of the trapezoidal embedding.
+    TrapezoidalDirect,
 }
 
 impl StepKind {
-    /// The four kinds, in declaration order.
-    pub const ALL: [StepKind; 4] = [
+    /// The four kinds of the Gauss-FDEσ schemes, in declaration order.
+    pub const FINITE_DIFFERENCE: [StepKind; 4] = [
         StepKind::VariationalBackward,
         StepKind::VariationalForward,
         StepKind::DirectBackward,
         StepKind::DirectForward,
     ];
+    /// The four kinds of the symmetric embeddings, in declaration order.
+    pub const SYMMETRIC: [StepKind; 4] = [
+        StepKind::MidpointVariational,
+        StepKind::MidpointDirect,
+        StepKind::TrapezoidalVariational,
+        StepKind::TrapezoidalDirect,
+    ];
+    /// Every kind, in declaration order.
+    pub const ALL: [StepKind; 8] = [
+        StepKind::VariationalBackward,
+        StepKind::VariationalForward,
+        StepKind::DirectBackward,
+        StepKind::DirectForward,
+        StepKind::MidpointVariational,
+        StepKind::MidpointDirect,
+        StepKind::TrapezoidalVariational,
+        StepKind::TrapezoidalDirect,
+    ];
+
+    /// The discrete Lagrangian of a symmetric kind and whether its scheme is the variational
+    /// one; `None` for the Gauss-FDEσ kinds.
+    #[inline(always)]
+    pub(crate) fn symmetric(self) -> Option<(Rule, bool)> {
+        match self {
+            StepKind::MidpointVariational => Some((Rule::Midpoint, true)),
+            StepKind::MidpointDirect => Some((Rule::Midpoint, false)),
+            StepKind::TrapezoidalVariational => Some((Rule::Trapezoidal, true)),
+            StepKind::TrapezoidalDirect => Some((Rule::Trapezoidal, false)),
+            _ => None,
+        }
+    }
 
     /// Whether the momentum and the step equation are evaluated `@right` (σ = −) rather than
     /// `@left` (σ = +).
@@ -132,12 +190,15 @@ impl StepTimes {
     }
 }
 
-/// One step's equation `G(y) = π` for the newest node: its kind, the previous node
-/// `b = Q_{n−1}`, the momentum `π` and the grid data.
+/// One step's equation `G(y) = π` for the newest node: its kind, the two previous nodes, the
+/// momentum `π` and the grid data.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Step<const D: usize> {
     /// Which scheme.
     pub kind: StepKind,
+    /// The oldest node `Q_{n−2}`: read only by the direct steps of the symmetric embeddings
+    /// (their force takes the centred velocity `(y − a)/(2h)`).
+    pub a: Vector<D>,
     /// The previous node `Q_{n−1}`.
     pub b: Vector<D>,
     /// The momentum `π` the step must reproduce.
@@ -158,6 +219,7 @@ impl<const D: usize> Step<D> {
     ) -> Self {
         Step {
             kind,
+            a: *a,
             b: *b,
             momentum: momentum(lagrangian, kind, a, b, times),
             times: *times,
@@ -182,6 +244,21 @@ pub fn momentum<const D: usize, L: Lagrangian<D> + ?Sized>(
     b: &Vector<D>,
     times: &StepTimes,
 ) -> Vector<D> {
+    if let Some((rule, variational)) = kind.symmetric() {
+        let interval = Interval {
+            u: *a,
+            w: *b,
+            t_u: times.t_a,
+            t_w: times.t_b,
+            h: times.h,
+        };
+        let g = interval.gradient(lagrangian, rule);
+        return if variational {
+            g.momentum + g.force_right * (0.5 * times.h)
+        } else {
+            g.momentum
+        };
+    }
     let v = (b - a) * times.inv_h;
     let (x, t) = if kind.at_right() {
         (b, times.t_b)
@@ -191,16 +268,17 @@ pub fn momentum<const D: usize, L: Lagrangian<D> + ?Sized>(
     let (f, p) = lagrangian.gradient(x, &v, t);
     match kind {
         StepKind::VariationalBackward | StepKind::DirectForward => p + f * times.h,
-        StepKind::VariationalForward | StepKind::DirectBackward => p,
+        _ => p,
     }
 }
 
 /// `G` from the gradient at its evaluation point: `p` or `p − h f`.
+/// Only the Gauss-FDEσ kinds reach it (the symmetric steps are never planned in closed form).
 #[inline(always)]
 fn equation<const D: usize>(kind: StepKind, f: Vector<D>, p: Vector<D>, h: f64) -> Vector<D> {
     match kind {
         StepKind::VariationalBackward | StepKind::DirectForward => p,
-        StepKind::VariationalForward | StepKind::DirectBackward => p - f * h,
+        _ => p - f * h,
     }
 }
 
@@ -215,7 +293,8 @@ fn scaled_jacobian<const D: usize>(kind: StepKind, hs: &Hessian<D>, h: f64) -> M
         StepKind::VariationalBackward => hs.xv.transpose() * h + hs.vv,
         StepKind::VariationalForward => hs.vv - hs.xv * h,
         StepKind::DirectBackward => hs.xv.transpose() * h + hs.vv - hs.xx * (h * h) - hs.xv * h,
-        StepKind::DirectForward => hs.vv,
+        // The Gauss-FDEσ kinds only: the symmetric steps are never planned in closed form.
+        _ => hs.vv,
     }
 }
 
@@ -228,6 +307,9 @@ pub fn residual<const D: usize, L: Lagrangian<D> + ?Sized>(
     step: &Step<D>,
     y: &Vector<D>,
 ) -> (Vector<D>, Matrix<D>) {
+    if let Some((rule, variational)) = step.kind.symmetric() {
+        return symmetric_residual(lagrangian, step, y, rule, variational);
+    }
     let StepTimes { h, inv_h, .. } = step.times;
     let v = (y - step.b) * inv_h;
     let (x, t) = step.equation_point(y);
@@ -238,8 +320,41 @@ pub fn residual<const D: usize, L: Lagrangian<D> + ?Sized>(
     )
 }
 
+/// [`residual`] for the symmetric kinds (the table "The symmetric embeddings" of the module
+/// docs).
+#[inline]
+fn symmetric_residual<const D: usize, L: Lagrangian<D> + ?Sized>(
+    lagrangian: &L,
+    step: &Step<D>,
+    y: &Vector<D>,
+    rule: Rule,
+    variational: bool,
+) -> (Vector<D>, Matrix<D>) {
+    let StepTimes { h, t_b, t_y, .. } = step.times;
+    let interval = Interval {
+        u: step.b,
+        w: *y,
+        t_u: t_b,
+        t_w: t_y,
+        h,
+    };
+    let (g, jac) = interval.gradient_and_jacobian(lagrangian, rule);
+    if variational {
+        (
+            g.momentum - g.force_left * (0.5 * h) - step.momentum,
+            jac.momentum[1] - jac.force_left[1] * (0.5 * h),
+        )
+    } else {
+        let (f, hs) = node_force(lagrangian, &step.a, &step.b, y, t_b, h);
+        (
+            g.momentum - f * h - step.momentum,
+            jac.momentum[1] - hs.xv * 0.5,
+        )
+    }
+}
+
 /// Whether the step equation of `kind` is affine in the newest node (third table of the
-/// module docs).
+/// module docs). The symmetric kinds are never planned in closed form: `false`.
 pub fn is_affine(kind: StepKind, dependence: &HessianDependence) -> bool {
     let HessianDependence { xx, xv, vv } = *dependence;
     let on_x_or_v = |d: Dependence| d.x || d.v;
@@ -248,6 +363,10 @@ pub fn is_affine(kind: StepKind, dependence: &HessianDependence) -> bool {
         StepKind::VariationalForward => !xv.v && !vv.v,
         StepKind::DirectBackward => !on_x_or_v(xx) && !on_x_or_v(xv) && !on_x_or_v(vv),
         StepKind::DirectForward => !vv.v,
+        StepKind::MidpointVariational
+        | StepKind::MidpointDirect
+        | StepKind::TrapezoidalVariational
+        | StepKind::TrapezoidalDirect => false,
     }
 }
 
@@ -260,6 +379,8 @@ fn jacobian_is_constant(kind: StepKind, dependence: &HessianDependence) -> bool 
         StepKind::VariationalBackward | StepKind::VariationalForward => xv == none && vv == none,
         StepKind::DirectBackward => xx == none && xv == none && vv == none,
         StepKind::DirectForward => vv == none,
+        // Never affine (`is_affine`), so never asked.
+        _ => false,
     }
 }
 

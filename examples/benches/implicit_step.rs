@@ -36,18 +36,9 @@ fn num_dual_all_in_one(
     )
 }
 
-/// Unequal arms, so that the derivatives are not sums of exact small integers and the two
-/// models' agreement below is a real check.
-const PARAMS: DoublePendulum = DoublePendulum {
-    m1: 1.2,
-    m2: 0.7,
-    l1: 1.1,
-    l2: 0.8,
-    g: 9.81,
-};
-/// Both arms raised past horizontal and thrown: the chaotic regime.
-const Q0: [f64; 2] = [2.0, 2.5];
-const V0: [f64; 2] = [1.0, -1.5];
+const PARAMS: DoublePendulum = varembed_tests::bench::DOUBLE_PENDULUM;
+const Q0: [f64; 2] = varembed_tests::bench::DOUBLE_PENDULUM_START.0;
+const V0: [f64; 2] = varembed_tests::bench::DOUBLE_PENDULUM_START.1;
 const STEPS: usize = 1000;
 /// `h = 1e-3`, as in the hard case `double_pendulum_chaotic_million_implicit_steps`.
 const T_END: f64 = 1.0;

@@ -12,6 +12,8 @@
 
 use std::time::Duration;
 
+use crate::models::generated::DoublePendulum;
+
 /// The criterion crate, so that [`bench_main!`](crate::bench_main) can name it from a bench
 /// crate that does not depend on it directly.
 pub use criterion;
@@ -46,3 +48,16 @@ macro_rules! bench_main {
         $crate::bench::criterion::criterion_main!(benches);
     };
 }
+
+/// The double pendulum of the implicit-step benches: unequal arms, so that the derivatives are
+/// not sums of exact small integers and agreement between two evaluations is a real check.
+pub const DOUBLE_PENDULUM: DoublePendulum = DoublePendulum {
+    m1: 1.2,
+    m2: 0.7,
+    l1: 1.1,
+    l2: 0.8,
+    g: 9.81,
+};
+/// Its initial angles and angular velocities: both arms raised past horizontal and thrown, the
+/// chaotic regime.
+pub const DOUBLE_PENDULUM_START: ([f64; 2], [f64; 2]) = ([2.0, 2.5], [1.0, -1.5]);

@@ -12,7 +12,7 @@ use varembed_tests::models::generated::{DoublePendulum, Pendulum};
 use varembed_tests::models::hand::{DeclaredDoublePendulum, DeclaredPendulum, SEPARABLE};
 use varembed_tests::rng::Rng;
 
-const KINDS: [StepKind; 4] = StepKind::ALL;
+const KINDS: [StepKind; 8] = StepKind::ALL;
 
 /// A block that depends on `t` only.
 const ON_T: Dependence = Dependence {

@@ -48,11 +48,17 @@ fn node_errors(nodes: &NodeValues<1>) -> NodeErrors {
 #[test]
 fn node_velocities_and_momenta_converge_at_their_documented_order() {
     let n0 = 200;
-    for side in [Side::Backward, Side::Forward] {
-        for embedding in [
-            Embedding::finite_difference(side),
-            Embedding::asymmetric(side),
-        ] {
+    let embeddings = [Side::Backward, Side::Forward]
+        .into_iter()
+        .flat_map(|side| {
+            [
+                Embedding::finite_difference(side),
+                Embedding::asymmetric(side),
+            ]
+        })
+        .chain([Embedding::midpoint(), Embedding::trapezoidal()]);
+    for embedding in embeddings {
+        {
             for scheme in [Scheme::Direct, Scheme::Variational] {
                 for start in [Start::Legendre, Start::SecondOrder] {
                     let label = format!("{scheme} {embedding}, {start:?} start");
@@ -73,7 +79,9 @@ fn node_velocities_and_momenta_converge_at_their_documented_order() {
                         })
                         .collect();
                     let order = runs[0].2;
-                    assert_eq!(order, 1, "{label}");
+                    // First order for Gauss-FDEσ, second for the symmetric embeddings: the
+                    // order of the scheme itself.
+                    assert_eq!(Some(order), embedding.order(scheme), "{label}");
                     let (coarse, fine) = (&runs[1], &runs[2]);
                     for (i, what) in ["every node", "t_0", "t_N"].into_iter().enumerate() {
                         let orders = [
@@ -85,8 +93,16 @@ fn node_velocities_and_momenta_converge_at_their_documented_order() {
                             // A start that gives v(a) exactly makes the error at t_0 far
                             // smaller than O(h): there it is only bounded.
                             let exact_start = what == "t_0" && e_fine < 1e-3 * runs[0].1.v[0];
+                            // Second-order rules may do better at an end node (the centred
+                            // end formulas meet the second-order start there): at least the
+                            // documented order, at most one more.
+                            let order = order as f64;
+                            let within = (observed - order).abs() < 0.1
+                                || (order >= 2.0
+                                    && observed > order - 0.1
+                                    && observed < order + 1.0);
                             assert!(
-                                (observed - order as f64).abs() < 0.1 || exact_start,
+                                within || exact_start,
                                 "{label}: {name} at {what}: observed order {observed}"
                             );
                         }

@@ -7,10 +7,11 @@ use crate::solve::solution::Warning;
 use std::fmt;
 
 /// The column headers, in order.
-const COLUMNS: [&str; 7] = [
+const COLUMNS: [&str; 8] = [
     "scheme",
     "max error",
     "order",
+    "theory",
     "max |ΔE|",
     "other's resid.",
     "Newton",
@@ -22,13 +23,14 @@ fn mark(status: Option<OrderStatus>) -> &'static str {
     status.map_or("", OrderStatus::mark)
 }
 
-fn cells<const D: usize>(name: &str, r: &SchemeReport<D>) -> [String; 7] {
+fn cells<const D: usize>(name: &str, r: &SchemeReport<D>) -> [String; 8] {
     let dash = || "—".to_string();
     [
         name.to_string(),
         r.error.map_or_else(dash, |e| format!("{e:.3e}")),
         r.order
             .map_or_else(dash, |o| format!("{o:.2}{}", mark(r.order_status))),
+        r.theoretical_order.map_or_else(dash, |o| o.to_string()),
         r.energy_deviation.map_or_else(dash, |e| format!("{e:.3e}")),
         format!("{:.3e}", r.residual_of_other),
         r.solution.newton_iterations.to_string(),
@@ -108,7 +110,8 @@ impl<const D: usize> Comparison<D> {
         );
         let energy = match self.energy_not_conserved {
             None => "max_k |E_k − E_first| of the discrete energy E_k = V_k·∂L/∂v − L on the \
-                     quadrature nodes: L is autonomous and the embedding classical, so the flow \
+                     quadrature nodes (per interval for the midpoint and trapezoidal \
+                     embeddings): L is autonomous and the embedding classical, so the flow \
                      conserves E and the drift is the scheme's"
                 .to_string(),
             Some(reason) => format!("— : {reason}, so its drift would measure nothing"),
@@ -122,20 +125,30 @@ impl<const D: usize> Comparison<D> {
             ),
             (COLUMNS[1], error),
             (COLUMNS[2], order),
-            (COLUMNS[3], energy),
             (
-                COLUMNS[4],
+                COLUMNS[3],
+                "the scheme's order on a smooth solution of a general Lagrangian \
+                 (Embedding::order): 2 for the midpoint and trapezoidal embeddings, 1 for the \
+                 others. The variational recurrence of Gauss-FDEσ (and of its asymmetric form) \
+                 is Störmer–Verlet on L = ½vᵀMv − U(x) with a constant M, second order there as \
+                 a boundary value problem or from the second-order start; — : Gauss-GLEσ with \
+                 α < 1, whose order depends on the data"
+                    .to_string(),
+            ),
+            (COLUMNS[4], energy),
+            (
+                COLUMNS[5],
                 "max-norm of the other scheme's residual on this scheme's solution: zero to \
                  round-off exactly when the embedding is coherent"
                     .to_string(),
             ),
             (
-                COLUMNS[5],
+                COLUMNS[6],
                 "Newton iterations: summed over the steps (initial value problem) or of the \
                  global system (boundary value problem)"
                     .to_string(),
             ),
-            (COLUMNS[6], format!("wall time of the solve on N = {n}")),
+            (COLUMNS[7], format!("wall time of the solve on N = {n}")),
         ]
     }
 
@@ -161,7 +174,7 @@ impl<const D: usize> Comparison<D> {
         let mut md = format!("{}\n\n", self.heading());
         let header: Vec<String> = COLUMNS.iter().map(|c| c.to_string()).collect();
         md += &row(&header);
-        md += "| --- | ---: | ---: | ---: | ---: | ---: | ---: |\n";
+        md += "| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n";
         md += &row(&cells("direct", &self.direct));
         md += &row(&cells("variational", &self.variational));
         md += &format!(
@@ -193,11 +206,11 @@ impl<const D: usize> Comparison<D> {
 impl<const D: usize> fmt::Display for Comparison<D> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "{}", self.heading())?;
-        let line = |f: &mut fmt::Formatter<'_>, c: &[String; 7]| {
+        let line = |f: &mut fmt::Formatter<'_>, c: &[String; 8]| {
             writeln!(
                 f,
-                "  {:<12} {:>11} {:>7} {:>11} {:>15} {:>8} {:>11}",
-                c[0], c[1], c[2], c[3], c[4], c[5], c[6]
+                "  {:<12} {:>11} {:>7} {:>6} {:>11} {:>15} {:>8} {:>11}",
+                c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]
             )
         };
         line(f, &COLUMNS.map(str::to_string))?;

@@ -42,7 +42,7 @@ use crate::linalg::solve_dense_in_place;
 use crate::options::NewtonOptions;
 use crate::regularity::{check_initial_data, check_vv, pivot_range};
 use crate::side::Side;
-use crate::solve::guard::BlowUpGuard;
+use crate::solve::guard::{BlowUpGuard, EnergyPoint};
 use crate::solve::newton::at_round_off;
 use crate::solve::solution::Solution;
 
@@ -80,7 +80,13 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GaussIvp<'_, L, D> {
         let reference = pivot_range(&hs.vv).map_or(0.0, |(_, hi)| hi);
         let n_steps = grid.n();
         let mut stages = StageSystem::new(GaussTableau::new(self.stages), grid.h(), v0);
-        let mut guard = BlowUpGuard::new(l, Side::Backward, false, n_steps, self.blow_up_guard);
+        let mut guard = BlowUpGuard::new(
+            l,
+            EnergyPoint::Node(Side::Backward), // unread: the stages are sampled by `sample_state`
+            false,
+            n_steps,
+            self.blow_up_guard,
+        );
         let stride = guard.stride();
         let (mut q, mut p) = (
             Vec::with_capacity(n_steps + 1),

@@ -16,7 +16,9 @@
 //! Every `s`-th step (`s` = the largest power of two ≤ `N/1024`, clamped to `1..=64`, so that
 //! short runs still get samples and long ones pay for one energy evaluation in 64 steps) the
 //! guard evaluates `E_j` and `K_j = |v·∂L/∂v|` at the quadrature node of the step just taken
-//! (`(Q_{n−1}, (Q_{n−1} − Q_{n−2})/h)` for σ = −, `(Q_{n−2}, …)` for σ = +; the Gauss–Legendre
+//! (`(Q_{n−1}, (Q_{n−1} − Q_{n−2})/h)` for σ = −, `(Q_{n−2}, …)` for σ = +; for the symmetric
+//! embeddings where their discrete Lagrangian evaluates `L` on the interval
+//! `[Q_{n−2}, Q_{n−1}]`: at its midpoint, or the mean of its two ends; the Gauss–Legendre
 //! integrators, which have no velocity at the nodes, at the first stage `(Q_1, V_1)` of the
 //! step, a point of the step's collocation polynomial). The gain of a
 //! sample is `g_j = (E_j − E_0) · sign(v·∂L/∂v)`: the growth of energy in the direction of the
@@ -44,6 +46,12 @@
 //! a steady drift passes until it has compounded to about `e⁴` (where `eˣ − 1 = 16x`), and
 //! growth faster than the early run's by a factor 16 is flagged.
 //!
+//! Where the energy is sampled matters for the midpoint scheme: it is A-stable, and at `ωh ≫ 1`
+//! the energy at a node with the interval's velocity swings by a relative `O(1/(ωh)²)` over a
+//! beat of the nodes, which a short early window does not see; its energy at the interval's
+//! midpoint is exactly conserved on a linear system (the Cayley transform is an isometry of the
+//! energy norm, and the midpoint is the mean of two points of one orbit).
+//!
 //! Non-autonomous Lagrangians (`dependence().t`) are not guarded: their energy is not
 //! conserved, and growth of the energy, of `‖Q‖` or of the momenta is what a driven
 //! oscillator at resonance or a parametrically excited one (Mathieu) does physically. No
@@ -52,8 +60,18 @@
 //! [`Error::NotFinite`] still apply to them.
 
 use crate::error::{Error, Result};
+use crate::interval::Rule;
 use crate::lagrangian::{Lagrangian, Vector};
 use crate::side::Side;
+
+/// Where the guard evaluates the energy of the step from `a = Q_{n−2}`, `b = Q_{n−1}`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum EnergyPoint {
+    /// At the quadrature node of side σ: `b` for σ = −, `a` for σ = +.
+    Node(Side),
+    /// Where the symmetric discrete Lagrangian evaluates `L` on `[a, b]`.
+    Interval(Rule),
+}
 
 /// Samples per window.
 pub(crate) const WINDOW: usize = 16;
@@ -70,7 +88,7 @@ pub(crate) struct BlowUpGuard {
     /// Whether the scheme drifts by design (the direct schemes): the early gain is then
     /// extrapolated linearly in the number of steps.
     drifts: bool,
-    side: Side,
+    at: EnergyPoint,
     /// The step of the first sample.
     first: usize,
     stride: usize,
@@ -88,11 +106,11 @@ pub(crate) struct BlowUpGuard {
 }
 
 impl BlowUpGuard {
-    /// The guard of a run of `n_steps` steps of `lagrangian` on `side`; `enabled` off (or a
-    /// Lagrangian that depends on `t`) makes every sample a no-op.
+    /// The guard of a run of `n_steps` steps of `lagrangian`, sampling the energy `at`;
+    /// `enabled` off (or a Lagrangian that depends on `t`) makes every sample a no-op.
     pub(crate) fn new<L: Lagrangian<D> + ?Sized, const D: usize>(
         lagrangian: &L,
-        side: Side,
+        at: EnergyPoint,
         drifts: bool,
         n_steps: usize,
         enabled: bool,
@@ -101,7 +119,7 @@ impl BlowUpGuard {
         BlowUpGuard {
             enabled: enabled && !lagrangian.dependence().t,
             drifts,
-            side,
+            at,
             first: 0,
             stride: 1 << stride.ilog2(),
             e0: 0.0,
@@ -138,11 +156,26 @@ impl BlowUpGuard {
             return Ok(());
         }
         let v = (b - a) * inv_h;
-        let (x, t) = match self.side {
-            Side::Backward => (&b, t_b),
-            Side::Forward => (&a, t_a),
+        // (x, t, weight) of each point where L is evaluated.
+        let points = match self.at {
+            EnergyPoint::Node(Side::Backward) => [(b, t_b, 1.0), (b, t_b, 0.0)],
+            EnergyPoint::Node(Side::Forward) => [(a, t_a, 1.0), (a, t_a, 0.0)],
+            EnergyPoint::Interval(Rule::Midpoint) => {
+                let m = ((a + b) * 0.5, 0.5 * (t_a + t_b), 1.0);
+                [m, (a, t_a, 0.0)]
+            }
+            EnergyPoint::Interval(Rule::Trapezoidal) => [(a, t_a, 0.5), (b, t_b, 0.5)],
         };
-        self.sample_state(lagrangian, x, &v, t, x.amax() * inv_h, n)
+        let (mut vp, mut e, mut scale) = (0.0, 0.0, 0.0f64);
+        for (x, t, weight) in points.iter().filter(|point| point.2 > 0.0) {
+            let (_, p) = lagrangian.gradient(x, &v, *t);
+            let vp_here = v.dot(&p);
+            let e_here = vp_here - lagrangian.value(x, &v, *t);
+            vp += weight * vp_here;
+            e += weight * e_here;
+            scale = scale.max(e_here.abs() + x.amax() * p.amax() * inv_h);
+        }
+        self.record(e, vp, scale, n)
     }
 
     /// Samples the energy at the state `(x, v, t)` at step `n`: what a one-step integrator
@@ -166,6 +199,12 @@ impl BlowUpGuard {
         let (_, p) = lagrangian.gradient(x, v, t);
         let vp = v.dot(&p);
         let e = vp - lagrangian.value(x, v, t);
+        self.record(e, vp, e.abs() + cancellation * p.amax(), n)
+    }
+
+    /// Records a sample: the energy `e`, `v·∂L/∂v = vp` and the round-off scale of `e`, at
+    /// step `n`; a window that ends here is checked.
+    fn record(&mut self, e: f64, vp: f64, scale: f64, n: usize) -> Result<()> {
         // A sample outside the Lagrangian's domain gives no verdict; the step itself reports it.
         if !e.is_finite() {
             return Ok(());
@@ -177,7 +216,6 @@ impl BlowUpGuard {
         }
         self.samples += 1;
         self.kinetic = self.kinetic.max(vp.abs());
-        let scale = e.abs() + cancellation * p.amax();
         self.round_off = self.round_off.max(1024.0 * f64::EPSILON * scale);
         let gain = (e - self.e0) * vp.signum();
         let (from, _, largest, count) = self.window;

@@ -5,10 +5,6 @@
 //! this module drives it: the two starts, the loop over the grid, the stability guard and the
 //! errors with their step index.
 
-use nalgebra::allocator::Allocator;
-use nalgebra::linalg::Schur;
-use nalgebra::{Complex, DefaultAllocator, DimDiff, DimSub, OMatrix, U1};
-
 use crate::discretisation::Discretisation;
 use crate::embedding::{Embedding, EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
@@ -21,9 +17,10 @@ use crate::regularity::{
 };
 use crate::side::Side;
 use crate::solve::gauss::GaussIvp;
-use crate::solve::guard::BlowUpGuard;
+use crate::solve::guard::{BlowUpGuard, EnergyPoint};
 use crate::solve::newton::newton_step;
 use crate::solve::solution::Solution;
+use crate::solve::stability::{Verdict, step_map_verdict};
 use crate::solve::start::Start;
 use crate::step::{Step, StepKind, StepTimes, Update};
 
@@ -55,10 +52,17 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
     /// The asymmetric Gauss-FDEσ is coherent: its direct scheme *is* the variational
     /// recurrence, so both schemes step with the variational kernel. Gauss-GLEσ has no
     /// three-point recurrence (every node talks to every other) and gives
-    /// [`Error::Unsupported`]: solve it as a boundary value problem.
+    /// [`Error::Unsupported`]: solve it as a boundary value problem. The symmetric embeddings
+    /// step with kernels of their own.
     pub(crate) fn step_kind(&self, scheme: Scheme) -> Result<StepKind> {
         let side = self.embedding.side();
         match (self.embedding.kind(), scheme, side) {
+            (EmbeddingKind::Midpoint, Scheme::Variational, _) => Ok(StepKind::MidpointVariational),
+            (EmbeddingKind::Midpoint, Scheme::Direct, _) => Ok(StepKind::MidpointDirect),
+            (EmbeddingKind::Trapezoidal, Scheme::Variational, _) => {
+                Ok(StepKind::TrapezoidalVariational)
+            }
+            (EmbeddingKind::Trapezoidal, Scheme::Direct, _) => Ok(StepKind::TrapezoidalDirect),
             (EmbeddingKind::GrunwaldLetnikov { .. }, _, _) => Err(Error::Unsupported {
                 operation: "an initial value problem",
                 embedding: self.embedding.to_string(),
@@ -85,15 +89,18 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
             self.step_kind(Scheme::Variational)?;
         }
         check_initial_data(self.lagrangian, &q0, &v0, self.grid.t(0))?;
-        let kind = match self.embedding.side() {
-            Side::Backward => StepKind::VariationalBackward,
-            Side::Forward => StepKind::VariationalForward,
+        let kind = match (self.embedding.kind(), self.embedding.side()) {
+            (EmbeddingKind::Midpoint, _) => StepKind::MidpointVariational,
+            (EmbeddingKind::Trapezoidal, _) => StepKind::TrapezoidalVariational,
+            (_, Side::Backward) => StepKind::VariationalBackward,
+            (_, Side::Forward) => StepKind::VariationalForward,
         };
         let (grid, h) = (&self.grid, self.grid.h());
         let (_, pi0) = self.lagrangian.gradient(&q0, &v0, grid.t(0));
         let times = StepTimes::new(h, grid.t(0) - h, grid.t(0), grid.t(1));
         let step = Step {
             kind,
+            a: q0 - v0 * h,
             b: q0,
             momentum: pi0,
             times,
@@ -199,6 +206,10 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
             VariationalForward => self.recurrence(VariationalForward, &mut q)?,
             DirectBackward => self.recurrence(DirectBackward, &mut q)?,
             DirectForward => self.recurrence(DirectForward, &mut q)?,
+            MidpointVariational => self.recurrence(MidpointVariational, &mut q)?,
+            MidpointDirect => self.recurrence(MidpointDirect, &mut q)?,
+            TrapezoidalVariational => self.recurrence(TrapezoidalVariational, &mut q)?,
+            TrapezoidalDirect => self.recurrence(TrapezoidalDirect, &mut q)?,
         };
         Ok(Solution {
             scheme,
@@ -314,10 +325,12 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
         let (h, inv_h) = (grid.h(), 1.0 / grid.h());
         let (mut a, mut b) = (q[0], q[1]);
         let (mut iterations, mut explicit_steps) = (0, 0);
-        let side = self.embedding.side();
+        let at = match kind.symmetric() {
+            Some((rule, _)) => EnergyPoint::Interval(rule),
+            None => EnergyPoint::Node(self.embedding.side()),
+        };
         let drifts = matches!(kind, StepKind::DirectBackward | StepKind::DirectForward);
-        let mut guard =
-            BlowUpGuard::new(self.lagrangian, side, drifts, n_steps, self.blow_up_guard);
+        let mut guard = BlowUpGuard::new(self.lagrangian, at, drifts, n_steps, self.blow_up_guard);
         // The run goes in stretches of `stride` steps: the guard's sample (and, every
         // STABILITY_CHECK_INTERVAL steps, a multiple of the stride, the stability and
         // degeneracy checks) runs between stretches, so the stepping loop itself tests nothing
@@ -388,6 +401,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
         let times = StepTimes::new(grid.h(), grid.t(n - 2), grid.t(n - 1), grid.t(n));
         let step = Step {
             kind,
+            a,
             b,
             momentum,
             times,
@@ -475,27 +489,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
         if !lower.iter().all(|m| m.iter().all(|x| x.is_finite())) {
             return Ok(());
         }
-        if near_identity(&lower[0], &lower[1], times.h) {
-            return Ok(());
-        }
-        let entry = |r: usize, c: usize| match (r < D, c < D) {
-            (true, _) => {
-                if c == D + r {
-                    1.0
-                } else {
-                    0.0
-                }
-            }
-            (false, true) => lower[0][(r - D, c)],
-            (false, false) => lower[1][(r - D, c - D)],
-        };
-        // The Schur form on the stack for d ≤ 2 (the models this crate is mostly run on): the
-        // same algorithm as on the heap, without its allocations.
-        let verdict = match D {
-            1 => first_unstable(nalgebra::Matrix2::from_fn(entry)),
-            2 => first_unstable(nalgebra::Matrix4::from_fn(entry)),
-            _ => first_unstable(nalgebra::DMatrix::from_fn(2 * D, 2 * D, entry)),
-        };
+        let verdict = step_map_verdict(&lower[0], &lower[1], times.h);
         match verdict {
             // The QR iteration did not converge; an overflow is still caught as NotFinite.
             Verdict::Undecided | Verdict::Stable => Ok(()),
@@ -515,56 +509,3 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
 /// instability that develops between two checks overflows to [`Error::NotFinite`] within a
 /// few hundred steps anyway.
 const STABILITY_CHECK_INTERVAL: usize = 1024;
-
-/// What the eigenvalues of the step map's Jacobian say about a step.
-#[derive(Clone, Copy, Debug, PartialEq)]
-enum Verdict {
-    /// No verdict: the real Schur form did not converge.
-    Undecided,
-    /// Every eigenvalue is acceptable.
-    Stable,
-    /// The first eigenvalue that marks the step as too large for the scheme.
-    Unstable(Complex<f64>),
-}
-
-/// Whether every eigenvalue of the step-map Jacobian `J = [[0, I], [A, B]]` provably lies in
-/// the disc `|λ − 1| ≤ ½`, where none can be flagged (`|λ| < 2`, `Re λ > 0`): the usual case
-/// of a resolved step, decided without the Schur form.
-///
-/// In the coordinates `(b, (b − a)/h)` the map's Jacobian is the similar matrix
-/// `M = [[A + B, −hA], [(A + B − I)/h, −A]]`, which is `I + O(ωh)` for a resolved step
-/// (for Störmer–Verlet, `A = −I`, `B = 2I − h²U″`), and every eigenvalue of `M` (so of `J`)
-/// lies within `‖M − I‖∞` of 1. The margin to the flagged region (½ in `Re λ`, ½ in `|λ|`)
-/// dwarfs any rounding; a step this test cannot clear goes to the Schur form as before.
-fn near_identity<const D: usize>(a: &Matrix<D>, b: &Matrix<D>, h: f64) -> bool {
-    let s = a + b - Matrix::<D>::identity(); // A + B − I
-    let a_plus_i = a + Matrix::<D>::identity(); // −(−A − I)
-    (0..D).all(|r| {
-        let row = |m: &Matrix<D>| m.row(r).iter().map(|x| x.abs()).sum::<f64>();
-        let top = row(&s) + h * row(a);
-        let bottom = row(&s) / h + row(&a_plus_i);
-        top.max(bottom) <= 0.5
-    })
-}
-
-/// The verdict of the eigenvalues of the step-map Jacobian `m` (see
-/// `Ivp::check_stability`).
-fn first_unstable<R>(m: OMatrix<f64, R, R>) -> Verdict
-where
-    R: DimSub<U1>,
-    DefaultAllocator:
-        Allocator<R, DimDiff<R, U1>> + Allocator<DimDiff<R, U1>> + Allocator<R, R> + Allocator<R>,
-{
-    let Some(schur) = Schur::try_new(m, f64::EPSILON, 10_000) else {
-        return Verdict::Undecided;
-    };
-    let eigenvalues = schur.complex_eigenvalues();
-    let unstable = eigenvalues.iter().copied().find(|lambda| {
-        let sawtooth = lambda.im.abs() <= 1e-6 * lambda.norm() && lambda.re < -1.0 - 1e-4;
-        sawtooth || lambda.norm() >= 2.0
-    });
-    unstable.map_or(Verdict::Stable, Verdict::Unstable)
-}
-
-#[cfg(test)]
-mod tests;

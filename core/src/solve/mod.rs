@@ -11,4 +11,5 @@ pub mod krylov;
 pub mod newton;
 pub mod nodes;
 pub mod solution;
+pub(crate) mod stability;
 pub mod start;

@@ -92,6 +92,12 @@ pub enum NodeFormula {
     /// integrators: `(q_k, p_k) ↦ (q_{k+1}, p_{k+1})`, both of order `2s`); the velocity `v_k`
     /// solves `∂L/∂v(Q_k, v_k, t_k) = p_k`, as for the discrete Legendre transforms.
     SchemeMomenta,
+    /// The centred velocity of the direct schemes of the symmetric embeddings (midpoint,
+    /// trapezoidal), the one their force is evaluated with: `v_k = (Q_{k+1} − Q_{k−1})/(2h)` at
+    /// the interior nodes and the second-order one-sided differences
+    /// `(−3Q_0 + 4Q_1 − Q_2)/(2h)`, `(3Q_N − 4Q_{N−1} + Q_{N−2})/(2h)` at the ends (for `N = 1`,
+    /// the one difference quotient); `p_k = ∂L/∂v(Q_k, v_k, t_k)`.
+    CentredVelocity,
     /// The direct scheme's own velocity operator: `v_k = V_k = −σ Δ_σ Q_k` on the rows `I_σ`
     /// and, at the one node outside them (`k = 0` for σ = −, `k = N` for σ = +), the same
     /// difference quotient as its neighbour row (`(Q_1 − Q_0)/h`, resp. `(Q_N − Q_{N−1})/h`);
@@ -104,6 +110,7 @@ impl fmt::Display for NodeRule {
         let formula = match self.formula {
             NodeFormula::DiscreteLegendre { .. } => "discrete Legendre transforms",
             NodeFormula::SchemeMomenta => "the scheme's own momenta",
+            NodeFormula::CentredVelocity => "the centred velocity",
             NodeFormula::VelocityOperator => "the scheme's velocity operator",
         };
         write!(f, "{formula}, order {}", self.order)
@@ -114,6 +121,10 @@ impl fmt::Display for NodeRule {
 const RIGHT_END: &[(f64, f64)] = &[(1.0, 1.0)];
 /// The rectangle rule at the step's left end, `L_d = h L(Q_k, V, t_k)` (σ = +).
 const LEFT_END: &[(f64, f64)] = &[(0.0, 1.0)];
+/// The midpoint rule, `L_d = h L((Q_k + Q_{k+1})/2, V, t_k + h/2)`.
+const MIDPOINT: &[(f64, f64)] = &[(0.5, 1.0)];
+/// The trapezoidal rule, `L_d = h/2 [L(Q_k, V, t_k) + L(Q_{k+1}, V, t_{k+1})]`.
+const TRAPEZOIDAL: &[(f64, f64)] = &[(0.0, 0.5), (1.0, 0.5)];
 
 /// How the velocities and momenta at the nodes of a solution of `scheme` under `embedding` are
 /// computed. Errors with [`Error::Unsupported`] for Gauss-GLEσ: the fractional velocity at the
@@ -144,6 +155,21 @@ pub(crate) fn rule(embedding: &Embedding, scheme: Scheme) -> Result<NodeRule> {
                 order: 1,
             })
         }
+        // Symmetric discrete Lagrangians: their Legendre transforms are second order.
+        (EmbeddingKind::Midpoint, Scheme::Variational) => Ok(NodeRule {
+            formula: NodeFormula::DiscreteLegendre { points: MIDPOINT },
+            order: 2,
+        }),
+        (EmbeddingKind::Trapezoidal, Scheme::Variational) => Ok(NodeRule {
+            formula: NodeFormula::DiscreteLegendre {
+                points: TRAPEZOIDAL,
+            },
+            order: 2,
+        }),
+        (EmbeddingKind::Midpoint | EmbeddingKind::Trapezoidal, Scheme::Direct) => Ok(NodeRule {
+            formula: NodeFormula::CentredVelocity,
+            order: 2,
+        }),
         // A one-step map of (q_k, p_k): its momenta are part of the solution, order 2s.
         (EmbeddingKind::GaussLegendre { stages }, Scheme::Variational) => Ok(NodeRule {
             formula: NodeFormula::SchemeMomenta,
@@ -278,6 +304,20 @@ impl<const D: usize> NodeValues<D> {
                     })
                     .collect::<Result<Vec<_>>>()?;
                 (v, momenta.to_vec())
+            }
+            NodeFormula::CentredVelocity => {
+                let v: Vec<Vector<D>> = (0..=n)
+                    .map(|k| match (k, n) {
+                        (_, 1) => steps[0],
+                        (0, _) => (q[1] * 4.0 - q[0] * 3.0 - q[2]) / (2.0 * h),
+                        (k, n) if k == n => (q[n] * 3.0 - q[n - 1] * 4.0 + q[n - 2]) / (2.0 * h),
+                        (k, _) => (q[k + 1] - q[k - 1]) / (2.0 * h),
+                    })
+                    .collect();
+                let p = (0..=n)
+                    .map(|k| lagrangian.gradient(&q[k], &v[k], t[k]).1)
+                    .collect();
+                (v, p)
             }
             NodeFormula::VelocityOperator => {
                 let v: Vec<Vector<D>> = (0..=n)

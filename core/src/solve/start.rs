@@ -28,8 +28,9 @@
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 pub enum Start {
     /// The discrete Legendre transform of the variational scheme
-    /// ([`Problem::legendre_start`](crate::Problem::legendre_start)): keeps the discrete momentum maps exact, positions first
-    /// order.
+    /// ([`Problem::legendre_start`](crate::Problem::legendre_start)): keeps the discrete
+    /// momentum maps exact. Positions first order under Gauss-FDEσ, second order under the
+    /// midpoint and trapezoidal embeddings (`p_0 = −D₁L_d(Q_0, Q_1)` of a symmetric `L_d`).
     #[default]
     Legendre,
     /// `Q_1 = Q_0 + h q̇(a) + ½h² q̈(a)` ([`Problem::second_order_start`](crate::Problem::second_order_start)): positions second

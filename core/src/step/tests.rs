@@ -31,6 +31,32 @@ fn by_the_table<const D: usize, L: Lagrangian<D>>(
         StepKind::VariationalForward => (left_ab.1, left_by.1 - left_by.0 * h),
         StepKind::DirectBackward => (right_ab.1, right_by.1 - right_by.0 * h),
         StepKind::DirectForward => (left_ab.1 + left_ab.0 * h, left_by.1),
+        // Midpoint: everything at the interval's midpoint and mid-time.
+        StepKind::MidpointVariational | StepKind::MidpointDirect => {
+            let mid_ab = lagrangian.gradient(&((a + b) / 2.0), &v_ab, (t_a + t_b) / 2.0);
+            let mid_by = lagrangian.gradient(&((b + y) / 2.0), &v_by, (t_b + t_y) / 2.0);
+            if kind == StepKind::MidpointVariational {
+                (
+                    mid_ab.1 + mid_ab.0 * (h / 2.0),
+                    mid_by.1 - mid_by.0 * (h / 2.0),
+                )
+            } else {
+                let node = lagrangian.gradient(&b, &((y - a) / (2.0 * h)), t_b);
+                (mid_ab.1, mid_by.1 - node.0 * h)
+            }
+        }
+        // Trapezoidal: the momentum averaged over both ends of the interval.
+        StepKind::TrapezoidalVariational => (
+            (left_ab.1 + right_ab.1) / 2.0 + right_ab.0 * (h / 2.0),
+            (left_by.1 + right_by.1) / 2.0 - left_by.0 * (h / 2.0),
+        ),
+        StepKind::TrapezoidalDirect => {
+            let node = lagrangian.gradient(&b, &((y - a) / (2.0 * h)), t_b);
+            (
+                (left_ab.1 + right_ab.1) / 2.0,
+                (left_by.1 + right_by.1) / 2.0 - node.0 * h,
+            )
+        }
     }
 }
 
@@ -217,6 +243,13 @@ fn affinity_follows_the_dependence_of_the_blocks() {
     let on = |x, v, t| Dependence { x, v, t };
     // Nothing known: every step runs Newton.
     assert!(affine_kinds(&HessianDependence::ALL).is_empty());
+    // The symmetric kinds always run Newton.
+    let constant = HessianDependence {
+        xx: none,
+        xv: none,
+        vv: none,
+    };
+    assert_eq!(affine_kinds(&constant), StepKind::FINITE_DIFFERENCE);
     // ½ vᵀMv − U(x): L_xx(x) is read at y only by the direct backward step.
     let separable = HessianDependence {
         xx: on(true, false, false),
@@ -234,7 +267,7 @@ fn affinity_follows_the_dependence_of_the_blocks() {
         xv: none,
         vv: on_t,
     };
-    assert_eq!(affine_kinds(&damped), StepKind::ALL);
+    assert_eq!(affine_kinds(&damped), StepKind::FINITE_DIFFERENCE);
     // ½ m(x) v² − U(x): L_xv = m'(x) v depends on v, which rules out the variational forward
     // step; L_vv read at b makes the direct forward one affine.
     let mass_of_x = HalfMassOfXVSquared.hessian_dependence();

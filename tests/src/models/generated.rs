@@ -40,3 +40,12 @@ pub fn double_pendulum(
     let potential = -(m1 + m2) * g * l1 * x[0].cos() - m2 * g * l2 * x[1].cos();
     kinetic - potential
 }
+
+/// A charged particle in the plane under a uniform magnetic field `b`, symmetric gauge:
+/// `L = ½|v|² + (b/2)(x₀v₁ − x₁v₀)`. Not separable (`∂²L/∂x∂v ≠ 0`); the motion is a circle of
+/// radius `|v|/|b|` about a fixed guiding centre `(x₀ + v₁/b, x₁ − v₀/b)`, run clockwise at the
+/// angular speed `b`.
+#[lagrangian]
+pub fn magnetic(x: [f64; 2], v: [f64; 2], b: f64) -> f64 {
+    0.5 * (v[0] * v[0] + v[1] * v[1]) + 0.5 * b * (x[0] * v[1] - x[1] * v[0])
+}
