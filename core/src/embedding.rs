@@ -303,6 +303,28 @@ impl Embedding {
         }
     }
 
+    /// The recommended embedding when nothing else is known about the problem: the
+    /// [`midpoint`](Self::midpoint) embedding, to be solved with [`Scheme::Variational`]. Its
+    /// variational scheme is second order on every smooth Lagrangian (separable or not),
+    /// symplectic (energy error bounded, no drift), keeps the momentum maps of the
+    /// Lagrangian's symmetries exactly (discrete Noether), has no stability limit on linear
+    /// oscillations (A-stable: any `ωh`), and solves both initial and boundary value problems,
+    /// at the price of one Newton solve of `d` unknowns per step. `docs/choosing.md` says when
+    /// another scheme is better (Störmer–Verlet for `½vᵀMv − U` with a constant `M`,
+    /// Gauss–Legendre for high accuracy, the direct schemes for stiff damping).
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Scheme};
+    /// let recommended = Embedding::recommended();
+    /// assert_eq!(recommended, Embedding::midpoint());
+    /// assert_eq!(recommended.order(Scheme::Variational), Some(2));
+    /// ```
+    pub fn recommended() -> Self {
+        Embedding::midpoint()
+    }
+
     /// The family.
     ///
     /// ```

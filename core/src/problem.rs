@@ -95,6 +95,40 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
         }
     }
 
+    /// The problem of `lagrangian` on `grid` under the [recommended
+    /// embedding](Embedding::recommended) (midpoint), to be solved with
+    /// [`Scheme::Variational`]: second order on every smooth Lagrangian, symplectic, no
+    /// stability limit on linear oscillations. What the other schemes are for is in
+    /// `docs/choosing.md`.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Grid, Problem, Scheme, lagrangian};
+    ///
+    /// /// A double pendulum: `L` couples `x` and `v`, so Gauss-FDEσ would be first order.
+    /// #[lagrangian]
+    /// fn double_pendulum(x: [f64; 2], v: [f64; 2]) -> f64 {
+    ///     v[0] * v[0] + 0.5 * v[1] * v[1] + v[0] * v[1] * (x[0] - x[1]).cos()
+    ///         + 2.0 * x[0].cos() + x[1].cos()
+    /// }
+    ///
+    /// let error = |n: usize| -> varembed::Result<f64> {
+    ///     let coarse = Problem::recommended(&DoublePendulum, Grid::new(0.0, 1.0, n)?)
+    ///         .solve_ivp(Scheme::Variational, [1.0, 0.5], [0.0, 0.0])?;
+    ///     let fine = Problem::recommended(&DoublePendulum, Grid::new(0.0, 1.0, 8 * n)?)
+    ///         .solve_ivp(Scheme::Variational, [1.0, 0.5], [0.0, 0.0])?;
+    ///     Ok((coarse.last() - fine.last()).amax())
+    /// };
+    /// // Second order: halving h divides the error by 4.
+    /// let ratio = error(50)? / error(100)?;
+    /// assert!((ratio - 4.0).abs() < 0.3, "{ratio}");
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn recommended(lagrangian: &'l L, grid: Grid) -> Self {
+        Problem::new(lagrangian, grid, Embedding::recommended())
+    }
+
     /// The same problem with other Newton options.
     ///
     /// # Example
