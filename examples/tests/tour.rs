@@ -206,12 +206,22 @@ fn report_orders_are_the_comparisons_orders_and_each_grid_is_solved_once() {
     }
     assert!(summary.contains("`*` is pre-asymptotic"), "{summary}");
 
-    // The ledger: three lines over four sizes, the FDE+ and asymmetric tables (two schemes on
-    // N and 2N each), and the direct scheme from the second-order start (N and 2N); nothing
-    // else, nothing twice.
+    // The ledger: every line over its sizes (the three Gauss-FDE− lines over the scene's four),
+    // the FDE+ and asymmetric tables (two schemes on N and 2N each), and the direct scheme from
+    // the second-order start (N and 2N); nothing else, nothing twice.
     let solves = cx.solves();
     assert_eq!(scene.sweep.count, 4);
-    assert_eq!(solves.len(), 3 * 4 + 2 * 2 * 2 + 2, "{solves:#?}");
+    let swept: usize = scene
+        .variants
+        .iter()
+        .map(|v| v.sizes(scene.sweep).count)
+        .sum();
+    assert_eq!(
+        swept,
+        3 * 4 + 6 * 3,
+        "three Gauss-FDE− lines, six higher-order"
+    );
+    assert_eq!(solves.len(), swept + 2 * 2 * 2 + 2, "{solves:#?}");
     let mut unique = solves.clone();
     unique.sort_by(|a, b| (&a.what, a.n).cmp(&(&b.what, b.n)));
     unique.dedup();
