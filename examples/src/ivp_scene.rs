@@ -45,7 +45,7 @@ impl Variant {
     }
 }
 
-/// The three lines every initial value scene sweeps, all under Gauss-FDE−: the direct scheme
+/// The three Gauss-FDE− lines every initial value scene sweeps: the direct scheme
 /// and the variational scheme with the discrete Legendre start (both the paper's schemes as
 /// stated), and the variational scheme with the second-order start (which lets the
 /// Störmer–Verlet recurrence of a separable `L` reach its order 2).

@@ -39,6 +39,24 @@ fn quick_tour_writes_a_complete_finite_report() {
         }
     }
 
+    // Every initial value scene's notes give its advice; the double pendulum's cost to 1e-8 is
+    // computable from the quick sweep too (extrapolated along the observed orders).
+    for scene in reports.iter().filter(|s| s.name != "fractional") {
+        let advice = scene
+            .notes
+            .iter()
+            .filter(|n| n.starts_with("Which scheme: "));
+        assert_eq!(advice.count(), 1, "{}: {:#?}", scene.name, scene.notes);
+    }
+    let double = reports.iter().find(|s| s.name == "double-pendulum");
+    let notes = &double.expect("the double pendulum").notes;
+    assert!(
+        notes.iter().any(|n| n.starts_with(
+            "Cost to reach max error 1e-8: the best Gauss-FDE− line, variational FDE−"
+        )),
+        "{notes:#?}"
+    );
+
     for scene in &reports {
         assert!(!scene.tables.is_empty(), "{}: no table", scene.name);
         for table in &scene.tables {

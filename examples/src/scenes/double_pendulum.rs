@@ -103,16 +103,17 @@ pub fn scene<'a>(
     }
 }
 
-/// The max error at which the cost of the best new line is set against today's best.
+/// The max error at which the cost of the best higher-order line is set against the best
+/// Gauss-FDE− line's.
 pub const TARGET: f64 = 1e-8;
 
-/// The note comparing the cost of reaching [`TARGET`]: the cheapest of `today`'s lines (the
+/// The note comparing the cost of reaching [`TARGET`]: the cheapest of the `fde` lines (the
 /// Gauss-FDE− schemes) against the cheapest of the `higher_order` lines, each measured where its
 /// sweep reached the target and extrapolated along its observed order where it did not.
-pub fn speed_up(today: &[SweepLine], higher_order: &[SweepLine]) -> String {
-    match (cheapest(today, TARGET), cheapest(higher_order, TARGET)) {
+pub fn speed_up(fde: &[SweepLine], higher_order: &[SweepLine]) -> String {
+    match (cheapest(fde, TARGET), cheapest(higher_order, TARGET)) {
         (Some(old), Some(new)) => format!(
-            "Cost to reach max error {TARGET:.0e}: the best of today's Gauss-FDE− lines, {}; the \
+            "Cost to reach max error {TARGET:.0e}: the best Gauss-FDE− line, {}; the \
              best higher-order line, {}. The higher-order line is {:.0}× faster ({:.0}× fewer \
              steps).",
             old.describe(),
@@ -121,8 +122,8 @@ pub fn speed_up(today: &[SweepLine], higher_order: &[SweepLine]) -> String {
             old.n / new.n
         ),
         (old, new) => format!(
-            "Cost to reach max error {TARGET:.0e}: not computable from this sweep (today's best: \
-             {}; higher-order best: {}).",
+            "Cost to reach max error {TARGET:.0e}: not computable from this sweep (best \
+             Gauss-FDE− line: {}; best higher-order line: {}).",
             old.map_or("none".to_string(), |c| c.describe()),
             new.map_or("none".to_string(), |c| c.describe())
         ),
@@ -132,8 +133,8 @@ pub fn speed_up(today: &[SweepLine], higher_order: &[SweepLine]) -> String {
 /// The scene, with the cost comparison at [`TARGET`] in its notes.
 pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
     let mut report = scene(cx, &reference()).run(cx)?;
-    let (today, higher_order) = report.sweep.split_at(standard_variants().len());
-    let note = speed_up(today, higher_order);
+    let (fde, higher_order) = report.sweep.split_at(standard_variants().len());
+    let note = speed_up(fde, higher_order);
     // Before the advice, which closes the notes.
     let at = report.notes.len().saturating_sub(1);
     report.notes.insert(at, note);
