@@ -226,7 +226,8 @@ fn report_orders_are_the_comparisons_orders_and_each_grid_is_solved_once() {
 
     // The ledger: every line over its sizes (the three Gauss-FDE− lines over the scene's four),
     // the FDE+ and asymmetric tables (two schemes on N and 2N each), and the direct scheme from
-    // the second-order start (N and 2N); nothing else, nothing twice.
+    // the second-order start (N and 2N); nothing else (the midpoint and trapezoidal tables are
+    // read off their sweep), nothing twice.
     let solves = cx.solves();
     assert_eq!(scene.sweep.count, 4);
     let swept: usize = scene

@@ -83,9 +83,14 @@ pub fn scene<'a>(
         reference,
         exact: false,
         table_n: cx.pick(8000, 1000),
-        table_embeddings: vec![Embedding::finite_difference(Side::Backward)],
+        table_embeddings: vec![
+            Embedding::finite_difference(Side::Backward),
+            Embedding::midpoint(),
+            Embedding::trapezoidal(),
+        ],
         sweep: doubling(cx.pick(2000, 1000), cx.pick(6, 4)),
         variants: all_variants(HigherOrderSweeps {
+            // Holds the tables' N and 2N: their midpoint and trapezoidal rows are read off it.
             second_order: doubling(1000, cx.pick(7, 3)),
             gauss2: doubling(125, cx.pick(5, 3)),
             gauss4: doubling(15, cx.pick(4, 3)),

@@ -59,10 +59,13 @@ pub fn scene<'a>(
             Embedding::finite_difference(Side::Backward),
             Embedding::finite_difference(Side::Forward),
             Embedding::asymmetric(Side::Backward),
+            Embedding::midpoint(),
+            Embedding::trapezoidal(),
         ],
         sweep: doubling(cx.pick(500, 100), cx.pick(7, 4)),
         variants: all_variants(HigherOrderSweeps {
-            second_order: doubling(cx.pick(200, 100), cx.pick(7, 3)),
+            // Holds the tables' N and 2N: their midpoint and trapezoidal rows are read off it.
+            second_order: doubling(cx.pick(250, 100), cx.pick(7, 3)),
             gauss2: doubling(25, cx.pick(8, 3)),
             gauss4: doubling(10, cx.pick(5, 3)),
         }),

@@ -97,11 +97,16 @@ pub fn scene<'a>(cx: &Context, reference: &'a ReferenceCurve<2>) -> IvpScene<'a,
         exact: false,
         // The direct scheme needs 16000 steps per orbit to pass the perihelion (see notes).
         table_n: TABLE_N,
-        table_embeddings: vec![Embedding::finite_difference(Side::Backward)],
+        table_embeddings: vec![
+            Embedding::finite_difference(Side::Backward),
+            Embedding::midpoint(),
+            Embedding::trapezoidal(),
+        ],
         // Up to 2·TABLE_N at least, so that the tables are read off the sweep.
         sweep: doubling(4000, cx.pick(6, 5)),
         variants: all_variants(HigherOrderSweeps {
-            second_order: doubling(4000, cx.pick(6, 3)),
+            // Holds the tables' N and 2N: their midpoint and trapezoidal rows are read off it.
+            second_order: doubling(4000, cx.pick(6, 5)),
             gauss2: doubling(1000, cx.pick(6, 3)),
             gauss4: doubling(250, cx.pick(4, 3)),
         }),

@@ -65,10 +65,15 @@ pub fn scene<'a>(cx: &Context, reference: &'a ReferenceCurve<1>) -> IvpScene<'a,
         reference,
         exact: false,
         table_n: cx.pick(4000, 400),
-        table_embeddings: vec![Embedding::finite_difference(Side::Backward)],
+        table_embeddings: vec![
+            Embedding::finite_difference(Side::Backward),
+            Embedding::midpoint(),
+            Embedding::trapezoidal(),
+        ],
         sweep: doubling(cx.pick(500, 200), cx.pick(7, 4)),
         variants: all_variants(HigherOrderSweeps {
-            second_order: doubling(cx.pick(200, 100), cx.pick(7, 3)),
+            // Holds the tables' N and 2N: their midpoint and trapezoidal rows are read off it.
+            second_order: doubling(cx.pick(250, 100), cx.pick(7, 4)),
             gauss2: doubling(25, cx.pick(8, 3)),
             gauss4: doubling(15, cx.pick(4, 3)),
         }),
