@@ -42,6 +42,24 @@ const PALETTE: [RGBColor; 11] = [
     RGBColor(188, 189, 34),
 ];
 
+#[cfg(test)]
+mod tests {
+    use super::legend_columns;
+
+    /// The longest label of a sweep legend fits two columns; short ones fit four; combining
+    /// marks take no room.
+    #[test]
+    fn legend_columns_fit_the_longest_label() {
+        assert_eq!(legend_columns(&["variational FDE−, second-order start"]), 2);
+        assert_eq!(
+            legend_columns(&["general direct embedding FDE− of q̈ + q̇ + q"]),
+            2
+        );
+        assert_eq!(legend_columns(&["reference q0", "direct q1"]), 4);
+        assert_eq!(legend_columns(&[&"x".repeat(80)]), 1);
+    }
+}
+
 fn colour(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]
 }
@@ -92,8 +110,13 @@ type Areas<'a> = (
 );
 
 /// Entries per legend row: as many as fit side by side with the longest label (1 to 4).
+/// Combining marks (the dots of `q̈`) take no width.
 fn legend_columns(labels: &[&str]) -> usize {
-    let longest = labels.iter().map(|l| l.chars().count()).max().unwrap_or(0) as u32;
+    let width = |label: &str| {
+        let combining = '\u{300}'..='\u{36f}';
+        label.chars().filter(|c| !combining.contains(c)).count()
+    };
+    let longest = labels.iter().map(|l| width(l)).max().unwrap_or(0) as u32;
     let entry = LEGEND_SAMPLE + LEGEND_CHAR * longest;
     ((LEGEND_WIDTH / entry.max(1)) as usize).clamp(1, 4)
 }
