@@ -42,24 +42,6 @@ const PALETTE: [RGBColor; 11] = [
     RGBColor(188, 189, 34),
 ];
 
-#[cfg(test)]
-mod tests {
-    use super::legend_columns;
-
-    /// The longest label of a sweep legend fits two columns; short ones fit four; combining
-    /// marks take no room.
-    #[test]
-    fn legend_columns_fit_the_longest_label() {
-        assert_eq!(legend_columns(&["variational FDE−, second-order start"]), 2);
-        assert_eq!(
-            legend_columns(&["general direct embedding FDE− of q̈ + q̇ + q"]),
-            2
-        );
-        assert_eq!(legend_columns(&["reference q0", "direct q1"]), 4);
-        assert_eq!(legend_columns(&[&"x".repeat(80)]), 1);
-    }
-}
-
 fn colour(i: usize) -> RGBColor {
     PALETTE[i % PALETTE.len()]
 }
@@ -265,4 +247,22 @@ fn draw_work_precision(
     legend(&strip, &entries)?;
     root.present()?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::legend_columns;
+
+    /// The longest label of a sweep legend fits two columns; short ones fit four; combining
+    /// marks take no room.
+    #[test]
+    fn legend_columns_fit_the_longest_label() {
+        assert_eq!(legend_columns(&["variational FDE−, second-order start"]), 2);
+        assert_eq!(
+            legend_columns(&["general direct embedding FDE− of q̈ + q̇ + q"]),
+            2
+        );
+        assert_eq!(legend_columns(&["reference q0", "direct q1"]), 4);
+        assert_eq!(legend_columns(&[&"x".repeat(80)]), 1);
+    }
 }
