@@ -3,6 +3,7 @@
 //! sweep has them, so each grid is solved once per scheme), and the trajectories and energy
 //! error of the first table.
 
+use crate::cost;
 use crate::reference::ReferenceCurve;
 use crate::scene::{Context, Doubling, Figure, SceneReport, Series, SweepLine, failed_table};
 use std::borrow::Cow;
@@ -32,9 +33,19 @@ pub struct Variant {
     pub scheme: Scheme,
     /// How `Q_1` is obtained.
     pub start: Start,
+    /// The `N` of this line, when not the scene's sweep (a high-order scheme reaches the
+    /// reference's accuracy on far fewer steps).
+    pub sweep: Option<Doubling>,
 }
 
-/// The three lines every initial value scene sweeps, all under Gauss-FDE−: the direct scheme
+impl Variant {
+    /// The `N` this line is swept over: its own, or the scene's.
+    pub fn sizes(&self, scene: Doubling) -> Doubling {
+        self.sweep.unwrap_or(scene)
+    }
+}
+
+/// The three Gauss-FDE− lines every initial value scene sweeps: the direct scheme
 /// and the variational scheme with the discrete Legendre start (both the paper's schemes as
 /// stated), and the variational scheme with the second-order start (which lets the
 /// Störmer–Verlet recurrence of a separable `L` reach its order 2).
@@ -46,20 +57,85 @@ pub fn standard_variants() -> Vec<Variant> {
             embedding: fde,
             scheme: Scheme::Direct,
             start: Start::Legendre,
+            sweep: None,
         },
         Variant {
             label: "variational FDE−, Legendre start",
             embedding: fde,
             scheme: Scheme::Variational,
             start: Start::Legendre,
+            sweep: None,
         },
         Variant {
             label: "variational FDE−, second-order start",
             embedding: fde,
             scheme: Scheme::Variational,
             start: Start::SecondOrder,
+            sweep: None,
         },
     ]
+}
+
+/// The `N` of the higher-order lines of a scene: the second-order midpoint and trapezoidal
+/// embeddings, and the Gauss–Legendre integrators with 2 and 4 stages.
+#[derive(Clone, Copy, Debug)]
+pub struct HigherOrderSweeps {
+    /// Both schemes of the midpoint and of the trapezoidal embedding (order 2).
+    pub second_order: Doubling,
+    /// Gauss–Legendre `s = 2` (order 4).
+    pub gauss2: Doubling,
+    /// Gauss–Legendre `s = 4` (order 8).
+    pub gauss4: Doubling,
+}
+
+/// [`standard_variants`], then the higher-order lines: the direct and variational schemes of
+/// the midpoint and trapezoidal embeddings (discrete Legendre start, second order for these
+/// symmetric discrete Lagrangians) and the variational Gauss–Legendre integrators with 2 and 4
+/// stages (orders 4 and 8; they have no direct scheme), each over its own `N`.
+pub fn all_variants(sweeps: HigherOrderSweeps) -> Vec<Variant> {
+    let line = |label, embedding, scheme, sweep| Variant {
+        label,
+        embedding,
+        scheme,
+        start: Start::Legendre,
+        sweep: Some(sweep),
+    };
+    let gauss = |stages| Embedding::gauss_legendre(stages).expect("2 and 4 stages exist");
+    let (second, midpoint, trapezoidal) = (
+        sweeps.second_order,
+        Embedding::midpoint(),
+        Embedding::trapezoidal(),
+    );
+    let mut variants = standard_variants();
+    variants.extend([
+        line("direct midpoint", midpoint, Scheme::Direct, second),
+        line(
+            "variational midpoint",
+            midpoint,
+            Scheme::Variational,
+            second,
+        ),
+        line("direct trapezoidal", trapezoidal, Scheme::Direct, second),
+        line(
+            "variational trapezoidal",
+            trapezoidal,
+            Scheme::Variational,
+            second,
+        ),
+        line(
+            "Gauss–Legendre s = 2",
+            gauss(2),
+            Scheme::Variational,
+            sweeps.gauss2,
+        ),
+        line(
+            "Gauss–Legendre s = 4",
+            gauss(4),
+            Scheme::Variational,
+            sweeps.gauss4,
+        ),
+    ]);
+    variants
 }
 
 /// How a start is named in the tables and the solve ledger.
@@ -105,6 +181,17 @@ pub struct IvpScene<'a, L, const D: usize> {
     pub trajectory: Trajectory,
     /// The units of the model's time, position and energy, for the figures' axis titles.
     pub units: Units,
+    /// Which scheme to use, read off the sweep ([`cost::advice`]).
+    pub advice: Advice,
+}
+
+/// What the scene's advice compares the lines at, and why the winner wins.
+#[derive(Clone, Debug)]
+pub struct Advice {
+    /// The max error the lines are compared at.
+    pub target: f64,
+    /// What makes the winner win (order, structure), as the scene knows it.
+    pub why: &'static str,
 }
 
 /// The units a nondimensional model measures time, position and energy in (e.g. `√(l/g)`,
@@ -164,7 +251,10 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
     pub fn solve(&self, cx: &Context) -> varembed::Result<IvpRuns<D>> {
         let curve = |t: f64| self.reference.q(t);
         let reference = self.reference(&curve);
-        let swept = self.sweep.contains(self.table_n) && self.sweep.contains(2 * self.table_n);
+        let swept = |v: &Variant| {
+            let sizes = v.sizes(self.sweep);
+            sizes.contains(self.table_n) && sizes.contains(2 * self.table_n)
+        };
         let plan: Vec<(Embedding, Start, [Source; 2])> = self
             .table_runs()
             .map(|(embedding, start)| {
@@ -173,7 +263,7 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
                         v.embedding == embedding && v.scheme == scheme && v.start == start
                     };
                     match self.variants.iter().position(same) {
-                        Some(i) if swept => Source::Sweep(i),
+                        Some(i) if swept(&self.variants[i]) => Source::Sweep(i),
                         _ => Source::Own,
                     }
                 };
@@ -186,8 +276,12 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
             .flat_map(|(_, _, sources)| sources)
             .filter(|s| matches!(s, Source::Own))
             .count();
-        cx.progress
-            .inc_length((self.variants.len() * self.sweep.count + 2 * own_runs) as u64);
+        let swept_runs: usize = self
+            .variants
+            .iter()
+            .map(|v| v.sizes(self.sweep).count)
+            .sum();
+        cx.progress.inc_length((swept_runs + 2 * own_runs) as u64);
         let sweep = self.sweep_runs(cx, reference)?;
         let table_grid = Grid::new(self.interval.0, self.interval.1, self.table_n)?;
         let mut tables = Vec::with_capacity(plan.len());
@@ -233,13 +327,16 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
             Some(first) => vec![self.trajectory_figure(first), self.energy_figure(first)],
             None => Vec::new(),
         };
+        let sweep = self.sweep_lines(&runs.sweep);
+        let mut notes = self.notes.clone();
+        notes.push(cost::advice(&sweep, self.advice.target, self.advice.why));
         SceneReport {
             name: self.name,
             title: self.title.to_string(),
-            notes: self.notes.clone(),
+            notes,
             tables,
             reference: self.reference.name.clone(),
-            sweep: self.sweep_lines(&runs.sweep),
+            sweep,
             figures,
         }
     }
@@ -273,11 +370,11 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
         cx: &Context,
         reference: Reference<'_, D>,
     ) -> varembed::Result<Vec<Convergence<D>>> {
-        let grid = Grid::new(self.interval.0, self.interval.1, self.sweep.n0)?;
-        Ok(self
-            .variants
+        self.variants
             .iter()
             .map(|variant| {
+                let sizes = variant.sizes(self.sweep);
+                let grid = Grid::new(self.interval.0, self.interval.1, sizes.n0)?;
                 let options = CompareOptions {
                     reference,
                     start: variant.start,
@@ -289,13 +386,13 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
                     self.q0,
                     self.v0,
                     &options,
-                    self.sweep.count,
+                    sizes.count,
                 );
                 let what = describe(variant.embedding, variant.scheme, variant.start);
                 cx.record_run(self.name, &what, &run);
-                run
+                Ok(run)
             })
-            .collect())
+            .collect()
     }
 
     fn sweep_lines(&self, runs: &[Convergence<D>]) -> Vec<SweepLine> {

@@ -3,11 +3,12 @@
 //! library is what the tour's tests drive.
 //!
 //! One scene per file under [`scenes`]; [`ivp_scene`] is the shared run of an initial value
-//! scene; [`reference`](mod@reference) computes the independent reference solutions; [`plot`]
+//! scene; [`cost`] reads the cost of reaching an error off a sweep; [`reference`](mod@reference) computes the independent reference solutions; [`plot`]
 //! and [`report`] write the figures and the summary. Errors, wall times and observed orders are
 //! the library's ([`varembed::Comparison`], [`varembed::Convergence`]): the tour solves each grid once and formats them.
 #![deny(missing_docs)]
 
+pub mod cost;
 pub mod ivp_scene;
 pub mod output;
 pub mod plot;

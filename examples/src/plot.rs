@@ -17,12 +17,18 @@ use std::path::Path;
 /// Size of every figure, in SVG pixels.
 const SIZE: (u32, u32) = (900, 600);
 
-/// Height of one row of the legend strip, and entries per row.
+/// Height of one row of the legend strip.
 const LEGEND_ROW: u32 = 22;
-const LEGEND_COLUMNS: usize = 3;
+/// Width the legend's text is given per character (15 px sans-serif averages about 7.5),
+/// and the width of an entry besides its text (the line sample and the gaps).
+const LEGEND_CHAR: u32 = 8;
+const LEGEND_SAMPLE: u32 = 56;
+/// Left edge of the legend and the width it may fill.
+const LEGEND_LEFT: i32 = 90;
+const LEGEND_WIDTH: u32 = SIZE.0 - 100;
 
-/// The line colours, in legend order.
-const PALETTE: [RGBColor; 8] = [
+/// The line colours, in legend order: distinct up to the eleven lines a scene may sweep.
+const PALETTE: [RGBColor; 11] = [
     RGBColor(0, 0, 0),
     RGBColor(214, 39, 40),
     RGBColor(31, 119, 180),
@@ -31,6 +37,9 @@ const PALETTE: [RGBColor; 8] = [
     RGBColor(255, 127, 14),
     RGBColor(140, 86, 75),
     RGBColor(23, 190, 207),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
 ];
 
 fn colour(i: usize) -> RGBColor {
@@ -82,23 +91,37 @@ type Areas<'a> = (
     DrawingArea<SVGBackend<'a>, Shift>,
 );
 
-fn canvas(path: &Path, entries: usize) -> Result<Areas<'_>, Box<dyn Error>> {
+/// Entries per legend row: as many as fit side by side with the longest label (1 to 4).
+/// Combining marks (the dots of `q̈`) take no width.
+fn legend_columns(labels: &[&str]) -> usize {
+    let width = |label: &str| {
+        let combining = '\u{300}'..='\u{36f}';
+        label.chars().filter(|c| !combining.contains(c)).count()
+    };
+    let longest = labels.iter().map(|l| width(l)).max().unwrap_or(0) as u32;
+    let entry = LEGEND_SAMPLE + LEGEND_CHAR * longest;
+    ((LEGEND_WIDTH / entry.max(1)) as usize).clamp(1, 4)
+}
+
+fn canvas<'a>(path: &'a Path, labels: &[&str]) -> Result<Areas<'a>, Box<dyn Error>> {
     let root = SVGBackend::new(path, SIZE).into_drawing_area();
     root.fill(&WHITE)?;
-    let rows = entries.div_ceil(LEGEND_COLUMNS) as u32;
+    let rows = labels.len().div_ceil(legend_columns(labels)) as u32;
     let (plot, legend) = root.split_vertically(SIZE.1 - rows * LEGEND_ROW - 12);
     Ok((root, plot, legend))
 }
 
-/// Draws the legend entries in rows of [`LEGEND_COLUMNS`] into the strip under the plot.
+/// Draws the legend entries in rows of [`legend_columns`] into the strip under the plot.
 fn legend(
     area: &DrawingArea<SVGBackend<'_>, Shift>,
     entries: &[Entry],
 ) -> Result<(), Box<dyn Error>> {
-    let column = (SIZE.0 as i32 - 100) / LEGEND_COLUMNS as i32;
+    let labels: Vec<&str> = entries.iter().map(|e| e.label).collect();
+    let columns = legend_columns(&labels);
+    let column = LEGEND_WIDTH as i32 / columns as i32;
     for (i, entry) in entries.iter().enumerate() {
-        let x = 90 + column * (i % LEGEND_COLUMNS) as i32;
-        let y = 8 + LEGEND_ROW as i32 * (i / LEGEND_COLUMNS) as i32;
+        let x = LEGEND_LEFT + column * (i % columns) as i32;
+        let y = 8 + LEGEND_ROW as i32 * (i / columns) as i32;
         let style = entry.colour.stroke_width(entry.width);
         area.draw(&PathElement::new(vec![(x, y + 7), (x + 28, y + 7)], style))?;
         area.draw(&Text::new(
@@ -127,7 +150,8 @@ pub fn linear(dir: &Path, figure: &Figure) -> output::Result<()> {
 }
 
 fn draw_linear(path: &Path, figure: &Figure) -> Result<(), Box<dyn Error>> {
-    let (root, plot, strip) = canvas(path, figure.series.len())?;
+    let labels: Vec<&str> = figure.series.iter().map(|s| s.label.as_str()).collect();
+    let (root, plot, strip) = canvas(path, &labels)?;
     let points = || figure.series.iter().flat_map(|s| s.points.iter());
     let (x0, x1) = span(points().map(|p| p.0));
     let (y0, y1) = span(points().map(|p| p.1));
@@ -185,7 +209,8 @@ fn draw_work_precision(
     title: &str,
     lines: &[SweepLine],
 ) -> Result<(), Box<dyn Error>> {
-    let (root, plot, strip) = canvas(path, lines.len())?;
+    let labels: Vec<&str> = lines.iter().map(|l| l.label.as_str()).collect();
+    let (root, plot, strip) = canvas(path, &labels)?;
     let points = || lines.iter().flat_map(|l| l.points.iter());
     let (x0, x1) = log_span(points().map(|p| p.seconds));
     let (y0, y1) = log_span(points().map(|p| p.error));
@@ -222,4 +247,22 @@ fn draw_work_precision(
     legend(&strip, &entries)?;
     root.present()?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::legend_columns;
+
+    /// The longest label of a sweep legend fits two columns; short ones fit four; combining
+    /// marks take no room.
+    #[test]
+    fn legend_columns_fit_the_longest_label() {
+        assert_eq!(legend_columns(&["variational FDE−, second-order start"]), 2);
+        assert_eq!(
+            legend_columns(&["general direct embedding FDE− of q̈ + q̇ + q"]),
+            2
+        );
+        assert_eq!(legend_columns(&["reference q0", "direct q1"]), 4);
+        assert_eq!(legend_columns(&[&"x".repeat(80)]), 1);
+    }
 }

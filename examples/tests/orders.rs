@@ -7,12 +7,12 @@
 //!   symplectic-Euler-like: the start's `O(h)` offset of the positions persists), order 2 from
 //!   the second-order start when `L = ½|v|² − U(x, t)` is separable (the recurrence is then
 //!   Störmer–Verlet).
-//! - Non-separable `L` (double pendulum, `eᵗ(½v² − ½x²)`): every line is first order.
+//! - Non-separable `L` (double pendulum, `eᵗ(½v² − ½x²)`): every Gauss-FDE− line is first order.
 //! - Fractional scene: about `2α − 1`, and 2 at α = 1 (see `scenes/fractional.rs`).
 
 use varembed::Lagrangian;
 use varembed::Side;
-use varembed_examples::ivp_scene::IvpScene;
+use varembed_examples::ivp_scene::{IvpScene, standard_variants};
 use varembed_examples::scene::{Context, Mode, SweepLine, doubling};
 use varembed_examples::scenes::{damped, double_pendulum, fractional, harmonic, kepler};
 use varembed_examples::scenes::{parametric, pendulum};
@@ -23,6 +23,9 @@ fn sweep<L: Lagrangian<D>, const D: usize>(
     n0: usize,
 ) -> Vec<SweepLine> {
     scene.sweep = doubling(n0, 4);
+    // The Gauss-FDE− lines only: the higher-order lines' orders are checked in
+    // `gauss_order.rs` and the library's own tests.
+    scene.variants = standard_variants();
     scene
         .sweep(&Context::hidden(Mode::Quick))
         .expect("the sweep runs")

@@ -39,6 +39,24 @@ fn quick_tour_writes_a_complete_finite_report() {
         }
     }
 
+    // Every initial value scene's notes give its advice; the double pendulum's cost to 1e-8 is
+    // computable from the quick sweep too (extrapolated along the observed orders).
+    for scene in reports.iter().filter(|s| s.name != "fractional") {
+        let advice = scene
+            .notes
+            .iter()
+            .filter(|n| n.starts_with("Which scheme: "));
+        assert_eq!(advice.count(), 1, "{}: {:#?}", scene.name, scene.notes);
+    }
+    let double = reports.iter().find(|s| s.name == "double-pendulum");
+    let notes = &double.expect("the double pendulum").notes;
+    assert!(
+        notes.iter().any(|n| n.starts_with(
+            "Cost to reach max error 1e-8: the best Gauss-FDE− line, variational FDE−"
+        )),
+        "{notes:#?}"
+    );
+
     for scene in &reports {
         assert!(!scene.tables.is_empty(), "{}: no table", scene.name);
         for table in &scene.tables {
@@ -206,12 +224,23 @@ fn report_orders_are_the_comparisons_orders_and_each_grid_is_solved_once() {
     }
     assert!(summary.contains("`*` is pre-asymptotic"), "{summary}");
 
-    // The ledger: three lines over four sizes, the FDE+ and asymmetric tables (two schemes on
-    // N and 2N each), and the direct scheme from the second-order start (N and 2N); nothing
-    // else, nothing twice.
+    // The ledger: every line over its sizes (the three Gauss-FDE− lines over the scene's four),
+    // the FDE+ and asymmetric tables (two schemes on N and 2N each), and the direct scheme from
+    // the second-order start (N and 2N); nothing else (the midpoint and trapezoidal tables are
+    // read off their sweep), nothing twice.
     let solves = cx.solves();
     assert_eq!(scene.sweep.count, 4);
-    assert_eq!(solves.len(), 3 * 4 + 2 * 2 * 2 + 2, "{solves:#?}");
+    let swept: usize = scene
+        .variants
+        .iter()
+        .map(|v| v.sizes(scene.sweep).count)
+        .sum();
+    assert_eq!(
+        swept,
+        3 * 4 + 6 * 3,
+        "three Gauss-FDE− lines, six higher-order"
+    );
+    assert_eq!(solves.len(), swept + 2 * 2 * 2 + 2, "{solves:#?}");
     let mut unique = solves.clone();
     unique.sort_by(|a, b| (&a.what, a.n).cmp(&(&b.what, b.n)));
     unique.dedup();

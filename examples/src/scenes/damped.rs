@@ -11,7 +11,7 @@
 //! variational scheme of the time-dependent `L` keeps the exact decay of its discrete momentum
 //! map rather than the energy (there is no conserved energy).
 
-use crate::ivp_scene::{IvpScene, Trajectory, Units, standard_variants};
+use crate::ivp_scene::{Advice, HigherOrderSweeps, IvpScene, Trajectory, Units, all_variants};
 use crate::reference::ReferenceCurve;
 use crate::scene::{Context, Doubling, SceneReport, SweepLine, SweepPoint, doubling};
 use std::time::Instant;
@@ -94,9 +94,11 @@ pub fn scene<'a>(cx: &Context, reference: &'a ReferenceCurve<1>) -> IvpScene<'a,
              schemes of `L = eᵗ(½v² − ½x²)`, whose Euler–Lagrange equation is the same ODE \
              multiplied by `eᵗ`."
                 .to_string(),
-            "Every line is first order: the one-sided differences of FDE± are, and the \
+            "Every FDE± line is first order: the one-sided differences of FDE± are, and the \
              time-dependent weight `eᵗ` makes the variational scheme one-sided too (the \
-             second-order start cannot help, the recurrence itself is first order)."
+             second-order start cannot help, the recurrence itself is first order). The \
+             symmetric midpoint and trapezoidal embeddings are second order in both schemes, and \
+             Gauss–Legendre with s stages of order 2s, time-dependent `L` or not."
                 .to_string(),
         ],
         lagrangian: &Damped,
@@ -106,14 +108,27 @@ pub fn scene<'a>(cx: &Context, reference: &'a ReferenceCurve<1>) -> IvpScene<'a,
         reference,
         exact: true,
         table_n: cx.pick(2000, 200),
-        table_embeddings: vec![Embedding::finite_difference(Side::Backward)],
+        table_embeddings: vec![
+            Embedding::finite_difference(Side::Backward),
+            Embedding::midpoint(),
+            Embedding::trapezoidal(),
+        ],
         sweep: doubling(cx.pick(500, 100), cx.pick(7, 4)),
-        variants: standard_variants(),
+        variants: all_variants(HigherOrderSweeps {
+            // Holds the tables' N and 2N: their midpoint and trapezoidal rows are read off it.
+            second_order: doubling(cx.pick(250, 100), cx.pick(7, 3)),
+            gauss2: doubling(25, cx.pick(8, 3)),
+            gauss4: doubling(10, cx.pick(4, 3)),
+        }),
         trajectory: Trajectory::Time,
         units: Units {
             time: "1/ω₀",
             position: "q(0)",
             energy: "ω₀² q(0)²",
+        },
+        advice: Advice {
+            target: 1e-10,
+            why: "The weight `eᵗ` makes FDE− one-sided, but the symmetric midpoint and trapezoidal embeddings stay second order and Gauss–Legendre keeps order 2s: the highest order wins.",
         },
     }
 }

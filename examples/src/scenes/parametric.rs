@@ -3,7 +3,7 @@
 //! grows exponentially. Energy is not conserved (`∂L/∂t ≠ 0`); the energy figure shows
 //! `E_k − E(q(t_k), q̇(t_k), t_k)` against the reference's energy at the same time.
 
-use crate::ivp_scene::{IvpScene, Trajectory, Units, standard_variants};
+use crate::ivp_scene::{Advice, HigherOrderSweeps, IvpScene, Trajectory, Units, all_variants};
 use crate::reference::ReferenceCurve;
 use crate::scene::{Context, SceneReport, doubling};
 use varembed::{Embedding, Side, Vector, lagrangian};
@@ -65,14 +65,27 @@ pub fn scene<'a>(cx: &Context, reference: &'a ReferenceCurve<1>) -> IvpScene<'a,
         reference,
         exact: false,
         table_n: cx.pick(4000, 400),
-        table_embeddings: vec![Embedding::finite_difference(Side::Backward)],
+        table_embeddings: vec![
+            Embedding::finite_difference(Side::Backward),
+            Embedding::midpoint(),
+            Embedding::trapezoidal(),
+        ],
         sweep: doubling(cx.pick(500, 200), cx.pick(7, 4)),
-        variants: standard_variants(),
+        variants: all_variants(HigherOrderSweeps {
+            // Holds the tables' N and 2N: their midpoint and trapezoidal rows are read off it.
+            second_order: doubling(cx.pick(250, 100), cx.pick(7, 4)),
+            gauss2: doubling(25, cx.pick(8, 3)),
+            gauss4: doubling(15, cx.pick(4, 3)),
+        }),
         trajectory: Trajectory::Time,
         units: Units {
             time: "1/ω",
             position: "q(0)",
             energy: "ω² q(0)²",
+        },
+        advice: Advice {
+            target: 1e-10,
+            why: "The time dependence costs the Gauss–Legendre integrators nothing (their stages sit at the Gauss nodes in time), so they keep their orders 4 and 8 and the highest order wins.",
         },
     }
 }
