@@ -301,8 +301,34 @@ fn scaled_jacobian<const D: usize>(kind: StepKind, hs: &Hessian<D>, h: f64) -> M
 /// Residual `G(y) − π` of the step equation at the candidate newest node `y`, and its
 /// Jacobian `J = ∂G/∂y`: what one Newton iteration needs, from one
 /// [`Lagrangian::gradient_and_hessian`].
+///
+/// One arm per kind, each handing on the step with its kind a constant: where the caller's kind
+/// is not known at compile time (inside Newton's iteration, a function of its own), what that
+/// kind does not read (the unused outputs of `gradient_and_hessian`, the other kinds' tables)
+/// is still dead code in each arm.
 #[inline]
 pub fn residual<const D: usize, L: Lagrangian<D> + ?Sized>(
+    lagrangian: &L,
+    step: &Step<D>,
+    y: &Vector<D>,
+) -> (Vector<D>, Matrix<D>) {
+    use StepKind::*;
+    let with = |kind| Step { kind, ..*step };
+    match step.kind {
+        VariationalBackward => residual_of(lagrangian, &with(VariationalBackward), y),
+        VariationalForward => residual_of(lagrangian, &with(VariationalForward), y),
+        DirectBackward => residual_of(lagrangian, &with(DirectBackward), y),
+        DirectForward => residual_of(lagrangian, &with(DirectForward), y),
+        MidpointVariational => residual_of(lagrangian, &with(MidpointVariational), y),
+        MidpointDirect => residual_of(lagrangian, &with(MidpointDirect), y),
+        TrapezoidalVariational => residual_of(lagrangian, &with(TrapezoidalVariational), y),
+        TrapezoidalDirect => residual_of(lagrangian, &with(TrapezoidalDirect), y),
+    }
+}
+
+/// [`residual`] for one kind.
+#[inline(always)]
+fn residual_of<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
     step: &Step<D>,
     y: &Vector<D>,
