@@ -193,7 +193,7 @@ pub struct SchemeReport<const D: usize> {
     /// Max over the nodes of `|Q_k − q(t_k)|∞` against the reference, if any.
     pub error: Option<f64>,
     /// `E = V_k·∂L/∂v − L` at the quadrature nodes `I_σ` (per interval for the midpoint and
-    /// trapezoidal embeddings: [`Problem::energy`](crate::Problem::energy)).
+    /// trapezoidal embeddings: [`Problem::quadrature_energies`](crate::Problem::quadrature_energies)).
     pub energy: Vec<f64>,
     /// `max_k |E_k − E_first|`, where the flow conserves `E` (an autonomous Lagrangian under a
     /// classical embedding); `None` otherwise ([`Comparison::energy_not_conserved`] says why),
