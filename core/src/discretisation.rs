@@ -111,8 +111,8 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
     pub(crate) fn check_curve(&self, q: &[Vector<D>]) -> Result<()> {
         if self.embedding.is_one_step() {
             return Err(Error::Unsupported {
-                operation: "an evaluation on a whole curve (velocity, residual, action, energy, \
-                            boundary value problem)",
+                operation: "an evaluation on a whole curve (quadrature_velocities, residual, \
+                            action, quadrature_energies, boundary value problem)",
                 embedding: self.embedding.to_string(),
             });
         }

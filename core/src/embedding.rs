@@ -135,7 +135,7 @@ pub enum EmbeddingKind {
     /// `L_d(Q_k, Q_{k+1}) = h/2 [L(Q_k, V, t_k) + L(Q_{k+1}, V, t_{k+1})]`,
     /// `V = (Q_{k+1} − Q_k)/h`. Its variational scheme is Störmer–Verlet on `½|v|² − U(x)`
     /// (stable for `ωh < 2`); its direct scheme evaluates `∂L/∂x` at the node with the centred
-    /// velocity. Not coherent on Lagrangians with an `x`–`v` coupling (docs/schemes.md).
+    /// velocity. Not coherent where `∂L/∂x` is not affine in `v` (docs/schemes.md).
     Trapezoidal,
 }
 
@@ -393,8 +393,8 @@ impl Embedding {
 
     /// Whether the embedding is a one-step integrator of `(q, p)` with internal stages rather
     /// than an operator on the nodes: the Gauss–Legendre integrators. They solve initial value
-    /// problems only; the evaluations on a whole curve (velocity, residuals, action, energy)
-    /// and boundary value problems are [`Error::Unsupported`].
+    /// problems only; the evaluations on a whole curve (quadrature velocities, residuals,
+    /// action, quadrature energies) and boundary value problems are [`Error::Unsupported`].
     pub(crate) fn is_one_step(&self) -> bool {
         matches!(self.kind, EmbeddingKind::GaussLegendre { .. })
     }

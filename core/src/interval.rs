@@ -210,8 +210,8 @@ impl<const D: usize> Interval<D> {
 }
 
 /// The force of the direct schemes at node `x = Q_k` (time `t`), with the centred velocity
-/// `c = (next − previous)/(2h)`; with `jacobian`, also its derivatives with respect to
-/// `Q_{k−1}`, `Q_k`, `Q_{k+1}`: `−L_xv/(2h)`, `L_xx`, `L_xv/(2h)`.
+/// `c = (next − previous)/(2h)`. Its derivatives with respect to `Q_{k−1}`, `Q_k`, `Q_{k+1}`,
+/// `−L_xv/(2h)`, `L_xx`, `L_xv/(2h)`, are [`node_force_jacobian`]'s.
 #[inline]
 pub fn node_force<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,

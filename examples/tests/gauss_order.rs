@@ -133,7 +133,8 @@ fn double_pendulum_orders_are_two_s_against_dop853() {
         assert_orders("double pendulum", s, result, 1e-11);
     }
     // s = 4 drops from 6e-6 to DOP853's floor in three doublings before its errors settle on
-    // the h⁸ law (observed 7.9 then 9.4 on [0, 3]): asserted as at least eighth order.
+    // the h⁸ law (observed 7.9 then 9.4 on [0, 3]): asserted as observed orders of at least
+    // 7.7 (eighth order, allowing for the coarse grids), not 8 ± 0.3.
     let b = 3.0;
     let dop853 = ReferenceCurve::dop853(
         &double_pendulum::acceleration(1.0),
