@@ -398,8 +398,17 @@ impl Embedding {
     pub(crate) fn is_one_step(&self) -> bool {
         matches!(self.kind, EmbeddingKind::GaussLegendre { .. })
     }
+
     /// Whether the embedding is symmetric (midpoint or trapezoidal): its discrete Lagrangian
     /// `L_d(Q_k, Q_{k+1})` reads the whole interval, with no side.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Side};
+    /// assert!(Embedding::trapezoidal().is_symmetric());
+    /// assert!(!Embedding::finite_difference(Side::Forward).is_symmetric());
+    /// ```
     pub fn is_symmetric(&self) -> bool {
         matches!(
             self.kind,
@@ -425,6 +434,20 @@ impl Embedding {
     /// - Gauss-GLEσ: 1 at α = 1 (the Gauss-FDEσ operators); `None` for `α < 1`, where the
     ///   order depends on the data: the solution of a fractional problem is in general
     ///   singular at the ends (docs/schemes.md).
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Scheme, Side};
+    /// let fde = Embedding::finite_difference(Side::Backward);
+    /// assert_eq!(fde.order(Scheme::Direct), Some(1));
+    /// let gauss = Embedding::gauss_legendre(3)?;
+    /// assert_eq!(gauss.order(Scheme::Variational), Some(6));
+    /// assert_eq!(gauss.order(Scheme::Direct), None); // no direct scheme
+    /// let gle = Embedding::grunwald_letnikov(Side::Backward, 0.7)?;
+    /// assert_eq!(gle.order(Scheme::Variational), None); // depends on the data
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
     pub fn order(&self, scheme: Scheme) -> Option<u32> {
         // Every family but Gauss–Legendre has one order for both schemes.
         match self.kind {
