@@ -274,11 +274,28 @@ impl<const D: usize> NodeValues<D> {
         let h = grid.h();
         // The difference quotient of each step: V_k on the rows of σ = −, i.e. step k−1 → k.
         let steps: Vec<Vector<D>> = (0..n).map(|k| (q[k + 1] - q[k]) / h).collect();
+        // Each rule gives one of the two; the other follows at the node: a velocity from its
+        // momentum by inverting ∂L/∂v, a momentum from its velocity by ∂L/∂v.
+        let from_momenta = |p: Vec<Vector<D>>| -> Result<(Vec<Vector<D>>, Vec<Vector<D>>)> {
+            let v = (0..=n)
+                .map(|k| {
+                    let guess = steps[k.min(n - 1)];
+                    invert_momentum(lagrangian, &q[k], t[k], &p[k], guess, k)
+                })
+                .collect::<Result<Vec<_>>>()?;
+            Ok((v, p))
+        };
+        let from_velocities = |v: Vec<Vector<D>>| {
+            let p = (0..=n)
+                .map(|k| lagrangian.gradient(&q[k], &v[k], t[k]).1)
+                .collect();
+            (v, p)
+        };
         let (v, p) = match rule.formula {
             NodeFormula::DiscreteLegendre { points } => {
                 // p_k^− = −∂L_d(Q_k, Q_{k+1})/∂Q_k = Σ_i w_i [p_i − h (1 − θ_i) f_i] for k < N,
                 // p_N^+ = ∂L_d(Q_{N−1}, Q_N)/∂Q_N = Σ_i w_i [p_i + h θ_i f_i].
-                let p: Vec<Vector<D>> = (0..=n)
+                let p = (0..=n)
                     .map(|k| {
                         if k < n {
                             step_sum(lagrangian, grid, points, q, &steps, k, |theta| theta - 1.0)
@@ -287,50 +304,30 @@ impl<const D: usize> NodeValues<D> {
                         }
                     })
                     .collect();
-                let v = (0..=n)
-                    .map(|k| {
-                        let guess = steps[k.min(n - 1)];
-                        invert_momentum(lagrangian, &q[k], t[k], &p[k], guess, k)
-                    })
-                    .collect::<Result<Vec<_>>>()?;
-                (v, p)
+                from_momenta(p)?
             }
             NodeFormula::SchemeMomenta => {
                 crate::error::check_len("solution momenta", n + 1, momenta.len())?;
-                let v = (0..=n)
-                    .map(|k| {
-                        let guess = steps[k.min(n - 1)];
-                        invert_momentum(lagrangian, &q[k], t[k], &momenta[k], guess, k)
-                    })
-                    .collect::<Result<Vec<_>>>()?;
-                (v, momenta.to_vec())
+                from_momenta(momenta.to_vec())?
             }
-            NodeFormula::CentredVelocity => {
-                let v: Vec<Vector<D>> = (0..=n)
+            NodeFormula::CentredVelocity => from_velocities(
+                (0..=n)
                     .map(|k| match (k, n) {
                         (_, 1) => steps[0],
                         (0, _) => (q[1] * 4.0 - q[0] * 3.0 - q[2]) / (2.0 * h),
                         (k, n) if k == n => (q[n] * 3.0 - q[n - 1] * 4.0 + q[n - 2]) / (2.0 * h),
                         (k, _) => (q[k + 1] - q[k - 1]) / (2.0 * h),
                     })
-                    .collect();
-                let p = (0..=n)
-                    .map(|k| lagrangian.gradient(&q[k], &v[k], t[k]).1)
-                    .collect();
-                (v, p)
-            }
-            NodeFormula::VelocityOperator => {
-                let v: Vec<Vector<D>> = (0..=n)
+                    .collect(),
+            ),
+            NodeFormula::VelocityOperator => from_velocities(
+                (0..=n)
                     .map(|k| match embedding.side() {
                         Side::Backward => steps[k.max(1) - 1],
                         Side::Forward => steps[k.min(n - 1)],
                     })
-                    .collect();
-                let p = (0..=n)
-                    .map(|k| lagrangian.gradient(&q[k], &v[k], t[k]).1)
-                    .collect();
-                (v, p)
-            }
+                    .collect(),
+            ),
         };
         if let Some(k) = (0..=n).find(|&k| !(v[k].iter().chain(p[k].iter())).all(|c| c.is_finite()))
         {
