@@ -123,25 +123,43 @@ impl<const D: usize> Interval<D> {
         lagrangian: &L,
         rule: Rule,
     ) -> IntervalGradient<D> {
+        let gradient = |x: &Vector<D>, v: &Vector<D>, t: f64| {
+            let (f, p) = lagrangian.gradient(x, v, t);
+            (0.0, f, p)
+        };
+        self.evaluate(rule, gradient).1
+    }
+
+    /// The rule's mean of what `eval` gives for `L` (`L_d/h`) and `P`, and the forces, with
+    /// `eval` returning `(L, ∂L/∂x, ∂L/∂v)` at a point: [`gradient`](Self::gradient) with a
+    /// `L` it never reads, or the step's energy terms (`E = V·P − L_d/h`) with it.
+    #[inline(always)]
+    pub(crate) fn evaluate(
+        &self,
+        rule: Rule,
+        eval: impl Fn(&Vector<D>, &Vector<D>, f64) -> (f64, Vector<D>, Vector<D>),
+    ) -> (f64, IntervalGradient<D>) {
         let v = self.velocity();
         match rule {
             Rule::Midpoint => {
                 let (m, t) = self.midpoint();
-                let (f, p) = lagrangian.gradient(&m, &v, t);
-                IntervalGradient {
+                let (l, f, p) = eval(&m, &v, t);
+                let g = IntervalGradient {
                     momentum: p,
                     force_left: f,
                     force_right: f,
-                }
+                };
+                (l, g)
             }
             Rule::Trapezoidal => {
-                let (f_u, p_u) = lagrangian.gradient(&self.u, &v, self.t_u);
-                let (f_w, p_w) = lagrangian.gradient(&self.w, &v, self.t_w);
-                IntervalGradient {
+                let (l_u, f_u, p_u) = eval(&self.u, &v, self.t_u);
+                let (l_w, f_w, p_w) = eval(&self.w, &v, self.t_w);
+                let g = IntervalGradient {
                     momentum: (p_u + p_w) * 0.5,
                     force_left: f_u,
                     force_right: f_w,
-                }
+                };
+                (0.5 * (l_u + l_w), g)
             }
         }
     }

@@ -229,6 +229,36 @@ pub trait Lagrangian<const D: usize> {
         (f, p, self.hessian(x, v, t))
     }
 
+    /// `(L, ∂L/∂x, ∂L/∂v)` at one point: the energy `v·∂L/∂v − L` where a step has evaluated
+    /// its momentum (the blow-up guard's sample). The default calls [`value`](Self::value) and
+    /// [`gradient`](Self::gradient); `#[lagrangian]` overrides it with one evaluation that
+    /// computes the subexpressions the two share once.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{lagrangian, Lagrangian, Vector};
+    ///
+    /// #[lagrangian]
+    /// fn pendulum(x: f64, v: f64) -> f64 {
+    ///     0.5 * v * v + x.cos()
+    /// }
+    ///
+    /// let (x, v) = (Vector::<1>::new(0.5), Vector::<1>::new(2.0));
+    /// let (l, f, p) = Pendulum.value_and_gradient(&x, &v, 0.0);
+    /// assert_eq!((l, f[0], p[0]), (2.0 + 0.5f64.cos(), -(0.5f64.sin()), 2.0));
+    /// ```
+    #[inline]
+    fn value_and_gradient(
+        &self,
+        x: &Vector<D>,
+        v: &Vector<D>,
+        t: f64,
+    ) -> (f64, Vector<D>, Vector<D>) {
+        let (f, p) = self.gradient(x, v, t);
+        (self.value(x, v, t), f, p)
+    }
+
     /// What each second-derivative block depends on. The default, [`HessianDependence::ALL`],
     /// claims nothing, so every implicit step runs Newton's method; `#[lagrangian]` decides it
     /// symbolically. From it the solvers decide which steps are affine in the newest node and
@@ -253,8 +283,8 @@ pub trait Lagrangian<const D: usize> {
 
     /// The energy `E = v·∂L/∂v − L`.
     fn energy(&self, x: &Vector<D>, v: &Vector<D>, t: f64) -> f64 {
-        let (_, p) = self.gradient(x, v, t);
-        v.dot(&p) - self.value(x, v, t)
+        let (l, _, p) = self.value_and_gradient(x, v, t);
+        v.dot(&p) - l
     }
 }
 
@@ -275,6 +305,14 @@ impl<const D: usize, L: Lagrangian<D> + ?Sized> Lagrangian<D> for &L {
         t: f64,
     ) -> (Vector<D>, Vector<D>, Hessian<D>) {
         (**self).gradient_and_hessian(x, v, t)
+    }
+    fn value_and_gradient(
+        &self,
+        x: &Vector<D>,
+        v: &Vector<D>,
+        t: f64,
+    ) -> (f64, Vector<D>, Vector<D>) {
+        (**self).value_and_gradient(x, v, t)
     }
     fn hessian_dependence(&self) -> HessianDependence {
         (**self).hessian_dependence()

@@ -244,6 +244,39 @@ pub fn momentum<const D: usize, L: Lagrangian<D> + ?Sized>(
     b: &Vector<D>,
     times: &StepTimes,
 ) -> Vector<D> {
+    let gradient = |x: &Vector<D>, v: &Vector<D>, t: f64| {
+        let (f, p) = lagrangian.gradient(x, v, t);
+        (0.0, f, p)
+    };
+    momentum_from(kind, a, b, times, gradient).0
+}
+
+/// [`momentum`] and, from the same evaluations, `L` and `∂L/∂v` where the step's discrete
+/// Lagrangian evaluates `L` with the velocity `(b − a)/h`: at the quadrature node of side σ,
+/// at the interval's midpoint, or their means over its two ends (the trapezoid). The step's
+/// energy is `v·p − L`: the blow-up guard samples it at no cost beyond the step's own.
+#[inline]
+pub(crate) fn momentum_and_energy_terms<const D: usize, L: Lagrangian<D> + ?Sized>(
+    lagrangian: &L,
+    kind: StepKind,
+    a: &Vector<D>,
+    b: &Vector<D>,
+    times: &StepTimes,
+) -> (Vector<D>, (f64, Vector<D>)) {
+    momentum_from(kind, a, b, times, |x, v, t| {
+        lagrangian.value_and_gradient(x, v, t)
+    })
+}
+
+/// [`momentum_and_energy_terms`] with `eval` giving `(L, ∂L/∂x, ∂L/∂v)` at a point.
+#[inline(always)]
+fn momentum_from<const D: usize>(
+    kind: StepKind,
+    a: &Vector<D>,
+    b: &Vector<D>,
+    times: &StepTimes,
+    eval: impl Fn(&Vector<D>, &Vector<D>, f64) -> (f64, Vector<D>, Vector<D>),
+) -> (Vector<D>, (f64, Vector<D>)) {
     if let Some((rule, variational)) = kind.symmetric() {
         let interval = Interval {
             u: *a,
@@ -252,12 +285,13 @@ pub fn momentum<const D: usize, L: Lagrangian<D> + ?Sized>(
             t_w: times.t_b,
             h: times.h,
         };
-        let g = interval.gradient(lagrangian, rule);
-        return if variational {
+        let (l, g) = interval.evaluate(rule, eval);
+        let pi = if variational {
             g.momentum + g.force_right * (0.5 * times.h)
         } else {
             g.momentum
         };
+        return (pi, (l, g.momentum));
     }
     let v = (b - a) * times.inv_h;
     let (x, t) = if kind.at_right() {
@@ -265,11 +299,12 @@ pub fn momentum<const D: usize, L: Lagrangian<D> + ?Sized>(
     } else {
         (a, times.t_a)
     };
-    let (f, p) = lagrangian.gradient(x, &v, t);
-    match kind {
+    let (l, f, p) = eval(x, &v, t);
+    let pi = match kind {
         StepKind::VariationalBackward | StepKind::DirectForward => p + f * times.h,
         _ => p,
-    }
+    };
+    (pi, (l, p))
 }
 
 /// `G` from the gradient at its evaluation point: `p` or `p − h f`.

@@ -17,6 +17,8 @@ pub struct Plans {
     pub gradient: Plan,
     /// `hessian`: the nonzero entries of the three blocks.
     pub hessian: Plan,
+    /// `value_and_gradient`: `L` and its gradient together.
+    pub value_and_gradient: Plan,
     /// `gradient_and_hessian`: the gradient and the Hessian entries together, so that what
     /// they share (e.g. `sin`/`cos` of the same angle) is computed once.
     pub gradient_and_hessian: Plan,
@@ -27,8 +29,12 @@ pub fn plan(g: &Graph, root: Id, d: &Derivatives) -> Plans {
     let gradient = gradient_roots(d);
     let hessian = hessian_roots(g, d);
     let both: Vec<Id> = gradient.iter().chain(&hessian).copied().collect();
+    let with_value: Vec<Id> = std::iter::once(root)
+        .chain(gradient.iter().copied())
+        .collect();
     Plans {
         value: Plan::new(g, &[root]),
+        value_and_gradient: Plan::new(g, &with_value),
         gradient: Plan::new(g, &gradient),
         hessian: Plan::new(g, &hessian),
         gradient_and_hessian: Plan::new(g, &both),

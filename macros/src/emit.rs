@@ -1,6 +1,6 @@
 //! The emitting stage: the user's fn, the generated struct, `DERIVATIVES`, and the
-//! `Lagrangian<D>` impl with `value`, `gradient`, `hessian`, `gradient_and_hessian` and
-//! `hessian_dependence`.
+//! `Lagrangian<D>` impl with `value`, `gradient`, `value_and_gradient`, `hessian`,
+//! `gradient_and_hessian` and `hessian_dependence`.
 //!
 //! The step math of the schemes is not generated: core writes it once over these methods, so a
 //! hand-written Lagrangian gets the same steps as a generated one. Every method is `#[inline]`:
@@ -53,6 +53,17 @@ pub fn emit(
         &types,
     );
 
+    // value_and_gradient: one plan, so the gradient reuses what the value computed.
+    let r = Render::new(g, &plans.value_and_gradient, &leaf);
+    let (temps, out) = (r.temps(), r.root(model.root));
+    let (fx, fv) = gradient_vectors(&r, d, &types);
+    let value_and_gradient = method(
+        quote!(value_and_gradient),
+        quote!((f64, #vector, #vector)),
+        quote!(#temps (#out, #fx, #fv)),
+        &types,
+    );
+
     // hessian
     let r = Render::new(g, &plans.hessian, &leaf);
     let temps = r.temps();
@@ -76,7 +87,7 @@ pub fn emit(
         &types,
     );
 
-    let methods = quote!(#value #gradient #hessian #gradient_and_hessian);
+    let methods = quote!(#value #gradient #value_and_gradient #hessian #gradient_and_hessian);
     let dim = &types.dim;
     shell(
         model,

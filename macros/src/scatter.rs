@@ -352,6 +352,11 @@ pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenSt
         out.extend(hessian_out(t));
         out
     };
+    let value_gradient_out = |t: &crate::assemble::Term| {
+        let mut out = value_out(t);
+        out.extend(gradient_out(t));
+        out
+    };
     let body = |pick: &dyn Fn(&crate::assemble::Term) -> Vec<(Target, Id)>| {
         let nest = Nest::new(a, pick);
         let (plan, temps) = nest.plan(g, &free);
@@ -403,6 +408,14 @@ pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenSt
         quote!(#decls #code (#fx, #fv)),
         &vector,
     );
+    let (code, used) = body(&value_gradient_out);
+    let decls = gradient_decls(&used);
+    let value_and_gradient = method_on(
+        quote!(value_and_gradient),
+        quote!((f64, #vector, #vector)),
+        quote!(let mut value = 0.0; #decls #code (value, #fx, #fv)),
+        &vector,
+    );
     let (code, used) = body(&hessian_out);
     let decls = hessian_decls(&used);
     let hessian_m = method_on(
@@ -444,6 +457,7 @@ pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenSt
     let methods = quote! {
         #value
         #gradient
+        #value_and_gradient
         #hessian_m
         #both
     };

@@ -484,9 +484,13 @@ fn loop_sum_helper_and_unrolled_forms_agree() {
         for form in &forms[..2] {
             close("L", form.value(&x, &v, 0.0), forms[2].value(&x, &v, 0.0));
             let (f, p, h) = form.gradient_and_hessian(&x, &v, 0.0);
+            let (l, vf, vp) = form.value_and_gradient(&x, &v, 0.0);
+            close("fused L", l, forms[2].value(&x, &v, 0.0));
             for i in 0..4 {
                 close("f", f[i], reference.0[i]);
                 close("p", p[i], reference.1[i]);
+                close("fused f", vf[i], reference.0[i]);
+                close("fused p", vp[i], reference.1[i]);
             }
             for (a, b) in [
                 (h.xx, reference.2.xx),

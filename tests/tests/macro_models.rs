@@ -71,6 +71,10 @@ fn check_derivatives<const D: usize>(
         close_mat("fused xx", &fh.xx, &hh.xx, TOL);
         close_mat("fused xv", &fh.xv, &hh.xv, TOL);
         close_mat("fused vv", &fh.vv, &hh.vv, TOL);
+        let (vl, vf, vp) = gen_.value_and_gradient(&x, &v, t);
+        close("fused L", vl, hand.value(&x, &v, t), TOL);
+        close_vec("fused L, ∂L/∂x", &vf, &hf, TOL);
+        close_vec("fused L, ∂L/∂v", &vp, &hp, TOL);
     }
     assert_eq!(
         gen_.hessian_dependence(),

@@ -41,8 +41,7 @@ use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
 use crate::linalg::solve_dense_in_place;
 use crate::options::NewtonOptions;
 use crate::regularity::{check_initial_data, check_vv, pivot_range};
-use crate::side::Side;
-use crate::solve::guard::{BlowUpGuard, EnergyPoint};
+use crate::solve::guard::BlowUpGuard;
 use crate::solve::newton::at_round_off;
 use crate::solve::solution::Solution;
 
@@ -80,13 +79,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GaussIvp<'_, L, D> {
         let reference = pivot_range(&hs.vv).map_or(0.0, |(_, hi)| hi);
         let n_steps = grid.n();
         let mut stages = StageSystem::new(GaussTableau::new(self.stages), grid.h(), v0);
-        let mut guard = BlowUpGuard::new(
-            l,
-            EnergyPoint::Node(Side::Backward), // unread: the stages are sampled by `sample_state`
-            false,
-            n_steps,
-            self.blow_up_guard,
-        );
+        let mut guard = BlowUpGuard::new(l, false, n_steps, self.blow_up_guard);
         let stride = guard.stride();
         let (mut q, mut p) = (
             Vec::with_capacity(n_steps + 1),
@@ -110,7 +103,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GaussIvp<'_, L, D> {
             p.push(pk);
             let t1 = grid.t(n - 1) + stages.tableau.c[0] * grid.h();
             if (n - 1) % stride == 0 {
-                guard.sample_state(l, &stages.q[0], &stages.v[0], t1, 0.0, n)?;
+                guard.sample_state(l, &stages.q[0], &stages.v[0], t1, n)?;
             }
             if n % DEGENERACY_CHECK_INTERVAL == 0 || n == n_steps {
                 check_vv(&stages.hessian[0].vv, reference, Location::Step(n))?;

@@ -20,7 +20,9 @@
 //! embeddings where their discrete Lagrangian evaluates `L` on the interval
 //! `[Q_{n−2}, Q_{n−1}]`: at its midpoint, or the mean of its two ends; the Gauss–Legendre
 //! integrators, which have no velocity at the nodes, at the first stage `(Q_1, V_1)` of the
-//! step, a point of the step's collocation polynomial). The gain of a
+//! step, a point of the step's collocation polynomial). The step's momentum evaluates `∂L/∂v`
+//! at that point anyway: it takes `L` from the same evaluation (`value_and_gradient`), so a
+//! sample costs little more than the step. The gain of a
 //! sample is `g_j = (E_j − E_0) · sign(v·∂L/∂v)`: the growth of energy in the direction of the
 //! kinetic term (positive kinetic energy: an increase; a Lagrangian multiplied by −1 gives the
 //! same dynamics and the same gains). Samples are grouped in windows of
@@ -60,18 +62,7 @@
 //! [`Error::NotFinite`] still apply to them.
 
 use crate::error::{Error, Result};
-use crate::interval::Rule;
 use crate::lagrangian::{Lagrangian, Vector};
-use crate::side::Side;
-
-/// Where the guard evaluates the energy of the step from `a = Q_{n−2}`, `b = Q_{n−1}`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum EnergyPoint {
-    /// At the quadrature node of side σ: `b` for σ = −, `a` for σ = +.
-    Node(Side),
-    /// Where the symmetric discrete Lagrangian evaluates `L` on `[a, b]`.
-    Interval(Rule),
-}
 
 /// Samples per window.
 pub(crate) const WINDOW: usize = 16;
@@ -88,7 +79,6 @@ pub(crate) struct BlowUpGuard {
     /// Whether the scheme drifts by design (the direct schemes): the early gain is then
     /// extrapolated linearly in the number of steps.
     drifts: bool,
-    at: EnergyPoint,
     /// The step of the first sample.
     first: usize,
     stride: usize,
@@ -106,11 +96,10 @@ pub(crate) struct BlowUpGuard {
 }
 
 impl BlowUpGuard {
-    /// The guard of a run of `n_steps` steps of `lagrangian`, sampling the energy `at`;
+    /// The guard of a run of `n_steps` steps of `lagrangian`;
     /// `enabled` off (or a Lagrangian that depends on `t`) makes every sample a no-op.
     pub(crate) fn new<L: Lagrangian<D> + ?Sized, const D: usize>(
         lagrangian: &L,
-        at: EnergyPoint,
         drifts: bool,
         n_steps: usize,
         enabled: bool,
@@ -119,7 +108,6 @@ impl BlowUpGuard {
         BlowUpGuard {
             enabled: enabled && !lagrangian.dependence().t,
             drifts,
-            at,
             first: 0,
             stride: 1 << stride.ilog2(),
             e0: 0.0,
@@ -137,51 +125,29 @@ impl BlowUpGuard {
         self.stride
     }
 
-    /// Samples the energy of the step from `a = Q_{n−2}`, `b = Q_{n−1}` (times `t_a`, `t_b`)
-    /// at step `n`; a window that ends here is checked.
-    #[cold]
-    #[inline(never)]
-    #[allow(clippy::too_many_arguments)] // the loop's locals, by value: see `Ivp::check_stability`
-    pub(crate) fn sample<L: Lagrangian<D> + ?Sized, const D: usize>(
+    /// Samples the energy of the step from `a = Q_{n−2}`, `b = Q_{n−1}` at step `n`, from
+    /// `L` and `p = ∂L/∂v` at the step's energy point (means over the trapezoid's two ends),
+    /// which the step's momentum evaluated; a window that ends here is checked.
+    pub(crate) fn sample<const D: usize>(
         &mut self,
-        lagrangian: &L,
-        a: Vector<D>,
-        b: Vector<D>,
+        (value, p): (f64, Vector<D>),
+        a: &Vector<D>,
+        b: &Vector<D>,
         inv_h: f64,
-        t_a: f64,
-        t_b: f64,
         n: usize,
     ) -> Result<()> {
         if !self.enabled {
             return Ok(());
         }
-        let v = (b - a) * inv_h;
-        // (x, t, weight) of each point where L is evaluated.
-        let points = match self.at {
-            EnergyPoint::Node(Side::Backward) => [(b, t_b, 1.0), (b, t_b, 0.0)],
-            EnergyPoint::Node(Side::Forward) => [(a, t_a, 1.0), (a, t_a, 0.0)],
-            EnergyPoint::Interval(Rule::Midpoint) => {
-                let m = ((a + b) * 0.5, 0.5 * (t_a + t_b), 1.0);
-                [m, (a, t_a, 0.0)]
-            }
-            EnergyPoint::Interval(Rule::Trapezoidal) => [(a, t_a, 0.5), (b, t_b, 0.5)],
-        };
-        let (mut vp, mut e, mut scale) = (0.0, 0.0, 0.0f64);
-        for (x, t, weight) in points.iter().filter(|point| point.2 > 0.0) {
-            let (_, p) = lagrangian.gradient(x, &v, *t);
-            let vp_here = v.dot(&p);
-            let e_here = vp_here - lagrangian.value(x, &v, *t);
-            vp += weight * vp_here;
-            e += weight * e_here;
-            scale = scale.max(e_here.abs() + x.amax() * p.amax() * inv_h);
-        }
-        self.record(e, vp, scale, n)
+        let vp = ((b - a) * inv_h).dot(&p);
+        let e = vp - value;
+        let x_scale = a.amax().max(b.amax());
+        self.record(e, vp, e.abs() + x_scale * p.amax() * inv_h, n)
     }
 
     /// Samples the energy at the state `(x, v, t)` at step `n`: what a one-step integrator
-    /// (Gauss–Legendre, whose stages carry their own velocities) calls directly.
-    /// `cancellation` is the factor by which the computation of `v` multiplies the round-off of
-    /// the momentum in the floor (`‖Q‖∞/h` for a difference quotient, 0 for a stage velocity).
+    /// (Gauss–Legendre, whose stages carry their own velocities) calls directly. A stage
+    /// velocity is no difference quotient, so the round-off floor is that of `E` alone.
     #[cold]
     #[inline(never)]
     pub(crate) fn sample_state<L: Lagrangian<D> + ?Sized, const D: usize>(
@@ -190,16 +156,15 @@ impl BlowUpGuard {
         x: &Vector<D>,
         v: &Vector<D>,
         t: f64,
-        cancellation: f64,
         n: usize,
     ) -> Result<()> {
         if !self.enabled {
             return Ok(());
         }
-        let (_, p) = lagrangian.gradient(x, v, t);
+        let (value, _, p) = lagrangian.value_and_gradient(x, v, t);
         let vp = v.dot(&p);
-        let e = vp - lagrangian.value(x, v, t);
-        self.record(e, vp, e.abs() + cancellation * p.amax(), n)
+        let e = vp - value;
+        self.record(e, vp, e.abs(), n)
     }
 
     /// Records a sample: the energy `e`, `v·∂L/∂v = vp` and the round-off scale of `e`, at

@@ -17,12 +17,12 @@ use crate::regularity::{
 };
 use crate::side::Side;
 use crate::solve::gauss::GaussIvp;
-use crate::solve::guard::{BlowUpGuard, EnergyPoint};
+use crate::solve::guard::BlowUpGuard;
 use crate::solve::newton::newton_step;
 use crate::solve::solution::Solution;
 use crate::solve::stability::{Verdict, step_map_verdict};
 use crate::solve::start::Start;
-use crate::step::{Step, StepKind, StepTimes, Update};
+use crate::step::{Step, StepKind, StepTimes, Update, momentum_and_energy_terms};
 
 /// What an initial value problem is made of: the Lagrangian, the grid, the embedding and the
 /// Newton options of its implicit steps.
@@ -325,29 +325,51 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
         let (h, inv_h) = (grid.h(), 1.0 / grid.h());
         let (mut a, mut b) = (q[0], q[1]);
         let (mut iterations, mut explicit_steps) = (0, 0);
-        let at = match kind.symmetric() {
-            Some((rule, _)) => EnergyPoint::Interval(rule),
-            None => EnergyPoint::Node(self.embedding.side()),
-        };
         let drifts = matches!(kind, StepKind::DirectBackward | StepKind::DirectForward);
-        let mut guard = BlowUpGuard::new(self.lagrangian, at, drifts, n_steps, self.blow_up_guard);
-        // The run goes in stretches of `stride` steps: the guard's sample (and, every
-        // STABILITY_CHECK_INTERVAL steps, a multiple of the stride, the stability and
-        // degeneracy checks) runs between stretches, so the stepping loop itself tests nothing
-        // but the finiteness of each node, as a hand-written loop would.
+        let mut guard = BlowUpGuard::new(self.lagrangian, drifts, n_steps, self.blow_up_guard);
         let stride = guard.stride();
+        let l = self.lagrangian;
+        // One step from `step` to its node `n`: the closed form when it is finite, otherwise
+        // Newton. One finiteness test per step, on the closed form; Newton's nodes are finite
+        // by construction (it checks every iterate and errs otherwise).
+        let mut advance = |step: Step<D>, n: usize, q: &mut Vec<Vector<D>>| -> Result<Vector<D>> {
+            let y = match closed_form(&step) {
+                Some(y) if y.iter().all(|c| c.is_finite()) => {
+                    explicit_steps += 1;
+                    y
+                }
+                _ => {
+                    let (y, its) = self.implicit_step(kind, step.b, step.momentum, step.a, n)?;
+                    if its == 0 {
+                        explicit_steps += 1;
+                    }
+                    iterations += its;
+                    y
+                }
+            };
+            q.push(y);
+            Ok(y)
+        };
         let mut start = 2;
         while start <= n_steps {
-            let t_a = grid.t(start - 2);
-            let t_b = grid.t(start - 1);
-            guard.sample(self.lagrangian, a, b, inv_h, t_a, t_b, start)?;
+            // The first step of the stretch: the guard's energy comes from the same evaluation
+            // of `∂L/∂v` as the step's momentum.
+            let times = StepTimes::new(h, grid.t(start - 2), grid.t(start - 1), grid.t(start));
+            let (momentum, energy_terms) = momentum_and_energy_terms(l, kind, &a, &b, &times);
+            guard.sample(energy_terms, &a, &b, inv_h, start)?;
+            let step = Step {
+                kind,
+                a,
+                b,
+                momentum,
+                times,
+            };
             if (start - 2) % STABILITY_CHECK_INTERVAL == 0 {
-                let times = StepTimes::new(h, t_a, t_b, grid.t(start));
-                let step = Step::new(self.lagrangian, kind, &a, &b, &times);
                 self.check_along_the_run(update, a, step, start, [q[0], q[1]])?;
             }
+            (a, b) = (b, advance(step, start, q)?);
             let end = (start + stride - 1).min(n_steps);
-            for n in start..=end {
+            for n in start + 1..=end {
                 let times = StepTimes {
                     h,
                     inv_h,
@@ -355,25 +377,8 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
                     t_b: grid.t(n - 1),
                     t_y: grid.t(n),
                 };
-                let step = Step::new(self.lagrangian, kind, &a, &b, &times);
-                // One finiteness test per step, on the closed form; Newton's nodes are finite
-                // by construction (it checks every iterate and errs otherwise).
-                let y = match closed_form(&step) {
-                    Some(y) if y.iter().all(|c| c.is_finite()) => {
-                        explicit_steps += 1;
-                        y
-                    }
-                    _ => {
-                        let (y, its) = self.implicit_step(kind, b, step.momentum, a, n)?;
-                        if its == 0 {
-                            explicit_steps += 1;
-                        }
-                        iterations += its;
-                        y
-                    }
-                };
-                q.push(y);
-                (a, b) = (b, y);
+                let step = Step::new(l, kind, &a, &b, &times);
+                (a, b) = (b, advance(step, n, q)?);
             }
             start = end + 1;
         }

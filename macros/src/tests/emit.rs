@@ -170,6 +170,7 @@ fn the_impl_has_the_agreed_methods_all_inline() {
             [
                 "value",
                 "gradient",
+                "value_and_gradient",
                 "hessian",
                 "gradient_and_hessian",
                 "hessian_dependence",

@@ -69,6 +69,37 @@ impl ::varembed::__private::Lagrangian<N> for Chain {
         (fx, fv)
     }
     #[inline]
+    fn value_and_gradient(
+        &self,
+        x: &::varembed::__private::Vector<N>,
+        v: &::varembed::__private::Vector<N>,
+        _t: f64,
+    ) -> (f64, ::varembed::__private::Vector<N>, ::varembed::__private::Vector<N>) {
+        let mut value = 0.0;
+        let mut fx = ::varembed::__private::Vector::<N>::zeros();
+        let mut fv = ::varembed::__private::Vector::<N>::zeros();
+        let e3 = self.alpha / 3.0;
+        let e4 = 0.5 * x[0];
+        let e5 = 0.5 * x[N - 1];
+        value += -(e4 * x[0]) - e5 * x[N - 1];
+        fx[0] += -(2.0 * e4);
+        fx[N - 1] += -(2.0 * e5);
+        for i in 0..N {
+            let e0 = 0.5 * v[i];
+            value += e0 * v[i];
+            fv[i] += 2.0 * e0;
+        }
+        for i in 0..N - 1 {
+            let e1 = x[i + 1] - x[i];
+            let e2 = 0.5 * e1;
+            let e6 = e3 * (3.0 * e1.powi(2));
+            value += -(e2 * e1 + e3 * e1.powi(3));
+            fx[i + 1] += -(2.0 * e2 + e6);
+            fx[i] += -(-0.5 * e1 - e2 - e6);
+        }
+        (value, fx, fv)
+    }
+    #[inline]
     fn hessian(
         &self,
         x: &::varembed::__private::Vector<N>,

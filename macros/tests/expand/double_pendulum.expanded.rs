@@ -80,6 +80,34 @@ impl ::varembed::__private::Lagrangian<2> for DoublePendulum {
         )
     }
     #[inline]
+    fn value_and_gradient(
+        &self,
+        x: &::varembed::__private::Vector<2>,
+        v: &::varembed::__private::Vector<2>,
+        _t: f64,
+    ) -> (f64, ::varembed::__private::Vector<2>, ::varembed::__private::Vector<2>) {
+        let e0 = self.m1 + self.m2;
+        let e1 = 0.5 * e0 * self.l1 * self.l1 * v[0];
+        let e2 = 0.5 * self.m2 * self.l2 * self.l2 * v[1];
+        let e3 = self.m2 * self.l1 * self.l2;
+        let e4 = e3 * v[0];
+        let e5 = e4 * v[1];
+        let e6 = x[0] - x[1];
+        let e7 = e6.cos();
+        let e8 = e0 * self.g * self.l1;
+        let e9 = self.m2 * self.g * self.l2;
+        let e10 = e5 * e6.sin();
+        (
+            e1 * v[0] + e2 * v[1] + e5 * e7 - (-(e8 * x[0].cos()) - e9 * x[1].cos()),
+            ::varembed::__private::Vector::<
+                2,
+            >::from([-e10 - e8 * x[0].sin(), e10 - e9 * x[1].sin()]),
+            ::varembed::__private::Vector::<
+                2,
+            >::from([2.0 * e1 + e3 * v[1] * e7, 2.0 * e2 + e4 * e7]),
+        )
+    }
+    #[inline]
     fn hessian(
         &self,
         x: &::varembed::__private::Vector<2>,

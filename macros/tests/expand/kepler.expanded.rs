@@ -44,6 +44,27 @@ impl ::varembed::__private::Lagrangian<2> for Kepler {
         )
     }
     #[inline]
+    fn value_and_gradient(
+        &self,
+        x: &::varembed::__private::Vector<2>,
+        v: &::varembed::__private::Vector<2>,
+        _t: f64,
+    ) -> (f64, ::varembed::__private::Vector<2>, ::varembed::__private::Vector<2>) {
+        let e0 = (x[0] * x[0] + x[1] * x[1]).sqrt();
+        let e1 = 1.0 / e0;
+        let e2 = 2.0 * e0;
+        let e3 = e1 * e1;
+        (
+            0.5 * (v[0] * v[0] + v[1] * v[1]) + e1,
+            ::varembed::__private::Vector::<
+                2,
+            >::from([-(e3 * (2.0 * x[0] / e2)), -(e3 * (2.0 * x[1] / e2))]),
+            ::varembed::__private::Vector::<
+                2,
+            >::from([0.5 * (2.0 * v[0]), 0.5 * (2.0 * v[1])]),
+        )
+    }
+    #[inline]
     fn hessian(
         &self,
         x: &::varembed::__private::Vector<2>,

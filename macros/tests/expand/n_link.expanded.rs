@@ -83,6 +83,43 @@ impl ::varembed::__private::Lagrangian<N> for NLink {
         (fx, fv)
     }
     #[inline]
+    fn value_and_gradient(
+        &self,
+        x: &::varembed::__private::Vector<N>,
+        v: &::varembed::__private::Vector<N>,
+        _t: f64,
+    ) -> (f64, ::varembed::__private::Vector<N>, ::varembed::__private::Vector<N>) {
+        let mut value = 0.0;
+        let mut fx = ::varembed::__private::Vector::<N>::zeros();
+        let mut fv = ::varembed::__private::Vector::<N>::zeros();
+        for i in 0..N {
+            for j in 0..N {
+                let e0 = 0.5
+                    * ((N as f64)
+                        - (if (i as f64) >= (j as f64) {
+                            (i as f64)
+                        } else {
+                            (j as f64)
+                        }));
+                let e1 = x[i] - x[j];
+                let e2 = e0 * e1.cos();
+                let e3 = e2 * v[i];
+                let e5 = e0 * e1.sin() * v[i] * v[j];
+                value += e3 * v[j];
+                fx[i] += -e5;
+                fx[j] += e5;
+                fv[i] += e2 * v[j];
+                fv[j] += e3;
+            }
+        }
+        for i in 0..N {
+            let e4 = self.g * ((N as f64) - (i as f64));
+            value += e4 * x[i].cos();
+            fx[i] += -(e4 * x[i].sin());
+        }
+        (value, fx, fv)
+    }
+    #[inline]
     fn hessian(
         &self,
         x: &::varembed::__private::Vector<N>,

@@ -43,6 +43,21 @@ impl ::varembed::__private::Lagrangian<1> for Pendulum {
         )
     }
     #[inline]
+    fn value_and_gradient(
+        &self,
+        x: &::varembed::__private::Vector<1>,
+        v: &::varembed::__private::Vector<1>,
+        _t: f64,
+    ) -> (f64, ::varembed::__private::Vector<1>, ::varembed::__private::Vector<1>) {
+        let e0 = 0.5 * self.l * self.l * v[0];
+        let e1 = self.g * self.l;
+        (
+            e0 * v[0] + e1 * x[0].cos(),
+            ::varembed::__private::Vector::<1>::from([-(e1 * x[0].sin())]),
+            ::varembed::__private::Vector::<1>::from([2.0 * e0]),
+        )
+    }
+    #[inline]
     fn hessian(
         &self,
         x: &::varembed::__private::Vector<1>,
