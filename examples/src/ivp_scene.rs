@@ -20,6 +20,8 @@ pub enum Trajectory {
     Time,
     /// `q_1` against `q_0` (an orbit in the plane; `D = 2`).
     Plane,
+    /// The listed components of `q` against `t` (a chain of many particles: a few of them).
+    Components(&'static [usize]),
 }
 
 /// One line of the work–precision sweep: a scheme of an embedding, with a start.
@@ -407,7 +409,7 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
         let grid = c.grid;
         let nodes = |q: &[Vector<D>], i: usize| -> Vec<(f64, f64)> {
             match self.trajectory {
-                Trajectory::Time => q
+                Trajectory::Time | Trajectory::Components(_) => q
                     .iter()
                     .enumerate()
                     .map(|(k, x)| (grid.t(k), x[i]))
@@ -418,13 +420,14 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
         let reference: Vec<Vector<D>> = (0..=grid.n())
             .map(|k| self.reference.q(grid.t(k)))
             .collect();
-        let components = match self.trajectory {
-            Trajectory::Time => D,
-            Trajectory::Plane => 1,
+        let components: Vec<usize> = match self.trajectory {
+            Trajectory::Time => (0..D).collect(),
+            Trajectory::Plane => vec![0],
+            Trajectory::Components(listed) => listed.iter().copied().filter(|&i| i < D).collect(),
         };
         let mut series = Vec::new();
-        for i in 0..components {
-            let which = if components > 1 {
+        for &i in &components {
+            let which = if D > 1 && self.trajectory != Trajectory::Plane {
                 format!(" q{i}")
             } else {
                 String::new()
@@ -444,7 +447,9 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
         }
         let position = self.units.position;
         let (x_label, y_label) = match self.trajectory {
-            Trajectory::Time => (self.units.time_axis(), format!("q ({position})")),
+            Trajectory::Time | Trajectory::Components(_) => {
+                (self.units.time_axis(), format!("q ({position})"))
+            }
             Trajectory::Plane => (format!("q0 ({position})"), format!("q1 ({position})")),
         };
         Figure {

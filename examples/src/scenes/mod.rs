@@ -3,11 +3,13 @@
 
 pub mod damped;
 pub mod double_pendulum;
+pub mod fput;
 pub mod fractional;
 pub mod harmonic;
 pub mod kepler;
 pub mod parametric;
 pub mod pendulum;
+pub mod stiff_fpu;
 
 use crate::scene::{Context, SceneReport};
 
@@ -15,12 +17,14 @@ use crate::scene::{Context, SceneReport};
 pub type Run = fn(&Context) -> varembed::Result<SceneReport>;
 
 /// Every scene, in the order of the report.
-pub const ALL: [(&str, Run); 7] = [
+pub const ALL: [(&str, Run); 9] = [
     ("harmonic oscillator", harmonic::run),
     ("pendulum", pendulum::run),
     ("Kepler, e = 0.9", kepler::run),
     ("double pendulum", double_pendulum::run),
     ("parametric oscillator", parametric::run),
     ("q̈ + q̇ + q = 0", damped::run),
+    ("FPUT recurrence", fput::run),
+    ("stiff FPU", stiff_fpu::run),
     ("fractional BVP", fractional::run),
 ];
