@@ -324,32 +324,11 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
         let n_steps = grid.n();
         let (h, inv_h) = (grid.h(), 1.0 / grid.h());
         let (mut a, mut b) = (q[0], q[1]);
-        let (mut iterations, mut explicit_steps) = (0, 0);
         let drifts = matches!(kind, StepKind::DirectBackward | StepKind::DirectForward);
         let mut guard = BlowUpGuard::new(self.lagrangian, drifts, n_steps, self.blow_up_guard);
         let stride = guard.stride();
         let l = self.lagrangian;
-        // One step from `step` to its node `n`: the closed form when it is finite, otherwise
-        // Newton. One finiteness test per step, on the closed form; Newton's nodes are finite
-        // by construction (it checks every iterate and errs otherwise).
-        let mut advance = |step: Step<D>, n: usize, q: &mut Vec<Vector<D>>| -> Result<Vector<D>> {
-            let y = match closed_form(&step) {
-                Some(y) if y.iter().all(|c| c.is_finite()) => {
-                    explicit_steps += 1;
-                    y
-                }
-                _ => {
-                    let (y, its) = self.implicit_step(kind, step.b, step.momentum, step.a, n)?;
-                    if its == 0 {
-                        explicit_steps += 1;
-                    }
-                    iterations += its;
-                    y
-                }
-            };
-            q.push(y);
-            Ok(y)
-        };
+        let mut counts = (0, 0);
         let mut start = 2;
         while start <= n_steps {
             // The first step of the stretch: the guard's energy comes from the same evaluation
@@ -367,7 +346,9 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
             if (start - 2) % STABILITY_CHECK_INTERVAL == 0 {
                 self.check_along_the_run(update, a, step, start, [q[0], q[1]])?;
             }
-            (a, b) = (b, advance(step, start, q)?);
+            let y = self.advance(step, start, &closed_form, &mut counts)?;
+            q.push(y);
+            (a, b) = (b, y);
             let end = (start + stride - 1).min(n_steps);
             for n in start + 1..=end {
                 let times = StepTimes {
@@ -378,12 +359,40 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
                     t_y: grid.t(n),
                 };
                 let step = Step::new(l, kind, &a, &b, &times);
-                (a, b) = (b, advance(step, n, q)?);
+                let y = self.advance(step, n, &closed_form, &mut counts)?;
+                q.push(y);
+                (a, b) = (b, y);
             }
             start = end + 1;
         }
         guard.finish()?;
-        Ok((iterations, explicit_steps))
+        Ok(counts)
+    }
+
+    /// The node of `step` (index `n`): its closed form when that is finite, otherwise Newton.
+    /// One finiteness test per step, on the closed form; Newton's nodes are finite by
+    /// construction (it checks every iterate and errs otherwise). `counts` gathers the
+    /// Newton iterations and the steps taken without any.
+    #[inline(always)]
+    fn advance(
+        &self,
+        step: Step<D>,
+        n: usize,
+        closed_form: &impl Fn(&Step<D>) -> Option<Vector<D>>,
+        (iterations, explicit_steps): &mut (usize, usize),
+    ) -> Result<Vector<D>> {
+        match closed_form(&step) {
+            Some(y) if y.iter().all(|c| c.is_finite()) => {
+                *explicit_steps += 1;
+                Ok(y)
+            }
+            _ => {
+                let (y, its) = self.implicit_step(step.kind, step.b, step.momentum, step.a, n)?;
+                *explicit_steps += usize::from(its == 0);
+                *iterations += its;
+                Ok(y)
+            }
+        }
     }
 
     /// Newton's method on step `n` (from `a = Q_{n−2}`, `b = Q_{n−1}`, with its momentum
