@@ -42,7 +42,8 @@ use proc_macro::TokenStream;
 /// fn's visibility and docs) implementing `Lagrangian<D>`:
 ///
 /// - `value`, `gradient` (`∂L/∂x`, `∂L/∂v`), `hessian` (the blocks `xx`, `xv`, `vv`) and
-///   `gradient_and_hessian` (both, sharing their common subexpressions), from symbolic
+///   `gradient_and_hessian` (both, sharing their common subexpressions; `value_and_gradient`
+///   likewise), from symbolic
 ///   derivatives simplified at compile time (constants folded, `0`/`1` identities, zero
 ///   entries dropped, symmetric blocks computed once) with every common subexpression computed
 ///   once per method; all `#[inline]`;
