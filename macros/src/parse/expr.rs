@@ -53,7 +53,7 @@ impl Parser {
                 if !super::signature::is_f64(&c.ty) {
                     return self.error(&c.ty, "only casts `as f64` of an index are supported");
                 }
-                if self.is_int(&c.expr, env) {
+                if self.is_int_cast(&c.expr, env) {
                     self.int_value(&c.expr, env)
                 } else {
                     self.expr(&c.expr, env)
