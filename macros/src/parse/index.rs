@@ -307,9 +307,12 @@ impl Parser {
             self.defer_bound(e, guard, (Affine::constant(-1), low), what);
         } else if low.n < 0 || (low.n == 0 && low.c < 0) {
             let msg = if v.wrap {
-                "this index is negative at the start of its loop, and `%` of a negative index underflows: add `N`, e.g. `(i + N - 1) % N`"
+                "this index is negative at the start of its loop, and `%` of a negative index underflows: add `N`, e.g. `(i + N - 1) % N`".to_string()
             } else {
-                "this index is negative at the start of its loop"
+                format!(
+                    "this index is negative at the start of its loop{}",
+                    self.branch_hint(at, "start")
+                )
             };
             self.error(e, msg);
             return None;
@@ -333,10 +336,30 @@ impl Parser {
                 Some(d) => format!("{d}"),
                 None => "`N`".into(),
             };
-            self.error(e, format!("this index reaches {bound} or beyond at the end of its loop: the components are `0..N`"));
+            let hint = self.branch_hint(at, "end");
+            self.error(e, format!("this index reaches {bound} or beyond at the end of its loop: the components are `0..N`{hint}"));
             return None;
         }
         Some(c)
+    }
+
+    /// For an index out of range in a branch of an `if` on its loop variable: the branch does
+    /// not guard it (its derivatives are added in every iteration), and the way that does.
+    fn branch_hint(&self, at: Affine, end: &'static str) -> String {
+        match at.var {
+            Some(i) if self.branch_vars.contains(&i) => {
+                let n = &self.graph.ranges[i.0 as usize].name;
+                let range = if end == "start" {
+                    format!("from where it is valid (`for {n} in 1..…`)")
+                } else {
+                    format!("up to where it is valid (`for {n} in 0..N - 1`)")
+                };
+                format!(
+                    "; an `if` on `{n}` does not guard an index: run the loop {range} and write the boundary term outside it"
+                )
+            }
+            _ => String::new(),
+        }
     }
 
     /// A check of `component` as a `const` assertion in the generated code, `lhs < rhs`
