@@ -1,9 +1,10 @@
 //! Chain Lagrangians in forms beyond the affine indices of `macro_loops.rs`: a named `usize`
-//! const other than the dimension in ranges, indices and numbers (`for i in 0..M`, `M as
-//! f64`), and integer division of constants by a literal (`0..N / 2`, `x[N / 2]`,
-//! `(N - 1) / 2`). Each model is written a second time as a plain generic fn, differentiated by
-//! num-dual's hyper-dual numbers, and the generated value, gradient and Hessian must agree to
-//! 1e-12 relative, at an even and an odd dimension, named and literal.
+//! const other than the dimension in ranges, indices, numbers and index `let`s (`for i in
+//! 0..M`, `M as f64`, `let half = N / 2;`), and integer division of constants by a literal
+//! (`0..N / 2`, `x[N / 2]`, `(N - 1) / 2`). Each model is written a second time as a plain
+//! generic fn, differentiated by num-dual's hyper-dual numbers, and the generated value,
+//! gradient and Hessian must agree to 1e-12 relative, at an even and an odd dimension, named
+//! and literal.
 
 use num_dual::{DualNum, HyperDual64};
 use varembed::{Lagrangian, lagrangian};
@@ -24,7 +25,8 @@ macro_rules! models {
             #[lagrangian]
             pub fn dimers(x: [f64; N], v: [f64; N], k: f64) -> f64 {
                 let mut l = 0.0;
-                for i in 0..M {
+                let dimers = M;
+                for i in 0..dimers {
                     let (a, b) = (x[2 * i], x[2 * i + 1]);
                     let stiffness = k * (M - i) as f64 / M as f64;
                     l += 0.5 * (v[2 * i] * v[2 * i] + v[2 * i + 1] * v[2 * i + 1])
@@ -59,10 +61,18 @@ macro_rules! models {
                     let d = x[2 * i + 1] - x[2 * i];
                     potential += k * d * d + (d * v[2 * i]).sin();
                 }
+                let half = N / 2;
                 for j in 0..(N - 1) / 2 {
                     potential += 0.5 * (x[2 * j + 2] - x[2 * j + 1]).powi(4);
                 }
-                kinetic - potential - (N / 2) as f64 * 0.1 * x[N / 2].powi(2)
+                kinetic - potential - half as f64 * 0.1 * x[half].powi(2)
+            }
+
+            /// No loop: a literal dimension and a component named by `M` alone.
+            #[lagrangian]
+            pub fn pinned(x: [f64; $n], v: [f64; $n]) -> f64 {
+                let left = M - 1;
+                0.5 * v[M] * v[M] - (M as f64) * x[M].powi(2) * x[left]
             }
 
             /// The diatomic chain with a literal dimension (the divisions fold to numbers).
@@ -99,6 +109,12 @@ fn dimers_dual<T: DualNum<Primitive = f64> + Copy>(z: &[T], k: f64, m: usize) ->
             - (b - a).powi(4) * 0.25;
     }
     l - x[2 * m].cos() * v[n - 1]
+}
+
+/// The oracle of `pinned` with `M = m`.
+fn pinned_dual<T: DualNum<Primitive = f64> + Copy>(z: &[T], m: usize) -> T {
+    let (x, v) = z.split_at(z.len() / 2);
+    v[m] * v[m] * 0.5 - x[m].powi(2) * x[m - 1] * m as f64
 }
 
 /// The oracle of `diatomic` at dimension `n`.
@@ -216,6 +232,8 @@ fn a_named_usize_const_in_ranges_indices_and_numbers_matches_num_dual() {
     check("dimers literal 8", &n8::DimersLiteral { k }, &d, &mut rng);
     let d = |z: &[HyperDual64]| dimers_dual(z, k, 2);
     check("dimers literal 7", &n7::DimersLiteral { k }, &d, &mut rng);
+    check("pinned 8", &n8::Pinned, &|z| pinned_dual(z, 3), &mut rng);
+    check("pinned 7", &n7::Pinned, &|z| pinned_dual(z, 2), &mut rng);
 }
 
 #[test]

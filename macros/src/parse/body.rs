@@ -207,7 +207,7 @@ impl Parser {
                 self.let_binding(&pt.pat, init, env)
             }
             _ => {
-                if self.is_int(init, env) {
+                if self.is_int(init, env) || self.is_const_index(init, env) {
                     return self.bind_int(pat, init, env);
                 }
                 let value = self.expr(init, env);

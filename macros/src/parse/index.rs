@@ -23,6 +23,39 @@ impl Parser {
         self.int_like(e, env, true)
     }
 
+    /// Whether `let name = e;` binds an index because of a `usize` const: `e` names one, and
+    /// is made of integers only (`M / 2`, `M - 1`), so that `let a = K * 2.0;` is still read
+    /// as a number.
+    pub(super) fn is_const_index(&self, e: &Expr, env: &Env) -> bool {
+        fn walk(e: &Expr, env: &Env, named: &mut bool) -> bool {
+            match strip(e) {
+                Expr::Path(p) => match p.path.get_ident().map(ToString::to_string) {
+                    Some(name) => match env.get(&name) {
+                        Some(b) => matches!(b, Binding::Index(_) | Binding::Dim | Binding::Int(_)),
+                        None => {
+                            *named |= is_const_name(&name);
+                            is_const_name(&name)
+                        }
+                    },
+                    None => false,
+                },
+                Expr::Binary(b) => {
+                    matches!(
+                        b.op,
+                        BinOp::Add(_) | BinOp::Sub(_) | BinOp::Mul(_) | BinOp::Div(_)
+                    ) && walk(&b.left, env, named)
+                        && walk(&b.right, env, named)
+                }
+                Expr::Lit(l) => {
+                    matches!(&l.lit, Lit::Int(i) if matches!(i.suffix(), "" | "usize"))
+                }
+                _ => false,
+            }
+        }
+        let mut named = false;
+        walk(e, env, &mut named) && named
+    }
+
     fn int_like(&self, e: &Expr, env: &Env, consts: bool) -> bool {
         match strip(e) {
             Expr::Path(p) => match p.path.get_ident().map(ToString::to_string) {
