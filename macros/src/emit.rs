@@ -360,7 +360,7 @@ fn leaf(consts: &[Ident]) -> impl Fn(Var) -> TokenStream + '_ {
             let c = &consts[k];
             quote!(self.#c)
         }
-        Var::XAt(_) | Var::VAt(_) | Var::Index(_) | Var::Dim => {
+        Var::XAt(_) | Var::VAt(_) | Var::Index(_) | Var::Dim | Var::Sym(_) => {
             unreachable!("a model without loops reads literal components only")
         }
     }

@@ -16,7 +16,7 @@
 
 use proc_macro2::TokenStream;
 
-use crate::ir::{Model, Node};
+use crate::ir::{Model, Node, Var};
 use crate::{assemble, cse, diff, emit, fallback, helpers, parse, scatter, text};
 
 /// The errors of a rejected fn, with the fn's tokens, which the fallback output keeps.
@@ -84,12 +84,14 @@ fn expand_with(
     Ok(out)
 }
 
-/// Whether the model takes the loop path: a named dimension or a sum.
+/// Whether the model takes the loop path: a named dimension, a sum, or an index or number
+/// that names a const the macro does not know (`x[M]`, `M as f64`).
 fn has_loops(model: &Model) -> bool {
     model.dim_name.is_some()
-        || model
-            .graph
-            .reachable(&[model.root])
-            .into_iter()
-            .any(|id| matches!(model.graph.node(id), Node::Sum(..)))
+        || model.graph.reachable(&[model.root]).into_iter().any(|id| {
+            matches!(
+                model.graph.node(id),
+                Node::Sum(..) | Node::Var(Var::XAt(_) | Var::VAt(_) | Var::Sym(_))
+            )
+        })
 }

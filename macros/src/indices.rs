@@ -6,12 +6,30 @@
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct IndexVar(pub u32);
 
-/// An integer index `scale·i + n·N + c` (`i` a loop variable, `N` the dimension).
+/// A constant whose value the macro does not know: a `usize` const item other than the
+/// dimension (`M`), or an integer division of constants (`N / 2`). The generated code names it,
+/// and the checks that need its value become `const` assertions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct SymId(pub u32);
+
+/// What a [`SymId`] stands for.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Sym {
+    /// A `usize` const item in scope where the fn is, named as written.
+    Named(proc_macro2::Ident),
+    /// `⌊a / d⌋` with `a` free of loop variables and `d ≥ 1` a literal.
+    Div(Affine, i64),
+}
+
+/// An integer index `scale·i + n·N + k·s + c` (`i` a loop variable, `N` the dimension, `s` a
+/// [`Sym`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Affine {
     pub var: Option<IndexVar>,
     pub scale: i64,
     pub n: i64,
+    pub sym: Option<SymId>,
+    pub k: i64,
     pub c: i64,
 }
 
@@ -22,6 +40,8 @@ impl Affine {
             var: None,
             scale: 0,
             n: 0,
+            sym: None,
+            k: 0,
             c,
         }
     }
@@ -32,6 +52,8 @@ impl Affine {
             var: Some(i),
             scale: 1,
             n: 0,
+            sym: None,
+            k: 0,
             c: 0,
         }
     }
@@ -42,11 +64,22 @@ impl Affine {
             var: None,
             scale: 0,
             n: 1,
+            sym: None,
+            k: 0,
             c: 0,
         }
     }
 
-    /// `self + k·other`, or `None` when that mixes two loop variables.
+    /// The constant `s`.
+    pub fn sym(s: SymId) -> Self {
+        Self {
+            sym: Some(s),
+            k: 1,
+            ..Self::constant(0)
+        }
+    }
+
+    /// `self + k·other`, or `None` when that mixes two loop variables or two [`Sym`]s.
     pub fn add_scaled(self, other: Affine, k: i64) -> Option<Self> {
         let var = match (self.var, other.var) {
             (Some(a), Some(b)) if a != b && self.scale != 0 && other.scale != 0 => return None,
@@ -54,10 +87,18 @@ impl Affine {
             (_, Some(b)) if other.scale != 0 => Some(b),
             _ => None,
         };
+        let sym = match (self.sym, other.sym) {
+            (Some(a), Some(b)) if a != b && self.k != 0 && other.k != 0 => return None,
+            (Some(a), _) if self.k != 0 => Some(a),
+            (_, Some(b)) if other.k != 0 => Some(b),
+            _ => None,
+        };
         let out = Self {
             var,
             scale: self.scale + k * other.scale,
             n: self.n + k * other.n,
+            sym,
+            k: self.k + k * other.k,
             c: self.c + k * other.c,
         };
         Some(out.normal())
@@ -69,6 +110,8 @@ impl Affine {
             var: self.var,
             scale: k * self.scale,
             n: k * self.n,
+            sym: self.sym,
+            k: k * self.k,
             c: k * self.c,
         }
         .normal()
@@ -78,12 +121,16 @@ impl Affine {
         if self.scale == 0 {
             self.var = None;
         }
+        if self.k == 0 {
+            self.sym = None;
+        }
         self
     }
 
-    /// The constant value, when the index names neither a loop variable nor `N`.
+    /// The constant value, when the index names neither a loop variable, nor `N`, nor a
+    /// [`Sym`].
     pub fn as_constant(self) -> Option<i64> {
-        (self.var.is_none() && self.n == 0).then_some(self.c)
+        (self.var.is_none() && self.n == 0 && self.sym.is_none()).then_some(self.c)
     }
 
     /// Substitutes the value `n` for `N`.
@@ -104,6 +151,18 @@ impl Affine {
 pub struct Component {
     pub at: Affine,
     pub wrap: bool,
+}
+
+/// A check of an index that needs the value of a [`Sym`]: `lhs < rhs` wherever the loop
+/// range `guard` is not empty, asserted at compile time by the generated code.
+#[derive(Clone, Debug)]
+pub struct Bound {
+    pub guard: Option<(Affine, Affine)>,
+    pub lhs: Affine,
+    pub rhs: Affine,
+    /// What fails, for the assertion's message.
+    pub what: String,
+    pub span: proc_macro2::Span,
 }
 
 /// The range `start..end` of a loop variable, and the name it was written with.

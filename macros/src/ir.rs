@@ -12,12 +12,13 @@
 //! in this same graph, with three kinds of leaves and one node more:
 //!
 //! - an *index variable* ([`IndexVar`]), bound by the loop or closure that introduces it, with
-//!   its range in [`Graph::ranges`]; an *index expression* ([`Affine`]: `a·i + b·N + c`) and a
+//!   its range in [`Graph::ranges`]; an *index expression* ([`Affine`]: `a·i + b·N + k·s + c`,
+//!   `s` a constant the macro does not know, [`Sym`]: a `usize` const, `N / 2`) and a
 //!   component ([`Component`]: an affine index, optionally taken modulo `N` for periodic
 //!   chains), so that `x[i + 1]` is the leaf `Var::XAt(…)`. Literal components stay
 //!   `Var::X(k)`;
-//! - `Var::Index(i)` and `Var::Dim`: the value of a loop variable and of the dimension as
-//!   numbers (`(N - i) as f64`);
+//! - `Var::Index(i)`, `Var::Dim` and `Var::Sym(s)`: the value of a loop variable, of the
+//!   dimension and of a [`Sym`] as numbers (`(N - i) as f64`);
 //! - the node `Sum(i, body)`: `Σ_i body` over the range of `i`. Its body is built before it, so
 //!   ids stay topological.
 //!
@@ -29,7 +30,7 @@
 
 use std::collections::HashMap;
 
-pub use crate::indices::{Affine, Cmp, Component, IndexVar, Range};
+pub use crate::indices::{Affine, Bound, Cmp, Component, IndexVar, Range, Sym, SymId};
 
 use proc_macro2::Ident;
 use syn::{Attribute, ItemFn, Visibility};
@@ -52,6 +53,8 @@ pub enum Var {
     Index(IndexVar),
     /// The dimension `N` as a number, when it is a named constant.
     Dim,
+    /// A constant the macro does not know (a `usize` const, `N / 2`) as a number.
+    Sym(SymId),
     /// Time `t`.
     T,
     /// Model constant number `k` (a field of the generated struct): fixed for a whole run, so
@@ -296,6 +299,10 @@ pub struct Graph {
     index: HashMap<Node, Id>,
     /// The range of each loop variable, by number.
     pub ranges: Vec<Range>,
+    /// The constants the macro does not know, by number.
+    pub syms: Vec<Sym>,
+    /// The index checks left to the compiler.
+    pub bounds: Vec<Bound>,
 }
 
 impl Graph {
@@ -313,6 +320,18 @@ impl Graph {
         self.nodes.push(node);
         self.index.insert(node, id);
         id
+    }
+
+    /// The number of `sym`, added if it is new.
+    pub fn sym(&mut self, sym: Sym) -> SymId {
+        let k = match self.syms.iter().position(|s| *s == sym) {
+            Some(k) => k,
+            None => {
+                self.syms.push(sym);
+                self.syms.len() - 1
+            }
+        };
+        SymId(k as u32)
     }
 
     /// The id of `node` if it exists.

@@ -9,8 +9,9 @@
 //! `simplify.rs` is the smart constructors every node is built through; `fallback.rs` is what
 //! is emitted on error. A Lagrangian with loops takes `assemble.rs` (its terms and their
 //! derivatives) and `scatter.rs` (loop nests adding them into their entries) in place of
-//! `diff.rs`, `cse.rs` and `emit.rs`'s methods; `helpers.rs` relays `#[lagrangian(helper)]`
-//! fns to the Lagrangians that call them.
+//! `diff.rs`, `cse.rs` and `emit.rs`'s methods (`names.rs` writes their indices, ranges and
+//! the `const` assertions of the index checks left to the compiler); `helpers.rs` relays
+//! `#[lagrangian(helper)]` fns to the Lagrangians that call them.
 
 mod assemble;
 mod cse;
@@ -21,6 +22,7 @@ mod fallback;
 mod helpers;
 mod indices;
 mod ir;
+mod names;
 mod parse;
 mod render;
 mod scatter;
@@ -56,12 +58,14 @@ use proc_macro::TokenStream;
 ///
 /// The body may use `let` bindings (also of tuples), `let mut` accumulators with `for i in
 /// a..b { acc += … }`, iterator sums `(a..b).map(|i| …).sum::<f64>()`, `x[i]`/`v[i]` at a
-/// literal or an index expression (`x[i + 1]`, `x[(i + 1) % N]`), indices as numbers
-/// (`(N - i) as f64`), `+ - * /`, unary `-`, literals, the parameters, the `f64` methods (or
-/// `f64::` functions) `sin cos tan asin acos atan sinh cosh tanh exp ln log10 sqrt cbrt recip
-/// abs signum powi powf hypot max min`, `if c { a } else { b }`, `std::f64::consts::*`, and
-/// helper fns marked `#[lagrangian(helper)]`. The derivatives of loops are loops (the
-/// expansion does not grow with the dimension). Anything else is a compile error on the
+/// literal or an index expression (`x[i + 1]`, `x[(i + 1) % N]`, `x[2 * i + 1]`), other `usize`
+/// consts where `N` may stand (`for i in 0..M`), division of constants by a literal (`0..N / 2`,
+/// `x[N / 2]`), indices as numbers (`(N - i) as f64`), `+ - * /`, unary `-`, literals, the
+/// parameters, the `f64` methods (or `f64::` functions) `sin cos tan asin acos atan sinh cosh
+/// tanh exp ln log10 sqrt cbrt recip abs signum powi powf hypot max min`,
+/// `if c { a } else { b }`, `std::f64::consts::*`, and helper fns marked
+/// `#[lagrangian(helper)]`. The derivatives of loops are loops (the expansion does not grow
+/// with the dimension). Anything else is a compile error on the
 /// offending tokens; all of them are reported at once. `docs/macro.md` has the details.
 ///
 /// Derivative conventions: `if` is differentiated branch by branch (the condition is not);

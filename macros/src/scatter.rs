@@ -10,12 +10,13 @@
 use std::collections::HashMap;
 
 use proc_macro2::{Ident, Literal, Span, TokenStream};
-use quote::{format_ident, quote};
+use quote::quote;
 
 use crate::assemble::{Assembly, Block};
 use crate::cse::Plan;
 use crate::emit::{method_on, private, shell};
-use crate::ir::{Affine, Component, Graph, Id, IndexVar, Model, Node, Var};
+use crate::ir::{Graph, Id, IndexVar, Model, Node, Var};
+use crate::names::Names;
 use crate::render::Render;
 
 /// What an output adds to.
@@ -182,140 +183,6 @@ fn free_vars(g: &Graph) -> Vec<Vec<IndexVar>> {
     free
 }
 
-/// How loop variables, indices and the dimension are written.
-pub struct Names<'a> {
-    g: &'a Graph,
-    dim: TokenStream,
-    vars: Vec<Ident>,
-}
-
-impl<'a> Names<'a> {
-    /// The names of `model`'s loop variables: each as written, unless a loop nest of `a` holds
-    /// two of that name (or it is a name the methods use), then with its number.
-    pub fn new(model: &'a Model, a: &Assembly) -> Self {
-        let g = &model.graph;
-        let dim = match &model.dim_name {
-            Some(p) => quote!(#p),
-            None => {
-                let d = Literal::usize_unsuffixed(model.dim);
-                quote!(#d)
-            }
-        };
-        let vars = g
-            .ranges
-            .iter()
-            .enumerate()
-            .map(|(k, r)| {
-                let clash = a.terms.iter().any(|t| {
-                    t.loops
-                        .iter()
-                        .filter(|i| g.ranges[i.0 as usize].name == r.name)
-                        .count()
-                        > 1
-                });
-                let reserved = ["x", "v", "t", "fx", "fv", "xx", "xv", "vv", "value"]
-                    .contains(&r.name.as_str())
-                    || r.name.starts_with('e');
-                if clash || reserved {
-                    format_ident!("{}_{}", r.name.trim_start_matches("r#"), k)
-                } else {
-                    Ident::new(&r.name, Span::call_site())
-                }
-            })
-            .collect();
-        Self { g, dim, vars }
-    }
-
-    /// `scale·i + n·N + c` as a `usize` expression (positive terms first, so that it does not
-    /// underflow where its value is a valid index).
-    pub fn affine(&self, a: Affine) -> TokenStream {
-        let mut pos = Vec::new();
-        let mut neg = Vec::new();
-        let mut term = |k: i64, what: TokenStream| {
-            let mag = Literal::i64_unsuffixed(k.abs());
-            let t = if k.abs() == 1 {
-                what
-            } else {
-                quote!(#mag * #what)
-            };
-            if k > 0 {
-                pos.push(t)
-            } else if k < 0 {
-                neg.push(t)
-            }
-        };
-        if let Some(i) = a.var {
-            let name = &self.vars[i.0 as usize];
-            term(a.scale, quote!(#name));
-        }
-        let dim = &self.dim;
-        term(a.n, quote!(#dim));
-        if a.c != 0 {
-            let c = Literal::i64_unsuffixed(a.c.abs());
-            if a.c > 0 {
-                pos.push(quote!(#c))
-            } else {
-                neg.push(quote!(#c))
-            }
-        }
-        if pos.is_empty() {
-            pos.push(quote!(0));
-        }
-        quote!(#(#pos)+* #(- #neg)*)
-    }
-
-    fn component(&self, c: Component) -> TokenStream {
-        let at = self.affine(c.at);
-        let dim = &self.dim;
-        if c.wrap { quote!((#at) % #dim) } else { at }
-    }
-
-    /// The index of a state component.
-    fn position(&self, v: Var) -> TokenStream {
-        match v {
-            Var::X(k) | Var::V(k) => {
-                let k = Literal::usize_unsuffixed(k);
-                quote!(#k)
-            }
-            Var::XAt(c) | Var::VAt(c) => self.component(c),
-            _ => unreachable!("only state components are differentiated"),
-        }
-    }
-
-    /// The tokens of a leaf.
-    pub fn leaf(&self, consts: &[Ident], v: Var) -> TokenStream {
-        match v {
-            Var::X(_) | Var::XAt(_) => {
-                let i = self.position(v);
-                quote!(x[#i])
-            }
-            Var::V(_) | Var::VAt(_) => {
-                let i = self.position(v);
-                quote!(v[#i])
-            }
-            Var::T => quote!(t),
-            Var::Const(k) => {
-                let c = &consts[k];
-                quote!(self.#c)
-            }
-            Var::Index(i) => {
-                let name = &self.vars[i.0 as usize];
-                quote!((#name as f64))
-            }
-            Var::Dim => {
-                let dim = &self.dim;
-                quote!((#dim as f64))
-            }
-        }
-    }
-
-    fn range(&self, i: IndexVar) -> TokenStream {
-        let r = &self.g.ranges[i.0 as usize];
-        let (start, end) = (self.affine(r.start), self.affine(r.end));
-        quote!(#start..#end)
-    }
-}
-
 /// The `Lagrangian<N>` impl of a model with loops.
 pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenStream {
     let g = &model.graph;
@@ -469,7 +336,8 @@ pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenSt
         (&a.hessian_dependence, &a.dependence),
         with_item,
     );
-    quote!(#shell #bounds)
+    let checks = names.bounds(&model.item.sig.ident);
+    quote!(#shell #bounds #checks)
 }
 
 /// The code of scope `s`: its temporaries, its outputs, then its inner loops.

@@ -221,6 +221,22 @@ impl Printer<'_> {
             Var::Const(k) => self.model.consts[k].to_string(),
             Var::Index(i) => format!("({} as f64)", self.g.ranges[i.0 as usize].name),
             Var::Dim => format!("({} as f64)", self.dim()),
+            Var::Sym(s) => format!("({} as f64)", self.sym(s)),
+        }
+    }
+
+    /// A constant the macro does not know: `M`, `(N / 2)`.
+    fn sym(&self, s: crate::ir::SymId) -> String {
+        match &self.g.syms[s.0 as usize] {
+            crate::ir::Sym::Named(name) => name.to_string(),
+            crate::ir::Sym::Div(a, d) => {
+                let a = self.affine(*a);
+                if a.contains(' ') {
+                    format!("(({a}) / {d})")
+                } else {
+                    format!("({a} / {d})")
+                }
+            }
         }
     }
 
@@ -238,6 +254,9 @@ impl Printer<'_> {
             parts.push((a.scale, self.g.ranges[i.0 as usize].name.clone()));
         }
         parts.push((a.n, self.dim()));
+        if let Some(s) = a.sym {
+            parts.push((a.k, self.sym(s)));
+        }
         parts.push((a.c, String::new()));
         let mut out = String::new();
         for (k, what) in parts.into_iter().filter(|p| p.0 != 0) {

@@ -38,6 +38,9 @@ pub struct Parser {
     pub(super) checking_helper: bool,
     /// A helper was found to call itself (through others) while inlining.
     pub(super) recursion: bool,
+    /// The loop variables tested by the conditions of the `if`s being walked, for the hint of
+    /// an index error in their branches.
+    pub(super) branch_vars: Vec<IndexVar>,
 }
 
 impl Parser {
@@ -55,6 +58,7 @@ impl Parser {
             dim: None,
             checking_helper: false,
             recursion: false,
+            branch_vars: Vec::new(),
         }
     }
 
@@ -203,7 +207,7 @@ impl Parser {
                 self.let_binding(&pt.pat, init, env)
             }
             _ => {
-                if self.is_int(init, env) {
+                if self.is_int(init, env) || self.is_const_index(init, env) {
                     return self.bind_int(pat, init, env);
                 }
                 let value = self.expr(init, env);

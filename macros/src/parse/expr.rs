@@ -53,7 +53,7 @@ impl Parser {
                 if !super::signature::is_f64(&c.ty) {
                     return self.error(&c.ty, "only casts `as f64` of an index are supported");
                 }
-                if self.is_int(&c.expr, env) {
+                if self.is_int_cast(&c.expr, env) {
                     self.int_value(&c.expr, env)
                 } else {
                     self.expr(&c.expr, env)
@@ -394,8 +394,14 @@ impl Parser {
                 "an `if` needs an `else`: `if c { a } else { b }`",
             );
         };
+        // The condition does not narrow the range the indices of the branches are checked
+        // over (both branches' derivatives are added in every iteration); what it tests is
+        // kept for the hint of an index error.
+        let depth = self.branch_vars.len();
+        tested_vars(&x.cond, env, &mut self.branch_vars);
         let then = self.block(&x.then_branch, &mut env.clone());
         let other = self.expr(else_branch, env);
+        self.branch_vars.truncate(depth);
         self.condition(&x.cond, env, then, other)
     }
 
@@ -527,5 +533,31 @@ fn int_literal(e: &Expr) -> Option<syn::Result<i64>> {
         Expr::Paren(p) => int_literal(&p.expr),
         Expr::Group(g) => int_literal(&g.expr),
         _ => None,
+    }
+}
+
+/// The loop variables a condition names, into `out`.
+fn tested_vars(e: &Expr, env: &Env, out: &mut Vec<crate::ir::IndexVar>) {
+    match strip(e) {
+        Expr::Path(p) => {
+            if let Some(Binding::Index(i)) =
+                p.path.get_ident().and_then(|n| env.get(&n.to_string()))
+            {
+                out.push(*i);
+            }
+        }
+        Expr::Binary(b) => {
+            tested_vars(&b.left, env, out);
+            tested_vars(&b.right, env, out);
+        }
+        Expr::Unary(u) => tested_vars(&u.expr, env, out),
+        Expr::Cast(c) => tested_vars(&c.expr, env, out),
+        Expr::MethodCall(mc) => {
+            tested_vars(&mc.receiver, env, out);
+            for a in &mc.args {
+                tested_vars(a, env, out);
+            }
+        }
+        _ => {}
     }
 }

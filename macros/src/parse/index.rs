@@ -5,29 +5,79 @@ use syn::{BinOp, Expr, Lit};
 
 use super::body::Parser;
 use super::scope::{Binding, Env, Int, strip};
-use crate::ir::{Affine, Cmp, Component, Id, Var};
+use crate::ir::{Affine, Bound, Cmp, Component, Id, Sym, Var, constant_value};
 
 const INDEX_FORMS: &str = "index expressions are built from loop variables, the dimension, \
-     integer literals, `+ - *`, `% N` and `max`/`min`";
+     `usize` consts, integer literals, `+ - *`, `/` of constants by a literal, `% N` and \
+     `max`/`min`";
 
 impl Parser {
     /// Whether `e` is an integer expression: it names a loop variable, an index `let` or `N`.
     pub(super) fn is_int(&self, e: &Expr, env: &Env) -> bool {
+        self.int_like(e, env, false)
+    }
+
+    /// Whether `e` is an integer expression, counting the names of `usize` consts (`M`) and
+    /// integer literals: in `… as f64`, where neither can be an `f64`.
+    pub(super) fn is_int_cast(&self, e: &Expr, env: &Env) -> bool {
+        self.int_like(e, env, true)
+    }
+
+    /// Whether `let name = e;` binds an index because of a `usize` const: `e` names one, and
+    /// is made of integers only (`M / 2`, `M - 1`), so that `let a = K * 2.0;` is still read
+    /// as a number.
+    pub(super) fn is_const_index(&self, e: &Expr, env: &Env) -> bool {
+        fn walk(e: &Expr, env: &Env, named: &mut bool) -> bool {
+            match strip(e) {
+                Expr::Path(p) => match p.path.get_ident().map(ToString::to_string) {
+                    Some(name) => match env.get(&name) {
+                        Some(b) => matches!(b, Binding::Index(_) | Binding::Dim | Binding::Int(_)),
+                        None => {
+                            *named |= is_const_name(&name);
+                            is_const_name(&name)
+                        }
+                    },
+                    None => false,
+                },
+                Expr::Binary(b) => {
+                    matches!(
+                        b.op,
+                        BinOp::Add(_) | BinOp::Sub(_) | BinOp::Mul(_) | BinOp::Div(_)
+                    ) && walk(&b.left, env, named)
+                        && walk(&b.right, env, named)
+                }
+                Expr::Lit(l) => {
+                    matches!(&l.lit, Lit::Int(i) if matches!(i.suffix(), "" | "usize"))
+                }
+                _ => false,
+            }
+        }
+        let mut named = false;
+        walk(e, env, &mut named) && named
+    }
+
+    fn int_like(&self, e: &Expr, env: &Env, consts: bool) -> bool {
         match strip(e) {
-            Expr::Path(p) => matches!(
-                p.path.get_ident().and_then(|i| env.get(&i.to_string())),
-                Some(Binding::Index(_) | Binding::Dim | Binding::Int(_))
-            ),
+            Expr::Path(p) => match p.path.get_ident().map(ToString::to_string) {
+                Some(name) => match env.get(&name) {
+                    Some(b) => matches!(b, Binding::Index(_) | Binding::Dim | Binding::Int(_)),
+                    None => consts && is_const_name(&name),
+                },
+                None => false,
+            },
             Expr::Binary(b) => {
                 matches!(
                     b.op,
                     BinOp::Add(_) | BinOp::Sub(_) | BinOp::Mul(_) | BinOp::Rem(_) | BinOp::Div(_)
-                ) && (self.is_int(&b.left, env) || self.is_int(&b.right, env))
+                ) && (self.int_like(&b.left, env, consts) || self.int_like(&b.right, env, consts))
             }
             Expr::MethodCall(mc) if mc.method == "max" || mc.method == "min" => {
-                self.is_int(&mc.receiver, env)
+                self.int_like(&mc.receiver, env, consts)
             }
-            Expr::Lit(l) => matches!(&l.lit, Lit::Int(i) if i.suffix() == "usize"),
+            // Under `as f64`, `(7 / 2)` is integer arithmetic, as in Rust.
+            Expr::Lit(l) => {
+                matches!(&l.lit, Lit::Int(i) if i.suffix() == "usize" || (consts && i.suffix().is_empty()))
+            }
             _ => false,
         }
     }
@@ -77,6 +127,14 @@ impl Parser {
                         );
                         None
                     }
+                    None if is_const_name(&name) => {
+                        // A `usize` const item: the generated code names it (an unknown name
+                        // is then rustc's error, on these tokens).
+                        let ident = p.path.get_ident().cloned()?;
+                        let s = self.graph.sym(Sym::Named(ident));
+                        let value = self.graph.var(Var::Sym(s));
+                        Some(affine(Affine::sym(s), value))
+                    }
                     None => {
                         self.error(p, format!("unknown index `{name}`: {INDEX_FORMS}"));
                         None
@@ -117,12 +175,11 @@ impl Parser {
     }
 
     fn int_binary(&mut self, b: &syn::ExprBinary, env: &Env) -> Option<Int> {
-        if let BinOp::Div(_) = b.op {
-            self.error(b.op, "integer division is not supported in an index");
-            return None;
-        }
         let l = self.int_expr(&b.left, env)?;
         let r = self.int_expr(&b.right, env)?;
+        if let BinOp::Div(_) = b.op {
+            return self.int_division(b, l, r);
+        }
         if let BinOp::Rem(_) = b.op {
             let is_dim = r.affine.is_some_and(|a| {
                 a == Affine::dim() || Some(a) == self.dim.map(|d| Affine::constant(d as i64))
@@ -178,6 +235,55 @@ impl Parser {
         })
     }
 
+    /// `a / d`: of constants (`N / 2`, `M / 2`, `7 / 2`) by a positive literal `d`. The floor
+    /// of a loop variable's multiple is not an index (`x[i / 2]` names each component twice,
+    /// which an affine index cannot say), so it is rejected with the loop that says it.
+    fn int_division(&mut self, b: &syn::ExprBinary, l: Int, r: Int) -> Option<Int> {
+        let d = match r.affine.and_then(Affine::as_constant) {
+            Some(d) if d > 0 && !r.wrap => d,
+            _ => {
+                self.error(
+                    &b.right,
+                    "an index may be divided only by a positive integer literal, e.g. `N / 2`",
+                );
+                return None;
+            }
+        };
+        let a = match l.affine {
+            Some(a) if !l.wrap => a.at_dim(self.dim),
+            _ => {
+                self.error(b, format!("not an index expression: {INDEX_FORMS}"));
+                return None;
+            }
+        };
+        if a.var.is_some() {
+            self.error(
+                b,
+                "`/` of a loop variable is not an index: split the loop instead, e.g. `for j in 0..N / 2 { … x[2 * j] … x[2 * j + 1] … }`",
+            );
+            return None;
+        }
+        let affine = match a.as_constant() {
+            Some(c) if c >= 0 => Affine::constant(c / d),
+            Some(_) => {
+                self.error(b, "this division is of a negative index");
+                return None;
+            }
+            None if d == 1 => a,
+            None => Affine::sym(self.graph.sym(Sym::Div(a, d))),
+        };
+        let value = match (affine.as_constant(), affine.sym) {
+            (Some(c), _) => self.graph.num(c as f64),
+            (None, Some(s)) if affine == Affine::sym(s) => self.graph.var(Var::Sym(s)),
+            _ => l.value?,
+        };
+        Some(Int {
+            affine: Some(affine),
+            wrap: false,
+            value: Some(value),
+        })
+    }
+
     /// `N` as a number.
     fn dim_value(&mut self) -> Id {
         match self.dim {
@@ -217,39 +323,109 @@ impl Parser {
         };
         let at = at.at_dim(self.dim);
         let c = Component { at, wrap: v.wrap };
-        let (low, high) = self.extent(at);
-        // `low`, `high`: the least and greatest value over the loop's range, as `n·N + c`.
-        let below = low.n < 0 || (low.n == 0 && low.c < 0);
-        if below {
+        let Some((low, high)) = self.extent(at) else {
+            self.error(e, "this index and the range of its loop name two different consts (or divisions): the bound check follows one; write both in the same const, or in `N`");
+            return None;
+        };
+        // `low`, `high`: the least and greatest value over the loop's range, as `n·N + c`;
+        // where they name a const the macro does not know, the compiler checks.
+        let guard = at.var.map(|i| {
+            let r = &self.graph.ranges[i.0 as usize];
+            (r.start, r.end)
+        });
+        let text = quote::ToTokens::to_token_stream(e).to_string();
+        let surely_natural = low.n >= 0 && low.k >= 0 && low.c >= 0;
+        if low.sym.is_some() && !surely_natural {
+            let what = format!("the index `{text}` is negative at the start of its loop");
+            self.defer_bound(e, guard, (Affine::constant(-1), low), what);
+        } else if low.n < 0 || (low.n == 0 && low.c < 0) {
             let msg = if v.wrap {
-                "this index is negative at the start of its loop, and `%` of a negative index underflows: add `N`, e.g. `(i + N - 1) % N`"
+                "this index is negative at the start of its loop, and `%` of a negative index underflows: add `N`, e.g. `(i + N - 1) % N`".to_string()
             } else {
-                "this index is negative at the start of its loop"
+                format!(
+                    "this index is negative at the start of its loop{}",
+                    self.branch_hint(at, "start")
+                )
             };
             self.error(e, msg);
             return None;
+        }
+        if v.wrap {
+            return Some(c);
+        }
+        if high.sym.is_some() {
+            let what = format!(
+                "the index `{text}` reaches the dimension or beyond at the end of its loop"
+            );
+            self.defer_bound(e, guard, (high, Affine::dim().at_dim(self.dim)), what);
+            return Some(c);
         }
         let above = match self.dim {
             Some(d) => high.n == 0 && high.c >= d as i64,
             None => high.n > 1 || (high.n == 1 && high.c >= 0),
         };
-        if above && !v.wrap {
+        if above {
             let bound = match self.dim {
                 Some(d) => format!("{d}"),
                 None => "`N`".into(),
             };
-            self.error(e, format!("this index reaches {bound} or beyond at the end of its loop: the components are `0..N`"));
+            let hint = self.branch_hint(at, "end");
+            self.error(e, format!("this index reaches {bound} or beyond at the end of its loop: the components are `0..N`{hint}"));
             return None;
         }
         Some(c)
     }
 
+    /// For an index out of range in a branch of an `if` on its loop variable: the branch does
+    /// not guard it (its derivatives are added in every iteration), and the way that does.
+    fn branch_hint(&self, at: Affine, end: &'static str) -> String {
+        match at.var {
+            Some(i) if self.branch_vars.contains(&i) => {
+                let n = &self.graph.ranges[i.0 as usize].name;
+                let range = if end == "start" {
+                    format!("from where it is valid (`for {n} in 1..…`)")
+                } else {
+                    format!("up to where it is valid (`for {n} in 0..N - 1`)")
+                };
+                format!(
+                    "; an `if` on `{n}` does not guard an index: run the loop {range} and write the boundary term outside it"
+                )
+            }
+            _ => String::new(),
+        }
+    }
+
+    /// A check of `component` as a `const` assertion in the generated code, `lhs < rhs`
+    /// where the loop range `guard` is not empty: for an index whose extent names a [`Sym`].
+    fn defer_bound(
+        &mut self,
+        e: &Expr,
+        guard: Option<(Affine, Affine)>,
+        (lhs, rhs): (Affine, Affine),
+        what: String,
+    ) {
+        let bounds = &mut self.graph.bounds;
+        // One assertion per check: `x[2 * i]` read twice fails once.
+        if !bounds
+            .iter()
+            .any(|b| (b.guard, b.lhs, b.rhs) == (guard, lhs, rhs))
+        {
+            bounds.push(Bound {
+                guard,
+                lhs,
+                rhs,
+                what,
+                span: syn::spanned::Spanned::span(e),
+            });
+        }
+    }
+
     /// The least and greatest value of `at` over the range of its loop variable, as affine
-    /// expressions in `N` alone (`n: 0, c: 0` bounds that are not decidable are reported as
-    /// in range).
-    fn extent(&self, at: Affine) -> (Affine, Affine) {
+    /// expressions in `N` and a [`Sym`] (`n: 0, c: 0` bounds that are not decidable are
+    /// reported as in range); `None` when that needs two different [`Sym`]s.
+    fn extent(&self, at: Affine) -> Option<(Affine, Affine)> {
         let Some(i) = at.var else {
-            return (at, at);
+            return Some((at, at));
         };
         let r = &self.graph.ranges[i.0 as usize];
         let (start, last) = (
@@ -258,21 +434,31 @@ impl Parser {
         );
         if start.var.is_some() || last.var.is_some() {
             // A range that depends on an outer loop variable: not decided here.
-            return (Affine::constant(0), Affine::constant(0));
+            return Some((Affine::constant(0), Affine::constant(0)));
         }
         let rest = Affine {
             var: None,
             scale: 0,
             ..at
         };
-        let at_start = rest.add_scaled(start, at.scale).unwrap_or(rest);
-        let at_last = rest.add_scaled(last, at.scale).unwrap_or(rest);
-        if at.scale > 0 {
+        let at_start = rest.add_scaled(start, at.scale)?;
+        let at_last = rest.add_scaled(last, at.scale)?;
+        Some(if at.scale > 0 {
             (at_start, at_last)
         } else {
             (at_last, at_start)
-        }
+        })
     }
+}
+
+/// Whether an unbound `name` is taken for a `usize` const item: written in `UPPER_CASE`, and
+/// not one of `std::f64::consts`.
+fn is_const_name(name: &str) -> bool {
+    name.starts_with(|c: char| c.is_ascii_uppercase())
+        && name
+            .chars()
+            .all(|c| c.is_ascii_uppercase() || c.is_ascii_digit() || c == '_')
+        && constant_value(name).is_none()
 }
 
 /// Whether `ty` is `usize`.

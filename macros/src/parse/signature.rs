@@ -288,9 +288,14 @@ fn state_type(ty: &Type) -> (Shape, Option<syn::Error>) {
         let elem = (!is_f64(&arr.elem))
             .then(|| syn::Error::new_spanned(&arr.elem, "the state arrays must hold `f64`"));
         let rejected = |e| (Shape::Array(Length::Rejected), Some(e));
+        // A length passed through a `macro_rules!` fragment (`[f64; $n]`) arrives grouped.
+        let len = match &arr.len {
+            Expr::Group(g) => &*g.expr,
+            other => other,
+        };
         if let Expr::Lit(syn::ExprLit {
             lit: Lit::Int(n), ..
-        }) = &arr.len
+        }) = len
         {
             return match n.base10_parse::<usize>() {
                 Ok(0) => rejected(syn::Error::new_spanned(
@@ -301,7 +306,7 @@ fn state_type(ty: &Type) -> (Shape, Option<syn::Error>) {
                 Err(e) => rejected(e),
             };
         }
-        if let Expr::Path(p) = &arr.len
+        if let Expr::Path(p) = len
             && p.qself.is_none()
             && p.path.get_ident().is_some()
         {

@@ -82,3 +82,49 @@ fn n_link_expansion_snapshot() {
         },
     );
 }
+
+/// A chain of `M` dimers over `N / 2` pairs: a `usize` const other than the dimension and a
+/// division of constants keep the loops loops (the expansion of 4 and 10⁴ particles has the
+/// same size) and are named in the generated ranges, with their checks left to `const`
+/// assertions.
+#[test]
+fn named_consts_and_divisions_stay_loops() {
+    let item = |dim: TokenStream| {
+        quote! {
+            fn dimers(x: [f64; #dim], v: [f64; #dim], k: f64) -> f64 {
+                let mut l = 0.0;
+                for i in 0..M {
+                    l += 0.5 * v[2 * i] * v[2 * i] - k * (x[2 * i + 1] - x[2 * i]).powi(2);
+                }
+                for j in 0..#dim / 2 {
+                    l -= (j as f64) * x[2 * j + 1].cos();
+                }
+                l - (M as f64) * x[#dim / 2]
+            }
+        }
+    };
+    let size = |n: usize| {
+        let lit = proc_macro2::Literal::usize_unsuffixed(n);
+        count(expand(quote!(), item(quote!(#lit))).expect("the dimers expand"))
+    };
+    assert_eq!(size(4), size(10_000));
+    let out = expand(quote!(), item(quote!(N)))
+        .expect("the dimers expand")
+        .to_string();
+    for loop_head in ["for i in 0 .. M", "for j in 0 .. (N / 2)"] {
+        assert!(out.contains(loop_head), "{loop_head}: {out}");
+    }
+    assert!(out.contains("x [(N / 2)]"), "{out}");
+    // `2 * i + 1 < N` at the last `i`, where the loop runs; `2 * i + 1 ≥ 0` is decided here.
+    let checks: Vec<&str> = out
+        .match_indices("const _ : () =")
+        .collect::<Vec<_>>()
+        .iter()
+        .map(|&(k, _)| &out[k..])
+        .collect();
+    assert_eq!(checks.len(), 4, "{out}");
+    assert!(
+        out.contains("const _ : () = :: core :: assert ! (! (0 < M) || (2 * M < N + 1)"),
+        "{out}"
+    );
+}
