@@ -109,29 +109,40 @@ pub(crate) fn hessian_in_domain<L: Lagrangian<D> + ?Sized, const D: usize>(
     v: &Vector<D>,
     t: f64,
 ) -> Option<Hessian<D>> {
+    derivatives_in_domain(lagrangian, x, v, t).map(|(_, _, hs)| hs)
+}
+
+/// [`hessian_in_domain`] with the gradient: `(∂L/∂x, ∂L/∂v, Hessian)` from one evaluation.
+fn derivatives_in_domain<L: Lagrangian<D> + ?Sized, const D: usize>(
+    lagrangian: &L,
+    x: &Vector<D>,
+    v: &Vector<D>,
+    t: f64,
+) -> Option<(Vector<D>, Vector<D>, Hessian<D>)> {
     let (f, p, hs) = lagrangian.gradient_and_hessian(x, v, t);
     let finite = lagrangian.value(x, v, t).is_finite()
         && f.iter().chain(p.iter()).all(|c| c.is_finite())
         && [hs.xx, hs.xv, hs.vv]
             .iter()
             .all(|m| m.iter().all(|c| c.is_finite()));
-    finite.then_some(hs)
+    finite.then_some((f, p, hs))
 }
 
 /// The checks of the initial data `q(a) = q0`, `q̇(a) = v0` at `t0` of an initial value
 /// problem, before any step: finite constants and data, a point inside the Lagrangian's domain
 /// (a velocity outside it is blamed on the velocity when the position with velocity zero is
-/// inside), and a non-degenerate `∂²L/∂v²` (at [`Location::Step`]`(0)`).
+/// inside), and a non-degenerate `∂²L/∂v²` (at [`Location::Step`]`(0)`). Returns
+/// `(∂L/∂x, ∂L/∂v, Hessian)` at the initial data, which the starts read.
 pub(crate) fn check_initial_data<L: Lagrangian<D> + ?Sized, const D: usize>(
     lagrangian: &L,
     q0: &Vector<D>,
     v0: &Vector<D>,
     t0: f64,
-) -> Result<()> {
+) -> Result<(Vector<D>, Vector<D>, Hessian<D>)> {
     check_constants(lagrangian)?;
     check_finite("q(a)", q0)?;
     check_finite("q̇(a)", v0)?;
-    let Some(hs) = hessian_in_domain(lagrangian, q0, v0, t0) else {
+    let Some(derivatives) = derivatives_in_domain(lagrangian, q0, v0, t0) else {
         let at_rest = hessian_in_domain(lagrangian, q0, &Vector::<D>::zeros(), t0).is_some();
         let what = if at_rest {
             format!(
@@ -144,7 +155,8 @@ pub(crate) fn check_initial_data<L: Lagrangian<D> + ?Sized, const D: usize>(
         };
         return Err(Error::OutsideDomain { what });
     };
-    check_vv(&hs.vv, 0.0, Location::Step(0)).map(|_| ())
+    check_vv(&derivatives.2.vv, 0.0, Location::Step(0))?;
+    Ok(derivatives)
 }
 
 #[cfg(test)]

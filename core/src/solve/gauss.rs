@@ -74,8 +74,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GaussIvp<'_, L, D> {
         }
         let (l, grid) = (self.lagrangian, self.grid);
         let t0 = grid.t(0);
-        check_initial_data(l, &q0, &v0, t0)?;
-        let (_, p0, hs) = l.gradient_and_hessian(&q0, &v0, t0);
+        let (_, p0, hs) = check_initial_data(l, &q0, &v0, t0)?;
         let reference = pivot_range(&hs.vv).map_or(0.0, |(_, hi)| hi);
         let n_steps = grid.n();
         let mut stages = StageSystem::new(GaussTableau::new(self.stages), grid.h(), v0);

@@ -88,7 +88,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
         if self.embedding.is_one_step() {
             self.step_kind(Scheme::Variational)?;
         }
-        check_initial_data(self.lagrangian, &q0, &v0, self.grid.t(0))?;
+        let (_, pi0, _) = check_initial_data(self.lagrangian, &q0, &v0, self.grid.t(0))?;
         let kind = match (self.embedding.kind(), self.embedding.side()) {
             (EmbeddingKind::Midpoint, _) => StepKind::MidpointVariational,
             (EmbeddingKind::Trapezoidal, _) => StepKind::TrapezoidalVariational,
@@ -96,7 +96,6 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
             (_, Side::Forward) => StepKind::VariationalForward,
         };
         let (grid, h) = (&self.grid, self.grid.h());
-        let (_, pi0) = self.lagrangian.gradient(&q0, &v0, grid.t(0));
         let times = StepTimes::new(h, grid.t(0) - h, grid.t(0), grid.t(1));
         let step = Step {
             kind,
@@ -112,9 +111,8 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
 
     /// The second-order start (see [`Problem::second_order_start`](crate::Problem::second_order_start)).
     pub(crate) fn second_order_start(&self, q0: Vector<D>, v0: Vector<D>) -> Result<Vector<D>> {
-        check_initial_data(self.lagrangian, &q0, &v0, self.grid.t(0))?;
+        let (f, _, hs) = check_initial_data(self.lagrangian, &q0, &v0, self.grid.t(0))?;
         let (t, h) = (self.grid.t(0), self.grid.h());
-        let (f, _, hs) = self.lagrangian.gradient_and_hessian(&q0, &v0, t);
         let dt = 1e-5 * (1.0 + t.abs());
         let p_t = (self.lagrangian.gradient(&q0, &v0, t + dt).1
             - self.lagrangian.gradient(&q0, &v0, t - dt).1)
