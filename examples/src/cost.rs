@@ -134,12 +134,12 @@ pub fn advice(lines: &[SweepLine], target: f64, why: &str) -> String {
         }
         [best, rest @ ..] => {
             let runner_up = rest.first().map_or(String::new(), |c| {
+                // Two significant figures below 10×, where a whole number would read "1×".
+                let ratio = c.seconds / best.seconds;
+                let digits = if ratio < 10.0 { 1 } else { 0 };
                 format!(
-                    "; next is {} (N ≈ {:.0}, {:.2e} s, {:.0}× slower)",
-                    c.label,
-                    c.n,
-                    c.seconds,
-                    c.seconds / best.seconds
+                    "; next is {} (N ≈ {:.0}, {:.2e} s, {ratio:.digits$}× slower)",
+                    c.label, c.n, c.seconds
                 )
             });
             let among = match reached.len() {
