@@ -30,7 +30,7 @@ mod pendulum {
 mod chain {
     use varembed::lagrangian;
     pub const N: usize = 10_000;
-    /// An FPUT chain of 10⁴ particles with fixed ends.
+    /// An FPUT chain of 10⁴ particles between two walls, the springs to the walls harmonic.
     #[lagrangian]
     pub fn fput(x: [f64; N], v: [f64; N], alpha: f64, beta: f64) -> f64 {
         let mut l = 0.0;

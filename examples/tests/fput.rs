@@ -31,8 +31,8 @@ fn fput_hamiltonian(x: &Vector<N>, v: &Vector<N>) -> f64 {
 }
 
 /// The recurrence at `h = 0.1`, as measured when the scene was written: `E_1` falls to 9.4 %
-/// of its start near t = 4300 and returns to 98.0 % at t = 10195 (154 periods of mode 1; the
-/// classical estimate is about 157). The thresholds leave room around those numbers but
+/// of its start near t = 4300 and returns to 98.0 % at t = 10195 (154 periods of mode 1). The
+/// thresholds leave room around those numbers but
 /// would fail for a chain that thermalises (no return) or one that never leaves mode 1.
 #[test]
 fn energy_leaves_mode_one_and_returns_near_the_recurrence_time() {
@@ -181,12 +181,12 @@ fn the_oscillatory_energy_is_an_adiabatic_invariant_of_the_variational_scheme_on
     assert!(peak > 0.9, "I_3 peaks at {peak}");
     let first = variational.spring(1);
     assert!(first.last().expect("steps").1 < 0.2);
+    // Over t ≤ 1 the direct I leaves the band (the run ends at t = 1) and ends below 0.1.
     let direct = stiff_fpu::LongRun::new(Scheme::Direct, 1.0, h).expect("runs");
     let total = direct.total();
-    let left = total
-        .iter()
-        .find(|(_, i)| (i - 1.0).abs() > 0.1)
-        .expect("the direct I leaves the band");
-    assert!(left.0 < 1.0, "{left:?}");
+    assert!(
+        total.iter().any(|(_, i)| (i - 1.0).abs() > 0.1),
+        "the direct I stays in the band"
+    );
     assert!(total.last().expect("steps").1 < 0.1);
 }

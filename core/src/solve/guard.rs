@@ -20,9 +20,10 @@
 //! embeddings where their discrete Lagrangian evaluates `L` on the interval
 //! `[Q_{n−2}, Q_{n−1}]`: at its midpoint, or the mean of its two ends; the Gauss–Legendre
 //! integrators, which have no velocity at the nodes, at the first stage `(Q_1, V_1)` of the
-//! step, a point of the step's collocation polynomial). The step's momentum evaluates `∂L/∂v`
-//! at that point anyway: it takes `L` from the same evaluation (`value_and_gradient`), so a
-//! sample costs little more than the step. The gain of a
+//! step, a point of the step's collocation polynomial). In the three-point recurrences the
+//! step's momentum evaluates `∂L/∂v` at that point anyway: it takes `L` from the same
+//! evaluation (`value_and_gradient`), so a sample costs little more than the step; a
+//! Gauss–Legendre sample evaluates `L` and `∂L/∂v` at its stage. The gain of a
 //! sample is `g_j = (E_j − E_0) · sign(v·∂L/∂v)`: the growth of energy in the direction of the
 //! kinetic term (positive kinetic energy: an increase; a Lagrangian multiplied by −1 gives the
 //! same dynamics and the same gains). Samples are grouped in windows of
@@ -117,6 +118,11 @@ impl BlowUpGuard {
             window: (0, 0, 0.0, 0),
             samples: 0,
         }
+    }
+
+    /// Whether the run is watched: off by the option, or for a Lagrangian that depends on `t`.
+    pub(crate) fn is_enabled(&self) -> bool {
+        self.enabled
     }
 
     /// Steps between two samples: a power of two no larger than [`MAX_STRIDE`], so it divides

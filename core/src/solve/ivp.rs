@@ -330,16 +330,20 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
         let mut start = 2;
         while start <= n_steps {
             // The first step of the stretch: the guard's energy comes from the same evaluation
-            // of `∂L/∂v` as the step's momentum.
+            // of `∂L/∂v` as the step's momentum (with `L`, which only the guard reads).
             let times = StepTimes::new(h, grid.t(start - 2), grid.t(start - 1), grid.t(start));
-            let (momentum, energy_terms) = momentum_and_energy_terms(l, kind, &a, &b, &times);
-            guard.sample(energy_terms, &a, &b, inv_h, start)?;
-            let step = Step {
-                kind,
-                a,
-                b,
-                momentum,
-                times,
+            let step = if guard.is_enabled() {
+                let (momentum, energy_terms) = momentum_and_energy_terms(l, kind, &a, &b, &times);
+                guard.sample(energy_terms, &a, &b, inv_h, start)?;
+                Step {
+                    kind,
+                    a,
+                    b,
+                    momentum,
+                    times,
+                }
+            } else {
+                Step::new(l, kind, &a, &b, &times)
             };
             if (start - 2) % STABILITY_CHECK_INTERVAL == 0 {
                 self.check_along_the_run(update, a, step, start, [q[0], q[1]])?;

@@ -155,9 +155,15 @@ impl Parser {
                 Some(Binding::Array { .. }) => {
                     self.error(p, format!("`{name}` is an array: use its components `{name}[i]`"))
                 }
-                Some(Binding::Index(_) | Binding::Int(_) | Binding::Dim) => {
+                Some(Binding::Index(_) | Binding::Dim) => {
                     self.error(p, format!("`{name}` is an index: use it as a number with `{name} as f64`"))
                 }
+                Some(Binding::Int(_)) => self.error(
+                    p,
+                    format!(
+                        "`{name}` is an integer (an `UPPER_CASE` name is read as a `usize` const): use it as a number with `{name} as f64`; a real constant of the model is a parameter of the fn"
+                    ),
+                ),
                 None => match constant_value(name) {
                     // `use std::f64::consts::PI;` at the top of the module.
                     Some(c) => self.graph.num(c),

@@ -382,10 +382,18 @@ impl Parser {
         match at.var {
             Some(i) if self.branch_vars.contains(&i) => {
                 let n = &self.graph.ranges[i.0 as usize].name;
-                let range = if end == "start" {
-                    format!("from where it is valid (`for {n} in 1..…`)")
-                } else {
-                    format!("up to where it is valid (`for {n} in 0..N - 1`)")
+                // `x[i − c]` is valid from `i = c`, `x[i + c]` up to `N − c`; other forms get
+                // the advice without the bound.
+                let plain = at.scale == 1 && at.n == 0 && at.sym.is_none();
+                let range = match (end == "start", plain) {
+                    (true, true) => {
+                        format!("from where it is valid (start its range at `{}`)", -at.c)
+                    }
+                    (false, true) => {
+                        format!("up to where it is valid (end its range at `N - {}`)", at.c)
+                    }
+                    (true, false) => "from where it is valid".to_string(),
+                    (false, false) => "up to where it is valid".to_string(),
                 };
                 format!(
                     "; an `if` on `{n}` does not guard an index: run the loop {range} and write the boundary term outside it"
