@@ -8,6 +8,7 @@
 
 use num_dual::{DualNum, HyperDual64};
 use varembed::{Lagrangian, lagrangian};
+use varembed_tests::models::num_dual::{close, dual_derivatives};
 use varembed_tests::rng::Rng;
 
 /// The models of this file at dimension `N` (named, and the literal `$n`) with `M` dimers.
@@ -131,40 +132,6 @@ fn diatomic_dual<T: DualNum<Primitive = f64> + Copy>(z: &[T], k: f64) -> T {
         potential += (x[2 * j + 2] - x[2 * j + 1]).powi(4) * 0.5;
     }
     kinetic - potential - x[n / 2].powi(2) * ((n / 2) as f64 * 0.1)
-}
-
-/// Value, gradient and Hessian of `f` at `z` from hyper-dual numbers, entry by entry.
-fn dual_derivatives(
-    f: &dyn Fn(&[HyperDual64]) -> HyperDual64,
-    z: &[f64],
-) -> (f64, Vec<f64>, Vec<Vec<f64>>) {
-    let m = z.len();
-    let seed = |a: usize, b: usize| -> HyperDual64 {
-        let w: Vec<HyperDual64> = (0..m)
-            .map(|k| {
-                HyperDual64::new(
-                    z[k],
-                    f64::from(u8::from(k == a)),
-                    f64::from(u8::from(k == b)),
-                    0.0,
-                )
-            })
-            .collect();
-        f(&w)
-    };
-    let value = seed(m, m).re;
-    let gradient = (0..m).map(|a| seed(a, m).eps1).collect();
-    let hessian = (0..m)
-        .map(|a| (0..m).map(|b| seed(a, b).eps1eps2).collect())
-        .collect();
-    (value, gradient, hessian)
-}
-
-fn close(what: &str, a: f64, b: f64) {
-    assert!(
-        (a - b).abs() <= 1e-12 * b.abs().max(1.0),
-        "{what}: generated {a:e}, oracle {b:e}"
-    );
 }
 
 /// The generated value and derivatives (every method) against the oracle's at random points.

@@ -7,6 +7,7 @@
 
 use num_dual::{DualNum, HyperDual64};
 use varembed::{Lagrangian, Matrix, Vector, lagrangian};
+use varembed_tests::models::num_dual::{close, dual_derivatives};
 use varembed_tests::rng::Rng;
 
 /// `V(d) = d²/2 + α d³/3 + β d⁴/4`, the FPUT spring.
@@ -308,40 +309,6 @@ fn walled_dual<T: DualNum<Primitive = f64> + Copy>(z: &[T], p: [f64; 2]) -> T {
         l += v[i] * v[i] * 0.5 - wall + pin * 0.1;
     }
     l
-}
-
-/// Value, gradient and Hessian of `f` at `z` from hyper-dual numbers, entry by entry.
-fn dual_derivatives(
-    f: &dyn Fn(&[HyperDual64]) -> HyperDual64,
-    z: &[f64],
-) -> (f64, Vec<f64>, Vec<Vec<f64>>) {
-    let m = z.len();
-    let seed = |a: usize, b: usize| -> HyperDual64 {
-        let w: Vec<HyperDual64> = (0..m)
-            .map(|k| {
-                HyperDual64::new(
-                    z[k],
-                    f64::from(u8::from(k == a)),
-                    f64::from(u8::from(k == b)),
-                    0.0,
-                )
-            })
-            .collect();
-        f(&w)
-    };
-    let value = seed(m, m).re;
-    let gradient = (0..m).map(|a| seed(a, m).eps1).collect();
-    let hessian = (0..m)
-        .map(|a| (0..m).map(|b| seed(a, b).eps1eps2).collect())
-        .collect();
-    (value, gradient, hessian)
-}
-
-fn close(what: &str, a: f64, b: f64) {
-    assert!(
-        (a - b).abs() <= 1e-12 * b.abs().max(1.0),
-        "{what}: generated {a:e}, oracle {b:e}"
-    );
 }
 
 /// The generated derivatives against the oracle's at random points.

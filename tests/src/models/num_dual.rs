@@ -4,7 +4,7 @@
 //! both measure the same model.
 
 use nalgebra::SVector;
-use num_dual::DualNum;
+use num_dual::{DualNum, HyperDual64};
 use varembed::{Hessian, Lagrangian, Vector};
 
 use crate::models::generated::DoublePendulum;
@@ -71,4 +71,40 @@ impl Lagrangian<2> for NumDualDoublePendulum {
             hessian,
         )
     }
+}
+
+/// Value, gradient and Hessian of `f` at `z` from hyper-dual numbers, entry by entry: the
+/// oracle the macro's derivatives are checked against, one independent evaluation per entry.
+pub fn dual_derivatives(
+    f: &dyn Fn(&[HyperDual64]) -> HyperDual64,
+    z: &[f64],
+) -> (f64, Vec<f64>, Vec<Vec<f64>>) {
+    let m = z.len();
+    let seed = |a: usize, b: usize| -> HyperDual64 {
+        let w: Vec<HyperDual64> = (0..m)
+            .map(|k| {
+                HyperDual64::new(
+                    z[k],
+                    f64::from(u8::from(k == a)),
+                    f64::from(u8::from(k == b)),
+                    0.0,
+                )
+            })
+            .collect();
+        f(&w)
+    };
+    let value = seed(m, m).re;
+    let gradient = (0..m).map(|a| seed(a, m).eps1).collect();
+    let hessian = (0..m)
+        .map(|a| (0..m).map(|b| seed(a, b).eps1eps2).collect())
+        .collect();
+    (value, gradient, hessian)
+}
+
+/// Asserts a generated value `a` equals its oracle `b` to 1e-12, relative to `max(|b|, 1)`.
+pub fn close(what: &str, a: f64, b: f64) {
+    assert!(
+        (a - b).abs() <= 1e-12 * b.abs().max(1.0),
+        "{what}: generated {a:e}, oracle {b:e}"
+    );
 }
