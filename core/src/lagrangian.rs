@@ -267,6 +267,36 @@ pub trait Lagrangian<const D: usize> {
         HessianDependence::ALL
     }
 
+    /// The structural bandwidth of the second derivatives: the largest `|i − j|` over the
+    /// entries `(i, j)` of the three blocks `xx`, `xv`, `vv` that may be nonzero anywhere.
+    /// `Some(b)` is a promise: every entry with `|i − j| > b` is exactly zero at every point.
+    /// The default, `None`, claims nothing (dense or unknown). `#[lagrangian]` reads it off
+    /// the model: off the list of nonzero entries of an unrolled model, off the index
+    /// expressions of a model with loops (`None` for a periodic wrap `% N` or a double sum).
+    /// Newton's method on an implicit step of a large model factorises a Jacobian with this
+    /// band in `O(D b²)` rather than `O(D³)` (docs/solvers.md).
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::Lagrangian;
+    ///
+    /// const N: usize = 8;
+    ///
+    /// /// A chain with fixed ends: each spring couples neighbours only.
+    /// #[varembed::lagrangian]
+    /// fn chain(x: [f64; N], v: [f64; N]) -> f64 {
+    ///     let kinetic: f64 = (0..N).map(|i| 0.5 * v[i] * v[i]).sum();
+    ///     let springs: f64 = (0..N - 1).map(|i| 0.5 * (x[i + 1] - x[i]).powi(2)).sum();
+    ///     kinetic - springs
+    /// }
+    /// // Tridiagonal: `xx` couples `i` and `i + 1`.
+    /// assert_eq!(Chain.hessian_bandwidth(), Some(1));
+    /// ```
+    fn hessian_bandwidth(&self) -> Option<usize> {
+        None
+    }
+
     /// On which of `x`, `v`, `t` the Lagrangian itself depends. The default,
     /// [`Dependence::ALL`], claims nothing; `#[lagrangian]` decides it symbolically. A
     /// Lagrangian that does not depend on `t` is autonomous: the flow conserves its energy
@@ -316,6 +346,9 @@ impl<const D: usize, L: Lagrangian<D> + ?Sized> Lagrangian<D> for &L {
     }
     fn hessian_dependence(&self) -> HessianDependence {
         (**self).hessian_dependence()
+    }
+    fn hessian_bandwidth(&self) -> Option<usize> {
+        (**self).hessian_bandwidth()
     }
     fn dependence(&self) -> Dependence {
         (**self).dependence()

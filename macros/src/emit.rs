@@ -1,6 +1,6 @@
 //! The emitting stage: the user's fn, the generated struct, `DERIVATIVES`, and the
 //! `Lagrangian<D>` impl with `value`, `gradient`, `value_and_gradient`, `hessian`,
-//! `gradient_and_hessian` and `hessian_dependence`.
+//! `gradient_and_hessian`, `hessian_dependence` and `hessian_bandwidth`.
 //!
 //! The step math of the schemes is not generated: core writes it once over these methods, so a
 //! hand-written Lagrangian gets the same steps as a generated one. Every method is `#[inline]`:
@@ -94,9 +94,25 @@ pub fn emit(
         text,
         quote!(#dim),
         methods,
-        (&d.hessian_dependence, &d.dependence),
+        (
+            &d.hessian_dependence,
+            &d.dependence,
+            Some(bandwidth(g, d, types.size)),
+        ),
         with_item,
     )
+}
+
+/// The largest `|i − j|` over the nonzero entries of the three blocks of an unrolled model
+/// (`dim × dim` entries each, row by row); `0` when every block is zero.
+fn bandwidth(g: &Graph, d: &Derivatives, dim: usize) -> usize {
+    [&d.xx, &d.xv, &d.vv]
+        .into_iter()
+        .flat_map(|entries| entries.iter().enumerate())
+        .filter(|&(_, &id)| !g.is_num(id, 0.0))
+        .map(|(k, _)| (k / dim).abs_diff(k % dim))
+        .max()
+        .unwrap_or(0)
 }
 
 /// The user's fn, the struct, `DERIVATIVES` and the `Lagrangian<dim>` impl holding `methods`
@@ -106,7 +122,7 @@ pub fn shell(
     text: &str,
     dim: TokenStream,
     methods: TokenStream,
-    (hessian_dep, dep): (&HessianDependence, &Dependence),
+    (hessian_dep, dep, band): (&HessianDependence, &Dependence, Option<usize>),
     with_item: bool,
 ) -> TokenStream {
     let name = &model.struct_name;
@@ -124,6 +140,7 @@ pub fn shell(
     };
     let strukt = structure(model);
     let hessian_dependence = hessian_dependence(hessian_dep);
+    let bandwidth = hessian_bandwidth(band);
     let dependence = dependence(dep);
     let constants = constants(&model.consts);
     let lagrangian = private("Lagrangian");
@@ -142,6 +159,7 @@ pub fn shell(
         impl #lagrangian<#dim> for #name {
             #methods
             #hessian_dependence
+            #bandwidth
             #dependence
             #constants
         }
@@ -318,6 +336,24 @@ fn hessian_dependence(dep: &HessianDependence) -> TokenStream {
         #[inline]
         fn hessian_dependence(&self) -> #ty {
             #ty { xx: #xx, xv: #xv, vv: #vv }
+        }
+    }
+}
+
+/// `hessian_bandwidth`, a constant of the model: the largest `|i − j|` of a structurally
+/// nonzero Hessian entry, or `None` when the macro cannot bound it.
+fn hessian_bandwidth(band: Option<usize>) -> TokenStream {
+    let value = match band {
+        Some(b) => {
+            let b = index(b);
+            quote!(::core::option::Option::Some(#b))
+        }
+        None => quote!(::core::option::Option::None),
+    };
+    quote! {
+        #[inline]
+        fn hessian_bandwidth(&self) -> ::core::option::Option<usize> {
+            #value
         }
     }
 }

@@ -15,6 +15,7 @@ use quote::quote;
 use crate::assemble::{Assembly, Block};
 use crate::cse::Plan;
 use crate::emit::{method_on, private, shell};
+use crate::indices::Affine;
 use crate::ir::{Graph, Id, IndexVar, Model, Node, Var};
 use crate::names::Names;
 use crate::render::Render;
@@ -333,11 +334,31 @@ pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenSt
         text,
         dim,
         methods,
-        (&a.hessian_dependence, &a.dependence),
+        (&a.hessian_dependence, &a.dependence, bandwidth(a)),
         with_item,
     );
     let checks = names.bounds(&model.item.sig.ident);
     quote!(#shell #bounds #checks)
+}
+
+/// The largest `|i − j|` over the Hessian entries of every term, read off their index
+/// expressions: a row and a column that differ by a constant (the same loop variable with the
+/// same scale, or two literals) bound it; a periodic index (`% N`), two different loop
+/// variables (a double sum), different scales or a difference naming `N` or another const
+/// leave it unbounded: `None`.
+fn bandwidth(a: &Assembly) -> Option<usize> {
+    let at = |u: Var| match u {
+        Var::X(k) | Var::V(k) => Some(Affine::constant(k as i64)),
+        Var::XAt(c) | Var::VAt(c) if !c.wrap => Some(c.at),
+        _ => None,
+    };
+    let mut band = 0;
+    for e in a.terms.iter().flat_map(|t| &t.hessian) {
+        let (row, col) = (at(e.row)?, at(e.col)?);
+        let difference = row.add_scaled(col, -1)?.as_constant()?;
+        band = band.max(difference.unsigned_abs() as usize);
+    }
+    Some(band)
 }
 
 /// The code of scope `s`: its temporaries, its outputs, then its inner loops.

@@ -352,6 +352,32 @@ fn check<const D: usize>(
             (h.xx, h.xv, h.vv),
             "{name}: fused Hessian"
         );
+        outside_band_is_zero(name, lag, &h);
+    }
+}
+
+/// Every entry of the three blocks with `|i − j|` beyond the claimed bandwidth is exactly 0:
+/// the claim checked against the Hessian itself, not against the macro's reasoning.
+fn outside_band_is_zero<const D: usize>(
+    name: &str,
+    lag: &impl Lagrangian<D>,
+    h: &varembed::Hessian<D>,
+) {
+    let Some(band) = lag.hessian_bandwidth() else {
+        return;
+    };
+    for (block, m) in [("xx", &h.xx), ("xv", &h.xv), ("vv", &h.vv)] {
+        for i in 0..D {
+            for j in 0..D {
+                if i.abs_diff(j) > band {
+                    assert_eq!(
+                        m[(i, j)],
+                        0.0,
+                        "{name}: {block}[({i}, {j})] outside the band {band}"
+                    );
+                }
+            }
+        }
     }
 }
 
@@ -524,4 +550,40 @@ fn dependence_of_loop_models() {
     let dep = forms::Forms { k: 1.0 }.hessian_dependence();
     assert_eq!((dep.xv, dep.vv), (on(true, true), on(true, false)));
     assert!(forms::Forms { k: 1.0 }.dependence().t);
+}
+
+/// The structural bandwidth each model claims: a fixed-end chain is tridiagonal, a periodic
+/// wrap or a double sum cannot be bounded, an unrolled model's is read off its entries. At
+/// random points the claim holds (every entry outside the band is exactly 0, in `check` above
+/// and here for the unrolled models).
+#[test]
+fn hessian_bandwidth_of_the_models() {
+    use varembed_tests::models::generated::{DoublePendulum, Pendulum};
+    let (alpha, beta) = (0.25, 0.7);
+    assert_eq!(n64::FputFixed { alpha, beta }.hessian_bandwidth(), Some(1));
+    assert_eq!(n64::FputHelper { alpha, beta }.hessian_bandwidth(), Some(1));
+    assert_eq!(n64::FputPeriodic { alpha, beta }.hessian_bandwidth(), None);
+    assert_eq!(n64::Toda { a: 1.0, b: 1.0 }.hessian_bandwidth(), None);
+    assert_eq!(n64::NLink { g: 1.0, l: 1.0 }.hessian_bandwidth(), None);
+    assert_eq!(n64::Walled { k: 1.0 }.hessian_bandwidth(), Some(0));
+    assert_eq!(forms::Forms { k: 1.0 }.hessian_bandwidth(), None);
+    assert_eq!(FputUnrolled { alpha, beta }.hessian_bandwidth(), Some(1));
+    let double = DoublePendulum {
+        m1: 1.0,
+        m2: 2.0,
+        l1: 1.0,
+        l2: 0.5,
+        g: 9.81,
+    };
+    assert_eq!(double.hessian_bandwidth(), Some(1));
+    assert_eq!(Pendulum { g: 9.81, l: 1.0 }.hessian_bandwidth(), Some(0));
+    // Through the blanket impl for references, as the solvers see a model.
+    let by_ref = <&DoublePendulum as Lagrangian<2>>::hessian_bandwidth(&&double);
+    assert_eq!(by_ref, Some(1));
+    let mut rng = Rng(0xBA4D);
+    for _ in 0..20 {
+        let (x, v) = (rng.vector::<4>(1.0), rng.vector::<4>(1.0));
+        let lag = FputUnrolled { alpha, beta };
+        outside_band_is_zero("fput_unrolled", &lag, &lag.hessian(&x, &v, 0.0));
+    }
 }

@@ -2,8 +2,8 @@
 //! stopping rule and line search of the global systems.
 
 use crate::error::{Error, Location, Result};
-use crate::lagrangian::{Lagrangian, Vector};
-use crate::linalg::solve_small;
+use crate::lagrangian::{Lagrangian, Matrix, Vector};
+use crate::linalg::{BandedMatrix, solve_small};
 use crate::options::NewtonOptions;
 use crate::step::{Step, residual as step_residual};
 
@@ -17,10 +17,56 @@ pub(crate) fn at_round_off(residual: f64, previous: f64, jacobian: f64, unknowns
         && residual > 0.5 * previous
 }
 
+/// The smallest dimension at which a step Jacobian with a narrow band is factorised as a band
+/// matrix: below it the dense elimination of a `D × D` block, unrolled by the compiler, is as
+/// fast (measured in the implicit-step benchmarks, BENCHMARKS.md).
+const BANDED_FROM: usize = 16;
+
+/// The half-bandwidth the step Jacobians of `lagrangian` are factorised with, or `None` for
+/// the dense path. Every step kind's Jacobian is a linear combination of the blocks `xx`,
+/// `xv`, `xvᵀ`, `vv` (at one point, or at the points of an interval's quadrature), so it has
+/// the Hessian's band.
+fn step_band<const D: usize, L: Lagrangian<D> + ?Sized>(lagrangian: &L) -> Option<usize> {
+    if D < BANDED_FROM {
+        return None;
+    }
+    lagrangian.hessian_bandwidth().filter(|&b| 2 * b + 1 < D)
+}
+
+/// Solves `J δ = r`: by banded LU with half-bandwidth `band` (`O(D b²)`), or densely
+/// (`O(D³)`). `None` when `J` is singular, to the same relative threshold either way. A
+/// Jacobian with an entry outside the claimed band (a Lagrangian whose bandwidth promise is
+/// wrong) takes the dense path, so a wrong claim costs speed, never the answer.
+fn solve_step<const D: usize>(
+    j: &Matrix<D>,
+    r: &Vector<D>,
+    band: Option<usize>,
+) -> Option<Vector<D>> {
+    let Some(b) = band else {
+        return solve_small(j, r);
+    };
+    let outside = (0..D).any(|i| (0..D).any(|c| i.abs_diff(c) > b && j[(i, c)] != 0.0));
+    if outside {
+        return solve_small(j, r);
+    }
+    let mut banded = BandedMatrix::zeros(D, b, b);
+    for i in 0..D {
+        for c in i.saturating_sub(b)..(i + b + 1).min(D) {
+            banded.add(i, c, j[(i, c)]);
+        }
+    }
+    banded.factorize().ok()?;
+    let mut x = *r;
+    banded.solve_inplace(x.as_mut_slice());
+    Some(x)
+}
+
 /// Newton's method on the step equation `G(y) = π` for the newest node `Q_n` (index `n`, for
 /// the error), from the initial guess `guess`, with the analytic Jacobian.
 ///
 /// Returns the node and the number of iterations (0 when `guess` already solves the step).
+/// A large model with a narrow [`Lagrangian::hessian_bandwidth`] has its Jacobian factorised
+/// as a band matrix; the Jacobian itself, its norm and every error are the dense path's.
 pub(crate) fn newton_step<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
     step: &Step<D>,
@@ -36,6 +82,7 @@ pub(crate) fn newton_step<const D: usize, L: Lagrangian<D> + ?Sized>(
     let scale = 1.0 + momentum.amax();
     let mut y = guess;
     let mut residual = f64::INFINITY;
+    let band = step_band(lagrangian);
     // Failures at the initial guess belong to the problem (a Lagrangian undefined there, a
     // degenerate ∂²L/∂v²); failures after Newton has moved belong to the iteration.
     let diverged = |iterations, residual| Error::NewtonDidNotConverge {
@@ -63,7 +110,7 @@ pub(crate) fn newton_step<const D: usize, L: Lagrangian<D> + ?Sized>(
         // The step is well defined only where its Jacobian is invertible (implicit function
         // theorem): a singular J at a zero residual means every nearby y solves it, so it is an
         // error even then, never a silently returned guess.
-        let Some(delta) = solve_small(&j, &r) else {
+        let Some(delta) = solve_step(&j, &r, band) else {
             return Err(if iteration == 0 || converged {
                 Error::SingularJacobian { at }
             } else {

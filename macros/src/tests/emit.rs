@@ -174,6 +174,7 @@ fn the_impl_has_the_agreed_methods_all_inline() {
                 "hessian",
                 "gradient_and_hessian",
                 "hessian_dependence",
+                "hessian_bandwidth",
                 "dependence",
                 "constants"
             ]

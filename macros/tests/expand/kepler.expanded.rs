@@ -163,6 +163,10 @@ impl ::varembed::__private::Lagrangian<2> for Kepler {
         }
     }
     #[inline]
+    fn hessian_bandwidth(&self) -> ::core::option::Option<usize> {
+        ::core::option::Option::Some(1)
+    }
+    #[inline]
     fn dependence(&self) -> ::varembed::__private::Dependence {
         ::varembed::__private::Dependence {
             x: true,

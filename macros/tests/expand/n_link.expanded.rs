@@ -252,6 +252,10 @@ impl ::varembed::__private::Lagrangian<N> for NLink {
         }
     }
     #[inline]
+    fn hessian_bandwidth(&self) -> ::core::option::Option<usize> {
+        ::core::option::Option::None
+    }
+    #[inline]
     fn dependence(&self) -> ::varembed::__private::Dependence {
         ::varembed::__private::Dependence {
             x: true,

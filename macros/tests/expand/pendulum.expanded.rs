@@ -124,6 +124,10 @@ impl ::varembed::__private::Lagrangian<1> for Pendulum {
         }
     }
     #[inline]
+    fn hessian_bandwidth(&self) -> ::core::option::Option<usize> {
+        ::core::option::Option::Some(0)
+    }
+    #[inline]
     fn dependence(&self) -> ::varembed::__private::Dependence {
         ::varembed::__private::Dependence {
             x: true,
