@@ -6,6 +6,11 @@
 //! the bandwidth takes the dense `d × d` elimination; the two runs are checked to agree before
 //! timing. Both evaluate the Hessian densely: only the factorisation differs.
 //!
+//! A third line is the run a user would write by hand for this chain: the direct Gauss-FDE−
+//! step of `L = ½|v|² − U(x)` is `y + h² ∇U(y) = 2b − a`, solved by Newton with the
+//! tridiagonal Jacobian `I + h² ∇²U(y)` (Thomas algorithm), from the same start `Q_1 = q0 + h v0`
+//! and with the same stopping rule on the same residual.
+//!
 //! `cargo bench -p varembed-examples --bench banded_newton`; figures in BENCHMARKS.md.
 
 use std::hint::black_box;
@@ -59,7 +64,82 @@ macro_rules! chain {
 chain!(d16, 16);
 chain!(d64, 64);
 
-/// The direct Gauss-FDE− run of `lag`, banded and dense, side by side in one group.
+/// `V'(d)` and `V''(d)` of the spring `V(d) = d²/2 + α d³/3 + β d⁴/4`.
+fn spring(d: f64, alpha: f64, beta: f64) -> (f64, f64) {
+    (
+        d + alpha * d * d + beta * d * d * d,
+        1.0 + 2.0 * alpha * d + 3.0 * beta * d * d,
+    )
+}
+
+/// The direct Gauss-FDE− run of the chain written by hand: `Q_1 = q0` (at rest), then each
+/// step solves `G(y) = (y − b)/h + h ∇U(y) = (b − a)/h` (the library's residual, in momentum
+/// units) by Newton on the tridiagonal `∂G/∂y = I/h + h ∇²U(y)`, stopping when
+/// `|G − π|∞ ≤ 1e-12 (1 + |π|∞)`. Returns the nodes.
+fn hand_written(q0: &[f64], (alpha, beta): (f64, f64)) -> Vec<Vec<f64>> {
+    let n = q0.len();
+    let h = T_END / STEPS as f64;
+    let mut q = Vec::with_capacity(STEPS + 1);
+    q.push(q0.to_vec());
+    q.push(q0.to_vec());
+    let (mut grad, mut diag, mut off) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let (mut r, mut c, mut y) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    for k in 2..=STEPS {
+        let (a, b) = (&q[k - 2], &q[k - 1]);
+        let pi: Vec<f64> = (0..n).map(|i| (b[i] - a[i]) / h).collect();
+        let scale = 1.0 + pi.iter().fold(0.0f64, |m, p| m.max(p.abs()));
+        y.iter_mut()
+            .zip(a.iter().zip(b))
+            .for_each(|(y, (a, b))| *y = 2.0 * b - a);
+        for _ in 0..50 {
+            // ∇U and ∇²U over the bonds d_j = x_{j+1} − x_j, j = −1..n−1, walls at 0.
+            grad.iter_mut().for_each(|g| *g = 0.0);
+            diag.iter_mut().for_each(|g| *g = 0.0);
+            for j in 0..=n {
+                let left = if j == 0 { 0.0 } else { y[j - 1] };
+                let right = if j == n { 0.0 } else { y[j] };
+                let (dv, ddv) = spring(right - left, alpha, beta);
+                if j < n {
+                    grad[j] += dv;
+                    diag[j] += ddv;
+                }
+                if j > 0 {
+                    grad[j - 1] -= dv;
+                    diag[j - 1] += ddv;
+                    if j < n {
+                        off[j - 1] = -ddv;
+                    }
+                }
+            }
+            let mut residual = 0.0f64;
+            for i in 0..n {
+                r[i] = (y[i] - b[i]) / h + h * grad[i] - pi[i];
+                residual = residual.max(r[i].abs());
+            }
+            if residual <= 1e-12 * scale {
+                break;
+            }
+            // Thomas algorithm on I/h + h ∇²U: sub- and super-diagonal `h off`.
+            let mut pivot = 1.0 / h + h * diag[0];
+            c[0] = h * off[0] / pivot;
+            r[0] /= pivot;
+            for i in 1..n {
+                pivot = 1.0 / h + h * diag[i] - h * off[i - 1] * c[i - 1];
+                c[i] = if i + 1 < n { h * off[i] / pivot } else { 0.0 };
+                r[i] = (r[i] - h * off[i - 1] * r[i - 1]) / pivot;
+            }
+            for i in (0..n - 1).rev() {
+                r[i] -= c[i] * r[i + 1];
+            }
+            y.iter_mut().zip(&r).for_each(|(y, d)| *y -= d);
+        }
+        q.push(y.clone());
+    }
+    q
+}
+
+/// The direct Gauss-FDE− run of `lag`, banded and dense, side by side in one group, with the
+/// hand-written run of the same chain.
 fn side_by_side<const D: usize, L: Lagrangian<D>>(c: &mut Criterion, lag: &L, q0: [f64; D]) {
     let grid = Grid::new(0.0, T_END, STEPS).unwrap();
     let embedding = Embedding::finite_difference(Side::Backward);
@@ -80,8 +160,23 @@ fn side_by_side<const D: usize, L: Lagrangian<D>>(c: &mut Criterion, lag: &L, q0
             .map(|(p, q)| (p - q).amax())
             .fold(0.0, f64::max);
     assert!(gap <= 1e-12, "banded and dense runs differ by {gap:e}");
+    let by_hand = hand_written(&q0, PARAMS);
+    let hand_gap =
+        a.q.iter()
+            .zip(&by_hand)
+            .map(|(p, q)| {
+                p.iter()
+                    .zip(q)
+                    .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+            })
+            .fold(0.0, f64::max);
+    assert!(
+        hand_gap <= 1e-10,
+        "library and hand-written runs differ by {hand_gap:e}"
+    );
     println!(
-        "d = {D}: bandwidth {:?}, Newton iterations {} (banded) / {} (dense), gap {gap:.1e}",
+        "d = {D}: bandwidth {:?}, Newton iterations {} (banded) / {} (dense), gap {gap:.1e}, \
+         gap to the hand-written run {hand_gap:.1e}",
         lag.hessian_bandwidth(),
         a.newton_iterations,
         b.newton_iterations
@@ -94,11 +189,17 @@ fn side_by_side<const D: usize, L: Lagrangian<D>>(c: &mut Criterion, lag: &L, q0
     group.bench_function(BenchmarkId::new("dense", &id), |bch| {
         bch.iter(|| dense_problem.solve_ivp(Scheme::Direct, black_box(q0), [0.0; D]))
     });
+    group.bench_function(BenchmarkId::new("hand_written", &id), |bch| {
+        bch.iter(|| hand_written(black_box(&q0), PARAMS))
+    });
     group.finish();
 }
 
+/// `(α, β)` of the chain.
+const PARAMS: (f64, f64) = (0.25, 0.7);
+
 fn banded_newton(c: &mut Criterion) {
-    let (alpha, beta) = (0.25, 0.7);
+    let (alpha, beta) = PARAMS;
     side_by_side(c, &d16::Fput { alpha, beta }, d16::start());
     side_by_side(c, &d64::Fput { alpha, beta }, d64::start());
 }
