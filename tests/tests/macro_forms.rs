@@ -8,7 +8,7 @@
 
 use num_dual::{DualNum, HyperDual64};
 use varembed::{Lagrangian, lagrangian};
-use varembed_tests::models::num_dual::{close, dual_derivatives};
+use varembed_tests::models::num_dual::assert_matches_oracle;
 use varembed_tests::rng::Rng;
 
 /// The models of this file at dimension `N` (named, and the literal `$n`) with `M` dimers.
@@ -144,38 +144,7 @@ fn check<const D: usize>(
     for _ in 0..10 {
         let x = rng.vector::<D>(0.8);
         let v = rng.vector::<D>(1.5);
-        let z: Vec<f64> = x.iter().chain(v.iter()).copied().collect();
-        let (value, grad, hess) = dual_derivatives(oracle, &z);
-        close(&format!("{name} L"), lag.value(&x, &v, 0.0), value);
-        let (f, q) = lag.gradient(&x, &v, 0.0);
-        let h = lag.hessian(&x, &v, 0.0);
-        let (ff, fq, fh) = lag.gradient_and_hessian(&x, &v, 0.0);
-        let (fl, gf, gq) = lag.value_and_gradient(&x, &v, 0.0);
-        close(&format!("{name} fused L"), fl, value);
-        for i in 0..D {
-            close(&format!("{name} ∂L/∂x[{i}]"), f[i], grad[i]);
-            close(&format!("{name} ∂L/∂v[{i}]"), q[i], grad[D + i]);
-            assert_eq!((ff[i], fq[i]), (f[i], q[i]), "{name}: fused gradient");
-            assert_eq!((gf[i], gq[i]), (f[i], q[i]), "{name}: value and gradient");
-            for j in 0..D {
-                close(&format!("{name} xx[({i}, {j})]"), h.xx[(i, j)], hess[i][j]);
-                close(
-                    &format!("{name} xv[({i}, {j})]"),
-                    h.xv[(i, j)],
-                    hess[i][D + j],
-                );
-                close(
-                    &format!("{name} vv[({i}, {j})]"),
-                    h.vv[(i, j)],
-                    hess[D + i][D + j],
-                );
-            }
-        }
-        assert_eq!(
-            (fh.xx, fh.xv, fh.vv),
-            (h.xx, h.xv, h.vv),
-            "{name}: fused Hessian"
-        );
+        assert_matches_oracle(name, lag, oracle, &x, &v);
     }
 }
 

@@ -7,7 +7,7 @@
 
 use num_dual::{DualNum, HyperDual64};
 use varembed::{Lagrangian, Matrix, Vector, lagrangian};
-use varembed_tests::models::num_dual::{close, dual_derivatives};
+use varembed_tests::models::num_dual::{assert_matches_oracle, close, dual_derivatives};
 use varembed_tests::rng::Rng;
 
 /// `V(d) = d²/2 + α d³/3 + β d⁴/4`, the FPUT spring.
@@ -311,7 +311,8 @@ fn walled_dual<T: DualNum<Primitive = f64> + Copy>(z: &[T], p: [f64; 2]) -> T {
     l
 }
 
-/// The generated derivatives against the oracle's at random points.
+/// The generated value and derivatives (every method) against the oracle's at random points,
+/// and the claimed bandwidth against the Hessian.
 fn check<const D: usize>(
     name: &str,
     lag: &impl Lagrangian<D>,
@@ -323,35 +324,7 @@ fn check<const D: usize>(
     for _ in 0..points {
         let x = rng.vector::<D>(0.8);
         let v = rng.vector::<D>(1.5);
-        let z: Vec<f64> = x.iter().chain(v.iter()).copied().collect();
-        let (value, grad, hess) = dual_derivatives(&|w| oracle(w, p), &z);
-        close(&format!("{name} L"), lag.value(&x, &v, 0.0), value);
-        let (f, q) = lag.gradient(&x, &v, 0.0);
-        let h = lag.hessian(&x, &v, 0.0);
-        let (ff, fq, fh) = lag.gradient_and_hessian(&x, &v, 0.0);
-        for i in 0..D {
-            close(&format!("{name} ∂L/∂x[{i}]"), f[i], grad[i]);
-            close(&format!("{name} ∂L/∂v[{i}]"), q[i], grad[D + i]);
-            assert_eq!((ff[i], fq[i]), (f[i], q[i]), "{name}: fused gradient");
-            for j in 0..D {
-                close(&format!("{name} xx[({i}, {j})]"), h.xx[(i, j)], hess[i][j]);
-                close(
-                    &format!("{name} xv[({i}, {j})]"),
-                    h.xv[(i, j)],
-                    hess[i][D + j],
-                );
-                close(
-                    &format!("{name} vv[({i}, {j})]"),
-                    h.vv[(i, j)],
-                    hess[D + i][D + j],
-                );
-            }
-        }
-        assert_eq!(
-            (fh.xx, fh.xv, fh.vv),
-            (h.xx, h.xv, h.vv),
-            "{name}: fused Hessian"
-        );
+        let h = assert_matches_oracle(name, lag, &|w| oracle(w, p), &x, &v);
         outside_band_is_zero(name, lag, &h);
     }
 }

@@ -108,3 +108,49 @@ pub fn close(what: &str, a: f64, b: f64) {
         "{what}: generated {a:e}, oracle {b:e}"
     );
 }
+
+/// Asserts the value and every derivative method of `lag` at `(x, v, t = 0)` against the
+/// hyper-dual `oracle` of the same Lagrangian on `z = (x, v)` (each to 1e-12 by [`close`]), and
+/// the fused methods (`gradient_and_hessian`, `value_and_gradient`) against the separate ones,
+/// bit for bit. Returns the Hessian, for checks of its structure.
+pub fn assert_matches_oracle<const D: usize>(
+    name: &str,
+    lag: &impl Lagrangian<D>,
+    oracle: &dyn Fn(&[HyperDual64]) -> HyperDual64,
+    x: &Vector<D>,
+    v: &Vector<D>,
+) -> Hessian<D> {
+    let z: Vec<f64> = x.iter().chain(v.iter()).copied().collect();
+    let (value, grad, hess) = dual_derivatives(oracle, &z);
+    close(&format!("{name} L"), lag.value(x, v, 0.0), value);
+    let (f, q) = lag.gradient(x, v, 0.0);
+    let h = lag.hessian(x, v, 0.0);
+    let (ff, fq, fh) = lag.gradient_and_hessian(x, v, 0.0);
+    let (fl, gf, gq) = lag.value_and_gradient(x, v, 0.0);
+    close(&format!("{name} fused L"), fl, value);
+    for i in 0..D {
+        close(&format!("{name} ∂L/∂x[{i}]"), f[i], grad[i]);
+        close(&format!("{name} ∂L/∂v[{i}]"), q[i], grad[D + i]);
+        assert_eq!((ff[i], fq[i]), (f[i], q[i]), "{name}: fused gradient");
+        assert_eq!((gf[i], gq[i]), (f[i], q[i]), "{name}: value and gradient");
+        for j in 0..D {
+            close(&format!("{name} xx[({i}, {j})]"), h.xx[(i, j)], hess[i][j]);
+            close(
+                &format!("{name} xv[({i}, {j})]"),
+                h.xv[(i, j)],
+                hess[i][D + j],
+            );
+            close(
+                &format!("{name} vv[({i}, {j})]"),
+                h.vv[(i, j)],
+                hess[D + i][D + j],
+            );
+        }
+    }
+    assert_eq!(
+        (fh.xx, fh.xv, fh.vv),
+        (h.xx, h.xv, h.vv),
+        "{name}: fused Hessian"
+    );
+    h
+}
