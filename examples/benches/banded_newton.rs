@@ -16,8 +16,9 @@
 use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion};
-use varembed::{Embedding, Grid, Lagrangian, Problem, Scheme, Side, lagrangian};
+use varembed::{Embedding, Grid, Lagrangian, Problem, Scheme, Side};
 use varembed_tests::models::dense::Dense;
+use varembed_tests::models::generated::{fput16, fput64};
 
 /// 200 steps of `h = 0.05`, amplitude 0.8 in the first normal mode, the default Newton
 /// tolerance `1e-12`.
@@ -25,44 +26,12 @@ const STEPS: usize = 200;
 const T_END: f64 = 10.0;
 const AMPLITUDE: f64 = 0.8;
 
-macro_rules! chain {
-    ($module:ident, $n:expr) => {
-        mod $module {
-            use super::*;
-            pub const N: usize = $n;
-
-            /// `L = Σ ½v_i² − Σ V(x_{i+1} − x_i)`, `V(d) = d²/2 + α d³/3 + β d⁴/4`, walls at 0.
-            #[lagrangian]
-            pub fn fput(x: [f64; N], v: [f64; N], alpha: f64, beta: f64) -> f64 {
-                let mut kinetic = 0.0;
-                for i in 0..N {
-                    kinetic += 0.5 * v[i] * v[i];
-                }
-                let mut potential = 0.0;
-                for i in 0..N - 1 {
-                    let d = x[i + 1] - x[i];
-                    potential += 0.5 * d * d + alpha / 3.0 * d.powi(3) + beta / 4.0 * d.powi(4);
-                }
-                let (first, last) = (x[0], -x[N - 1]);
-                potential +=
-                    0.5 * first * first + alpha / 3.0 * first.powi(3) + beta / 4.0 * first.powi(4);
-                potential +=
-                    0.5 * last * last + alpha / 3.0 * last.powi(3) + beta / 4.0 * last.powi(4);
-                kinetic - potential
-            }
-
-            /// The first normal mode of the linear chain.
-            pub fn start() -> [f64; N] {
-                std::array::from_fn(|i| {
-                    AMPLITUDE * (std::f64::consts::PI * (i + 1) as f64 / (N + 1) as f64).sin()
-                })
-            }
-        }
-    };
+/// The first normal mode of the linear chain of `D` particles, at [`AMPLITUDE`].
+fn first_mode<const D: usize>() -> [f64; D] {
+    std::array::from_fn(|i| {
+        AMPLITUDE * (std::f64::consts::PI * (i + 1) as f64 / (D + 1) as f64).sin()
+    })
 }
-
-chain!(d16, 16);
-chain!(d64, 64);
 
 /// `V'(d)` and `V''(d)` of the spring `V(d) = d²/2 + α d³/3 + β d⁴/4`.
 fn spring(d: f64, alpha: f64, beta: f64) -> (f64, f64) {
@@ -200,8 +169,8 @@ const PARAMS: (f64, f64) = (0.25, 0.7);
 
 fn banded_newton(c: &mut Criterion) {
     let (alpha, beta) = PARAMS;
-    side_by_side(c, &d16::Fput { alpha, beta }, d16::start());
-    side_by_side(c, &d64::Fput { alpha, beta }, d64::start());
+    side_by_side(c, &fput16::Fput { alpha, beta }, first_mode());
+    side_by_side(c, &fput64::Fput { alpha, beta }, first_mode());
 }
 
 varembed_tests::bench_main!(varembed_tests::bench::runs(); banded_newton);

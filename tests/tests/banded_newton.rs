@@ -5,27 +5,8 @@
 
 use varembed::{Embedding, Grid, Lagrangian, Problem, Scheme, Side, lagrangian};
 use varembed_tests::models::dense::Dense;
+use varembed_tests::models::generated::fput64::{Fput, N};
 use varembed_tests::rng::Rng;
-
-const N: usize = 64;
-
-/// FPUT chain with fixed ends `x_{−1} = x_N = 0`, `V(d) = d²/2 + α d³/3 + β d⁴/4`.
-#[lagrangian]
-fn fput(x: [f64; N], v: [f64; N], alpha: f64, beta: f64) -> f64 {
-    let mut kinetic = 0.0;
-    for i in 0..N {
-        kinetic += 0.5 * v[i] * v[i];
-    }
-    let mut potential = 0.0;
-    for i in 0..N - 1 {
-        let d = x[i + 1] - x[i];
-        potential += 0.5 * d * d + alpha / 3.0 * d.powi(3) + beta / 4.0 * d.powi(4);
-    }
-    let (first, last) = (x[0], -x[N - 1]);
-    potential += 0.5 * first * first + alpha / 3.0 * first.powi(3) + beta / 4.0 * first.powi(4);
-    potential += 0.5 * last * last + alpha / 3.0 * last.powi(3) + beta / 4.0 * last.powi(4);
-    kinetic - potential
-}
 
 /// A chain with next-nearest-neighbour springs and a position-dependent mass: bandwidth 2,
 /// with `vv` depending on `x` and `xv` nonzero.

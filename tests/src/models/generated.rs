@@ -49,3 +49,41 @@ pub fn double_pendulum(
 pub fn magnetic(x: [f64; 2], v: [f64; 2], b: f64) -> f64 {
     0.5 * (v[0] * v[0] + v[1] * v[1]) + 0.5 * b * (x[0] * v[1] - x[1] * v[0])
 }
+
+/// A module `$module` holding `N = $n` and the FPUT chain of `N` unit masses between two walls
+/// at 0, written with loops: `L = Σ ½v_i² − Σ V(d)` over the bonds `d = x_{i+1} − x_i`, the
+/// two to the walls included, `V(d) = d²/2 + α d³/3 + β d⁴/4`. Its Hessian is tridiagonal.
+macro_rules! fput_chain {
+    ($module:ident, $n:expr) => {
+        #[doc = concat!("The FPUT chain of ", stringify!($n), " particles.")]
+        pub mod $module {
+            use varembed::lagrangian;
+
+            /// The number of moving particles.
+            pub const N: usize = $n;
+
+            /// FPUT chain with fixed ends `x_{−1} = x_N = 0`.
+            #[lagrangian]
+            pub fn fput(x: [f64; N], v: [f64; N], alpha: f64, beta: f64) -> f64 {
+                let mut kinetic = 0.0;
+                for i in 0..N {
+                    kinetic += 0.5 * v[i] * v[i];
+                }
+                let mut potential = 0.0;
+                for i in 0..N - 1 {
+                    let d = x[i + 1] - x[i];
+                    potential += 0.5 * d * d + alpha / 3.0 * d.powi(3) + beta / 4.0 * d.powi(4);
+                }
+                let (first, last) = (x[0], -x[N - 1]);
+                potential +=
+                    0.5 * first * first + alpha / 3.0 * first.powi(3) + beta / 4.0 * first.powi(4);
+                potential +=
+                    0.5 * last * last + alpha / 3.0 * last.powi(3) + beta / 4.0 * last.powi(4);
+                kinetic - potential
+            }
+        }
+    };
+}
+
+fput_chain!(fput16, 16);
+fput_chain!(fput64, 64);
