@@ -18,7 +18,7 @@ pub(crate) fn at_round_off(residual: f64, previous: f64, jacobian: f64, unknowns
 }
 
 /// The smallest dimension at which a step Jacobian with a narrow band is factorised as a band
-/// matrix (measured 1.6× faster than the dense path at `D = 16`, BENCHMARKS.md; smaller
+/// matrix (measured 1.5–1.6× faster than the dense path at `D = 16`, BENCHMARKS.md; smaller
 /// models keep the dense elimination on the stack, which allocates nothing).
 const BANDED_FROM: usize = 16;
 
