@@ -101,6 +101,14 @@ pub enum Error {
         /// The embedding it was asked of.
         embedding: String,
     },
+    /// A model of run-time dimension cannot be evaluated at its dimension: it reads a component
+    /// beyond it, or a loop's range needs more components (see
+    /// [`DynLagrangian::invalid_dimension`](crate::DynLagrangian::invalid_dimension)).
+    #[error("invalid model: {reason}")]
+    InvalidModel {
+        /// What is wrong, naming the model's dimension.
+        reason: String,
+    },
     /// A finite input lies outside the domain of the Lagrangian: `L`, its gradient or its
     /// Hessian is not finite there (an initial velocity above the speed of light of a
     /// relativistic particle; a boundary value or initial guess at the singularity of a

@@ -24,6 +24,8 @@
 //! - Lagrangians: the [`Lagrangian`] trait, its [`Hessian`], what the Hessian blocks depend on
 //!   ([`HessianDependence`], [`Dependence`]), [`IntoVector`], [`Vector`], [`Matrix`], and the
 //!   [`lagrangian`](macro@lagrangian) attribute that derives an implementation from a function.
+//! - Models of run-time dimension with sparse second derivatives (chains, lattices, discretised
+//!   fields): [`DynLagrangian`], [`SparseHessian`], [`SparseBlock`].
 //! - Solving: [`Solution`] and its [`Warning`]s, [`Start`], [`NewtonOptions`],
 //!   [`FractionalSolver`]; a solution's values at its nodes (times, positions, velocities,
 //!   momenta, energy; CSV export): [`NodeValues`], [`NodeState`], [`NodeRule`],
@@ -59,9 +61,10 @@
 // lagrangian, error, side, weights, toeplitz, gauss_legendre, grid, linalg, regularity, options,
 // operator, fft_operator, embedding, step, ode, discretisation,
 // solve (krylov, newton, start, nodes, solution, guard, fractional, bvp, gauss, ivp),
-// compare, problem.
+// dynamic (sparse, step, ivp, problem), compare, problem.
 mod compare;
 mod discretisation;
+mod dynamic;
 mod embedding;
 mod error;
 mod fft_operator;
@@ -86,6 +89,7 @@ mod weights;
 pub use compare::convergence::{Convergence, Level};
 pub use compare::order::{OrderStatus, observed_order, observed_orders};
 pub use compare::{CompareOptions, Comparison, Reference, SchemeReport, max_error};
+pub use dynamic::{DynLagrangian, SparseBlock, SparseHessian};
 pub use embedding::{Embedding, EmbeddingKind, Scheme};
 pub use error::{Error, Location, Result};
 pub use grid::Grid;
@@ -105,6 +109,7 @@ pub use varembed_macros::lagrangian;
 /// integration tests reach into. Not part of the public API: it changes without notice.
 #[doc(hidden)]
 pub mod __private {
+    pub use crate::dynamic::{DynLagrangian, SparseHessian};
     pub use crate::lagrangian::{
         Dependence, Hessian, HessianDependence, Lagrangian, Matrix, Vector,
     };
