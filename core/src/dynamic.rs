@@ -12,9 +12,13 @@
 //! The step equations are those of the const-generic path, entry for entry (the step module's
 //! tables); only the storage differs.
 
+pub(crate) mod band;
+pub(crate) mod ivp;
+pub(crate) mod problem;
 pub(crate) mod sparse;
+pub(crate) mod step;
 
-pub use sparse::{SparseBlock, SparseHessian};
+use sparse::SparseHessian;
 
 use crate::lagrangian::{Dependence, HessianDependence};
 
@@ -124,6 +128,13 @@ pub trait DynLagrangian {
     /// The model's constants by name, so that a non-finite one is reported by its name.
     fn constants(&self) -> Vec<(&'static str, f64)> {
         Vec::new()
+    }
+
+    /// The energy `E = v·∂L/∂v − L` (allocates one buffer of length `d`).
+    fn energy(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
+        let mut p = vec![0.0; x.len()];
+        self.momentum(x, v, t, &mut p);
+        v.iter().zip(&p).map(|(v, p)| v * p).sum::<f64>() - self.value(x, v, t)
     }
 }
 

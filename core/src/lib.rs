@@ -25,7 +25,9 @@
 //!   ([`HessianDependence`], [`Dependence`]), [`IntoVector`], [`Vector`], [`Matrix`], and the
 //!   [`lagrangian`](macro@lagrangian) attribute that derives an implementation from a function.
 //! - Models of run-time dimension with sparse second derivatives (chains, lattices, discretised
-//!   fields): [`DynLagrangian`], [`SparseHessian`], [`SparseBlock`].
+//!   fields): [`DynLagrangian`], [`SparseHessian`], [`SparseBlock`]; solved by
+//!   [`DynProblem`] into a [`DynSolution`] or, node by node, an observer of [`DynNode`]s and a
+//!   [`DynRun`].
 //! - Solving: [`Solution`] and its [`Warning`]s, [`Start`], [`NewtonOptions`],
 //!   [`FractionalSolver`]; a solution's values at its nodes (times, positions, velocities,
 //!   momenta, energy; CSV export): [`NodeValues`], [`NodeState`], [`NodeRule`],
@@ -89,7 +91,10 @@ mod weights;
 pub use compare::convergence::{Convergence, Level};
 pub use compare::order::{OrderStatus, observed_order, observed_orders};
 pub use compare::{CompareOptions, Comparison, Reference, SchemeReport, max_error};
-pub use dynamic::{DynLagrangian, SparseBlock, SparseHessian};
+pub use dynamic::DynLagrangian;
+pub use dynamic::ivp::{DynNode, DynRun};
+pub use dynamic::problem::{DynProblem, DynSolution};
+pub use dynamic::sparse::{SparseBlock, SparseHessian};
 pub use embedding::{Embedding, EmbeddingKind, Scheme};
 pub use error::{Error, Location, Result};
 pub use grid::Grid;
@@ -109,7 +114,8 @@ pub use varembed_macros::lagrangian;
 /// integration tests reach into. Not part of the public API: it changes without notice.
 #[doc(hidden)]
 pub mod __private {
-    pub use crate::dynamic::{DynLagrangian, SparseHessian};
+    pub use crate::dynamic::DynLagrangian;
+    pub use crate::dynamic::sparse::SparseHessian;
     pub use crate::lagrangian::{
         Dependence, Hessian, HessianDependence, Lagrangian, Matrix, Vector,
     };

@@ -95,6 +95,23 @@ impl BandedMatrix {
         }
     }
 
+    /// Sets every entry to zero, keeping the allocation (a matrix refilled at every Newton
+    /// iteration).
+    pub fn clear(&mut self) {
+        self.data.fill(0.0);
+    }
+
+    /// The smallest over the largest absolute diagonal entry of `U` after
+    /// [`factorize`](Self::factorize): the scale-free pivot ratio the degeneracy checks read.
+    pub fn pivot_ratio(&self) -> f64 {
+        let (lo, hi) = (0..self.n)
+            .map(|i| self.data[self.slot(i, i)].abs())
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), u| {
+                (lo.min(u), hi.max(u))
+            });
+        if hi > 0.0 { lo / hi } else { 0.0 }
+    }
+
     /// Order `n`.
     pub fn order(&self) -> usize {
         self.n
@@ -144,7 +161,8 @@ impl BandedMatrix {
         if !norm.is_finite() {
             return Err(0);
         }
-        self.pivots = vec![0; n];
+        self.pivots.clear();
+        self.pivots.resize(n, 0);
         for j in 0..n {
             let last_row = (j + kl).min(n - 1);
             let mut piv = j;

@@ -105,9 +105,15 @@ impl BlowUpGuard {
         n_steps: usize,
         enabled: bool,
     ) -> Self {
+        Self::watching(drifts, n_steps, enabled && !lagrangian.dependence().t)
+    }
+
+    /// The guard of a run of `n_steps` steps, watching when `enabled` (which the caller has
+    /// already turned off for a Lagrangian that depends on `t`).
+    pub(crate) fn watching(drifts: bool, n_steps: usize, enabled: bool) -> Self {
         let stride = (n_steps / 1024).clamp(1, MAX_STRIDE);
         BlowUpGuard {
-            enabled: enabled && !lagrangian.dependence().t,
+            enabled,
             drifts,
             first: 0,
             stride: 1 << stride.ilog2(),
@@ -175,7 +181,7 @@ impl BlowUpGuard {
 
     /// Records a sample: the energy `e`, `v·∂L/∂v = vp` and the round-off scale of `e`, at
     /// step `n`; a window that ends here is checked.
-    fn record(&mut self, e: f64, vp: f64, scale: f64, n: usize) -> Result<()> {
+    pub(crate) fn record(&mut self, e: f64, vp: f64, scale: f64, n: usize) -> Result<()> {
         // A sample outside the Lagrangian's domain gives no verdict; the step itself reports it.
         if !e.is_finite() {
             return Ok(());

@@ -1,0 +1,248 @@
+//! The initial value problems of a run-time-dimension model: the checks of the initial data,
+//! the discrete Legendre start, and the three-point recurrence with its blow-up guard, each
+//! node handed to an observer as it is computed.
+//!
+//! Only two nodes are kept (three while a step is solved), so a run of `N` steps at dimension
+//! `d` needs `O(d · b)` memory beyond what the observer keeps, `b` the band of the step
+//! Jacobian (docs/solvers.md, "Large models").
+
+use crate::embedding::{Embedding, EmbeddingKind, Scheme};
+use crate::error::{Error, Location, Result};
+use crate::grid::Grid;
+use crate::options::NewtonOptions;
+use crate::regularity::DEGENERACY_THRESHOLD;
+use crate::side::Side;
+use crate::solve::guard::BlowUpGuard;
+use crate::step::StepKind;
+
+use super::DynLagrangian;
+use super::band::BandSystem;
+use super::sparse::SparseHessian;
+use super::step::{StepSolver, max_norm};
+
+/// A node handed to the observer of a run: `Q_k` at `t_k`, with the node before it
+/// (`Q_0` itself for `k = 0`) so that the observer can form the velocity `(Q_k − Q_{k−1})/h`.
+#[derive(Clone, Copy, Debug)]
+pub struct DynNode<'a> {
+    /// Its index `k`.
+    pub index: usize,
+    /// Its time `t_k`.
+    pub t: f64,
+    /// `Q_k`.
+    pub q: &'a [f64],
+    /// `Q_{k−1}` (`Q_0` when `k = 0`).
+    pub previous: &'a [f64],
+}
+
+/// What a run reports beyond its nodes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DynRun {
+    /// The scheme that was run.
+    pub scheme: Scheme,
+    /// Its embedding.
+    pub embedding: Embedding,
+    /// Its grid.
+    pub grid: Grid,
+    /// The last node `Q_N`.
+    pub last: Vec<f64>,
+    /// Newton iterations over the whole run (the start included).
+    pub newton_iterations: usize,
+    /// Steps taken in closed form, without a Newton iteration.
+    pub explicit_steps: usize,
+    /// The half-bandwidth the step Jacobians were factorised with.
+    pub band: usize,
+    /// Whether the unknowns were reordered (reverse Cuthill–McKee) to reach that band.
+    pub reordered: bool,
+}
+
+/// The parts of a run-time-dimension problem an initial value problem reads.
+pub(crate) struct DynIvp<'a, L: ?Sized> {
+    pub(crate) lagrangian: &'a L,
+    pub(crate) grid: Grid,
+    pub(crate) embedding: Embedding,
+    pub(crate) newton: NewtonOptions,
+    pub(crate) blow_up_guard: bool,
+}
+
+impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
+    /// The step kind of `scheme`: the Gauss-FDEσ embeddings (and their coherent asymmetric
+    /// version, whose direct scheme is the variational recurrence).
+    fn step_kind(&self, scheme: Scheme) -> Result<StepKind> {
+        let backward = self.embedding.side() == Side::Backward;
+        match (self.embedding.kind(), scheme) {
+            (EmbeddingKind::FiniteDifference, Scheme::Direct) => Ok(if backward {
+                StepKind::DirectBackward
+            } else {
+                StepKind::DirectForward
+            }),
+            (EmbeddingKind::FiniteDifference | EmbeddingKind::Asymmetric, _) => Ok(if backward {
+                StepKind::VariationalBackward
+            } else {
+                StepKind::VariationalForward
+            }),
+            _ => Err(Error::Unsupported {
+                operation: "an initial value problem of a run-time-dimension model",
+                embedding: self.embedding.to_string(),
+            }),
+        }
+    }
+
+    /// The run of `scheme` from `q(a) = q0`, `q̇(a) = v0` with the discrete Legendre start,
+    /// each node `Q_0, …, Q_N` handed to `observe` in order.
+    pub(crate) fn run(
+        &self,
+        scheme: Scheme,
+        q0: &[f64],
+        v0: &[f64],
+        mut observe: impl FnMut(DynNode<'_>),
+    ) -> Result<DynRun> {
+        let kind = self.step_kind(scheme)?;
+        self.check_initial_data(q0, v0)?;
+        let (grid, h) = (self.grid, self.grid.h());
+        let d = q0.len();
+        let t0 = grid.t(0);
+
+        // The discrete Legendre start: the variational step equation with π = ∂L/∂v at the
+        // initial data, from the guess q0 + h v0.
+        let start_kind = match kind {
+            StepKind::VariationalBackward | StepKind::DirectBackward => {
+                StepKind::VariationalBackward
+            }
+            _ => StepKind::VariationalForward,
+        };
+        let mut pi = vec![0.0; d];
+        self.lagrangian.momentum(q0, v0, t0, &mut pi);
+        let mut start = StepSolver::new(self.lagrangian, start_kind, h, self.newton, (q0, v0, t0));
+        let mut b: Vec<f64> = q0.iter().zip(v0).map(|(q, v)| q + h * v).collect();
+        let start_iterations = start.solve(q0, &pi, (t0, grid.t(1)), &mut b, 1)?;
+        drop(start);
+        let mut a = q0.to_vec();
+        observe(DynNode {
+            index: 0,
+            t: t0,
+            q: &a,
+            previous: &a,
+        });
+        observe(DynNode {
+            index: 1,
+            t: grid.t(1),
+            q: &b,
+            previous: &a,
+        });
+
+        let mut solver = StepSolver::new(self.lagrangian, kind, h, self.newton, (q0, v0, t0));
+        let (band, reordered) = solver.band();
+        let drifts = matches!(kind, StepKind::DirectBackward | StepKind::DirectForward);
+        let enabled = self.blow_up_guard && !self.lagrangian.dependence().t;
+        let mut guard = BlowUpGuard::watching(drifts, grid.n(), enabled);
+        let stride = guard.stride();
+        let inv_h = 1.0 / h;
+        let mut y = vec![0.0; d];
+        let (mut iterations, mut explicit_steps) = (start_iterations, 0);
+        for n in 2..=grid.n() {
+            let times = (grid.t(n - 2), grid.t(n - 1));
+            let sample = guard.is_enabled() && (n - 2) % stride == 0;
+            if let Some((vp, p_max)) = solver.momentum((&a, &b), times, &mut pi, sample) {
+                let value = solver.lagrangian_at_momentum_point((&a, &b), times);
+                let e = vp - value;
+                let x_scale = max_norm(&a).max(max_norm(&b));
+                guard.record(e, vp, e.abs() + x_scale * p_max * inv_h, n)?;
+            }
+            // Newton's guess: the linear extrapolation 2b − a.
+            for ((y, a), b) in y.iter_mut().zip(&a).zip(&b) {
+                *y = 2.0 * b - a;
+            }
+            let its = solver.solve(&b, &pi, (grid.t(n - 1), grid.t(n)), &mut y, n)?;
+            iterations += its;
+            explicit_steps += usize::from(its == 0);
+            // Rotate the nodes: a ← b ← y, reusing a's buffer for the next y.
+            std::mem::swap(&mut a, &mut b);
+            std::mem::swap(&mut b, &mut y);
+            observe(DynNode {
+                index: n,
+                t: grid.t(n),
+                q: &b,
+                previous: &a,
+            });
+        }
+        guard.finish()?;
+        let last = if grid.n() == 0 { a } else { b };
+        Ok(DynRun {
+            scheme,
+            embedding: self.embedding,
+            grid,
+            last,
+            newton_iterations: iterations,
+            explicit_steps,
+            band,
+            reordered,
+        })
+    }
+
+    /// The checks before any step: the model at its dimension, finite constants, the initial
+    /// data of the right length and finite, `L` and its derivatives finite there, and
+    /// `∂²L/∂v²` not degenerate there.
+    fn check_initial_data(&self, q0: &[f64], v0: &[f64]) -> Result<()> {
+        let l = self.lagrangian;
+        if let Some(reason) = l.invalid_dimension() {
+            return Err(Error::InvalidModel { reason });
+        }
+        let d = l.dimension();
+        crate::error::check_len("q0", d, q0.len())?;
+        crate::error::check_len("v0", d, v0.len())?;
+        if let Some((name, value)) = l.constants().into_iter().find(|c| !c.1.is_finite()) {
+            return Err(Error::NonFiniteInput {
+                what: format!("model constant `{name}` = {value}"),
+            });
+        }
+        for (what, x) in [("q0", q0), ("v0", v0)] {
+            if let Some(i) = x.iter().position(|c| !c.is_finite()) {
+                return Err(Error::NonFiniteInput {
+                    what: format!("{what}[{i}] = {}", x[i]),
+                });
+            }
+        }
+        let t0 = self.grid.t(0);
+        let (mut f, mut p) = (vec![0.0; d], vec![0.0; d]);
+        l.force(q0, v0, t0, &mut f);
+        l.momentum(q0, v0, t0, &mut p);
+        let mut hessian = SparseHessian::new(d);
+        l.hessian(q0, v0, t0, &mut hessian);
+        let finite = l.value(q0, v0, t0).is_finite()
+            && f.iter().chain(&p).all(|c| c.is_finite())
+            && hessian.is_finite();
+        if !finite {
+            return Err(Error::OutsideDomain {
+                what: "the initial data q0, v0".to_string(),
+            });
+        }
+        let measure = vv_pivot_ratio(d, l.hessian_bandwidth(), &hessian);
+        if measure < DEGENERACY_THRESHOLD {
+            return Err(Error::DegenerateLagrangian {
+                at: Location::Step(0),
+                measure,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// The pivot ratio of `∂²L/∂v²` (the block `vv` of `hessian`), factorised as a band: 0 when
+/// singular.
+fn vv_pivot_ratio(d: usize, claimed: Option<usize>, hessian: &SparseHessian) -> f64 {
+    let vv_only = SparseHessian {
+        vv: hessian.vv.clone(),
+        ..SparseHessian::new(d)
+    };
+    let mut system = BandSystem::plan(d, claimed, &vv_only);
+    for &(i, j, value) in vv_only.vv.entries() {
+        if system.add(i, j, value).is_err() {
+            return 0.0;
+        }
+    }
+    if system.factorize() {
+        system.pivot_ratio()
+    } else {
+        0.0
+    }
+}

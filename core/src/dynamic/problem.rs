@@ -1,0 +1,247 @@
+//! [`DynProblem`]: a run-time-dimension model on a grid with an embedding, solved as an
+//! initial value problem that stores every node, every `s`-th node, or none (an observer).
+
+use crate::embedding::{Embedding, Scheme};
+use crate::error::{Error, Result};
+use crate::grid::Grid;
+use crate::options::NewtonOptions;
+
+use super::DynLagrangian;
+use super::ivp::{DynIvp, DynNode, DynRun};
+
+/// A [`DynLagrangian`] on a grid with a discrete embedding: what
+/// [`Problem`](crate::Problem) is for a const-generic [`Lagrangian`](crate::Lagrangian).
+///
+/// The Gauss-FDEσ embeddings ([`Embedding::finite_difference`], and the coherent
+/// [`Embedding::asymmetric`]) are offered, both schemes, as initial value problems with the
+/// discrete Legendre start. Every implicit step is solved by Newton's method on a band matrix
+/// (`O(d b²)` for half-bandwidth `b`); a step that is affine in the newest node is taken in
+/// closed form, and a constant step Jacobian is factorised once per run. The runs are watched
+/// by the blow-up guard of the const-generic path; the eigenvalue stability check of that path
+/// (a `2d × 2d` eigenproblem) is not run, so an unstable step shows as
+/// [`Error::BlowUp`] or [`Error::NotFinite`] once it has grown.
+///
+/// # Example
+///
+/// ```
+/// use varembed::{DynLagrangian, DynProblem, Embedding, Grid, Scheme, Side, SparseHessian};
+///
+/// /// `n` uncoupled unit oscillators.
+/// struct Oscillators { n: usize }
+///
+/// impl DynLagrangian for Oscillators {
+///     fn dimension(&self) -> usize { self.n }
+///     fn value(&self, x: &[f64], v: &[f64], _t: f64) -> f64 {
+///         x.iter().zip(v).map(|(x, v)| 0.5 * (v * v - x * x)).sum()
+///     }
+///     fn force(&self, x: &[f64], _v: &[f64], _t: f64, f: &mut [f64]) {
+///         for (f, x) in f.iter_mut().zip(x) { *f = -x; }
+///     }
+///     fn momentum(&self, _x: &[f64], v: &[f64], _t: f64, p: &mut [f64]) {
+///         p.copy_from_slice(v);
+///     }
+///     fn hessian(&self, _x: &[f64], _v: &[f64], _t: f64, out: &mut SparseHessian) {
+///         for i in 0..self.n {
+///             out.xx.add(i, i, -1.0);
+///             out.vv.add(i, i, 1.0);
+///         }
+///     }
+///     fn hessian_bandwidth(&self) -> Option<usize> { Some(0) }
+/// }
+///
+/// let model = Oscillators { n: 1000 };
+/// let grid = Grid::new(0.0, 1.0, 1000)?;
+/// let problem = DynProblem::new(&model, grid, Embedding::finite_difference(Side::Backward));
+/// let (q0, v0) = (vec![1.0; 1000], vec![0.0; 1000]);
+/// // Keep every 100th node only.
+/// let solution = problem.solve_ivp_every(Scheme::Variational, &q0, &v0, 100)?;
+/// assert_eq!(solution.len(), 11);
+/// assert!((solution.node(10)[0] - 1f64.cos()).abs() < 1e-3);
+/// # Ok::<(), varembed::Error>(())
+/// ```
+pub struct DynProblem<'l, L: ?Sized> {
+    lagrangian: &'l L,
+    grid: Grid,
+    embedding: Embedding,
+    newton: NewtonOptions,
+    blow_up_guard: bool,
+}
+
+/// The stored nodes of a run of a [`DynProblem`]: `Q_k` for `k` in [`indices`](Self::indices),
+/// flat (node `j` at `q[j d..(j + 1) d]`), with the run's report.
+#[derive(Clone, Debug, PartialEq)]
+pub struct DynSolution {
+    /// The run's report (scheme, grid, last node, Newton iterations, band).
+    pub run: DynRun,
+    /// The dimension `d`.
+    pub dimension: usize,
+    /// The indices `k` of the stored nodes: every `s`-th node and the last.
+    pub indices: Vec<usize>,
+    /// The stored nodes, flat.
+    pub q: Vec<f64>,
+}
+
+impl DynSolution {
+    /// The number of stored nodes.
+    pub fn len(&self) -> usize {
+        self.indices.len()
+    }
+
+    /// Whether no node is stored (never, for a solved problem).
+    pub fn is_empty(&self) -> bool {
+        self.indices.is_empty()
+    }
+
+    /// Stored node `j` (node `Q_k` with `k = indices[j]`).
+    ///
+    /// # Panics
+    ///
+    /// When `j ≥ len()`.
+    pub fn node(&self, j: usize) -> &[f64] {
+        &self.q[j * self.dimension..(j + 1) * self.dimension]
+    }
+
+    /// The times `t_k` of the stored nodes.
+    pub fn times(&self) -> Vec<f64> {
+        self.indices.iter().map(|&k| self.run.grid.t(k)).collect()
+    }
+}
+
+impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
+    /// The problem of `lagrangian` on `grid` with `embedding`, Newton's default options and
+    /// the blow-up guard on.
+    pub fn new(lagrangian: &'l L, grid: Grid, embedding: Embedding) -> Self {
+        DynProblem {
+            lagrangian,
+            grid,
+            embedding,
+            newton: NewtonOptions::default(),
+            blow_up_guard: true,
+        }
+    }
+
+    /// With these Newton options for the implicit steps.
+    pub fn with_newton(mut self, newton: NewtonOptions) -> Self {
+        self.newton = newton;
+        self
+    }
+
+    /// With the blow-up guard on or off (see
+    /// [`Problem::with_blow_up_guard`](crate::Problem::with_blow_up_guard)).
+    pub fn with_blow_up_guard(mut self, on: bool) -> Self {
+        self.blow_up_guard = on;
+        self
+    }
+
+    /// The model.
+    pub fn lagrangian(&self) -> &'l L {
+        self.lagrangian
+    }
+
+    /// The grid.
+    pub fn grid(&self) -> &Grid {
+        &self.grid
+    }
+
+    fn ivp(&self) -> DynIvp<'l, L> {
+        DynIvp {
+            lagrangian: self.lagrangian,
+            grid: self.grid,
+            embedding: self.embedding,
+            newton: self.newton,
+            blow_up_guard: self.blow_up_guard,
+        }
+    }
+
+    /// The run of `scheme` from `q(a) = q0`, `q̇(a) = v0` (discrete Legendre start), storing
+    /// every node: `O(N d)` memory. See [`solve_ivp_every`](Self::solve_ivp_every) and
+    /// [`run_ivp`](Self::run_ivp) for long runs.
+    pub fn solve_ivp(&self, scheme: Scheme, q0: &[f64], v0: &[f64]) -> Result<DynSolution> {
+        self.solve_ivp_every(scheme, q0, v0, 1)
+    }
+
+    /// The run of [`solve_ivp`](Self::solve_ivp) storing only the nodes `Q_k` with `k` a
+    /// multiple of `stride`, and the last: `O((N / stride + 1) d)` memory.
+    /// [`Error::InvalidGrid`] for a stride of 0.
+    pub fn solve_ivp_every(
+        &self,
+        scheme: Scheme,
+        q0: &[f64],
+        v0: &[f64],
+        stride: usize,
+    ) -> Result<DynSolution> {
+        if stride == 0 {
+            return Err(Error::InvalidGrid {
+                a: self.grid.a(),
+                b: self.grid.b(),
+                n: self.grid.n(),
+                reason: "a stride of 0 nodes between stored nodes",
+            });
+        }
+        let n = self.grid.n();
+        let (mut indices, mut q) = (Vec::new(), Vec::new());
+        let run = self.run_ivp(scheme, q0, v0, |node| {
+            if node.index % stride == 0 || node.index == n {
+                indices.push(node.index);
+                q.extend_from_slice(node.q);
+            }
+        })?;
+        Ok(DynSolution {
+            run,
+            dimension: q0.len(),
+            indices,
+            q,
+        })
+    }
+
+    /// The run of [`solve_ivp`](Self::solve_ivp) storing nothing: each node `Q_0, …, Q_N` is
+    /// handed to `observe` as it is computed, with the node before it. Beyond what `observe`
+    /// keeps, the run needs `O(d b)` memory for a step Jacobian of half-bandwidth `b`.
+    ///
+    /// # Example
+    ///
+    /// The energy at each node from its backward difference, as a long run would record it
+    /// without storing the nodes:
+    ///
+    /// ```
+    /// # use varembed::{DynLagrangian, SparseHessian};
+    /// # struct Oscillators { n: usize }
+    /// # impl DynLagrangian for Oscillators {
+    /// #     fn dimension(&self) -> usize { self.n }
+    /// #     fn value(&self, x: &[f64], v: &[f64], _t: f64) -> f64 {
+    /// #         x.iter().zip(v).map(|(x, v)| 0.5 * (v * v - x * x)).sum()
+    /// #     }
+    /// #     fn force(&self, x: &[f64], _v: &[f64], _t: f64, f: &mut [f64]) {
+    /// #         for (f, x) in f.iter_mut().zip(x) { *f = -x; }
+    /// #     }
+    /// #     fn momentum(&self, _x: &[f64], v: &[f64], _t: f64, p: &mut [f64]) {
+    /// #         p.copy_from_slice(v);
+    /// #     }
+    /// #     fn hessian(&self, _x: &[f64], _v: &[f64], _t: f64, out: &mut SparseHessian) {
+    /// #         for i in 0..self.n { out.xx.add(i, i, -1.0); out.vv.add(i, i, 1.0); }
+    /// #     }
+    /// # }
+    /// use varembed::{DynProblem, Embedding, Grid, Scheme, Side};
+    /// let model = Oscillators { n: 64 };
+    /// let grid = Grid::new(0.0, 10.0, 1000)?;
+    /// let h = grid.h();
+    /// let problem = DynProblem::new(&model, grid, Embedding::finite_difference(Side::Backward));
+    /// let mut energies = Vec::new();
+    /// problem.run_ivp(Scheme::Variational, &vec![1.0; 64], &vec![0.0; 64], |node| {
+    ///     let v: Vec<f64> = node.q.iter().zip(node.previous).map(|(q, p)| (q - p) / h).collect();
+    ///     energies.push(model.energy(node.q, &v, node.t));
+    /// })?;
+    /// let e0 = 32.0; // 64 oscillators at rest at x = 1: ½ x² each
+    /// assert!(energies[1..].iter().all(|e| (e - e0).abs() < 0.01 * e0));
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn run_ivp(
+        &self,
+        scheme: Scheme,
+        q0: &[f64],
+        v0: &[f64],
+        observe: impl FnMut(DynNode<'_>),
+    ) -> Result<DynRun> {
+        self.ivp().run(scheme, q0, v0, observe)
+    }
+}

@@ -1,0 +1,395 @@
+//! One step of the Gauss-FDEσ schemes for a run-time-dimension model: the momentum `π` from
+//! the two previous nodes, then the discrete Legendre map `G(y) = π` for the newest node, by a
+//! closed form where the step is affine in `y` and by sparse Newton otherwise.
+//!
+//! The equations, the Jacobians and the affine cases are the step module's tables (read there
+//! with `Q_{n−2} = a`, `Q_{n−1} = b`, `Q_n = y`); this module evaluates them on slices and
+//! assembles the Jacobian `h J` entry by entry from the model's sparse blocks into a
+//! [`BandSystem`]. Every buffer is allocated once per run.
+
+use crate::error::{Error, Location, Result};
+use crate::lagrangian::Dependence;
+use crate::options::NewtonOptions;
+use crate::solve::newton::at_round_off;
+use crate::step::{StepKind, is_affine};
+
+use super::DynLagrangian;
+use super::band::BandSystem;
+use super::sparse::SparseHessian;
+
+/// How the newest node of a step is found.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Update {
+    /// Newton's method at every step.
+    Newton,
+    /// Affine in `y`, `h J = I` at every step: `y = b − h (G(b) − π)`, no solve.
+    Identity,
+    /// Affine, `h J` the same at every step: factorised once.
+    Constant,
+    /// Affine, `h J` read at `b`: one factorisation per step.
+    PerStep,
+}
+
+/// The step solver of one run: the model, the scheme's kind, the step size, the Newton
+/// options, and the buffers.
+pub(crate) struct StepSolver<'l, L: ?Sized> {
+    lagrangian: &'l L,
+    kind: StepKind,
+    h: f64,
+    inv_h: f64,
+    newton: NewtonOptions,
+    update: Update,
+    /// Whether the factors of a constant `h J` are in `system`.
+    factored: bool,
+    system: BandSystem,
+    hessian: SparseHessian,
+    /// Velocity, force, momentum and residual buffers (length `d`).
+    v: Vec<f64>,
+    f: Vec<f64>,
+    p: Vec<f64>,
+    r: Vec<f64>,
+}
+
+/// Whether the momentum and the step equation are read `@right` (σ = −).
+fn at_right(kind: StepKind) -> bool {
+    matches!(
+        kind,
+        StepKind::VariationalBackward | StepKind::DirectBackward
+    )
+}
+
+/// Whether the momentum is `p + h f` (otherwise `p`); the equation is then `p` (otherwise
+/// `p − h f`).
+fn momentum_has_force(kind: StepKind) -> bool {
+    matches!(
+        kind,
+        StepKind::VariationalBackward | StepKind::DirectForward
+    )
+}
+
+impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
+    /// The solver of `kind` (a Gauss-FDEσ kind) with step `h`, its linear system planned on
+    /// the pattern of the Hessian at `(x, v, t)` (a point of the run's initial data).
+    pub(crate) fn new(
+        lagrangian: &'l L,
+        kind: StepKind,
+        h: f64,
+        newton: NewtonOptions,
+        (x, v, t): (&[f64], &[f64], f64),
+    ) -> Self {
+        let d = lagrangian.dimension();
+        let mut hessian = SparseHessian::new(d);
+        lagrangian.hessian(x, v, t, &mut hessian);
+        let system = BandSystem::plan(d, lagrangian.hessian_bandwidth(), &hessian);
+        let dependence = lagrangian.hessian_dependence();
+        let update = if !is_affine(kind, &dependence) {
+            Update::Newton
+        } else if jacobian_is_constant(kind, lagrangian) {
+            if scaled_jacobian_is_identity(kind, h, &hessian) {
+                Update::Identity
+            } else {
+                Update::Constant
+            }
+        } else {
+            Update::PerStep
+        };
+        StepSolver {
+            lagrangian,
+            kind,
+            h,
+            inv_h: 1.0 / h,
+            newton,
+            update,
+            factored: false,
+            system,
+            hessian,
+            v: vec![0.0; d],
+            f: vec![0.0; d],
+            p: vec![0.0; d],
+            r: vec![0.0; d],
+        }
+    }
+
+    /// The half-bandwidth the step Jacobians are factorised with, and whether the unknowns
+    /// were reordered to reach it.
+    pub(crate) fn band(&self) -> (usize, bool) {
+        (self.system.band(), self.system.is_reordered())
+    }
+
+    /// Writes the momentum `π` of the step from `a`, `b` (times `t_a`, `t_b`) into `pi`, and
+    /// when `sample`, returns `v·p` and `‖p‖∞` with `p = ∂L/∂v` at the momentum's point (the
+    /// energy `v·p − L` and its round-off scale, for the blow-up guard).
+    #[inline]
+    pub(crate) fn momentum(
+        &mut self,
+        (a, b): (&[f64], &[f64]),
+        (t_a, t_b): (f64, f64),
+        pi: &mut [f64],
+        sample: bool,
+    ) -> Option<(f64, f64)> {
+        let inv_h = self.inv_h;
+        for ((v, a), b) in self.v.iter_mut().zip(a).zip(b) {
+            *v = (b - a) * inv_h;
+        }
+        let (x, t) = if at_right(self.kind) {
+            (b, t_b)
+        } else {
+            (a, t_a)
+        };
+        self.lagrangian.momentum(x, &self.v, t, pi);
+        let terms = sample.then(|| {
+            let vp = self.v.iter().zip(pi.iter()).map(|(v, p)| v * p).sum();
+            (vp, max_norm(pi))
+        });
+        if momentum_has_force(self.kind) {
+            self.lagrangian.force(x, &self.v, t, &mut self.f);
+            let h = self.h;
+            for (pi, f) in pi.iter_mut().zip(&self.f) {
+                *pi += h * f;
+            }
+        }
+        terms
+    }
+
+    /// `L` at the momentum's point of the step from `a`, `b`: with [`momentum`](Self::momentum)'s
+    /// `v·p`, the energy the blow-up guard samples.
+    pub(crate) fn lagrangian_at_momentum_point(
+        &mut self,
+        (a, b): (&[f64], &[f64]),
+        (t_a, t_b): (f64, f64),
+    ) -> f64 {
+        let (x, t) = if at_right(self.kind) {
+            (b, t_b)
+        } else {
+            (a, t_a)
+        };
+        for ((v, a), b) in self.v.iter_mut().zip(a).zip(b) {
+            *v = (b - a) * self.inv_h;
+        }
+        self.lagrangian.value(x, &self.v, t)
+    }
+
+    /// Solves `G(y) = π` for the newest node of step `n` (nodes `b` at `t_b`, `y` at `t_y`),
+    /// starting from `y` as given (the guess) and leaving the node in `y`. Returns the Newton
+    /// iterations (0 for a closed-form step).
+    pub(crate) fn solve(
+        &mut self,
+        b: &[f64],
+        pi: &[f64],
+        (t_b, t_y): (f64, f64),
+        y: &mut [f64],
+        n: usize,
+    ) -> Result<usize> {
+        let at = Location::Step(n);
+        if !pi.iter().all(|c| c.is_finite()) {
+            return Err(Error::NotFinite { at });
+        }
+        if self.update != Update::Newton {
+            y.copy_from_slice(b);
+            self.residual(b, pi, (t_b, t_y), y);
+            match self.update {
+                Update::Identity => {}
+                Update::Constant if self.factored => self.system.solve_in_place(&mut self.r),
+                _ => {
+                    self.assemble(at)?;
+                    if !self.system.factorize() {
+                        return Err(Error::SingularJacobian { at });
+                    }
+                    self.factored = true;
+                    self.system.solve_in_place(&mut self.r);
+                }
+            }
+            for (y, z) in y.iter_mut().zip(&self.r) {
+                *y -= self.h * z;
+            }
+            if !y.iter().all(|c| c.is_finite()) {
+                return Err(Error::NotFinite { at });
+            }
+            return Ok(0);
+        }
+        self.newton(b, pi, (t_b, t_y), y, n)
+    }
+
+    /// Newton's method on step `n` (the stopping rule and the errors of the const-generic
+    /// path's `newton_step`).
+    fn newton(
+        &mut self,
+        b: &[f64],
+        pi: &[f64],
+        times: (f64, f64),
+        y: &mut [f64],
+        n: usize,
+    ) -> Result<usize> {
+        let at = Location::Step(n);
+        let scale = 1.0 + max_norm(pi);
+        let mut residual = f64::INFINITY;
+        let options = self.newton;
+        let diverged = |iterations, residual| Error::NewtonDidNotConverge {
+            at,
+            iterations,
+            residual,
+        };
+        for iteration in 0..=options.max_iterations {
+            self.residual(b, pi, times, y);
+            let finite = self.r.iter().all(|c| c.is_finite());
+            let assembled = finite && self.assemble(at).is_ok() && self.system.is_finite();
+            if !assembled {
+                return Err(if iteration == 0 {
+                    Error::NotFinite { at }
+                } else {
+                    diverged(iteration, residual)
+                });
+            }
+            let previous = residual;
+            residual = max_norm(&self.r);
+            let j_norm = self.system.norm_inf() * self.inv_h;
+            let converged = residual <= options.tolerance * scale
+                || at_round_off(residual, previous, j_norm, max_norm(y));
+            if !self.system.factorize() {
+                return Err(if iteration == 0 || converged {
+                    Error::SingularJacobian { at }
+                } else {
+                    diverged(iteration, residual)
+                });
+            }
+            if converged {
+                return Ok(iteration);
+            }
+            if iteration == options.max_iterations {
+                break;
+            }
+            self.system.solve_in_place(&mut self.r);
+            for (y, z) in y.iter_mut().zip(&self.r) {
+                *y -= self.h * z;
+            }
+            if !y.iter().all(|c| c.is_finite()) {
+                return Err(diverged(iteration + 1, residual));
+            }
+        }
+        Err(diverged(options.max_iterations, residual))
+    }
+
+    /// The residual `G(y) − π` into `self.r`, and the blocks at the equation's point into
+    /// `self.hessian` when the update reads them.
+    #[inline]
+    fn residual(&mut self, b: &[f64], pi: &[f64], (t_b, t_y): (f64, f64), y: &[f64]) {
+        let inv_h = self.inv_h;
+        for ((v, y), b) in self.v.iter_mut().zip(y).zip(b) {
+            *v = (y - b) * inv_h;
+        }
+        let (x, t) = if at_right(self.kind) {
+            (y, t_y)
+        } else {
+            (b, t_b)
+        };
+        let l = self.lagrangian;
+        l.momentum(x, &self.v, t, &mut self.p);
+        if momentum_has_force(self.kind) {
+            for ((r, p), pi) in self.r.iter_mut().zip(&self.p).zip(pi) {
+                *r = p - pi;
+            }
+        } else {
+            l.force(x, &self.v, t, &mut self.f);
+            let h = self.h;
+            for (((r, p), f), pi) in self.r.iter_mut().zip(&self.p).zip(&self.f).zip(pi) {
+                *r = p - h * f - pi;
+            }
+        }
+        let reads_blocks = match self.update {
+            Update::Newton | Update::PerStep => true,
+            Update::Constant => !self.factored,
+            Update::Identity => false,
+        };
+        if reads_blocks {
+            self.hessian.clear();
+            l.hessian(x, &self.v, t, &mut self.hessian);
+        }
+    }
+
+    /// `h J` from the blocks in `self.hessian` into the band system (second table of the step
+    /// module, times `h`); an entry outside the band re-plans the system on this pattern.
+    fn assemble(&mut self, at: Location) -> Result<()> {
+        if self.try_assemble().is_err() {
+            let d = self.lagrangian.dimension();
+            self.system = BandSystem::plan(d, None, &self.hessian);
+            self.try_assemble()
+                .map_err(|_| Error::SingularJacobian { at })?;
+        }
+        Ok(())
+    }
+
+    fn try_assemble(&mut self) -> std::result::Result<(), super::band::OutsideBand> {
+        let h = self.h;
+        let system = &mut self.system;
+        system.clear();
+        let SparseHessian { xx, xv, vv } = &self.hessian;
+        for &(i, j, value) in vv.entries() {
+            system.add(i, j, value)?;
+        }
+        let (xv_t, xv_plain, xx_scale) = match self.kind {
+            StepKind::VariationalBackward => (h, 0.0, 0.0),
+            StepKind::VariationalForward => (0.0, -h, 0.0),
+            StepKind::DirectBackward => (h, -h, -h * h),
+            _ => (0.0, 0.0, 0.0),
+        };
+        for &(i, j, value) in xv.entries() {
+            if xv_t != 0.0 {
+                system.add(j, i, xv_t * value)?;
+            }
+            if xv_plain != 0.0 {
+                system.add(i, j, xv_plain * value)?;
+            }
+        }
+        if xx_scale != 0.0 {
+            for &(i, j, value) in xx.entries() {
+                system.add(i, j, xx_scale * value)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Whether every block in the Jacobian of `kind` is a constant (depends on none of `x`, `v`,
+/// `t`), so that with a uniform step it is the same at every step.
+fn jacobian_is_constant<L: DynLagrangian + ?Sized>(kind: StepKind, lagrangian: &L) -> bool {
+    let blocks = lagrangian.hessian_dependence();
+    let none = Dependence::NONE;
+    match kind {
+        StepKind::VariationalBackward | StepKind::VariationalForward => {
+            blocks.xv == none && blocks.vv == none
+        }
+        StepKind::DirectBackward => blocks.xx == none && blocks.xv == none && blocks.vv == none,
+        StepKind::DirectForward => blocks.vv == none,
+        _ => false,
+    }
+}
+
+/// Whether `h J` is exactly the identity for the constant blocks in `hessian`: `L_vv = I` and
+/// no block of `J` other than `vv` has a nonzero entry. The closed form is then `y = b −
+/// h (G(b) − π)`, with no rounding beyond the hand-written Störmer–Verlet loop's.
+fn scaled_jacobian_is_identity(kind: StepKind, h: f64, hessian: &SparseHessian) -> bool {
+    let d = hessian.vv.dimension();
+    let mut diagonal = vec![0.0; d];
+    let mut off_diagonal = false;
+    for &(i, j, value) in hessian.vv.entries() {
+        if i == j {
+            diagonal[i] += value;
+        } else {
+            off_diagonal |= value != 0.0;
+        }
+    }
+    let others_zero =
+        |block: &super::sparse::SparseBlock| block.entries().iter().all(|e| e.2 == 0.0);
+    let xv_enters = !matches!(kind, StepKind::DirectForward);
+    let xx_enters = matches!(kind, StepKind::DirectBackward);
+    h.is_finite()
+        && !off_diagonal
+        && diagonal.iter().all(|&c| c == 1.0)
+        && (!xv_enters || others_zero(&hessian.xv))
+        && (!xx_enters || others_zero(&hessian.xx))
+}
+
+/// Max-norm of a slice.
+pub(crate) fn max_norm(x: &[f64]) -> f64 {
+    x.iter().fold(0.0, |m, c| m.max(c.abs()))
+}

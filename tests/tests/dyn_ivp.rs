@@ -1,0 +1,239 @@
+//! The run-time-dimension solver against the const-generic one: the same scheme on the same
+//! FPUT chain gives the same nodes, through the banded and the reordered (periodic) step
+//! solves; strides and observers see the same nodes; bad input gives typed errors.
+
+use varembed::{
+    DynProblem, Embedding, Error, Grid, Location, Problem, Scheme, Side, Vector, lagrangian,
+};
+use varembed_tests::models::chain::FputChain;
+use varembed_tests::models::generated::fput16;
+
+const RING: usize = 12;
+
+/// The periodic FPUT chain, written with the macro (the const-generic oracle of the ring).
+#[lagrangian]
+fn ring(x: [f64; RING], v: [f64; RING], alpha: f64, beta: f64) -> f64 {
+    let mut l = 0.0;
+    for i in 0..RING {
+        let d = x[(i + 1) % RING] - x[i];
+        l += 0.5 * v[i] * v[i] - (0.5 * d * d + alpha / 3.0 * d.powi(3) + beta / 4.0 * d.powi(4));
+    }
+    l
+}
+
+/// A smooth initial displacement of amplitude `amplitude` (not a normal mode, so every mode
+/// and the nonlinearity take part).
+fn displacement(n: usize, amplitude: f64) -> Vec<f64> {
+    (0..n)
+        .map(|i| amplitude * ((i as f64 + 1.0) * 0.7).sin() * (1.0 + 0.3 * (i as f64 * 1.3).cos()))
+        .collect()
+}
+
+const KINDS: [(Side, Scheme); 4] = [
+    (Side::Backward, Scheme::Direct),
+    (Side::Backward, Scheme::Variational),
+    (Side::Forward, Scheme::Direct),
+    (Side::Forward, Scheme::Variational),
+];
+
+#[test]
+fn the_banded_run_matches_the_const_generic_run_for_every_scheme() {
+    let (alpha, beta) = (0.25, 0.5);
+    let chain = FputChain {
+        n: 16,
+        alpha,
+        beta,
+        periodic: false,
+    };
+    let generated = fput16::Fput { alpha, beta };
+    let grid = Grid::new(0.0, 10.0, 200).unwrap();
+    let q0 = displacement(16, 0.4);
+    let v0: Vec<f64> = q0.iter().map(|q| 0.5 * q).collect();
+    for (side, scheme) in KINDS {
+        let embedding = Embedding::finite_difference(side);
+        let run = DynProblem::new(&chain, grid, embedding)
+            .solve_ivp(scheme, &q0, &v0)
+            .unwrap();
+        assert_eq!((run.run.band, run.run.reordered), (1, false));
+        let reference = Problem::new(&generated, grid, embedding)
+            .solve_ivp(
+                scheme,
+                Vector::<16>::from_column_slice(&q0),
+                Vector::<16>::from_column_slice(&v0),
+            )
+            .unwrap();
+        let worst = (0..=200)
+            .map(|k| {
+                let node = run.node(k);
+                (0..16)
+                    .map(|i| (node[i] - reference.q[k][i]).abs())
+                    .fold(0.0, f64::max)
+            })
+            .fold(0.0, f64::max);
+        assert!(
+            worst < 1e-12,
+            "{side:?} {scheme:?}: nodes differ by {worst:.2e}"
+        );
+        // The same Newton iterations: a wrong step Jacobian would still find the nodes, only
+        // more slowly.
+        assert_eq!(
+            run.run.newton_iterations, reference.newton_iterations,
+            "{side:?} {scheme:?}"
+        );
+        // FPUT's variational σ=+ step is explicit (L_vv = I): no Newton iteration after the
+        // start.
+        if (side, scheme) == (Side::Forward, Scheme::Variational) {
+            assert_eq!(run.run.explicit_steps, 199);
+        }
+    }
+}
+
+#[test]
+fn the_periodic_chain_is_reordered_into_a_band_and_matches_the_const_generic_run() {
+    let (alpha, beta) = (0.3, 0.2);
+    let chain = FputChain {
+        n: RING,
+        alpha,
+        beta,
+        periodic: true,
+    };
+    let generated = Ring { alpha, beta };
+    let grid = Grid::new(0.0, 5.0, 100).unwrap();
+    let q0 = displacement(RING, 0.3);
+    let v0 = vec![0.1; RING];
+    for (side, scheme) in KINDS {
+        let embedding = Embedding::finite_difference(side);
+        let run = DynProblem::new(&chain, grid, embedding)
+            .solve_ivp(scheme, &q0, &v0)
+            .unwrap();
+        assert_eq!(
+            (run.run.band, run.run.reordered),
+            (2, true),
+            "{side:?} {scheme:?}"
+        );
+        let reference = Problem::new(&generated, grid, embedding)
+            .solve_ivp(
+                scheme,
+                Vector::<RING>::from_column_slice(&q0),
+                Vector::<RING>::from_column_slice(&v0),
+            )
+            .unwrap();
+        let last = reference.q[100];
+        let worst = (0..RING)
+            .map(|i| (run.run.last[i] - last[i]).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            worst < 1e-12,
+            "{side:?} {scheme:?}: last nodes differ by {worst:.2e}"
+        );
+    }
+}
+
+#[test]
+fn a_stride_and_an_observer_see_the_nodes_of_the_full_run() {
+    let chain = FputChain {
+        n: 40,
+        alpha: 0.25,
+        beta: 0.0,
+        periodic: false,
+    };
+    let grid = Grid::new(0.0, 3.0, 95).unwrap();
+    let problem = DynProblem::new(&chain, grid, Embedding::finite_difference(Side::Backward));
+    let q0 = displacement(40, 0.5);
+    let v0 = vec![0.0; 40];
+    let full = problem.solve_ivp(Scheme::Direct, &q0, &v0).unwrap();
+    let strided = problem
+        .solve_ivp_every(Scheme::Direct, &q0, &v0, 10)
+        .unwrap();
+    assert_eq!(
+        strided.indices,
+        vec![0, 10, 20, 30, 40, 50, 60, 70, 80, 90, 95]
+    );
+    for (j, &k) in strided.indices.iter().enumerate() {
+        assert_eq!(strided.node(j), full.node(k), "node {k}");
+    }
+    let mut seen = Vec::new();
+    let run = problem
+        .run_ivp(Scheme::Direct, &q0, &v0, |node| {
+            let previous = full.node(node.index.saturating_sub(1));
+            assert_eq!(node.previous, previous, "the node before {}", node.index);
+            seen.push(node.index);
+        })
+        .unwrap();
+    assert_eq!(seen, (0..=95).collect::<Vec<_>>());
+    assert_eq!(run.last, full.node(95));
+    assert_eq!(strided.times()[1], grid.t(10));
+    assert!(matches!(
+        problem.solve_ivp_every(Scheme::Direct, &q0, &v0, 0),
+        Err(Error::InvalidGrid { .. })
+    ));
+}
+
+#[test]
+fn bad_input_gives_typed_errors_naming_it() {
+    let chain = FputChain {
+        n: 8,
+        alpha: 0.25,
+        beta: 0.0,
+        periodic: false,
+    };
+    let grid = Grid::new(0.0, 1.0, 10).unwrap();
+    let problem = DynProblem::new(&chain, grid, Embedding::finite_difference(Side::Backward));
+    let (q0, v0) = (vec![0.1; 8], vec![0.0; 8]);
+    assert_eq!(
+        problem
+            .solve_ivp(Scheme::Direct, &q0[..7], &v0)
+            .unwrap_err(),
+        Error::WrongLength {
+            what: "q0",
+            expected: 8,
+            found: 7
+        }
+    );
+    let mut bad = q0.clone();
+    bad[3] = f64::NAN;
+    let message = problem
+        .solve_ivp(Scheme::Direct, &bad, &v0)
+        .unwrap_err()
+        .to_string();
+    assert!(message.contains("q0[3]"), "{message}");
+    let nan = FputChain {
+        alpha: f64::INFINITY,
+        ..chain
+    };
+    let message = DynProblem::new(&nan, grid, Embedding::finite_difference(Side::Backward))
+        .solve_ivp(Scheme::Direct, &q0, &v0)
+        .unwrap_err()
+        .to_string();
+    assert!(message.contains("alpha"), "{message}");
+    let midpoint = DynProblem::new(&chain, grid, Embedding::midpoint());
+    assert!(matches!(
+        midpoint.solve_ivp(Scheme::Variational, &q0, &v0),
+        Err(Error::Unsupported { .. })
+    ));
+}
+
+#[test]
+fn an_unstable_explicit_run_is_an_error_with_its_step_never_ok() {
+    // The variational σ=+ step is Störmer–Verlet: stable for h ω_max < 2, and the chain's
+    // highest frequency is close to 2. At h = 1.2 (h ω ≈ 2.4) the sawtooth mode grows.
+    let chain = FputChain {
+        n: 64,
+        alpha: 0.25,
+        beta: 0.0,
+        periodic: false,
+    };
+    let grid = Grid::new(0.0, 1200.0, 1000).unwrap();
+    let problem = DynProblem::new(&chain, grid, Embedding::finite_difference(Side::Forward));
+    let q0 = displacement(64, 1e-3);
+    let error = problem
+        .solve_ivp(Scheme::Variational, &q0, &vec![0.0; 64])
+        .unwrap_err();
+    match error {
+        Error::BlowUp { to, .. } => assert!(to < 1000, "{error}"),
+        Error::NotFinite {
+            at: Location::Step(n),
+        } => assert!(n <= 1000),
+        other => panic!("expected a blow-up, got {other}"),
+    }
+}
