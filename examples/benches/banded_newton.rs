@@ -17,6 +17,7 @@ use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion};
 use varembed::{Embedding, Grid, Lagrangian, Problem, Scheme, Side};
+use varembed_tests::models::chain::direct_backward_by_hand;
 use varembed_tests::models::dense::Dense;
 use varembed_tests::models::generated::{fput16, fput64};
 
@@ -33,77 +34,14 @@ fn first_mode<const D: usize>() -> [f64; D] {
     })
 }
 
-/// `V'(d)` and `V''(d)` of the spring `V(d) = d²/2 + α d³/3 + β d⁴/4`.
-fn spring(d: f64, alpha: f64, beta: f64) -> (f64, f64) {
-    (
-        d + alpha * d * d + beta * d * d * d,
-        1.0 + 2.0 * alpha * d + 3.0 * beta * d * d,
-    )
-}
-
-/// The direct Gauss-FDE− run of the chain written by hand: `Q_1 = q0` (at rest), then each
-/// step solves `G(y) = (y − b)/h + h ∇U(y) = (b − a)/h` (the library's residual, in momentum
-/// units) by Newton on the tridiagonal `∂G/∂y = I/h + h ∇²U(y)`, stopping when
-/// `|G − π|∞ ≤ 1e-12 (1 + |π|∞)`. Returns the nodes.
-fn hand_written(q0: &[f64], (alpha, beta): (f64, f64)) -> Vec<Vec<f64>> {
-    let n = q0.len();
-    let h = T_END / STEPS as f64;
+/// The direct Gauss-FDE− run of the chain written by hand (the support crate's
+/// `direct_backward_by_hand`: Thomas algorithm, the library's residual and stopping rule),
+/// from rest, collecting its nodes.
+fn hand_written(q0: &[f64], params: (f64, f64)) -> Vec<Vec<f64>> {
     let mut q = Vec::with_capacity(STEPS + 1);
-    q.push(q0.to_vec());
-    q.push(q0.to_vec());
-    let (mut grad, mut diag, mut off) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    let (mut r, mut c, mut y) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-    for k in 2..=STEPS {
-        let (a, b) = (&q[k - 2], &q[k - 1]);
-        let pi: Vec<f64> = (0..n).map(|i| (b[i] - a[i]) / h).collect();
-        let scale = 1.0 + pi.iter().fold(0.0f64, |m, p| m.max(p.abs()));
-        y.iter_mut()
-            .zip(a.iter().zip(b))
-            .for_each(|(y, (a, b))| *y = 2.0 * b - a);
-        for _ in 0..50 {
-            // ∇U and ∇²U over the bonds d_j = x_{j+1} − x_j, j = −1..n−1, walls at 0.
-            grad.iter_mut().for_each(|g| *g = 0.0);
-            diag.iter_mut().for_each(|g| *g = 0.0);
-            for j in 0..=n {
-                let left = if j == 0 { 0.0 } else { y[j - 1] };
-                let right = if j == n { 0.0 } else { y[j] };
-                let (dv, ddv) = spring(right - left, alpha, beta);
-                if j < n {
-                    grad[j] += dv;
-                    diag[j] += ddv;
-                }
-                if j > 0 {
-                    grad[j - 1] -= dv;
-                    diag[j - 1] += ddv;
-                    if j < n {
-                        off[j - 1] = -ddv;
-                    }
-                }
-            }
-            let mut residual = 0.0f64;
-            for i in 0..n {
-                r[i] = (y[i] - b[i]) / h + h * grad[i] - pi[i];
-                residual = residual.max(r[i].abs());
-            }
-            if residual <= 1e-12 * scale {
-                break;
-            }
-            // Thomas algorithm on I/h + h ∇²U: sub- and super-diagonal `h off`.
-            let mut pivot = 1.0 / h + h * diag[0];
-            c[0] = h * off[0] / pivot;
-            r[0] /= pivot;
-            for i in 1..n {
-                pivot = 1.0 / h + h * diag[i] - h * off[i - 1] * c[i - 1];
-                c[i] = if i + 1 < n { h * off[i] / pivot } else { 0.0 };
-                r[i] = (r[i] - h * off[i - 1] * r[i - 1]) / pivot;
-            }
-            for i in (0..n - 1).rev() {
-                r[i] -= c[i] * r[i + 1];
-            }
-            y.iter_mut().zip(&r).for_each(|(y, d)| *y -= d);
-        }
-        q.push(y.clone());
-    }
+    let v0 = vec![0.0; q0.len()];
+    let h = T_END / STEPS as f64;
+    direct_backward_by_hand(q0, &v0, (h, STEPS), params, |node| q.push(node.to_vec()));
     q
 }
 

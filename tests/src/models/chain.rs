@@ -33,20 +33,19 @@ impl FputChain {
     fn v(&self, d: f64) -> f64 {
         0.5 * d * d + self.alpha / 3.0 * d.powi(3) + self.beta / 4.0 * d.powi(4)
     }
-    /// The bonds between masses, `(j, k, d)` with `d = x_k − x_j`.
-    fn bonds<'a>(&'a self, x: &'a [f64]) -> impl Iterator<Item = (usize, usize, f64)> + 'a {
+    /// The bonds between masses, `(j, k)`, `d = x_k − x_j`: `(i, i + 1)`, and `(n − 1, 0)` for a
+    /// ring.
+    fn bonds(&self) -> impl Iterator<Item = (usize, usize)> + use<> {
         let n = self.n;
-        let inner = if self.periodic { n } else { n - 1 };
-        (0..inner).map(move |i| (i, (i + 1) % n, x[(i + 1) % n] - x[i]))
+        let wrap = self.periodic.then_some((n - 1, 0));
+        (0..n - 1).map(|i| (i, i + 1)).chain(wrap)
     }
     /// The bonds to the walls, `(j, s)`: mass `j` with the bond `d = s x_j` (`s = 1` at the
     /// left wall, `−1` at the right); none for a ring.
-    fn walls(&self) -> Vec<(usize, f64)> {
-        if self.periodic {
-            vec![]
-        } else {
-            vec![(0, 1.0), (self.n - 1, -1.0)]
-        }
+    fn walls(&self) -> impl Iterator<Item = (usize, f64)> + use<> {
+        let walls = [(0, 1.0), (self.n - 1, -1.0)];
+        let count = if self.periodic { 0 } else { 2 };
+        walls.into_iter().take(count)
     }
 }
 
@@ -56,14 +55,14 @@ impl DynLagrangian for FputChain {
     }
     fn value(&self, x: &[f64], v: &[f64], _t: f64) -> f64 {
         let kinetic: f64 = v.iter().map(|v| 0.5 * v * v).sum();
-        let bonds: f64 = self.bonds(x).map(|(_, _, d)| self.v(d)).sum();
-        let walls: f64 = self.walls().iter().map(|&(j, s)| self.v(s * x[j])).sum();
+        let bonds: f64 = self.bonds().map(|(j, k)| self.v(x[k] - x[j])).sum();
+        let walls: f64 = self.walls().map(|(j, s)| self.v(s * x[j])).sum();
         kinetic - bonds - walls
     }
     fn force(&self, x: &[f64], _v: &[f64], _t: f64, f: &mut [f64]) {
         f.fill(0.0);
-        for (j, k, d) in self.bonds(x) {
-            let dv = self.dv(d);
+        for (j, k) in self.bonds() {
+            let dv = self.dv(x[k] - x[j]);
             f[k] -= dv;
             f[j] += dv;
         }
@@ -78,8 +77,8 @@ impl DynLagrangian for FputChain {
         for i in 0..self.n {
             out.vv.add(i, i, 1.0);
         }
-        for (j, k, d) in self.bonds(x) {
-            let c = self.ddv(d);
+        for (j, k) in self.bonds() {
+            let c = self.ddv(x[k] - x[j]);
             out.xx.add(j, j, -c);
             out.xx.add(k, k, -c);
             out.xx.add(j, k, c);
@@ -112,5 +111,131 @@ impl DynLagrangian for FputChain {
     }
     fn constants(&self) -> Vec<(&'static str, f64)> {
         vec![("alpha", self.alpha), ("beta", self.beta)]
+    }
+}
+
+/// `V'(d)` and `V''(d)` of the spring `V(d) = d²/2 + α d³/3 + β d⁴/4`.
+#[inline(always)]
+fn spring(d: f64, alpha: f64, beta: f64) -> (f64, f64) {
+    (
+        d + alpha * d * d + beta * d * d * d,
+        1.0 + 2.0 * alpha * d + 3.0 * beta * d * d,
+    )
+}
+
+/// The direct Gauss-FDE− run of the FPUT chain between walls, written by hand as a user would
+/// for this chain alone: `Q_1 = q0 + h v0` (the discrete Legendre start of σ = −), then each
+/// step solves `G(y) = (y − b)/h + h ∇U(y) = (b − a)/h` (the library's residual, in momentum
+/// units) by Newton on the tridiagonal `∂G/∂y = I/h + h ∇²U(y)` (Thomas algorithm), from the
+/// guess `2b − a`, stopping when `|G − π|∞ ≤ 1e-12 (1 + |π|∞)`. Every node `Q_0, …, Q_N` is
+/// handed to `observe`; the buffers are allocated once.
+pub fn direct_backward_by_hand(
+    q0: &[f64],
+    v0: &[f64],
+    (h, steps): (f64, usize),
+    (alpha, beta): (f64, f64),
+    mut observe: impl FnMut(&[f64]),
+) {
+    let n = q0.len();
+    let mut a = q0.to_vec();
+    let mut b: Vec<f64> = q0.iter().zip(v0).map(|(q, v)| q + h * v).collect();
+    observe(&a);
+    observe(&b);
+    let (mut grad, mut diag, mut off) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let (mut r, mut c, mut y, mut pi) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    for _ in 2..=steps {
+        let mut scale = 0.0f64;
+        for i in 0..n {
+            pi[i] = (b[i] - a[i]) / h;
+            scale = scale.max(pi[i].abs());
+            y[i] = 2.0 * b[i] - a[i];
+        }
+        let scale = 1.0 + scale;
+        for _ in 0..50 {
+            // ∇U and ∇²U over the bonds d_j = x_j − x_{j−1}, j = 0..=n, walls at 0.
+            grad.fill(0.0);
+            diag.fill(0.0);
+            for j in 0..=n {
+                let left = if j == 0 { 0.0 } else { y[j - 1] };
+                let right = if j == n { 0.0 } else { y[j] };
+                let (dv, ddv) = spring(right - left, alpha, beta);
+                if j < n {
+                    grad[j] += dv;
+                    diag[j] += ddv;
+                }
+                if j > 0 {
+                    grad[j - 1] -= dv;
+                    diag[j - 1] += ddv;
+                    if j < n {
+                        off[j - 1] = -ddv;
+                    }
+                }
+            }
+            let mut residual = 0.0f64;
+            for i in 0..n {
+                r[i] = (y[i] - b[i]) / h + h * grad[i] - pi[i];
+                residual = residual.max(r[i].abs());
+            }
+            if residual <= 1e-12 * scale {
+                break;
+            }
+            // Thomas algorithm on I/h + h ∇²U: sub- and super-diagonal `h off`.
+            let mut pivot = 1.0 / h + h * diag[0];
+            c[0] = h * off[0] / pivot;
+            r[0] /= pivot;
+            for i in 1..n {
+                pivot = 1.0 / h + h * diag[i] - h * off[i - 1] * c[i - 1];
+                c[i] = if i + 1 < n { h * off[i] / pivot } else { 0.0 };
+                r[i] = (r[i] - h * off[i - 1] * r[i - 1]) / pivot;
+            }
+            for i in (0..n - 1).rev() {
+                r[i] -= c[i] * r[i + 1];
+            }
+            y.iter_mut().zip(&r).for_each(|(y, d)| *y -= d);
+        }
+        observe(&y);
+        std::mem::swap(&mut a, &mut b);
+        std::mem::swap(&mut b, &mut y);
+    }
+}
+
+/// The variational Gauss-FDE+ run of the FPUT chain between walls, written by hand: the
+/// two-step Störmer–Verlet loop `Q_n = 2 Q_{n−1} − Q_{n−2} + h² f(Q_{n−1})`, from the discrete
+/// Legendre start of σ = +, `Q_1 = q0 + h v0 + h² f(q0)`, with the force written out over the
+/// bonds. Every node is handed to `observe`.
+pub fn stormer_verlet_by_hand(
+    q0: &[f64],
+    v0: &[f64],
+    (h, steps): (f64, usize),
+    (alpha, beta): (f64, f64),
+    mut observe: impl FnMut(&[f64]),
+) {
+    let n = q0.len();
+    let h2 = h * h;
+    let mut f = vec![0.0; n];
+    let force = |x: &[f64], f: &mut [f64]| {
+        // Bond j joins x_{j−1} and x_j (walls x_{−1} = x_n = 0); f_j gains V'(d_{j+1}) − V'(d_j).
+        let mut previous = spring(x[0], alpha, beta).0;
+        for j in 1..n {
+            let dv = spring(x[j] - x[j - 1], alpha, beta).0;
+            f[j - 1] = dv - previous;
+            previous = dv;
+        }
+        f[n - 1] = spring(-x[n - 1], alpha, beta).0 - previous;
+    };
+    let mut a = q0.to_vec();
+    force(&a, &mut f);
+    let mut b: Vec<f64> = (0..n).map(|i| q0[i] + h * v0[i] + h2 * f[i]).collect();
+    observe(&a);
+    observe(&b);
+    let mut y = vec![0.0; n];
+    for _ in 2..=steps {
+        force(&b, &mut f);
+        for i in 0..n {
+            y[i] = 2.0 * b[i] - a[i] + h2 * f[i];
+        }
+        observe(&y);
+        std::mem::swap(&mut a, &mut b);
+        std::mem::swap(&mut b, &mut y);
     }
 }

@@ -1,0 +1,104 @@
+//! Large models: the FPUT chain of run-time dimension `d` through `DynProblem`, against the
+//! loops a user would write by hand for this chain alone, side by side in one group each.
+//!
+//! - `fput_explicit_variational_d1024`: the variational Gauss-FDE+ run (Störmer–Verlet; the
+//!   step is affine with `h J = I`, so it is taken in closed form), 10⁴ steps of `h = 0.05`,
+//!   against the two-step Störmer–Verlet loop with the force written out over the bonds.
+//! - `fput_direct_backward_d{64, 1024, 4096}`: the direct Gauss-FDE− run, every step implicit,
+//!   200 steps of `h = 0.05`, against a hand-written Newton with the tridiagonal Jacobian
+//!   (Thomas algorithm), the same residual, guess and stopping rule (tolerance `1e-12`).
+//!
+//! The chain is `α = 0.25`, `β = 0.7` between walls, from a smooth displacement of amplitude
+//! 0.8 with velocity `−0.3 q0`. Each run keeps only its last nodes (an observer that does
+//! nothing), as a long run at large `d` would. Before timing, each library run is checked to
+//! give the hand-written run's nodes (to 1e-10).
+//!
+//! `cargo bench -p varembed-examples --bench large_chain`; figures in BENCHMARKS.md.
+
+use std::hint::black_box;
+
+use criterion::{BenchmarkId, Criterion};
+use varembed::{DynLagrangian, DynProblem, Embedding, Grid, Scheme, Side};
+use varembed_tests::models::chain::{FputChain, direct_backward_by_hand, stormer_verlet_by_hand};
+
+const PARAMS: (f64, f64) = (0.25, 0.7);
+const H: f64 = 0.05;
+
+/// The initial data at dimension `d`: a smooth displacement and a velocity `−0.3 q0`.
+fn initial(d: usize) -> (Vec<f64>, Vec<f64>) {
+    let q0: Vec<f64> = (0..d)
+        .map(|i| 0.8 * ((i as f64 + 1.0) * 0.05).sin())
+        .collect();
+    let v0 = q0.iter().map(|q| -0.3 * q).collect();
+    (q0, v0)
+}
+
+type ByHand = fn(&[f64], &[f64], (f64, usize), (f64, f64), &mut dyn FnMut(&[f64]));
+
+/// The last node of a hand-written run.
+fn last_by_hand(by_hand: ByHand, q0: &[f64], v0: &[f64], steps: usize) -> Vec<f64> {
+    let mut last = Vec::new();
+    by_hand(q0, v0, (H, steps), PARAMS, &mut |node: &[f64]| {
+        last.clear();
+        last.extend_from_slice(node);
+    });
+    last
+}
+
+/// One group: the library's run of `scheme` on `model` against `by_hand`, checked to agree.
+fn side_by_side<L: DynLagrangian>(
+    c: &mut Criterion,
+    group: &str,
+    (model, side, scheme): (&L, Side, Scheme),
+    by_hand: ByHand,
+    steps: usize,
+) {
+    let d = model.dimension();
+    let (q0, v0) = initial(d);
+    let grid = Grid::new(0.0, H * steps as f64, steps).unwrap();
+    let problem = DynProblem::new(model, grid, Embedding::finite_difference(side));
+    let run = problem.run_ivp(scheme, &q0, &v0, |_| {}).unwrap();
+    let reference = last_by_hand(by_hand, &q0, &v0, steps);
+    let gap = run
+        .last
+        .iter()
+        .zip(&reference)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(gap <= 1e-10, "{group}: library and hand-written runs differ by {gap:e}");
+    println!(
+        "{group}: band {}, Newton iterations {}, closed-form steps {}, gap {gap:.1e}",
+        run.band, run.newton_iterations, run.explicit_steps
+    );
+    let mut g = c.benchmark_group(group);
+    let id = format!("{steps} steps");
+    g.bench_function(BenchmarkId::new("library", &id), |b| {
+        b.iter(|| problem.run_ivp(scheme, black_box(&q0), &v0, |_| {}).unwrap())
+    });
+    g.bench_function(BenchmarkId::new("hand_written", &id), |b| {
+        b.iter(|| last_by_hand(by_hand, black_box(&q0), &v0, steps))
+    });
+    g.finish();
+}
+
+fn large_chain(c: &mut Criterion) {
+    let (alpha, beta) = PARAMS;
+    let chain = |n| FputChain { n, alpha, beta, periodic: false };
+    side_by_side(
+        c,
+        "fput_explicit_variational_d1024",
+        (&chain(1024), Side::Forward, Scheme::Variational),
+        |q, v, g, p, o| stormer_verlet_by_hand(q, v, g, p, o),
+        10_000,
+    );
+    for d in [64, 1024, 4096] {
+        side_by_side(
+            c,
+            &format!("fput_direct_backward_d{d}"),
+            (&chain(d), Side::Backward, Scheme::Direct),
+            |q, v, g, p, o| direct_backward_by_hand(q, v, g, p, o),
+            200,
+        );
+    }
+}
+
+varembed_tests::bench_main!(varembed_tests::bench::runs(); large_chain);
