@@ -64,7 +64,10 @@ fn side_by_side<L: DynLagrangian>(
         .iter()
         .zip(&reference)
         .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
-    assert!(gap <= 1e-10, "{group}: library and hand-written runs differ by {gap:e}");
+    assert!(
+        gap <= 1e-10,
+        "{group}: library and hand-written runs differ by {gap:e}"
+    );
     println!(
         "{group}: band {}, Newton iterations {}, closed-form steps {}, gap {gap:.1e}",
         run.band, run.newton_iterations, run.explicit_steps
@@ -72,8 +75,23 @@ fn side_by_side<L: DynLagrangian>(
     let mut g = c.benchmark_group(group);
     let id = format!("{steps} steps");
     g.bench_function(BenchmarkId::new("library", &id), |b| {
-        b.iter(|| problem.run_ivp(scheme, black_box(&q0), &v0, |_| {}).unwrap())
+        b.iter(|| {
+            problem
+                .run_ivp(scheme, black_box(&q0), &v0, |_| {})
+                .unwrap()
+        })
     });
+    if scheme == Scheme::Variational {
+        let unguarded = DynProblem::new(model, grid, Embedding::finite_difference(side))
+            .with_blow_up_guard(false);
+        g.bench_function(BenchmarkId::new("library_guard_off", &id), |b| {
+            b.iter(|| {
+                unguarded
+                    .run_ivp(scheme, black_box(&q0), &v0, |_| {})
+                    .unwrap()
+            })
+        });
+    }
     g.bench_function(BenchmarkId::new("hand_written", &id), |b| {
         b.iter(|| last_by_hand(by_hand, black_box(&q0), &v0, steps))
     });
@@ -82,7 +100,12 @@ fn side_by_side<L: DynLagrangian>(
 
 fn large_chain(c: &mut Criterion) {
     let (alpha, beta) = PARAMS;
-    let chain = |n| FputChain { n, alpha, beta, periodic: false };
+    let chain = |n| FputChain {
+        n,
+        alpha,
+        beta,
+        periodic: false,
+    };
     side_by_side(
         c,
         "fput_explicit_variational_d1024",

@@ -242,13 +242,26 @@ fn an_unstable_explicit_run_is_an_error_with_its_step_never_ok() {
 fn the_runs_match_the_hand_written_loops_of_the_same_schemes() {
     use varembed_tests::models::chain::{direct_backward_by_hand, stormer_verlet_by_hand};
     let (alpha, beta) = (0.25, 0.7);
-    let chain = FputChain { n: 50, alpha, beta, periodic: false };
+    let chain = FputChain {
+        n: 50,
+        alpha,
+        beta,
+        periodic: false,
+    };
     let grid = Grid::new(0.0, 10.0, 200).unwrap();
     let q0 = displacement(50, 0.5);
     let v0: Vec<f64> = q0.iter().map(|q| -0.3 * q).collect();
-    let cases: [(Side, Scheme, fn(&[f64], &[f64], (f64, usize), (f64, f64), &mut dyn FnMut(&[f64]))); 2] = [
-        (Side::Backward, Scheme::Direct, |q, v, g, p, o| direct_backward_by_hand(q, v, g, p, o)),
-        (Side::Forward, Scheme::Variational, |q, v, g, p, o| stormer_verlet_by_hand(q, v, g, p, o)),
+    let cases: [(
+        Side,
+        Scheme,
+        fn(&[f64], &[f64], (f64, usize), (f64, f64), &mut dyn FnMut(&[f64])),
+    ); 2] = [
+        (Side::Backward, Scheme::Direct, |q, v, g, p, o| {
+            direct_backward_by_hand(q, v, g, p, o)
+        }),
+        (Side::Forward, Scheme::Variational, |q, v, g, p, o| {
+            stormer_verlet_by_hand(q, v, g, p, o)
+        }),
     ];
     for (side, scheme, by_hand) in cases {
         let run = DynProblem::new(&chain, grid, Embedding::finite_difference(side))
@@ -256,11 +269,21 @@ fn the_runs_match_the_hand_written_loops_of_the_same_schemes() {
             .unwrap();
         let mut k = 0;
         let mut worst = 0.0f64;
-        by_hand(&q0, &v0, (grid.h(), 200), (alpha, beta), &mut |node: &[f64]| {
-            let gap = node.iter().zip(run.node(k)).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
-            worst = worst.max(gap);
-            k += 1;
-        });
+        by_hand(
+            &q0,
+            &v0,
+            (grid.h(), 200),
+            (alpha, beta),
+            &mut |node: &[f64]| {
+                let gap = node
+                    .iter()
+                    .zip(run.node(k))
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                worst = worst.max(gap);
+                k += 1;
+            },
+        );
         assert_eq!(k, 201);
         assert!(worst < 1e-11, "{side:?} {scheme:?}: {worst:.2e}");
     }

@@ -28,6 +28,10 @@ enum Update {
     Constant,
     /// Affine, `h J` read at `b`: one factorisation per step.
     PerStep,
+    /// A variational step with `h J = I` (`L_vv = I`, `L_xv = 0`) of an autonomous model, where
+    /// both sides' steps reduce to Störmer–Verlet, `y = 2b − a + h² f(b)`: `p = v + c` with a
+    /// constant `c`, which cancels between `π` and `G`, and `f` does not depend on `v`.
+    Verlet,
 }
 
 /// The step solver of one run: the model, the scheme's kind, the step size, the Newton
@@ -43,8 +47,9 @@ pub(crate) struct StepSolver<'l, L: ?Sized> {
     factored: bool,
     system: BandSystem,
     hessian: SparseHessian,
-    /// Velocity, force, momentum and residual buffers (length `d`).
+    /// Velocity, force, momentum and residual buffers (length `d`), and a zero velocity.
     v: Vec<f64>,
+    zero: Vec<f64>,
     f: Vec<f64>,
     p: Vec<f64>,
     r: Vec<f64>,
@@ -86,7 +91,15 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
             Update::Newton
         } else if jacobian_is_constant(kind, lagrangian) {
             if scaled_jacobian_is_identity(kind, h, &hessian) {
-                Update::Identity
+                let variational = matches!(
+                    kind,
+                    StepKind::VariationalBackward | StepKind::VariationalForward
+                );
+                if variational && !lagrangian.dependence().t {
+                    Update::Verlet
+                } else {
+                    Update::Identity
+                }
             } else {
                 Update::Constant
             }
@@ -104,6 +117,7 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
             system,
             hessian,
             v: vec![0.0; d],
+            zero: vec![0.0; d],
             f: vec![0.0; d],
             p: vec![0.0; d],
             r: vec![0.0; d],
@@ -114,6 +128,39 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
     /// were reordered to reach it.
     pub(crate) fn band(&self) -> (usize, bool) {
         (self.system.band(), self.system.is_reordered())
+    }
+
+    /// Whether the steps are Störmer–Verlet steps ([`verlet`](Self::verlet)), which need no
+    /// momentum and no guess.
+    pub(crate) fn is_verlet(&self) -> bool {
+        self.update == Update::Verlet
+    }
+
+    /// The Störmer–Verlet step `y = 2b − a + h² f(b)` of step `n` (`b` at `t_b`): one force
+    /// evaluation and one pass, as the hand-written loop takes.
+    #[inline]
+    pub(crate) fn verlet(
+        &mut self,
+        (a, b): (&[f64], &[f64]),
+        t_b: f64,
+        y: &mut [f64],
+        n: usize,
+    ) -> Result<()> {
+        self.lagrangian.force(b, &self.zero, t_b, &mut self.f);
+        let h2 = self.h * self.h;
+        // `c − c` is 0 for a finite `c` and NaN otherwise: one branch-free test per step.
+        let mut not_finite = 0.0;
+        for (((y, a), b), f) in y.iter_mut().zip(a).zip(b).zip(&self.f) {
+            *y = 2.0 * b - a + h2 * f;
+            not_finite += *y - *y;
+        }
+        if not_finite == 0.0 {
+            Ok(())
+        } else {
+            Err(Error::NotFinite {
+                at: Location::Step(n),
+            })
+        }
     }
 
     /// Writes the momentum `π` of the step from `a`, `b` (times `t_a`, `t_b`) into `pi`, and
@@ -188,7 +235,8 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
             y.copy_from_slice(b);
             self.residual(b, pi, (t_b, t_y), y);
             match self.update {
-                Update::Identity => {}
+                // A Verlet solver's start (the one step it takes through `solve`) is `h J = I`.
+                Update::Identity | Update::Verlet => {}
                 Update::Constant if self.factored => self.system.solve_in_place(&mut self.r),
                 _ => {
                     self.assemble(at)?;
@@ -298,7 +346,7 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         let reads_blocks = match self.update {
             Update::Newton | Update::PerStep => true,
             Update::Constant => !self.factored,
-            Update::Identity => false,
+            Update::Identity | Update::Verlet => false,
         };
         if reads_blocks {
             self.hessian.clear();

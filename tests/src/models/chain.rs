@@ -60,6 +60,17 @@ impl DynLagrangian for FputChain {
         kinetic - bonds - walls
     }
     fn force(&self, x: &[f64], _v: &[f64], _t: f64, f: &mut [f64]) {
+        if !self.periodic {
+            let n = self.n;
+            let mut previous = self.dv(x[0]);
+            for j in 1..n {
+                let dv = self.dv(x[j] - x[j - 1]);
+                f[j - 1] = dv - previous;
+                previous = dv;
+            }
+            f[n - 1] = self.dv(-x[n - 1]) - previous;
+            return;
+        }
         f.fill(0.0);
         for (j, k) in self.bonds() {
             let dv = self.dv(x[k] - x[j]);
