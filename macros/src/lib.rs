@@ -14,8 +14,10 @@
 //! `#[lagrangian(helper)]` fns to the Lagrangians that call them.
 
 mod assemble;
+mod checks;
 mod cse;
 mod diff;
+mod dynamic;
 mod emit;
 mod expand;
 mod fallback;

@@ -6,11 +6,14 @@
 //! - [`generated`]: models through `#[lagrangian]`, as a user of the macro writes them.
 //! - [`num_dual`]: the double pendulum with every derivative from num-dual's (hyper-)dual
 //!   numbers, an independent oracle for the macro and the usual alternative to it.
+//! - [`chains`]: chains and lattices of any length for num-dual, the oracles of the loop
+//!   models.
 //! - [`dense`]: a wrapper that hides a model's Hessian bandwidth, so that its implicit steps
 //!   take the dense step solve (the reference for the banded one).
 //!
 //! Models used by one test only stay in that test, next to what it checks.
 
+pub mod chains;
 pub mod dense;
 pub mod generated;
 pub mod hand;
