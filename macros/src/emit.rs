@@ -89,18 +89,15 @@ pub fn emit(
 
     let methods = quote!(#value #gradient #value_and_gradient #hessian #gradient_and_hessian);
     let dim = &types.dim;
-    shell(
+    let properties = properties(
         model,
-        text,
-        quote!(#dim),
-        methods,
         (
             &d.hessian_dependence,
             &d.dependence,
             Some(bandwidth(g, d, types.size)),
         ),
-        with_item,
-    )
+    );
+    shell(model, text, quote!(#dim), methods, &properties, with_item)
 }
 
 /// The largest `|i − j|` over the nonzero entries of the three blocks of an unrolled model
@@ -116,15 +113,30 @@ fn bandwidth(g: &Graph, d: &Derivatives, dim: usize) -> usize {
 }
 
 /// The user's fn, the struct, `DERIVATIVES` and the `Lagrangian<dim>` impl holding `methods`
-/// and the dependence flags.
+/// and the model's `properties`.
 pub fn shell(
     model: &Model,
     text: &str,
     dim: TokenStream,
     methods: TokenStream,
-    (hessian_dep, dep, band): (&HessianDependence, &Dependence, Option<usize>),
+    properties: &TokenStream,
     with_item: bool,
 ) -> TokenStream {
+    let name = &model.struct_name;
+    let head = head(model, text, with_item);
+    let lagrangian = private("Lagrangian");
+    quote! {
+        #head
+
+        impl #lagrangian<#dim> for #name {
+            #methods
+            #properties
+        }
+    }
+}
+
+/// The user's fn (when `with_item`), the struct and its `DERIVATIVES` (the text `text`).
+pub fn head(model: &Model, text: &str, with_item: bool) -> TokenStream {
     let name = &model.struct_name;
     let item = &model.item;
     let item = if with_item {
@@ -139,12 +151,6 @@ pub fn shell(
         quote!()
     };
     let strukt = structure(model);
-    let hessian_dependence = hessian_dependence(hessian_dep);
-    let bandwidth = hessian_bandwidth(band);
-    let dependence = dependence(dep);
-    let constants = constants(&model.consts);
-    let lagrangian = private("Lagrangian");
-
     quote! {
         #item
 
@@ -155,14 +161,24 @@ pub fn shell(
             /// omitted; symmetric blocks listed once, `i ≤ j`).
             pub const DERIVATIVES: &str = #text;
         }
+    }
+}
 
-        impl #lagrangian<#dim> for #name {
-            #methods
-            #hessian_dependence
-            #bandwidth
-            #dependence
-            #constants
-        }
+/// The methods that state constants of the model, the same in `Lagrangian<D>` and
+/// `DynLagrangian`: `hessian_dependence`, `hessian_bandwidth`, `dependence`, `constants`.
+pub fn properties(
+    model: &Model,
+    (hessian_dep, dep, band): (&HessianDependence, &Dependence, Option<usize>),
+) -> TokenStream {
+    let hessian_dependence = hessian_dependence(hessian_dep);
+    let bandwidth = hessian_bandwidth(band);
+    let dependence = dependence(dep);
+    let constants = constants(&model.consts);
+    quote! {
+        #hessian_dependence
+        #bandwidth
+        #dependence
+        #constants
     }
 }
 
@@ -181,7 +197,15 @@ fn structure(model: &Model) -> TokenStream {
         let doc = format!("Model constant `{c}` of [`{fn_name}`].");
         quote!(#[doc = #doc] pub #c: f64)
     });
-    let body = if model.consts.is_empty() {
+    let dimension = model.runtime_dim.iter().map(|n| {
+        let doc = format!(
+            "The dimension of [`{fn_name}`]: the length of `x` and `v` (a model constant \
+             `{n}: usize`)."
+        );
+        quote!(#[doc = #doc] pub #n: usize)
+    });
+    let fields: Vec<TokenStream> = dimension.chain(fields).collect();
+    let body = if fields.is_empty() {
         quote!(;)
     } else {
         quote!({ #(#fields),* })
@@ -363,7 +387,7 @@ pub fn index(i: usize) -> Literal {
 }
 
 /// Whether `ts` mentions the identifier `name` (to name unused parameters `_name`).
-fn mentions(ts: &TokenStream, name: &str) -> bool {
+pub fn mentions(ts: &TokenStream, name: &str) -> bool {
     ts.clone().into_iter().any(|tt| match tt {
         TokenTree::Ident(i) => i == name,
         TokenTree::Group(g) => mentions(&g.stream(), name),
@@ -372,7 +396,7 @@ fn mentions(ts: &TokenStream, name: &str) -> bool {
 }
 
 /// `name` if the body uses it, `_name` otherwise.
-fn param(body: &TokenStream, name: &str) -> Ident {
+pub fn param(body: &TokenStream, name: &str) -> Ident {
     if mentions(body, name) {
         Ident::new(name, Span::call_site())
     } else {

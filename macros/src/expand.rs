@@ -11,13 +11,15 @@
 //!
 //! A Lagrangian with loops (or a named dimension) takes the loop path instead: [`assemble`]
 //! (its terms and their derivatives), [`text::loops_text`], [`scatter::emit`] (loops that add
-//! each term's derivatives into their entries, with scoped temporaries). Helper fns are
+//! each term's derivatives into their entries, with scoped temporaries: the `Lagrangian<N>`
+//! impl) and [`dynamic::emit`] (the same loops on slices: the `DynLagrangian` impl, alone for a
+//! run-time dimension `x: &[f64]`, `n: usize`). Helper fns are
 //! gathered first ([`helpers`]). On error, [`fallback`] replaces the output.
 
 use proc_macro2::TokenStream;
 
 use crate::ir::{Model, Node, Var};
-use crate::{assemble, cse, diff, emit, fallback, helpers, parse, scatter, text};
+use crate::{assemble, cse, diff, dynamic, emit, fallback, helpers, parse, scatter, text};
 
 /// The errors of a rejected fn, with the fn's tokens, which the fallback output keeps.
 #[derive(Debug)]
@@ -74,7 +76,23 @@ fn expand_with(
             }
         };
         let text = text::loops_text(&model, &assembly);
-        scatter::emit(&model, &assembly, &text, with_item)
+        let loops = scatter::Loops::new(&model, &assembly);
+        let properties = emit::properties(
+            &model,
+            (
+                &assembly.hessian_dependence,
+                &assembly.dependence,
+                scatter::bandwidth(&assembly),
+            ),
+        );
+        let dynamic = dynamic::emit(&model, &loops, &properties);
+        let lagrangian = if model.runtime_dim.is_some() {
+            // A run-time dimension: `DynLagrangian` only.
+            emit::head(&model, &text, with_item)
+        } else {
+            scatter::emit(&model, &loops, &properties, &text, with_item)
+        };
+        quote::quote!(#lagrangian #dynamic)
     } else {
         let derivatives = diff::differentiate(&mut model.graph, model.root, model.dim);
         let plans = cse::plan(&model.graph, model.root, &derivatives);
@@ -88,6 +106,7 @@ fn expand_with(
 /// that names a const the macro does not know (`x[M]`, `M as f64`).
 fn has_loops(model: &Model) -> bool {
     model.dim_name.is_some()
+        || model.runtime_dim.is_some()
         || model.graph.reachable(&[model.root]).into_iter().any(|id| {
             matches!(
                 model.graph.node(id),

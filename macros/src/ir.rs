@@ -464,6 +464,9 @@ pub struct Model {
     pub dim: usize,
     /// The named constant that is the dimension (`[f64; N]`), if it is one.
     pub dim_name: Option<syn::Path>,
+    /// The `usize` model constant that is the run-time dimension of slices `x: &[f64]` (a
+    /// field of the struct, not in `consts`).
+    pub runtime_dim: Option<Ident>,
     /// `x`, `v` declared as `f64` (printed as `x`, not `x[0]`).
     pub scalar: bool,
     /// The model constants, in order (`Var::Const(k)` is `consts[k]`).

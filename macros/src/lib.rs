@@ -11,11 +11,15 @@
 //! derivatives) and `scatter.rs` (loop nests adding them into their entries) in place of
 //! `diff.rs`, `cse.rs` and `emit.rs`'s methods (`names.rs` writes their indices, ranges and
 //! the `const` assertions of the index checks left to the compiler); `helpers.rs` relays
-//! `#[lagrangian(helper)]` fns to the Lagrangians that call them.
+//! `#[lagrangian(helper)]` fns to the Lagrangians that call them. `dynamic.rs` emits the
+//! `DynLagrangian` impl of a model with loops (the same loop nests on slices), `checks.rs` the
+//! run-time index checks of a model whose dimension is a `usize` constant.
 
 mod assemble;
+mod checks;
 mod cse;
 mod diff;
+mod dynamic;
 mod emit;
 mod expand;
 mod fallback;
@@ -37,7 +41,8 @@ use proc_macro::TokenStream;
 /// Turns `fn name(x, v, [t: f64,] constants: f64...) -> f64 { body }` into a struct that
 /// implements `varembed::Lagrangian<D>` with derivatives computed at compile time.
 ///
-/// `x` and `v` are both `f64` (`D = 1`) or both `[f64; D]` (`D` a literal or a `const` item);
+/// `x` and `v` are both `f64` (`D = 1`), both `[f64; D]` (`D` a literal or a `const` item) or
+/// both `&[f64]` (below);
 /// an optional `t: f64` follows, then
 /// any number of `f64` model constants. The macro keeps the fn as written and adds
 /// `struct CamelCaseName { pub constant: f64, … }` (a unit struct without constants, with the
@@ -53,6 +58,19 @@ use proc_macro::TokenStream;
 ///   symbolic derivatives (e.g. `L = ½ vᵀMv − U(x)` has constant `vv` and zero `xv`). Core
 ///   decides from it which steps of the classical schemes have a closed-form update;
 /// - `NAME::DERIVATIVES`, the derivatives as text.
+///
+/// A model with loops also implements `varembed::DynLagrangian` (slices, sparse second
+/// derivatives). With `x: &[f64]`, `v: &[f64]` and one `usize` model constant, the dimension is
+/// that run-time value and only `DynLagrangian` is implemented, its index checks made by
+/// `invalid_dimension()` (`docs/macro.md`, "Run-time dimension and sparse second derivatives"):
+///
+/// ```ignore
+/// #[lagrangian]
+/// fn toda(x: &[f64], v: &[f64], n: usize, a: f64) -> f64 {
+///     (0..n).map(|i| 0.5 * v[i] * v[i] - (-(x[(i + 1) % n] - x[i])).exp() * a).sum()
+/// }
+/// let lattice = Toda { n: 10_000, a: 1.0 }; // `lattice.dimension() == 10_000`
+/// ```
 ///
 /// The generated code reaches `varembed` only through its hidden `__private` module.
 ///

@@ -20,9 +20,10 @@ impl<'a> Names<'a> {
     /// two of that name (or it is a name the methods use), then with its number.
     pub fn new(model: &'a Model, a: &Assembly) -> Self {
         let g = &model.graph;
-        let dim = match &model.dim_name {
-            Some(p) => quote!(#p),
-            None => {
+        let dim = match (&model.dim_name, &model.runtime_dim) {
+            (Some(p), _) => quote!(#p),
+            (None, Some(n)) => quote!(self.#n),
+            (None, None) => {
                 let d = Literal::usize_unsuffixed(model.dim);
                 quote!(#d)
             }
@@ -39,7 +40,7 @@ impl<'a> Names<'a> {
                         .count()
                         > 1
                 });
-                let reserved = ["x", "v", "t", "fx", "fv", "xx", "xv", "vv", "value"]
+                let reserved = ["x", "v", "t", "fx", "fv", "xx", "xv", "vv", "value", "out"]
                     .contains(&r.name.as_str())
                     || r.name.starts_with('e');
                 if clash || reserved {

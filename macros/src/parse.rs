@@ -67,6 +67,7 @@ pub fn parse_with_helpers(
         docs,
         dim: sig.dim,
         dim_name: sig.dim_name,
+        runtime_dim: sig.runtime_dim,
         scalar: sig.scalar,
         consts: sig.consts,
         graph,

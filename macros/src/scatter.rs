@@ -12,7 +12,7 @@ use std::collections::HashMap;
 use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::quote;
 
-use crate::assemble::{Assembly, Block};
+use crate::assemble::{Assembly, Block, Term};
 use crate::cse::Plan;
 use crate::emit::{method_on, private, shell};
 use crate::indices::Affine;
@@ -22,7 +22,7 @@ use crate::render::Render;
 
 /// What an output adds to.
 #[derive(Clone, Copy)]
-enum Target {
+pub enum Target {
     Value,
     Gradient(Var),
     Hessian(Block, Var, Var),
@@ -45,10 +45,15 @@ struct Nest {
 
 impl Nest {
     /// The nest of `a`'s terms, with the outputs `pick` gives for each.
-    fn new(a: &Assembly, pick: &dyn Fn(&crate::assemble::Term) -> Vec<(Target, Id)>) -> Self {
+    fn new(a: &Assembly, pick: &dyn Fn(&Term) -> Vec<(Target, Id)>) -> Self {
         let mut scopes = vec![Scope::default()];
         let mut by_path: HashMap<Vec<IndexVar>, usize> = HashMap::new();
         for term in &a.terms {
+            let outputs = pick(term);
+            if outputs.is_empty() {
+                // No loop for a term that adds nothing here.
+                continue;
+            }
             let mut at = 0;
             for (k, &var) in term.loops.iter().enumerate() {
                 let path = term.loops[..=k].to_vec();
@@ -64,7 +69,7 @@ impl Nest {
                     new
                 });
             }
-            scopes[at].outputs.extend(pick(term));
+            scopes[at].outputs.extend(outputs);
         }
         Self { scopes }
     }
@@ -184,11 +189,86 @@ fn free_vars(g: &Graph) -> Vec<Vec<IndexVar>> {
     free
 }
 
-/// The `Lagrangian<N>` impl of a model with loops.
-pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenStream {
+/// The value a term adds.
+pub fn value_out(t: &Term) -> Vec<(Target, Id)> {
+    vec![(Target::Value, t.value)]
+}
+
+/// What a term adds to the gradient.
+pub fn gradient_out(t: &Term) -> Vec<(Target, Id)> {
+    t.gradient
+        .iter()
+        .map(|&(u, id)| (Target::Gradient(u), id))
+        .collect()
+}
+
+/// What a term adds to the Hessian blocks, the mirrored entries of the symmetric blocks too.
+pub fn hessian_out(t: &Term) -> Vec<(Target, Id)> {
+    let mut out = Vec::new();
+    for e in &t.hessian {
+        out.push((Target::Hessian(e.block, e.row, e.col), e.id));
+        if e.mirror {
+            out.push((Target::Hessian(e.block, e.col, e.row), e.id));
+        }
+    }
+    out
+}
+
+/// How the Hessian entries are written: into dense matrices `xx[(i, j)] += e;` or as the
+/// entries of core's `SparseHessian`, `out.xx.add(i, j, e);`.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Style {
+    Dense,
+    Sparse,
+}
+
+/// The loop nests of one model, rendered method by method.
+pub struct Loops<'a> {
+    model: &'a Model,
+    a: &'a Assembly,
+    pub names: Names<'a>,
+    free: Vec<Vec<IndexVar>>,
+}
+
+impl<'a> Loops<'a> {
+    pub fn new(model: &'a Model, a: &'a Assembly) -> Self {
+        Self {
+            model,
+            a,
+            names: Names::new(model, a),
+            free: free_vars(&model.graph),
+        }
+    }
+
+    /// The loop nest adding the outputs `pick` gives for each term, and which of `value`,
+    /// `fx`, `fv`, `xx`, `xv`, `vv` it writes.
+    pub fn body(
+        &self,
+        pick: &dyn Fn(&Term) -> Vec<(Target, Id)>,
+        style: Style,
+    ) -> (TokenStream, [bool; 6]) {
+        let g = &self.model.graph;
+        let nest = Nest::new(self.a, pick);
+        let (plan, temps) = nest.plan(g, &self.free);
+        let leaf = |v: Var| self.names.leaf(&self.model.consts, v);
+        let r = Render::new(g, &plan, &leaf);
+        let mut used = [false; 6];
+        let code = scope(&nest, 0, &temps, &r, &self.names, style, &mut used);
+        (code, used)
+    }
+}
+
+/// The user's fn, the struct and the `Lagrangian<N>` impl of a model with loops of a named
+/// (or literal) dimension, with the model's `properties`.
+pub fn emit(
+    model: &Model,
+    loops: &Loops<'_>,
+    properties: &TokenStream,
+    text: &str,
+    with_item: bool,
+) -> TokenStream {
     let g = &model.graph;
-    let names = Names::new(model, a);
-    let free = free_vars(g);
+    let names = &loops.names;
     let dim = names.dim.clone();
     let vector = {
         let v = private("Vector");
@@ -198,42 +278,17 @@ pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenSt
         let h = private("Hessian");
         quote!(#h<#dim>)
     };
-    let value_out = |t: &crate::assemble::Term| vec![(Target::Value, t.value)];
-    let gradient_out = |t: &crate::assemble::Term| {
-        t.gradient
-            .iter()
-            .map(|&(u, id)| (Target::Gradient(u), id))
-            .collect::<Vec<_>>()
-    };
-    let hessian_out = |t: &crate::assemble::Term| {
-        let mut out = Vec::new();
-        for e in &t.hessian {
-            out.push((Target::Hessian(e.block, e.row, e.col), e.id));
-            if e.mirror {
-                out.push((Target::Hessian(e.block, e.col, e.row), e.id));
-            }
-        }
-        out
-    };
-    let both_out = |t: &crate::assemble::Term| {
+    let both_out = |t: &Term| {
         let mut out = gradient_out(t);
         out.extend(hessian_out(t));
         out
     };
-    let value_gradient_out = |t: &crate::assemble::Term| {
+    let value_gradient_out = |t: &Term| {
         let mut out = value_out(t);
         out.extend(gradient_out(t));
         out
     };
-    let body = |pick: &dyn Fn(&crate::assemble::Term) -> Vec<(Target, Id)>| {
-        let nest = Nest::new(a, pick);
-        let (plan, temps) = nest.plan(g, &free);
-        let leaf = |v: Var| names.leaf(&model.consts, v);
-        let r = Render::new(g, &plan, &leaf);
-        let mut used = [false; 6];
-        let code = scope(&nest, 0, &temps, &r, &names, &mut used);
-        (code, used)
-    };
+    let body = |pick: &dyn Fn(&Term) -> Vec<(Target, Id)>| loops.body(pick, Style::Dense);
     let [fx, fv, xx, xv, vv] =
         ["fx", "fv", "xx", "xv", "vv"].map(|n| Ident::new(n, Span::call_site()));
     let (vec_expr, mat_expr) = {
@@ -329,14 +384,7 @@ pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenSt
         #hessian_m
         #both
     };
-    let shell = shell(
-        model,
-        text,
-        dim,
-        methods,
-        (&a.hessian_dependence, &a.dependence, bandwidth(a)),
-        with_item,
-    );
+    let shell = shell(model, text, dim, methods, properties, with_item);
     let checks = names.bounds(&model.item.sig.ident);
     quote!(#shell #bounds #checks)
 }
@@ -346,7 +394,7 @@ pub fn emit(model: &Model, a: &Assembly, text: &str, with_item: bool) -> TokenSt
 /// same scale, or two literals) bound it; a periodic index (`% N`), two different loop
 /// variables (a double sum), different scales or a difference naming `N` or another const
 /// leave it unbounded: `None`.
-fn bandwidth(a: &Assembly) -> Option<usize> {
+pub fn bandwidth(a: &Assembly) -> Option<usize> {
     let at = |u: Var| match u {
         Var::X(k) | Var::V(k) => Some(Affine::constant(k as i64)),
         Var::XAt(c) | Var::VAt(c) if !c.wrap => Some(c.at),
@@ -368,6 +416,7 @@ fn scope(
     temps: &[Vec<Id>],
     r: &Render<'_>,
     names: &Names<'_>,
+    style: Style,
     used: &mut [bool; 6],
 ) -> TokenStream {
     let lets = r.lets(&temps[s]);
@@ -399,7 +448,10 @@ fn scope(
                         Block::Vv => (5, quote!(vv)),
                     };
                     used[k] = true;
-                    quote!(#name[(#i, #j)] += #e;)
+                    match style {
+                        Style::Dense => quote!(#name[(#i, #j)] += #e;),
+                        Style::Sparse => quote!(out.#name.add(#i, #j, #e);),
+                    }
                 }
             }
         })
@@ -407,7 +459,7 @@ fn scope(
     let children: Vec<TokenStream> = nest.scopes[s]
         .children
         .iter()
-        .map(|&c| scope(nest, c, temps, r, names, used))
+        .map(|&c| scope(nest, c, temps, r, names, style, used))
         .collect();
     let inner = quote!(#lets #(#outputs)* #(#children)*);
     match nest.scopes[s].var {

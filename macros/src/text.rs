@@ -241,9 +241,10 @@ impl Printer<'_> {
     }
 
     fn dim(&self) -> String {
-        match &self.model.dim_name {
-            Some(p) => quote::ToTokens::to_token_stream(p).to_string(),
-            None => self.model.dim.to_string(),
+        match (&self.model.dim_name, &self.model.runtime_dim) {
+            (Some(p), _) => quote::ToTokens::to_token_stream(p).to_string(),
+            (None, Some(n)) => n.to_string(),
+            (None, None) => self.model.dim.to_string(),
         }
     }
 

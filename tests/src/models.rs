@@ -7,7 +7,10 @@
 //! - [`num_dual`]: the double pendulum with every derivative from num-dual's (hyper-)dual
 //!   numbers, an independent oracle for the macro and the usual alternative to it.
 //! - [`chain`]: the FPUT chain (between walls or periodic) as a hand-written
-//!   [`DynLagrangian`](varembed::DynLagrangian) of run-time dimension.
+//!   [`DynLagrangian`](varembed::DynLagrangian) of run-time dimension, and the loops a user
+//!   writes by hand for its two schemes.
+//! - [`dual_chains`]: chains and lattices of any length for num-dual, the oracles of the loop
+//!   models.
 //! - [`dense`]: a wrapper that hides a model's Hessian bandwidth, so that its implicit steps
 //!   take the dense step solve (the reference for the banded one).
 //!
@@ -15,6 +18,7 @@
 
 pub mod chain;
 pub mod dense;
+pub mod dual_chains;
 pub mod generated;
 pub mod hand;
 pub mod num_dual;

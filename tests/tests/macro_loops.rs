@@ -7,6 +7,9 @@
 
 use num_dual::{DualNum, HyperDual64};
 use varembed::{Lagrangian, Matrix, Vector, lagrangian};
+use varembed_tests::models::dual_chains::{
+    fput_fixed_dual, fput_periodic_dual, n_link_dual, toda_dual,
+};
 use varembed_tests::models::num_dual::{assert_matches_oracle, close, dual_derivatives};
 use varembed_tests::rng::Rng;
 
@@ -227,69 +230,8 @@ models!(n4, 4);
 models!(n16, 16);
 models!(n64, 64);
 
-/// The oracles: the same Lagrangians as plain generic fns of `z = (x, v)`.
-fn spring_dual<T: DualNum<Primitive = f64> + Copy>(d: T, alpha: f64, beta: f64) -> T {
-    d * d * 0.5 + d.powi(3) * (alpha / 3.0) + d.powi(4) * (beta / 4.0)
-}
-
-fn fput_fixed_dual<T: DualNum<Primitive = f64> + Copy>(z: &[T], p: [f64; 2]) -> T {
-    let n = z.len() / 2;
-    let (x, v) = z.split_at(n);
-    let mut l = T::zero();
-    for i in 0..n {
-        l += v[i] * v[i] * 0.5;
-    }
-    // Positions with the fixed ends: 0, x_0, …, x_{N−1}, 0.
-    let at = |k: usize| {
-        if k == 0 || k == n + 1 {
-            T::zero()
-        } else {
-            x[k - 1]
-        }
-    };
-    for k in 0..=n {
-        l -= spring_dual(at(k + 1) - at(k), p[0], p[1]);
-    }
-    l
-}
-
-fn fput_periodic_dual<T: DualNum<Primitive = f64> + Copy>(z: &[T], p: [f64; 2]) -> T {
-    let n = z.len() / 2;
-    let (x, v) = z.split_at(n);
-    let mut l = T::zero();
-    for i in 0..n {
-        l += v[i] * v[i] * 0.5 - spring_dual(x[(i + 1) % n] - x[i], p[0], p[1]);
-    }
-    l
-}
-
-fn toda_dual<T: DualNum<Primitive = f64> + Copy>(z: &[T], p: [f64; 2]) -> T {
-    let n = z.len() / 2;
-    let (x, v) = z.split_at(n);
-    let (a, b) = (p[0], p[1]);
-    let mut l = T::zero();
-    for i in 0..n {
-        let d = x[(i + 1) % n] - x[i];
-        l += v[i] * v[i] * 0.5 - ((d * (-b)).exp() * (a / b) + d * a);
-    }
-    l
-}
-
-fn n_link_dual<T: DualNum<Primitive = f64> + Copy>(z: &[T], p: [f64; 2]) -> T {
-    let n = z.len() / 2;
-    let (x, v) = z.split_at(n);
-    let (g, l) = (p[0], p[1]);
-    let mut out = T::zero();
-    for i in 0..n {
-        for j in 0..n {
-            let m = (n - i.max(j)) as f64;
-            out += (x[i] - x[j]).cos() * v[i] * v[j] * (0.5 * l * l * m);
-        }
-        out += x[i].cos() * (g * l * (n - i) as f64);
-    }
-    out
-}
-
+/// The oracles: the same Lagrangians as plain generic fns of `z = (x, v)` (the chains are in
+/// `varembed_tests::models::dual_chains`).
 fn walled_dual<T: DualNum<Primitive = f64> + Copy>(z: &[T], p: [f64; 2]) -> T {
     let n = z.len() / 2;
     let (x, v) = z.split_at(n);

@@ -84,17 +84,24 @@ impl Parser {
             let binding = match *shape {
                 Shape::Scalar => Binding::Scalar(self.graph.var(state.component(0))),
                 Shape::Array(len) => Binding::Array { state, len },
+                Shape::Slice => Binding::Array {
+                    state,
+                    len: Length::Named,
+                },
             };
             env.insert(name.to_string(), binding);
         }
         if let Some(Length::Known(d)) = sig.states.first().and_then(|s| match s.1 {
             Shape::Array(len) => Some(len),
-            Shape::Scalar => None,
+            Shape::Scalar | Shape::Slice => None,
         }) {
             self.dim = Some(d);
         }
         if let Some(name) = sig.dim_name.as_ref().and_then(|p| p.get_ident()) {
             env.insert(name.to_string(), Binding::Dim);
+        }
+        if let Some(n) = &sig.runtime_dim {
+            env.insert(n.to_string(), Binding::Dim);
         }
         if let Some(t) = &sig.time {
             env.insert(t.to_string(), Binding::Scalar(self.graph.var(Var::T)));

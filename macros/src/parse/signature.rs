@@ -5,7 +5,7 @@ use syn::{Expr, FnArg, Ident, ItemFn, Lit, Pat, ReturnType, Type};
 
 /// The accepted signature, quoted in the signature errors.
 pub const SIGNATURE: &str = "expected `fn name(x: T, v: T, [t: f64,] constants: f64...) -> f64` \
-     with `T` either `f64` or `[f64; D]`";
+     with `T` either `f64` or `[f64; D]` (or `&[f64]`, its length one constant `n: usize`)";
 
 /// The declared type of `x` or `v`.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -14,6 +14,8 @@ pub enum Shape {
     Scalar,
     /// `[f64; len]`.
     Array(Length),
+    /// `&[f64]`: the dimension is the model's `usize` constant, a run-time value.
+    Slice,
 }
 
 /// The length of a state array.
@@ -41,6 +43,8 @@ pub struct Signature {
     pub dim: usize,
     /// The named constant that is the dimension, if it is one.
     pub dim_name: Option<syn::Path>,
+    /// The `usize` model constant that is the dimension of slices `x: &[f64]`, `v: &[f64]`.
+    pub runtime_dim: Option<Ident>,
     /// `x`, `v` declared as `f64`.
     pub scalar: bool,
     /// Name of the generated struct.
@@ -133,6 +137,7 @@ pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) ->
     let mut shapes = [Shape::Scalar; 2];
     let mut has_t = false;
     let mut consts = Vec::new();
+    let mut usizes: Vec<(&Ident, &Type)> = Vec::new();
     if names.len() < 2 {
         errors.push(syn::Error::new_spanned(
             &sig.inputs,
@@ -165,12 +170,18 @@ pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) ->
         errors.extend(x_err);
         errors.extend(v_err);
         if v_shape != x_shape {
-            errors.push(syn::Error::new_spanned(
-                &names[1].1,
-                "`v` must have the same type as `x`",
-            ));
+            let msg = if x_shape == Shape::Slice || v_shape == Shape::Slice {
+                "`v` must have the same type as `x`: both slices `&[f64]` (a run-time dimension, \
+                 the `usize` constant) or both arrays `[f64; N]`"
+            } else {
+                "`v` must have the same type as `x`"
+            };
+            errors.push(syn::Error::new_spanned(&names[1].1, msg));
         }
         shapes = [x_shape, v_shape];
+        if x_shape == Shape::Slice {
+            scalar = false;
+        }
         if let Shape::Array(len) = x_shape {
             scalar = false;
             if let Length::Known(d) = len {
@@ -183,6 +194,10 @@ pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) ->
             }
         }
         for (k, (name, ty)) in names.iter().enumerate().skip(2) {
+            if is_usize(ty) && bare(name) != "t" {
+                usizes.push((name, ty));
+                continue;
+            }
             if !is_f64(ty) {
                 errors.push(syn::Error::new_spanned(
                     ty,
@@ -217,6 +232,8 @@ pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) ->
         }
     }
 
+    let runtime_dim = runtime_dimension(sig, &names, shapes[0], &usizes, errors);
+
     let struct_name = Ident::new(&camel_case(&sig.ident.to_string()), sig.ident.span());
     if struct_name == sig.ident {
         errors.push(syn::Error::new_spanned(
@@ -239,9 +256,62 @@ pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) ->
         consts,
         dim,
         dim_name,
+        runtime_dim,
         scalar,
         struct_name,
     }
+}
+
+/// The run-time dimension: with slices `x: &[f64]`, `v: &[f64]`, the one `usize` model
+/// constant. The errors: slices without one, two of them, one without slices.
+fn runtime_dimension(
+    sig: &syn::Signature,
+    names: &[(Ident, Type)],
+    x_shape: Shape,
+    usizes: &[(&Ident, &Type)],
+    errors: &mut Vec<syn::Error>,
+) -> Option<Ident> {
+    if x_shape != Shape::Slice {
+        for (name, ty) in usizes {
+            errors.push(syn::Error::new_spanned(
+                ty,
+                format!(
+                    "`{name}: usize` is the run-time dimension of slices `x: &[f64]`, `v: &[f64]`; with `x` an array or `f64` the constants are `f64` (a dimension `N` is a `const N: usize` in `[f64; N]`)"
+                ),
+            ));
+        }
+        return None;
+    }
+    match usizes {
+        [] => {
+            let at: &dyn quote::ToTokens = match names.first() {
+                Some((_, ty)) => ty,
+                None => &sig.ident,
+            };
+            errors.push(syn::Error::new_spanned(
+                at,
+                "with slices `x: &[f64]`, `v: &[f64]` the dimension is a model constant of type `usize`: add one, e.g. `fn name(x: &[f64], v: &[f64], n: usize, …)`",
+            ));
+            None
+        }
+        [(name, _)] => Some((*name).clone()),
+        [(first, _), rest @ ..] => {
+            for (_, ty) in rest {
+                errors.push(syn::Error::new_spanned(
+                    ty,
+                    format!(
+                        "only one model constant may be `usize`: it is the dimension (here `{first}`); the other constants are `f64`"
+                    ),
+                ));
+            }
+            Some((*first).clone())
+        }
+    }
+}
+
+/// Whether `ty` is `usize`.
+fn is_usize(ty: &Type) -> bool {
+    matches!(ty, Type::Path(tp) if tp.qself.is_none() && tp.path.is_ident("usize"))
 }
 
 /// A parameter name without the leading `_` that silences "unused" warnings.
@@ -284,6 +354,24 @@ fn state_type(ty: &Type) -> (Shape, Option<syn::Error>) {
     if is_f64(ty) {
         return (Shape::Scalar, None);
     }
+    if let Type::Reference(r) = ty
+        && let Type::Slice(slice) = &*r.elem
+    {
+        let err = if r.mutability.is_some() {
+            Some(syn::Error::new_spanned(
+                r.mutability,
+                "`x` and `v` are read only: `&[f64]`",
+            ))
+        } else if !is_f64(&slice.elem) {
+            Some(syn::Error::new_spanned(
+                &slice.elem,
+                "the state slices must hold `f64`: `&[f64]`",
+            ))
+        } else {
+            None
+        };
+        return (Shape::Slice, err);
+    }
     if let Type::Array(arr) = ty {
         let elem = (!is_f64(&arr.elem))
             .then(|| syn::Error::new_spanned(&arr.elem, "the state arrays must hold `f64`"));
@@ -321,7 +409,7 @@ fn state_type(ty: &Type) -> (Shape, Option<syn::Error>) {
         Shape::Scalar,
         Some(syn::Error::new_spanned(
             ty,
-            format!("`x` and `v` must be `f64` or `[f64; D]`; {SIGNATURE}"),
+            format!("`x` and `v` must be `f64`, `[f64; D]` or `&[f64]`; {SIGNATURE}"),
         )),
     )
 }

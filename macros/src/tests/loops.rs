@@ -128,3 +128,27 @@ fn named_consts_and_divisions_stay_loops() {
         "{out}"
     );
 }
+
+/// A chain of run-time length: slices `x: &[f64]`, the dimension the model constant
+/// `n: usize`, used in ranges, indices and as a number. Only the `DynLagrangian` impl, with
+/// `dimension() = self.n` and the index checks as `invalid_dimension()`.
+#[test]
+fn runtime_chain_expansion_snapshot() {
+    super::snapshots::check_snapshot(
+        "runtime_chain",
+        quote! {
+            /// α-FPUT chain with fixed ends, of `n` particles.
+            pub fn runtime_chain(x: &[f64], v: &[f64], n: usize, alpha: f64) -> f64 {
+                let mut l = 0.0;
+                for i in 0..n {
+                    l += 0.5 * v[i] * v[i];
+                }
+                for i in 0..n - 1 {
+                    let d = x[i + 1] - x[i];
+                    l -= 0.5 * d * d + alpha / 3.0 * d.powi(3);
+                }
+                l - 0.5 * x[0] * x[0] - 0.5 * x[n - 1] * x[n - 1] / (n as f64)
+            }
+        },
+    );
+}

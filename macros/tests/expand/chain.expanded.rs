@@ -219,3 +219,114 @@ impl ::varembed::__private::Lagrangian<N> for Chain {
 const _: () = ::core::assert!(
     0 < N, "#[lagrangian] fn `chain` reads component 0: its dimension must be at least 1"
 );
+impl ::varembed::__private::DynLagrangian for Chain {
+    #[inline]
+    fn dimension(&self) -> usize {
+        N
+    }
+    #[inline]
+    fn value(&self, x: &[f64], v: &[f64], _t: f64) -> f64 {
+        ::core::debug_assert_eq!(x.len(), N);
+        ::core::debug_assert_eq!(v.len(), N);
+        let mut value = 0.0;
+        let e1 = self.alpha / 3.0;
+        value += -(0.5 * x[0] * x[0]) - 0.5 * x[N - 1] * x[N - 1];
+        for i in 0..N {
+            value += 0.5 * v[i] * v[i];
+        }
+        for i in 0..N - 1 {
+            let e0 = x[i + 1] - x[i];
+            value += -(0.5 * e0 * e0 + e1 * e0.powi(3));
+        }
+        value
+    }
+    #[inline]
+    fn force(&self, x: &[f64], v: &[f64], _t: f64, fx: &mut [f64]) {
+        ::core::debug_assert_eq!(x.len(), N);
+        ::core::debug_assert_eq!(v.len(), N);
+        ::core::debug_assert_eq!(fx.len(), N);
+        fx.fill(0.0);
+        let e2 = self.alpha / 3.0;
+        fx[0] += -(2.0 * (0.5 * x[0]));
+        fx[N - 1] += -(2.0 * (0.5 * x[N - 1]));
+        for i in 0..N - 1 {
+            let e0 = x[i + 1] - x[i];
+            let e1 = 0.5 * e0;
+            let e3 = e2 * (3.0 * e0.powi(2));
+            fx[i + 1] += -(2.0 * e1 + e3);
+            fx[i] += -(-0.5 * e0 - e1 - e3);
+        }
+    }
+    #[inline]
+    fn momentum(&self, x: &[f64], v: &[f64], _t: f64, fv: &mut [f64]) {
+        ::core::debug_assert_eq!(x.len(), N);
+        ::core::debug_assert_eq!(v.len(), N);
+        ::core::debug_assert_eq!(fv.len(), N);
+        fv.fill(0.0);
+        for i in 0..N {
+            fv[i] += 2.0 * (0.5 * v[i]);
+        }
+    }
+    #[inline]
+    fn hessian(
+        &self,
+        x: &[f64],
+        v: &[f64],
+        _t: f64,
+        out: &mut ::varembed::__private::SparseHessian,
+    ) {
+        ::core::debug_assert_eq!(x.len(), N);
+        ::core::debug_assert_eq!(v.len(), N);
+        let e0 = self.alpha / 3.0;
+        out.xx.add(0, 0, -1.0);
+        out.xx.add(N - 1, N - 1, -1.0);
+        for i in 0..N {
+            out.vv.add(i, i, 1.0);
+        }
+        for i in 0..N - 1 {
+            let e1 = e0 * (3.0 * (2.0 * (x[i + 1] - x[i])));
+            let e2 = -(1.0 + e1);
+            let e3 = -(-1.0 - e1);
+            out.xx.add(i + 1, i + 1, e2);
+            out.xx.add(i + 1, i, e3);
+            out.xx.add(i, i + 1, e3);
+            out.xx.add(i, i, e2);
+        }
+    }
+    #[inline]
+    fn hessian_dependence(&self) -> ::varembed::__private::HessianDependence {
+        ::varembed::__private::HessianDependence {
+            xx: ::varembed::__private::Dependence {
+                x: true,
+                v: false,
+                t: false,
+            },
+            xv: ::varembed::__private::Dependence {
+                x: false,
+                v: false,
+                t: false,
+            },
+            vv: ::varembed::__private::Dependence {
+                x: false,
+                v: false,
+                t: false,
+            },
+        }
+    }
+    #[inline]
+    fn hessian_bandwidth(&self) -> ::core::option::Option<usize> {
+        ::core::option::Option::Some(1)
+    }
+    #[inline]
+    fn dependence(&self) -> ::varembed::__private::Dependence {
+        ::varembed::__private::Dependence {
+            x: true,
+            v: true,
+            t: false,
+        }
+    }
+    #[inline]
+    fn constants(&self) -> ::std::vec::Vec<(&'static str, f64)> {
+        ::std::vec![("alpha", self.alpha)]
+    }
+}

@@ -268,3 +268,152 @@ impl ::varembed::__private::Lagrangian<N> for NLink {
         ::std::vec![("g", self.g)]
     }
 }
+impl ::varembed::__private::DynLagrangian for NLink {
+    #[inline]
+    fn dimension(&self) -> usize {
+        N
+    }
+    #[inline]
+    fn value(&self, x: &[f64], v: &[f64], _t: f64) -> f64 {
+        ::core::debug_assert_eq!(x.len(), N);
+        ::core::debug_assert_eq!(v.len(), N);
+        let mut value = 0.0;
+        for i in 0..N {
+            for j in 0..N {
+                value
+                    += 0.5
+                        * ((N as f64)
+                            - (if (i as f64) >= (j as f64) {
+                                (i as f64)
+                            } else {
+                                (j as f64)
+                            })) * (x[i] - x[j]).cos() * v[i] * v[j];
+            }
+        }
+        for i in 0..N {
+            value += self.g * ((N as f64) - (i as f64)) * x[i].cos();
+        }
+        value
+    }
+    #[inline]
+    fn force(&self, x: &[f64], v: &[f64], _t: f64, fx: &mut [f64]) {
+        ::core::debug_assert_eq!(x.len(), N);
+        ::core::debug_assert_eq!(v.len(), N);
+        ::core::debug_assert_eq!(fx.len(), N);
+        fx.fill(0.0);
+        for i in 0..N {
+            for j in 0..N {
+                let e0 = 0.5
+                    * ((N as f64)
+                        - (if (i as f64) >= (j as f64) {
+                            (i as f64)
+                        } else {
+                            (j as f64)
+                        })) * (x[i] - x[j]).sin() * v[i] * v[j];
+                fx[i] += -e0;
+                fx[j] += e0;
+            }
+        }
+        for i in 0..N {
+            fx[i] += -(self.g * ((N as f64) - (i as f64)) * x[i].sin());
+        }
+    }
+    #[inline]
+    fn momentum(&self, x: &[f64], v: &[f64], _t: f64, fv: &mut [f64]) {
+        ::core::debug_assert_eq!(x.len(), N);
+        ::core::debug_assert_eq!(v.len(), N);
+        ::core::debug_assert_eq!(fv.len(), N);
+        fv.fill(0.0);
+        for i in 0..N {
+            for j in 0..N {
+                let e0 = 0.5
+                    * ((N as f64)
+                        - (if (i as f64) >= (j as f64) {
+                            (i as f64)
+                        } else {
+                            (j as f64)
+                        })) * (x[i] - x[j]).cos();
+                fv[i] += e0 * v[j];
+                fv[j] += e0 * v[i];
+            }
+        }
+    }
+    #[inline]
+    fn hessian(
+        &self,
+        x: &[f64],
+        v: &[f64],
+        _t: f64,
+        out: &mut ::varembed::__private::SparseHessian,
+    ) {
+        ::core::debug_assert_eq!(x.len(), N);
+        ::core::debug_assert_eq!(v.len(), N);
+        for i in 0..N {
+            for j in 0..N {
+                let e0 = 0.5
+                    * ((N as f64)
+                        - (if (i as f64) >= (j as f64) {
+                            (i as f64)
+                        } else {
+                            (j as f64)
+                        }));
+                let e1 = x[i] - x[j];
+                let e2 = e0 * e1.cos();
+                let e3 = e2 * v[i] * v[j];
+                let e4 = e0 * e1.sin();
+                let e5 = e4 * v[i];
+                let e6 = -e3;
+                let e7 = e4 * v[j];
+                out.xx.add(i, i, e6);
+                out.xx.add(i, j, e3);
+                out.xx.add(j, i, e3);
+                out.xx.add(j, j, e6);
+                out.xv.add(i, i, -e7);
+                out.xv.add(i, j, -e5);
+                out.xv.add(j, i, e7);
+                out.xv.add(j, j, e5);
+                out.vv.add(i, j, e2);
+                out.vv.add(j, i, e2);
+            }
+        }
+        for i in 0..N {
+            out.xx.add(i, i, -(self.g * ((N as f64) - (i as f64)) * x[i].cos()));
+        }
+    }
+    #[inline]
+    fn hessian_dependence(&self) -> ::varembed::__private::HessianDependence {
+        ::varembed::__private::HessianDependence {
+            xx: ::varembed::__private::Dependence {
+                x: true,
+                v: true,
+                t: false,
+            },
+            xv: ::varembed::__private::Dependence {
+                x: true,
+                v: true,
+                t: false,
+            },
+            vv: ::varembed::__private::Dependence {
+                x: true,
+                v: false,
+                t: false,
+            },
+        }
+    }
+    #[inline]
+    fn hessian_bandwidth(&self) -> ::core::option::Option<usize> {
+        ::core::option::Option::None
+    }
+    #[inline]
+    fn dependence(&self) -> ::varembed::__private::Dependence {
+        ::varembed::__private::Dependence {
+            x: true,
+            v: true,
+            t: false,
+        }
+    }
+    #[inline]
+    fn constants(&self) -> ::std::vec::Vec<(&'static str, f64)> {
+        ::std::vec![("g", self.g)]
+    }
+}
