@@ -87,3 +87,24 @@ macro_rules! fput_chain {
 
 fput_chain!(fput16, 16);
 fput_chain!(fput64, 64);
+
+/// The FPUT chain of the [`fput_chain!`] models with its length `n` a run-time value:
+/// `n` unit masses between two walls at 0, `V(d) = d²/2 + α d³/3 + β d⁴/4`. Through
+/// `#[lagrangian]` it implements only `DynLagrangian` (tridiagonal Hessian,
+/// `hessian_bandwidth() = Some(1)`).
+#[lagrangian]
+pub fn fput_chain(x: &[f64], v: &[f64], n: usize, alpha: f64, beta: f64) -> f64 {
+    let mut kinetic = 0.0;
+    for i in 0..n {
+        kinetic += 0.5 * v[i] * v[i];
+    }
+    let mut potential = 0.0;
+    for i in 0..n - 1 {
+        let d = x[i + 1] - x[i];
+        potential += 0.5 * d * d + alpha / 3.0 * d.powi(3) + beta / 4.0 * d.powi(4);
+    }
+    let (first, last) = (x[0], -x[n - 1]);
+    potential += 0.5 * first * first + alpha / 3.0 * first.powi(3) + beta / 4.0 * first.powi(4);
+    potential += 0.5 * last * last + alpha / 3.0 * last.powi(3) + beta / 4.0 * last.powi(4);
+    kinetic - potential
+}
