@@ -140,12 +140,13 @@ impl BandedMatrix {
         }
     }
 
-    /// `‖A‖∞`, the largest absolute row sum (before factorisation).
+    /// `‖A‖∞`, the largest absolute row sum (before factorisation); NaN or ∞ when an entry is
+    /// not finite, so that one pass also checks finiteness.
     pub fn norm_inf(&self) -> f64 {
         self.data
             .chunks(self.width)
             .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
-            .fold(0.0, f64::max)
+            .fold(0.0, |m, s| if s > m || s.is_nan() { s } else { m })
     }
 
     /// Whether every stored entry is finite.
@@ -155,20 +156,49 @@ impl BandedMatrix {
 
     /// Factorises in place. Returns the index of the first pivot column that is numerically
     /// zero (relative to the largest entry) as `Err`.
+    ///
+    /// Row by row on slices of the storage (row `i` holds columns `i − kl ..= i + kl + ku` at
+    /// offsets `0 ..`), so that the elimination of a row is one contiguous, vectorisable update.
     pub fn factorize(&mut self) -> std::result::Result<(), usize> {
-        let (n, kl, ku) = (self.n, self.kl, self.ku);
-        let norm = self.data.iter().fold(0.0f64, |m, v| m.max(v.abs()));
-        if !norm.is_finite() {
+        let norms = self.norms();
+        if !norms.is_finite() {
             return Err(0);
         }
+        self.factorize_scaled(norms.largest)
+    }
+
+    /// `‖A‖∞` and the largest absolute entry in one pass, with whether every entry is finite.
+    pub fn norms(&self) -> BandNorms {
+        let (mut inf, mut largest, mut total) = (0.0f64, 0.0f64, 0.0);
+        for row in self.data.chunks(self.width) {
+            let sum: f64 = row.iter().map(|a| a.abs()).sum();
+            let top = row.iter().fold(0.0f64, |m, a| m.max(a.abs()));
+            inf = inf.max(sum);
+            largest = largest.max(top);
+            total += sum;
+        }
+        BandNorms {
+            inf,
+            largest,
+            total,
+        }
+    }
+
+    /// [`factorize`](Self::factorize) with the largest absolute entry `largest` given (from
+    /// [`norms`](Self::norms)), the scale of its singularity threshold.
+    pub fn factorize_scaled(&mut self, largest: f64) -> std::result::Result<(), usize> {
+        let (n, kl, ku, w) = (self.n, self.kl, self.ku, self.width);
+        let norm = largest;
         self.pivots.clear();
         self.pivots.resize(n, 0);
+        let data = &mut self.data;
         for j in 0..n {
             let last_row = (j + kl).min(n - 1);
+            // Entry (i, j) sits at offset j + kl − i of row i.
             let mut piv = j;
-            let mut max = self.get(j, j).abs();
+            let mut max = data[j * w + kl].abs();
             for i in j + 1..=last_row {
-                let a = self.get(i, j).abs();
+                let a = data[i * w + j + kl - i].abs();
                 if a > max {
                     max = a;
                     piv = i;
@@ -181,20 +211,22 @@ impl BandedMatrix {
             let last_col = (j + kl + ku).min(n - 1);
             if piv != j {
                 for c in j..=last_col {
-                    let (a, b) = (self.slot(j, c), self.slot(piv, c));
-                    self.data.swap(a, b);
+                    data.swap(j * w + c + kl - j, piv * w + c + kl - piv);
                 }
             }
-            let d = self.get(j, j);
+            let (head, tail) = data.split_at_mut((j + 1) * w);
+            let row_j = &head[j * w..];
+            let d = row_j[kl];
+            // Columns j + 1 ..= last_col of row j.
+            let upper = &row_j[kl + 1..kl + 1 + (last_col - j)];
             for i in j + 1..=last_row {
-                let sij = self.slot(i, j);
-                let l = self.data[sij] / d;
-                self.data[sij] = l;
+                let row_i = &mut tail[(i - j - 1) * w..(i - j) * w];
+                let at = j + kl - i;
+                let l = row_i[at] / d;
+                row_i[at] = l;
                 if l != 0.0 {
-                    for c in j + 1..=last_col {
-                        let u = self.data[self.slot(j, c)];
-                        let s = self.slot(i, c);
-                        self.data[s] -= l * u;
+                    for (a, u) in row_i[at + 1..at + 1 + upper.len()].iter_mut().zip(upper) {
+                        *a -= l * u;
                     }
                 }
             }
@@ -204,21 +236,44 @@ impl BandedMatrix {
 
     /// Solves `A x = b` in place with the factors of [`factorize`](Self::factorize).
     pub fn solve_inplace(&self, b: &mut [f64]) {
-        let (n, kl, ku) = (self.n, self.kl, self.ku);
+        let (n, kl, ku, w) = (self.n, self.kl, self.ku, self.width);
+        let data = &self.data;
         for j in 0..n {
             b.swap(j, self.pivots[j]);
             let bj = b[j];
-            for i in j + 1..=(j + kl).min(n - 1) {
-                b[i] -= self.data[self.slot(i, j)] * bj;
+            let last_row = (j + kl).min(n - 1);
+            for i in j + 1..=last_row {
+                b[i] -= data[i * w + j + kl - i] * bj;
             }
         }
         for i in (0..n).rev() {
-            let mut s = b[i];
-            for c in i + 1..=(i + kl + ku).min(n - 1) {
-                s -= self.data[self.slot(i, c)] * b[c];
-            }
-            b[i] = s / self.data[self.slot(i, i)];
+            let row = &data[i * w..(i + 1) * w];
+            let last_col = (i + kl + ku).min(n - 1);
+            let s: f64 = row[kl + 1..kl + 1 + (last_col - i)]
+                .iter()
+                .zip(&b[i + 1..=last_col])
+                .map(|(u, x)| u * x)
+                .sum();
+            b[i] = (b[i] - s) / row[kl];
         }
+    }
+}
+
+/// The norms of a [`BandedMatrix`] from one pass over its storage ([`BandedMatrix::norms`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct BandNorms {
+    /// `‖A‖∞`, the largest absolute row sum.
+    pub inf: f64,
+    /// The largest absolute entry.
+    pub largest: f64,
+    /// The sum of all absolute entries: not finite exactly when an entry is not.
+    total: f64,
+}
+
+impl BandNorms {
+    /// Whether every entry of the matrix is finite.
+    pub fn is_finite(&self) -> bool {
+        self.total.is_finite()
     }
 }
 

@@ -1,6 +1,11 @@
 //! Large models: the FPUT chain of run-time dimension `d` through `DynProblem`, against the
 //! loops a user would write by hand for this chain alone, side by side in one group each.
 //!
+//! Each group has three lines: `generated`, the library's run of the chain written with loops
+//! and `#[lagrangian]` (`x: &[f64]` with a run-time `n`); `hand_model`, the same run of the
+//! chain implemented by hand as a `DynLagrangian`; and `hand_written`, the loop a user writes
+//! for this chain and this scheme alone.
+//!
 //! - `fput_explicit_variational_d1024`: the variational Gauss-FDE+ run (Störmer–Verlet; the
 //!   step is affine with `h J = I`, so it is taken in closed form), 10⁴ steps of `h = 0.05`,
 //!   against the two-step Störmer–Verlet loop with the force written out over the bonds.
@@ -20,6 +25,7 @@ use std::hint::black_box;
 use criterion::{BenchmarkId, Criterion};
 use varembed::{DynLagrangian, DynProblem, Embedding, Grid, Scheme, Side};
 use varembed_tests::models::chain::{FputChain, direct_backward_by_hand, stormer_verlet_by_hand};
+use varembed_tests::models::generated::FputChain as GeneratedChain;
 
 const PARAMS: (f64, f64) = (0.25, 0.7);
 const H: f64 = 0.05;
@@ -45,36 +51,34 @@ fn last_by_hand(by_hand: ByHand, q0: &[f64], v0: &[f64], steps: usize) -> Vec<f6
     last
 }
 
-/// One group: the library's run of `scheme` on `model` against `by_hand`, checked to agree.
-fn side_by_side<L: DynLagrangian>(
-    c: &mut Criterion,
-    group: &str,
+/// The library's run of `scheme` on `model`: checked against the hand-written run's last node
+/// `reference`, reported, and timed as the line `name` of `group` (with a guard-off line for
+/// the variational scheme).
+fn library_line<L: DynLagrangian>(
+    group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
+    name: &str,
     (model, side, scheme): (&L, Side, Scheme),
-    by_hand: ByHand,
-    steps: usize,
+    (steps, reference): (usize, &[f64]),
 ) {
-    let d = model.dimension();
-    let (q0, v0) = initial(d);
+    let (q0, v0) = initial(model.dimension());
     let grid = Grid::new(0.0, H * steps as f64, steps).unwrap();
     let problem = DynProblem::new(model, grid, Embedding::finite_difference(side));
     let run = problem.run_ivp(scheme, &q0, &v0, |_| {}).unwrap();
-    let reference = last_by_hand(by_hand, &q0, &v0, steps);
     let gap = run
         .last
         .iter()
-        .zip(&reference)
+        .zip(reference)
         .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
     assert!(
         gap <= 1e-10,
-        "{group}: library and hand-written runs differ by {gap:e}"
+        "{name}: library and hand-written runs differ by {gap:e}"
     );
     println!(
-        "{group}: band {}, Newton iterations {}, closed-form steps {}, gap {gap:.1e}",
+        "{name}: band {}, Newton iterations {}, closed-form steps {}, gap {gap:.1e}",
         run.band, run.newton_iterations, run.explicit_steps
     );
-    let mut g = c.benchmark_group(group);
     let id = format!("{steps} steps");
-    g.bench_function(BenchmarkId::new("library", &id), |b| {
+    group.bench_function(BenchmarkId::new(name, &id), |b| {
         b.iter(|| {
             problem
                 .run_ivp(scheme, black_box(&q0), &v0, |_| {})
@@ -82,9 +86,8 @@ fn side_by_side<L: DynLagrangian>(
         })
     });
     if scheme == Scheme::Variational {
-        let unguarded = DynProblem::new(model, grid, Embedding::finite_difference(side))
-            .with_blow_up_guard(false);
-        g.bench_function(BenchmarkId::new("library_guard_off", &id), |b| {
+        let unguarded = problem.with_blow_up_guard(false);
+        group.bench_function(BenchmarkId::new(format!("{name}_guard_off"), &id), |b| {
             b.iter(|| {
                 unguarded
                     .run_ivp(scheme, black_box(&q0), &v0, |_| {})
@@ -92,24 +95,52 @@ fn side_by_side<L: DynLagrangian>(
             })
         });
     }
-    g.bench_function(BenchmarkId::new("hand_written", &id), |b| {
-        b.iter(|| last_by_hand(by_hand, black_box(&q0), &v0, steps))
-    });
-    g.finish();
 }
 
-fn large_chain(c: &mut Criterion) {
+/// One group at dimension `d`: the library's run of `scheme` on the generated and on the
+/// hand-written model, and the hand-written loop `by_hand`.
+fn side_by_side(
+    c: &mut Criterion,
+    group: &str,
+    (d, side, scheme): (usize, Side, Scheme),
+    by_hand: ByHand,
+    steps: usize,
+) {
     let (alpha, beta) = PARAMS;
-    let chain = |n| FputChain {
-        n,
+    let (q0, v0) = initial(d);
+    let reference = last_by_hand(by_hand, &q0, &v0, steps);
+    let mut g = c.benchmark_group(group);
+    let generated = GeneratedChain { n: d, alpha, beta };
+    let hand_model = FputChain {
+        n: d,
         alpha,
         beta,
         periodic: false,
     };
+    library_line(
+        &mut g,
+        "generated",
+        (&generated, side, scheme),
+        (steps, &reference),
+    );
+    library_line(
+        &mut g,
+        "hand_model",
+        (&hand_model, side, scheme),
+        (steps, &reference),
+    );
+    g.bench_function(
+        BenchmarkId::new("hand_written", format!("{steps} steps")),
+        |b| b.iter(|| last_by_hand(by_hand, black_box(&q0), &v0, steps)),
+    );
+    g.finish();
+}
+
+fn large_chain(c: &mut Criterion) {
     side_by_side(
         c,
         "fput_explicit_variational_d1024",
-        (&chain(1024), Side::Forward, Scheme::Variational),
+        (1024, Side::Forward, Scheme::Variational),
         |q, v, g, p, o| stormer_verlet_by_hand(q, v, g, p, o),
         10_000,
     );
@@ -117,7 +148,7 @@ fn large_chain(c: &mut Criterion) {
         side_by_side(
             c,
             &format!("fput_direct_backward_d{d}"),
-            (&chain(d), Side::Backward, Scheme::Direct),
+            (d, Side::Backward, Scheme::Direct),
             |q, v, g, p, o| direct_backward_by_hand(q, v, g, p, o),
             200,
         );

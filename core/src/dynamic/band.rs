@@ -14,7 +14,7 @@
 
 use std::collections::VecDeque;
 
-use crate::linalg::BandedMatrix;
+use crate::linalg::{BandNorms, BandedMatrix};
 
 use super::sparse::SparseHessian;
 
@@ -90,19 +90,19 @@ impl BandSystem {
         Ok(())
     }
 
-    /// `‖A‖∞` (before [`factorize`](Self::factorize)).
-    pub(crate) fn norm_inf(&self) -> f64 {
-        self.matrix.norm_inf()
+    /// `‖A‖∞` and the largest entry (before [`factorize`](Self::factorize)), from one pass.
+    pub(crate) fn norms(&self) -> BandNorms {
+        self.matrix.norms()
     }
 
-    /// Whether every entry is finite.
-    pub(crate) fn is_finite(&self) -> bool {
-        self.matrix.is_finite()
-    }
-
-    /// Factorises in place; `false` when singular.
+    /// Factorises in place; `false` when singular or not finite.
     pub(crate) fn factorize(&mut self) -> bool {
         self.matrix.factorize().is_ok()
+    }
+
+    /// [`factorize`](Self::factorize) with the norms already measured.
+    pub(crate) fn factorize_scaled(&mut self, norms: &BandNorms) -> bool {
+        norms.is_finite() && self.matrix.factorize_scaled(norms.largest).is_ok()
     }
 
     /// The pivot ratio of the factors (see [`BandedMatrix::pivot_ratio`]).

@@ -234,6 +234,14 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         if self.update != Update::Newton {
             y.copy_from_slice(b);
             self.residual(b, pi, (t_b, t_y), y);
+            let reads_blocks = match self.update {
+                Update::PerStep => true,
+                Update::Constant => !self.factored,
+                _ => false,
+            };
+            if reads_blocks {
+                self.read_blocks(b, (t_b, t_y), y);
+            }
             match self.update {
                 // A Verlet solver's start (the one step it takes through `solve`) is `h J = I`.
                 Update::Identity | Update::Verlet => {}
@@ -279,21 +287,38 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         };
         for iteration in 0..=options.max_iterations {
             self.residual(b, pi, times, y);
-            let finite = self.r.iter().all(|c| c.is_finite());
-            let assembled = finite && self.assemble(at).is_ok() && self.system.is_finite();
-            if !assembled {
+            let previous = residual;
+            // NaN when an entry is: one pass both measures and checks.
+            residual = self.r.iter().fold(0.0, |m, c| {
+                if c.abs() > m || c.is_nan() {
+                    c.abs()
+                } else {
+                    m
+                }
+            });
+            if residual.is_finite() && iteration > 0 && residual <= options.tolerance * scale {
+                // Converged after a step from an iterate whose Jacobian was factorised (and
+                // regular): the converged iterate is `O(|δ|)` from it, so its Jacobian is not
+                // formed again. This skips a third of the Hessian evaluations, assemblies and
+                // factorisations of a step that converges in two iterations.
+                return Ok(iteration);
+            }
+            if residual.is_finite() {
+                self.read_blocks(b, times, y);
+            }
+            let assembled = residual.is_finite() && self.assemble(at).is_ok();
+            let norms = self.system.norms();
+            let j_norm = norms.inf * self.inv_h;
+            if !assembled || !norms.is_finite() {
                 return Err(if iteration == 0 {
                     Error::NotFinite { at }
                 } else {
-                    diverged(iteration, residual)
+                    diverged(iteration, previous)
                 });
             }
-            let previous = residual;
-            residual = max_norm(&self.r);
-            let j_norm = self.system.norm_inf() * self.inv_h;
             let converged = residual <= options.tolerance * scale
                 || at_round_off(residual, previous, j_norm, max_norm(y));
-            if !self.system.factorize() {
+            if !self.system.factorize_scaled(&norms) {
                 return Err(if iteration == 0 || converged {
                     Error::SingularJacobian { at }
                 } else {
@@ -317,8 +342,7 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         Err(diverged(options.max_iterations, residual))
     }
 
-    /// The residual `G(y) − π` into `self.r`, and the blocks at the equation's point into
-    /// `self.hessian` when the update reads them.
+    /// The residual `G(y) − π` into `self.r` (and the velocity `(y − b)/h` into `self.v`).
     #[inline]
     fn residual(&mut self, b: &[f64], pi: &[f64], (t_b, t_y): (f64, f64), y: &[f64]) {
         let inv_h = self.inv_h;
@@ -343,15 +367,18 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
                 *r = p - h * f - pi;
             }
         }
-        let reads_blocks = match self.update {
-            Update::Newton | Update::PerStep => true,
-            Update::Constant => !self.factored,
-            Update::Identity | Update::Verlet => false,
+    }
+
+    /// The blocks at the equation's point into `self.hessian`, after
+    /// [`residual`](Self::residual) at the same `y` (whose velocity they read).
+    fn read_blocks(&mut self, b: &[f64], (t_b, t_y): (f64, f64), y: &[f64]) {
+        let (x, t) = if at_right(self.kind) {
+            (y, t_y)
+        } else {
+            (b, t_b)
         };
-        if reads_blocks {
-            self.hessian.clear();
-            l.hessian(x, &self.v, t, &mut self.hessian);
-        }
+        self.hessian.clear();
+        self.lagrangian.hessian(x, &self.v, t, &mut self.hessian);
     }
 
     /// `h J` from the blocks in `self.hessian` into the band system (second table of the step
