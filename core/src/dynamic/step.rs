@@ -148,11 +148,11 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
     ) -> Result<()> {
         self.lagrangian.force(b, &self.zero, t_b, &mut self.f);
         let h2 = self.h * self.h;
-        // `c − c` is 0 for a finite `c` and NaN otherwise: one branch-free test per step.
+        // `0 · c` is ±0 for a finite `c` and NaN otherwise: one branch-free test per step.
         let mut not_finite = 0.0;
         for (((y, a), b), f) in y.iter_mut().zip(a).zip(b).zip(&self.f) {
             *y = 2.0 * b - a + h2 * f;
-            not_finite += *y - *y;
+            not_finite += *y * 0.0;
         }
         if not_finite == 0.0 {
             Ok(())
