@@ -24,7 +24,9 @@ use std::hint::black_box;
 
 use criterion::{BenchmarkId, Criterion};
 use varembed::{DynLagrangian, DynProblem, Embedding, Grid, Scheme, Side};
-use varembed_tests::models::chain::{FputChain, direct_backward_by_hand, stormer_verlet_by_hand};
+use varembed_tests::models::chain::{
+    FputChain, HandWrittenRun, direct_backward_by_hand, stormer_verlet_by_hand,
+};
 use varembed_tests::models::generated::FputChain as GeneratedChain;
 
 const PARAMS: (f64, f64) = (0.25, 0.7);
@@ -39,10 +41,8 @@ fn initial(d: usize) -> (Vec<f64>, Vec<f64>) {
     (q0, v0)
 }
 
-type ByHand = fn(&[f64], &[f64], (f64, usize), (f64, f64), &mut dyn FnMut(&[f64]));
-
 /// The last node of a hand-written run.
-fn last_by_hand(by_hand: ByHand, q0: &[f64], v0: &[f64], steps: usize) -> Vec<f64> {
+fn last_by_hand(by_hand: HandWrittenRun, q0: &[f64], v0: &[f64], steps: usize) -> Vec<f64> {
     let mut last = Vec::new();
     by_hand(q0, v0, (H, steps), PARAMS, &mut |node: &[f64]| {
         last.clear();
@@ -103,7 +103,7 @@ fn side_by_side(
     c: &mut Criterion,
     group: &str,
     (d, side, scheme): (usize, Side, Scheme),
-    by_hand: ByHand,
+    by_hand: HandWrittenRun,
     steps: usize,
 ) {
     let (alpha, beta) = PARAMS;

@@ -240,7 +240,9 @@ fn an_unstable_explicit_run_is_an_error_with_its_step_never_ok() {
 
 #[test]
 fn the_runs_match_the_hand_written_loops_of_the_same_schemes() {
-    use varembed_tests::models::chain::{direct_backward_by_hand, stormer_verlet_by_hand};
+    use varembed_tests::models::chain::{
+        HandWrittenRun, direct_backward_by_hand, stormer_verlet_by_hand,
+    };
     let (alpha, beta) = (0.25, 0.7);
     let chain = FputChain {
         n: 50,
@@ -251,11 +253,7 @@ fn the_runs_match_the_hand_written_loops_of_the_same_schemes() {
     let grid = Grid::new(0.0, 10.0, 200).unwrap();
     let q0 = displacement(50, 0.5);
     let v0: Vec<f64> = q0.iter().map(|q| -0.3 * q).collect();
-    let cases: [(
-        Side,
-        Scheme,
-        fn(&[f64], &[f64], (f64, usize), (f64, f64), &mut dyn FnMut(&[f64])),
-    ); 2] = [
+    let cases: [(Side, Scheme, HandWrittenRun); 2] = [
         (Side::Backward, Scheme::Direct, |q, v, g, p, o| {
             direct_backward_by_hand(q, v, g, p, o)
         }),

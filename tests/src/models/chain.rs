@@ -125,6 +125,10 @@ impl DynLagrangian for FputChain {
     }
 }
 
+/// A hand-written run of the chain ([`direct_backward_by_hand`], [`stormer_verlet_by_hand`])
+/// as a plain fn: `(q0, v0, (h, steps), (α, β), observe)`.
+pub type HandWrittenRun = fn(&[f64], &[f64], (f64, usize), (f64, f64), &mut dyn FnMut(&[f64]));
+
 /// `V'(d)` and `V''(d)` of the spring `V(d) = d²/2 + α d³/3 + β d⁴/4`.
 #[inline(always)]
 fn spring(d: f64, alpha: f64, beta: f64) -> (f64, f64) {
