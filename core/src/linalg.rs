@@ -112,6 +112,13 @@ impl BandedMatrix {
         if hi > 0.0 { lo / hi } else { 0.0 }
     }
 
+    /// Row `i` of the storage: columns `i − kl ..= i + kl + ku` at offsets `0 ..= 2kl + ku`
+    /// (entry `(i, j)` at `j + kl − i`; the last `kl` hold the fill of the factorisation and
+    /// are zero before it). Offsets of columns outside `0..n` must stay zero.
+    pub fn row_mut(&mut self, i: usize) -> &mut [f64] {
+        &mut self.data[i * self.width..(i + 1) * self.width]
+    }
+
     /// Order `n`.
     pub fn order(&self) -> usize {
         self.n

@@ -414,3 +414,127 @@ fn a_chain_of_4096_particles_takes_ten_thousand_implicit_steps_like_a_small_one(
         "{small:.3e} at d = 64, {large:.3e} at d = 4096"
     );
 }
+
+const COUPLED: usize = 12;
+
+/// A chain with a velocity coupling `L_xv` (a magnetic-like term `x_i v_{i+1}`) and a
+/// position-dependent mass: every block of its Hessian is nonzero, `L_xv` is not symmetric,
+/// and no step is affine. Written with loops, the macro gives it both `Lagrangian<12>` and
+/// `DynLagrangian`.
+#[lagrangian]
+fn coupled(x: [f64; COUPLED], v: [f64; COUPLED], a: f64) -> f64 {
+    let mut l = 0.0;
+    for i in 0..COUPLED {
+        l += 0.5 * (1.0 + 0.1 * x[i] * x[i]) * v[i] * v[i] - 0.5 * x[i] * x[i];
+    }
+    for i in 0..COUPLED - 1 {
+        l += a * x[i] * v[i + 1] - 0.25 * (x[i + 1] - x[i]).powi(4);
+    }
+    l
+}
+
+#[test]
+fn every_block_enters_the_banded_jacobian_as_in_the_const_generic_run() {
+    use varembed::DynLagrangian;
+    let model = Coupled { a: 0.4 };
+    assert_eq!(DynLagrangian::hessian_bandwidth(&model), Some(1));
+    let grid = Grid::new(0.0, 3.0, 60).unwrap();
+    let q0 = displacement(COUPLED, 0.6);
+    let v0: Vec<f64> = q0.iter().map(|q| 0.4 - q).collect();
+    for (side, scheme) in KINDS {
+        let embedding = Embedding::finite_difference(side);
+        let run = DynProblem::new(&model, grid, embedding)
+            .solve_ivp(scheme, &q0, &v0)
+            .unwrap();
+        // The direct σ=+ step is affine (its Jacobian `L_vv/h` is read at the previous node);
+        // every other step runs Newton.
+        let affine = (side, scheme) == (Side::Forward, Scheme::Direct);
+        assert_eq!(
+            run.run.explicit_steps,
+            if affine { 59 } else { 0 },
+            "{side:?} {scheme:?}"
+        );
+        let reference = Problem::new(&model, grid, embedding)
+            .solve_ivp(
+                scheme,
+                Vector::<COUPLED>::from_column_slice(&q0),
+                Vector::<COUPLED>::from_column_slice(&v0),
+            )
+            .unwrap();
+        let worst = (0..=60)
+            .map(|k| {
+                let node = run.node(k);
+                (0..COUPLED)
+                    .map(|i| (node[i] - reference.q[k][i]).abs())
+                    .fold(0.0, f64::max)
+            })
+            .fold(0.0, f64::max);
+        assert!(
+            worst < 1e-12,
+            "{side:?} {scheme:?}: nodes differ by {worst:.2e}"
+        );
+        // Quadratic convergence with the exact Jacobian: the same iterations up to the
+        // rounding of the Jacobian's entries (summed in another order), which moves a step
+        // across the tolerance now and then. A wrong block would cost many more.
+        let (ours, theirs) = (run.run.newton_iterations, reference.newton_iterations);
+        assert!(
+            ours.abs_diff(theirs) * 30 <= theirs,
+            "{side:?} {scheme:?}: {ours} against {theirs}"
+        );
+    }
+}
+
+/// The hand-written chain with a wrong promise: it claims a diagonal Hessian.
+struct ClaimsDiagonal(FputChain);
+
+impl varembed::DynLagrangian for ClaimsDiagonal {
+    fn dimension(&self) -> usize {
+        self.0.dimension()
+    }
+    fn value(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
+        self.0.value(x, v, t)
+    }
+    fn force(&self, x: &[f64], v: &[f64], t: f64, f: &mut [f64]) {
+        self.0.force(x, v, t, f)
+    }
+    fn momentum(&self, x: &[f64], v: &[f64], t: f64, p: &mut [f64]) {
+        self.0.momentum(x, v, t, p)
+    }
+    fn hessian(&self, x: &[f64], v: &[f64], t: f64, out: &mut varembed::SparseHessian) {
+        self.0.hessian(x, v, t, out)
+    }
+    fn hessian_bandwidth(&self) -> Option<usize> {
+        Some(0)
+    }
+}
+
+#[test]
+fn a_wrong_bandwidth_claim_costs_a_reordering_never_the_answer() {
+    use varembed::DynLagrangian;
+    let chain = FputChain {
+        n: 30,
+        alpha: 0.25,
+        beta: 0.5,
+        periodic: false,
+    };
+    let grid = Grid::new(0.0, 4.0, 80).unwrap();
+    let q0 = displacement(30, 0.5);
+    let v0 = vec![0.0; 30];
+    let embedding = Embedding::finite_difference(Side::Backward);
+    let honest = DynProblem::new(&chain, grid, embedding)
+        .solve_ivp(Scheme::Direct, &q0, &v0)
+        .unwrap();
+    let wrong = ClaimsDiagonal(chain);
+    assert_eq!(wrong.hessian_bandwidth(), Some(0));
+    let run = DynProblem::new(&wrong, grid, embedding)
+        .solve_ivp(Scheme::Direct, &q0, &v0)
+        .unwrap();
+    assert!(run.run.reordered, "the claim was not believed");
+    let gap = run
+        .q
+        .iter()
+        .zip(&honest.q)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(gap < 1e-12, "{gap:.2e}");
+}

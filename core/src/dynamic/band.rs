@@ -16,7 +16,7 @@ use std::collections::VecDeque;
 
 use crate::linalg::{BandNorms, BandedMatrix};
 
-use super::sparse::SparseHessian;
+use super::sparse::{SparseBlock, SparseHessian};
 
 /// An entry of the matrix falls outside the planned band.
 #[derive(Debug)]
@@ -90,6 +90,63 @@ impl BandSystem {
         Ok(())
     }
 
+    /// Sets the matrix to `Σ c_k B_k + c_t B_tᵀ` for blocks `B_k` (`plain`) and `B_t`
+    /// (`transposed`) in band mode with this system's half-width, row by row on the band
+    /// storage; their entries outside the band are then added one by one. `Err` when the
+    /// system is reordered, a block's band has another width, or an entry falls outside the
+    /// band (the caller re-plans).
+    pub(crate) fn set_from_bands(
+        &mut self,
+        plain: [(f64, &SparseBlock); 3],
+        transposed: (f64, &SparseBlock),
+    ) -> Result<(), OutsideBand> {
+        if self.position.is_some() {
+            return Err(OutsideBand);
+        }
+        let b = self.band;
+        let width = 2 * b + 1;
+        let terms = [
+            band_of(b, plain[0])?,
+            band_of(b, plain[1])?,
+            band_of(b, plain[2])?,
+        ];
+        let transposed_band = band_of(b, transposed)?;
+        let d = self.matrix.order();
+        for i in 0..d {
+            let row = self.matrix.row_mut(i);
+            row.fill(0.0);
+            let head = &mut row[..width];
+            for (c, values) in terms.iter().flatten() {
+                for (a, x) in head.iter_mut().zip(&values[i * width..(i + 1) * width]) {
+                    *a += c * x;
+                }
+            }
+            if let Some((c, values)) = transposed_band {
+                // Entry (i, j) of Bᵀ is B(j, i), at offset i + b − j of row j.
+                for (o, a) in head.iter_mut().enumerate() {
+                    let Some(j) = (i + o).checked_sub(b).filter(|&j| j < d) else {
+                        continue;
+                    };
+                    *a += c * values[j * width + 2 * b - o];
+                }
+            }
+        }
+        for (c, block) in plain {
+            if c != 0.0 {
+                for &(i, j, value) in block.entries() {
+                    self.add(i, j, c * value)?;
+                }
+            }
+        }
+        let (c, block) = transposed;
+        if c != 0.0 {
+            for &(i, j, value) in block.entries() {
+                self.add(j, i, c * value)?;
+            }
+        }
+        Ok(())
+    }
+
     /// `‖A‖∞` and the largest entry (before [`factorize`](Self::factorize)), from one pass.
     pub(crate) fn norms(&self) -> BandNorms {
         self.matrix.norms()
@@ -124,6 +181,20 @@ impl BandSystem {
                 }
             }
         }
+    }
+}
+
+/// A term `c B` of [`BandSystem::set_from_bands`]: `B`'s band storage when it has one of
+/// half-width `b` and `c ≠ 0`; `None` for nothing to add; `Err` for a band of another width.
+fn band_of(
+    b: usize,
+    (c, block): (f64, &SparseBlock),
+) -> Result<Option<(f64, &[f64])>, OutsideBand> {
+    match block.band() {
+        _ if c == 0.0 => Ok(None),
+        None => Ok(None),
+        Some((half_width, values)) if half_width == b => Ok(Some((c, values))),
+        Some(_) => Err(OutsideBand),
     }
 }
 

@@ -45,7 +45,9 @@ pub struct DynRun {
     pub grid: Grid,
     /// The last node `Q_N`.
     pub last: Vec<f64>,
-    /// Newton iterations over the whole run (the start included).
+    /// Newton iterations, summed over the steps `Q_2, …, Q_N` (as
+    /// [`Solution::newton_iterations`](crate::Solution::newton_iterations); the start's are not
+    /// counted).
     pub newton_iterations: usize,
     /// Steps taken in closed form, without a Newton iteration.
     pub explicit_steps: usize,
@@ -114,7 +116,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         self.lagrangian.momentum(q0, v0, t0, &mut pi);
         let mut start = StepSolver::new(self.lagrangian, start_kind, h, self.newton, (q0, v0, t0));
         let mut b: Vec<f64> = q0.iter().zip(v0).map(|(q, v)| q + h * v).collect();
-        let start_iterations = start.solve(q0, &pi, (t0, grid.t(1)), &mut b, 1)?;
+        start.solve(q0, &pi, (t0, grid.t(1)), &mut b, 1)?;
         drop(start);
         let mut a = q0.to_vec();
         observe(DynNode {
@@ -138,7 +140,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         let stride = guard.stride();
         let inv_h = 1.0 / h;
         let mut y = vec![0.0; d];
-        let (mut iterations, mut explicit_steps) = (start_iterations, 0);
+        let (mut iterations, mut explicit_steps) = (0, 0);
         let verlet = solver.is_verlet();
         for n in 2..=grid.n() {
             let times = (grid.t(n - 2), grid.t(n - 1));

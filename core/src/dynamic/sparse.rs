@@ -19,6 +19,17 @@
 pub struct SparseBlock {
     dimension: usize,
     entries: Vec<(usize, usize, f64)>,
+    /// In band mode (the solvers' blocks of a banded model): the entries within the band.
+    band: Option<Band>,
+}
+
+/// The entries `|i − j| ≤ b` of a block, row by row: entry `(i, j)` at `i (2b + 1) + j + b − i`.
+#[derive(Clone, Debug, Default, PartialEq)]
+struct Band {
+    half_width: usize,
+    values: Vec<f64>,
+    /// Whether any entry was added since the last clear.
+    touched: bool,
 }
 
 impl SparseBlock {
@@ -27,7 +38,31 @@ impl SparseBlock {
         SparseBlock {
             dimension: d,
             entries: Vec::new(),
+            band: None,
         }
+    }
+
+    /// The zero `d × d` block in band mode: an entry within half-bandwidth `b` is summed in
+    /// place, in band storage the solver combines row by row; only an entry outside the band
+    /// is listed. What the step solver of a banded model fills at every Newton iteration.
+    pub(crate) fn with_band(d: usize, b: usize) -> Self {
+        SparseBlock {
+            band: Some(Band {
+                half_width: b,
+                values: vec![0.0; d * (2 * b + 1)],
+                touched: false,
+            }),
+            ..SparseBlock::new(d)
+        }
+    }
+
+    /// In band mode, the half-width and the band storage (entry `(i, j)` at
+    /// `i (2b + 1) + j + b − i`); `None` when nothing was added in the band.
+    pub(crate) fn band(&self) -> Option<(usize, &[f64])> {
+        self.band
+            .as_ref()
+            .filter(|band| band.touched)
+            .map(|band| (band.half_width, band.values.as_slice()))
     }
 
     /// Its dimension `d`.
@@ -35,18 +70,28 @@ impl SparseBlock {
         self.dimension
     }
 
-    /// The entries as written, in order, repeats included.
+    /// The entries as written, in order, repeats included (for a block the solver keeps in band
+    /// mode, only those outside its band).
     pub fn entries(&self) -> &[(usize, usize, f64)] {
         &self.entries
     }
 
-    /// Entry `(i, j)`: the sum of its listed values (`O(entries)`; for tests and small blocks).
+    /// Entry `(i, j)`: the sum of its values (`O(entries)`; for tests and small blocks).
     pub fn get(&self, i: usize, j: usize) -> f64 {
-        self.entries
+        let listed: f64 = self
+            .entries
             .iter()
             .filter(|e| e.0 == i && e.1 == j)
             .map(|e| e.2)
-            .sum()
+            .sum();
+        let banded = match &self.band {
+            Some(band) if i.abs_diff(j) <= band.half_width => {
+                let b = band.half_width;
+                band.values[i * (2 * b + 1) + j + b - i]
+            }
+            _ => 0.0,
+        };
+        listed + banded
     }
 
     /// Adds `value` to entry `(i, j)` (appends the entry).
@@ -62,21 +107,49 @@ impl SparseBlock {
             "entry ({i}, {j}) of a {0} × {0} block",
             self.dimension
         );
+        if let Some(band) = &mut self.band {
+            let b = band.half_width;
+            if i.abs_diff(j) <= b {
+                band.values[i * (2 * b + 1) + j + b - i] += value;
+                band.touched = true;
+                return;
+            }
+        }
         self.entries.push((i, j, value));
     }
 
     /// Removes every entry, keeping the allocation.
     pub fn clear(&mut self) {
         self.entries.clear();
+        if let Some(band) = &mut self.band
+            && band.touched
+        {
+            band.values.fill(0.0);
+            band.touched = false;
+        }
     }
 
-    /// The largest `|i − j|` over the listed entries (0 for none).
+    /// Every entry as a triplet, band included: the pattern of a block in band mode (the
+    /// band's positions all count, zero or not).
+    pub(crate) fn triplets(&self) -> Vec<(usize, usize, f64)> {
+        let mut all = self.entries.clone();
+        if let Some((b, values)) = self.band() {
+            let d = self.dimension;
+            for i in 0..d {
+                for j in i.saturating_sub(b)..(i + b + 1).min(d) {
+                    all.push((i, j, values[i * (2 * b + 1) + j + b - i]));
+                }
+            }
+        }
+        all
+    }
+
+    /// The largest `|i − j|` over the entries (0 for none; for a block in band mode, the
+    /// band's half-width once anything was added in it).
     pub fn bandwidth(&self) -> usize {
-        self.entries
-            .iter()
-            .map(|e| e.0.abs_diff(e.1))
-            .max()
-            .unwrap_or(0)
+        let listed = self.entries.iter().map(|e| e.0.abs_diff(e.1)).max();
+        let banded = self.band().map(|(b, _)| b);
+        listed.max(banded).unwrap_or(0)
     }
 }
 
@@ -112,6 +185,28 @@ impl SparseHessian {
         }
     }
 
+    /// Three zero blocks in band mode with half-width `b` (see [`SparseBlock::with_band`]).
+    pub(crate) fn with_band(d: usize, b: usize) -> Self {
+        SparseHessian {
+            xx: SparseBlock::with_band(d, b),
+            xv: SparseBlock::with_band(d, b),
+            vv: SparseBlock::with_band(d, b),
+        }
+    }
+
+    /// The same blocks with every entry listed (band mode off): what a re-plan reads.
+    pub(crate) fn to_listed(&self) -> Self {
+        let listed = |block: &SparseBlock| SparseBlock {
+            entries: block.triplets(),
+            ..SparseBlock::new(block.dimension)
+        };
+        SparseHessian {
+            xx: listed(&self.xx),
+            xv: listed(&self.xv),
+            vv: listed(&self.vv),
+        }
+    }
+
     /// Removes every entry of the three blocks, keeping the allocations.
     pub fn clear(&mut self) {
         self.xx.clear();
@@ -121,8 +216,10 @@ impl SparseHessian {
 
     /// Whether every listed value is finite.
     pub fn is_finite(&self) -> bool {
-        [&self.xx, &self.xv, &self.vv]
-            .iter()
-            .all(|b| b.entries.iter().all(|e| e.2.is_finite()))
+        [&self.xx, &self.xv, &self.vv].iter().all(|b| {
+            b.entries.iter().all(|e| e.2.is_finite())
+                && b.band()
+                    .is_none_or(|(_, v)| v.iter().all(|c| c.is_finite()))
+        })
     }
 }

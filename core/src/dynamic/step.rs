@@ -106,6 +106,14 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         } else {
             Update::PerStep
         };
+        // In the model's own order, the blocks are summed in place in band storage and the
+        // Jacobian is combined row by row; a reordered system reads the listed entries.
+        drop(hessian);
+        let blocks = if system.is_reordered() {
+            SparseHessian::new(d)
+        } else {
+            SparseHessian::with_band(d, system.band())
+        };
         StepSolver {
             lagrangian,
             kind,
@@ -115,7 +123,7 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
             update,
             factored: false,
             system,
-            hessian,
+            hessian: blocks,
             v: vec![0.0; d],
             zero: vec![0.0; d],
             f: vec![0.0; d],
@@ -385,7 +393,10 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
     /// module, times `h`); an entry outside the band re-plans the system on this pattern.
     fn assemble(&mut self, at: Location) -> Result<()> {
         if self.try_assemble().is_err() {
+            // An entry outside the planned band: plan again on the full pattern, and list the
+            // entries from now on.
             let d = self.lagrangian.dimension();
+            self.hessian = self.hessian.to_listed();
             self.system = BandSystem::plan(d, None, &self.hessian);
             self.try_assemble()
                 .map_err(|_| Error::SingularJacobian { at })?;
@@ -395,18 +406,21 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
 
     fn try_assemble(&mut self) -> std::result::Result<(), super::band::OutsideBand> {
         let h = self.h;
-        let system = &mut self.system;
-        system.clear();
-        let SparseHessian { xx, xv, vv } = &self.hessian;
-        for &(i, j, value) in vv.entries() {
-            system.add(i, j, value)?;
-        }
         let (xv_t, xv_plain, xx_scale) = match self.kind {
             StepKind::VariationalBackward => (h, 0.0, 0.0),
             StepKind::VariationalForward => (0.0, -h, 0.0),
             StepKind::DirectBackward => (h, -h, -h * h),
             _ => (0.0, 0.0, 0.0),
         };
+        let SparseHessian { xx, xv, vv } = &self.hessian;
+        let system = &mut self.system;
+        if vv.band().is_some() || xx.band().is_some() || xv.band().is_some() {
+            return system.set_from_bands([(1.0, vv), (xx_scale, xx), (xv_plain, xv)], (xv_t, xv));
+        }
+        system.clear();
+        for &(i, j, value) in vv.entries() {
+            system.add(i, j, value)?;
+        }
         for &(i, j, value) in xv.entries() {
             if xv_t != 0.0 {
                 system.add(j, i, xv_t * value)?;
