@@ -27,6 +27,8 @@ pub struct SparseBlock {
 #[derive(Clone, Debug, Default, PartialEq)]
 struct Band {
     half_width: usize,
+    /// `2b + 1`, the length of a row.
+    width: usize,
     values: Vec<f64>,
     /// Whether any entry was added since the last clear.
     touched: bool,
@@ -49,6 +51,7 @@ impl SparseBlock {
         SparseBlock {
             band: Some(Band {
                 half_width: b,
+                width: 2 * b + 1,
                 values: vec![0.0; d * (2 * b + 1)],
                 touched: false,
             }),
@@ -102,15 +105,14 @@ impl SparseBlock {
     /// dimension is a bug in the model, and an entry there would be silently dropped.
     #[inline]
     pub fn add(&mut self, i: usize, j: usize, value: f64) {
-        assert!(
-            i < self.dimension && j < self.dimension,
-            "entry ({i}, {j}) of a {0} × {0} block",
-            self.dimension
-        );
+        if i >= self.dimension || j >= self.dimension {
+            outside(i, j, self.dimension);
+        }
         if let Some(band) = &mut self.band {
             let b = band.half_width;
             if i.abs_diff(j) <= b {
-                band.values[i * (2 * b + 1) + j + b - i] += value;
+                // Row i starts at i (2b + 1); column j sits at j + b − i within it.
+                band.values[i * band.width + j + b - i] += value;
                 band.touched = true;
                 return;
             }
@@ -151,6 +153,13 @@ impl SparseBlock {
         let banded = self.band().map(|(b, _)| b);
         listed.max(banded).unwrap_or(0)
     }
+}
+
+/// The panic of [`SparseBlock::add`] out of its inlined body.
+#[cold]
+#[inline(never)]
+fn outside(i: usize, j: usize, d: usize) -> ! {
+    panic!("entry ({i}, {j}) of a {d} × {d} block")
 }
 
 /// The three second-derivative blocks of a [`DynLagrangian`](super::DynLagrangian) at one
