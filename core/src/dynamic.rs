@@ -13,9 +13,12 @@
 //! tables); only the storage differs.
 
 pub(crate) mod band;
+pub(crate) mod bvp;
 pub(crate) mod ivp;
 pub(crate) mod problem;
+pub(crate) mod rows;
 pub(crate) mod sparse;
+pub(crate) mod sparse_lu;
 pub(crate) mod step;
 
 use sparse::SparseHessian;

@@ -119,6 +119,17 @@ impl BandedMatrix {
         &mut self.data[i * self.width..(i + 1) * self.width]
     }
 
+    /// `(min |u_ii|, max |u_ii|)` over the diagonal of `U` after
+    /// [`factorize`](Self::factorize): the pivots a degeneracy check measures against a
+    /// reference scale.
+    pub(crate) fn pivot_range(&self) -> (f64, f64) {
+        (0..self.n)
+            .map(|i| self.data[self.slot(i, i)].abs())
+            .fold((f64::INFINITY, 0.0f64), |(lo, hi), u| {
+                (lo.min(u), hi.max(u))
+            })
+    }
+
     /// Order `n`.
     pub fn order(&self) -> usize {
         self.n

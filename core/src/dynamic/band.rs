@@ -167,6 +167,11 @@ impl BandSystem {
         self.matrix.pivot_ratio()
     }
 
+    /// The smallest and largest pivot of the factors (see [`BandedMatrix::pivot_range`]).
+    pub(crate) fn pivot_range(&self) -> (f64, f64) {
+        self.matrix.pivot_range()
+    }
+
     /// Solves `A z = r` with the factors, `z` overwriting `r`.
     pub(crate) fn solve_in_place(&mut self, r: &mut [f64]) {
         match &self.position {

@@ -60,10 +60,10 @@ use super::ivp::{DynIvp, DynNode, DynRun};
 /// # Ok::<(), varembed::Error>(())
 /// ```
 pub struct DynProblem<'l, L: ?Sized> {
-    lagrangian: &'l L,
-    grid: Grid,
-    embedding: Embedding,
-    newton: NewtonOptions,
+    pub(crate) lagrangian: &'l L,
+    pub(crate) grid: Grid,
+    pub(crate) embedding: Embedding,
+    pub(crate) newton: NewtonOptions,
     blow_up_guard: bool,
 }
 

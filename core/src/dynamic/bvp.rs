@@ -1,0 +1,439 @@
+//! Boundary value problems of a run-time-dimension model: `Q_0`, `Q_N` given, Newton's method
+//! on the whole system for `Q_1..Q_{N−1}`, its Jacobian assembled as a sparse matrix and
+//! factorised by sparse LU after a fill-reducing ordering (docs/solvers.md, "Boundary value
+//! problems of large models").
+//!
+//! The rows, the stopping rule, the line search and the errors are those of the const-generic
+//! [`Problem::solve_bvp`](crate::Problem::solve_bvp): on a model that implements both traits
+//! the two give the same nodes, in the same number of Newton iterations.
+
+use crate::embedding::Scheme;
+use crate::error::{Error, Location, Result, check_len};
+use crate::options::NewtonOptions;
+use crate::regularity::DEGENERACY_THRESHOLD;
+use crate::solve::newton::at_round_off;
+
+use super::DynLagrangian;
+use super::band::BandSystem;
+use super::ivp::DynRun;
+use super::problem::{DynProblem, DynSolution};
+use super::rows::{CurveValues, DynRows, HessianCache};
+use super::sparse::SparseHessian;
+use super::sparse_lu::{Singular, SparseLu, SparseRows};
+use super::step::max_norm;
+
+impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
+    /// Solves the boundary value problem `q(a) = qa`, `q(b) = qb` of `scheme`, from the
+    /// straight line between them: the same residual rows, Newton stopping rule, line search
+    /// and errors as [`Problem::solve_bvp`](crate::Problem::solve_bvp), for the Gauss-FDEσ
+    /// embeddings ([`Embedding::finite_difference`](crate::Embedding::finite_difference)) and
+    /// the coherent [`Embedding::asymmetric`](crate::Embedding::asymmetric), both schemes
+    /// ([`Error::Unsupported`] for the others).
+    ///
+    /// Each Newton iteration assembles the Jacobian of the `(N − 1) d` equations as a sparse
+    /// matrix (every row couples three consecutive nodes through the model's sparse
+    /// second-derivative blocks) and factorises it by sparse LU after a fill-reducing ordering,
+    /// computed once per solve; a periodic chain, which is not banded, costs the same. The
+    /// solution stores every node (`indices` are `0..=N`); its run report has
+    /// `explicit_steps = 0`, `band` the half-bandwidth of the Jacobian in time-major order (not
+    /// the order it is factorised in) and `reordered = true`.
+    ///
+    /// Errors: [`Error::WrongLength`] for end values not of length `d`,
+    /// [`Error::NonFiniteInput`] for a non-finite one or model constant,
+    /// [`Error::InvalidModel`], [`Error::OutsideDomain`] and [`Error::DegenerateLagrangian`]
+    /// (at [`Location::Node`]) on the initial guess and the solution, and [`Error::NotFinite`],
+    /// [`Error::SingularJacobian`] and [`Error::NewtonDidNotConverge`] at
+    /// [`Location::Newton`].
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{DynLagrangian, DynProblem, Embedding, Grid, Scheme, Side, SparseHessian};
+    ///
+    /// /// `n` uncoupled unit oscillators.
+    /// struct Oscillators { n: usize }
+    ///
+    /// impl DynLagrangian for Oscillators {
+    ///     fn dimension(&self) -> usize { self.n }
+    ///     fn value(&self, x: &[f64], v: &[f64], _t: f64) -> f64 {
+    ///         x.iter().zip(v).map(|(x, v)| 0.5 * (v * v - x * x)).sum()
+    ///     }
+    ///     fn force(&self, x: &[f64], _v: &[f64], _t: f64, f: &mut [f64]) {
+    ///         for (f, x) in f.iter_mut().zip(x) { *f = -x; }
+    ///     }
+    ///     fn momentum(&self, _x: &[f64], v: &[f64], _t: f64, p: &mut [f64]) {
+    ///         p.copy_from_slice(v);
+    ///     }
+    ///     fn hessian(&self, _x: &[f64], _v: &[f64], _t: f64, out: &mut SparseHessian) {
+    ///         for i in 0..self.n {
+    ///             out.xx.add(i, i, -1.0);
+    ///             out.vv.add(i, i, 1.0);
+    ///         }
+    ///     }
+    /// }
+    ///
+    /// let model = Oscillators { n: 3 };
+    /// let grid = Grid::new(0.0, 1.0, 100)?;
+    /// let problem = DynProblem::new(&model, grid, Embedding::finite_difference(Side::Backward));
+    /// // q = sin t / sin 1 in each coordinate, from q(0) = 0 to q(1) = 1.
+    /// let solution = problem.solve_bvp(Scheme::Variational, &[0.0; 3], &[1.0; 3])?;
+    /// let exact = 0.5f64.sin() / 1f64.sin();
+    /// assert!(solution.node(50).iter().all(|q| (q - exact).abs() < 1e-4));
+    /// assert_eq!(solution.len(), 101);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn solve_bvp(&self, scheme: Scheme, qa: &[f64], qb: &[f64]) -> Result<DynSolution> {
+        DynRows::new(self.lagrangian, self.grid, self.embedding, scheme)?;
+        check_model(self.lagrangian)?;
+        let d = self.lagrangian.dimension();
+        check_len("qa", d, qa.len())?;
+        check_len("qb", d, qb.len())?;
+        let n = self.grid.n();
+        // The ends exactly, so that a non-finite end is reported as that end.
+        let mut guess = Vec::with_capacity((n + 1) * d);
+        for k in 0..=n {
+            match k {
+                0 => guess.extend_from_slice(qa),
+                k if k == n => guess.extend_from_slice(qb),
+                k => {
+                    let s = k as f64 / n as f64;
+                    guess.extend(qa.iter().zip(qb).map(|(a, b)| a + (b - a) * s));
+                }
+            }
+        }
+        self.solve_bvp_from(scheme, &guess)
+    }
+
+    /// Solves the boundary value problem of [`solve_bvp`](Self::solve_bvp) from an initial
+    /// guess of all `N + 1` nodes, flat (node `k` at `guess[k d..(k + 1) d]`); its first and
+    /// last nodes are the boundary values. [`Error::WrongDimension`] when the length is not a
+    /// multiple of `d`, [`Error::WrongLength`] when it is not `N + 1` nodes,
+    /// [`Error::NonFiniteInput`] for a non-finite entry.
+    ///
+    /// ```
+    /// # use varembed::{DynLagrangian, SparseHessian};
+    /// # struct Oscillators { n: usize }
+    /// # impl DynLagrangian for Oscillators {
+    /// #     fn dimension(&self) -> usize { self.n }
+    /// #     fn value(&self, x: &[f64], v: &[f64], _t: f64) -> f64 {
+    /// #         x.iter().zip(v).map(|(x, v)| 0.5 * (v * v - x * x)).sum()
+    /// #     }
+    /// #     fn force(&self, x: &[f64], _v: &[f64], _t: f64, f: &mut [f64]) {
+    /// #         for (f, x) in f.iter_mut().zip(x) { *f = -x; }
+    /// #     }
+    /// #     fn momentum(&self, _x: &[f64], v: &[f64], _t: f64, p: &mut [f64]) {
+    /// #         p.copy_from_slice(v);
+    /// #     }
+    /// #     fn hessian(&self, _x: &[f64], _v: &[f64], _t: f64, out: &mut SparseHessian) {
+    /// #         for i in 0..self.n { out.xx.add(i, i, -1.0); out.vv.add(i, i, 1.0); }
+    /// #     }
+    /// # }
+    /// use varembed::{DynProblem, Embedding, Grid, Scheme, Side};
+    /// let model = Oscillators { n: 2 };
+    /// let problem = DynProblem::new(&model, Grid::new(0.0, 1.0, 10)?, Embedding::asymmetric(Side::Forward));
+    /// let solution = problem.solve_bvp_from(Scheme::Direct, &vec![1.0; 11 * 2])?;
+    /// assert_eq!((solution.node(0), solution.node(10)), (&[1.0, 1.0][..], &[1.0, 1.0][..]));
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn solve_bvp_from(&self, scheme: Scheme, guess: &[f64]) -> Result<DynSolution> {
+        let rows = DynRows::new(self.lagrangian, self.grid, self.embedding, scheme)?;
+        check_input(&rows, guess)?;
+        let (q, newton_iterations, band) = newton(&rows, &self.newton, guess)?;
+        check_nodes(&rows, &q, false)?;
+        let (n, d) = (self.grid.n(), rows.d);
+        Ok(DynSolution {
+            run: DynRun {
+                scheme,
+                embedding: self.embedding,
+                grid: self.grid,
+                last: q[n * d..].to_vec(),
+                newton_iterations,
+                explicit_steps: 0,
+                band,
+                reordered: true,
+            },
+            dimension: d,
+            indices: (0..=n).collect(),
+            q,
+        })
+    }
+}
+
+/// The model at its dimension, with finite constants.
+fn check_model<L: DynLagrangian + ?Sized>(l: &L) -> Result<()> {
+    if let Some(reason) = l.invalid_dimension() {
+        return Err(Error::InvalidModel { reason });
+    }
+    if let Some((name, value)) = l.constants().into_iter().find(|c| !c.1.is_finite()) {
+        return Err(Error::NonFiniteInput {
+            what: format!("model constant `{name}` = {value}"),
+        });
+    }
+    Ok(())
+}
+
+/// The checks before the solve, in the const-generic order: the guess's length, finite
+/// constants, finite ends (named as the ends), a finite guess, every guess node in the
+/// Lagrangian's domain and `∂²L/∂v²` not degenerate there.
+fn check_input<L: DynLagrangian + ?Sized>(rows: &DynRows<'_, L>, guess: &[f64]) -> Result<()> {
+    let (grid, d) = (rows.grid, rows.d);
+    let n = grid.n();
+    if d > 0 && !guess.len().is_multiple_of(d) {
+        return Err(Error::WrongDimension {
+            what: "initial guess",
+            dimension: d,
+            found: guess.len(),
+        });
+    }
+    check_len(
+        "discrete curve Q",
+        n + 1,
+        guess.len().checked_div(d).unwrap_or(n + 1),
+    )?;
+    check_model(rows.lagrangian)?;
+    let non_finite = |k: usize| {
+        guess[k * d..(k + 1) * d]
+            .iter()
+            .position(|c| !c.is_finite())
+    };
+    for (k, end, at) in [(0, "a", grid.a()), (n, "b", grid.b())] {
+        if let Some(i) = non_finite(k) {
+            return Err(Error::NonFiniteInput {
+                what: format!(
+                    "the end value Q_{k} at {end} = {at}: component {i} is {}",
+                    guess[k * d + i]
+                ),
+            });
+        }
+    }
+    if let Some((k, i)) = (0..=n).find_map(|k| non_finite(k).map(|i| (k, i))) {
+        return Err(Error::NonFiniteInput {
+            what: format!("Q_{k}[{i}] = {}", guess[k * d + i]),
+        });
+    }
+    check_nodes(rows, guess, true)
+}
+
+/// `∂²L/∂v²` not degenerate at the quadrature nodes of `q` (with its discrete velocity),
+/// measured against its largest pivot over those nodes; for an initial `guess`, each node also
+/// inside the Lagrangian's domain ([`Error::OutsideDomain`]).
+fn check_nodes<L: DynLagrangian + ?Sized>(
+    rows: &DynRows<'_, L>,
+    q: &[f64],
+    guess: bool,
+) -> Result<()> {
+    let (l, grid, d) = (rows.lagrangian, rows.grid, rows.d);
+    let n = grid.n();
+    let (mut v, mut f, mut p) = (vec![0.0; d], vec![0.0; d], vec![0.0; d]);
+    let mut hessian = SparseHessian::new(d);
+    let mut system: Option<BandSystem> = None;
+    let mut pivots = Vec::with_capacity(n);
+    for k in rows.quadrature_rows() {
+        let (x, t) = (&q[k * d..(k + 1) * d], grid.t(k));
+        rows.velocity_at(q, k, &mut v);
+        hessian.clear();
+        l.hessian(x, &v, t, &mut hessian);
+        if guess {
+            l.force(x, &v, t, &mut f);
+            l.momentum(x, &v, t, &mut p);
+            let finite = l.value(x, &v, t).is_finite()
+                && f.iter().chain(&p).all(|c| c.is_finite())
+                && hessian.is_finite();
+            if !finite {
+                let node = match k {
+                    0 => "the end value Q_0 at a".to_string(),
+                    k if k == n => format!("the end value Q_{k} at b"),
+                    k => format!("node Q_{k} of the initial guess"),
+                };
+                return Err(Error::OutsideDomain { what: node });
+            }
+        } else if !hessian.vv.entries().iter().all(|e| e.2.is_finite()) {
+            return Err(Error::NotFinite {
+                at: Location::Node(k),
+            });
+        }
+        pivots.push((k, vv_pivots(l, &hessian, &mut system)));
+    }
+    let reference = pivots.iter().fold(0.0f64, |m, (_, (_, hi))| m.max(*hi));
+    for &(k, (lo, hi)) in &pivots {
+        let scale = hi.max(reference);
+        let measure = if scale > 0.0 { lo / scale } else { 0.0 };
+        if measure < DEGENERACY_THRESHOLD {
+            return Err(Error::DegenerateLagrangian {
+                at: Location::Node(k),
+                measure,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// The smallest and largest pivot of `∂²L/∂v²` (the block `vv` of `hessian`), factorised as a
+/// band in the order `system` plans (planned again when an entry falls outside it); `(0, 0)`
+/// when singular.
+fn vv_pivots<L: DynLagrangian + ?Sized>(
+    l: &L,
+    hessian: &SparseHessian,
+    system: &mut Option<BandSystem>,
+) -> (f64, f64) {
+    let d = l.dimension();
+    let vv_only = || SparseHessian {
+        vv: hessian.vv.clone(),
+        ..SparseHessian::new(d)
+    };
+    for _ in 0..2 {
+        let band =
+            system.get_or_insert_with(|| BandSystem::plan(d, l.hessian_bandwidth(), &vv_only()));
+        band.clear();
+        let fits = hessian
+            .vv
+            .entries()
+            .iter()
+            .all(|&(i, j, value)| band.add(i, j, value).is_ok());
+        if !fits {
+            *system = Some(BandSystem::plan(d, None, &vv_only()));
+            continue;
+        }
+        return if band.factorize() {
+            band.pivot_range()
+        } else {
+            (0.0, 0.0)
+        };
+    }
+    (0.0, 0.0)
+}
+
+/// `V`, `f`, `p` and the residual rows at an iterate, and the residual's max-norm; any failure
+/// is [`Error::NotFinite`] at that Newton iteration.
+fn evaluate<L: DynLagrangian + ?Sized>(
+    rows: &DynRows<'_, L>,
+    q: &[f64],
+    values: &mut CurveValues,
+    iteration: usize,
+) -> Result<f64> {
+    let not_finite = Error::NotFinite {
+        at: Location::Newton(iteration),
+    };
+    if !q.iter().all(|c| c.is_finite()) {
+        return Err(not_finite);
+    }
+    rows.evaluate(q, values).map_err(|_| not_finite)?;
+    Ok(max_norm(&values.r))
+}
+
+/// The Jacobian at `q` assembled into the planned pattern, planning it (and its symbolic
+/// factorisation) first when there is none or when an entry falls outside it.
+fn assemble<'s, L: DynLagrangian + ?Sized>(
+    rows: &DynRows<'_, L>,
+    q: &[f64],
+    values: &CurveValues,
+    hessians: &mut HessianCache,
+    system: &'s mut Option<(SparseRows, SparseLu)>,
+) -> std::result::Result<&'s mut (SparseRows, SparseLu), Singular> {
+    let (d, blocks) = (rows.d, rows.rows().count());
+    let fill = |matrix: &mut SparseRows, hessians: &mut HessianCache| {
+        matrix.clear();
+        let mut fits = true;
+        for i in 0..blocks {
+            rows.jacobian_row(i, hessians, q, values, |r, c, v| {
+                fits &= matrix.add(r, c, v).is_ok();
+            });
+        }
+        fits
+    };
+    if let Some((matrix, _)) = system.as_mut()
+        && !fill(matrix, hessians)
+    {
+        *system = None;
+    }
+    if system.is_none() {
+        let mut matrix = SparseRows::with_order(blocks * d);
+        let mut entries = Vec::new();
+        for i in 0..blocks {
+            entries.clear();
+            rows.jacobian_row(i, hessians, q, values, |r, c, _| entries.push((r, c)));
+            matrix.push_rows(i * d, d, &mut entries);
+        }
+        debug_assert!(matrix.is_complete());
+        let lu = SparseLu::plan(&matrix)?;
+        let fitted = fill(&mut matrix, hessians);
+        debug_assert!(fitted, "the pattern was read off the same rows");
+        *system = Some((matrix, lu));
+    }
+    Ok(system.as_mut().expect("planned above"))
+}
+
+/// Newton's method on the rows from `guess`, as the const-generic boundary value solve runs it:
+/// factorise before testing convergence (a solution where the Jacobian is singular is not
+/// isolated, and is reported), stop at the tolerance or at round-off, backtrack on the
+/// residual's max-norm. Returns the nodes, the iterations and the Jacobian's time-major band.
+fn newton<L: DynLagrangian + ?Sized>(
+    rows: &DynRows<'_, L>,
+    options: &NewtonOptions,
+    guess: &[f64],
+) -> Result<(Vec<f64>, usize, usize)> {
+    let (grid, d) = (rows.grid, rows.d);
+    let n = grid.n();
+    let mut q = guess.to_vec();
+    let unknowns = (n - 1) * d;
+    if unknowns == 0 {
+        return Ok((q, 0, 0));
+    }
+    let h_alpha = grid.h().powf(-rows.embedding.alpha());
+    let (mut current, mut trial_values) = (CurveValues::zeros(n, d), CurveValues::zeros(n, d));
+    let mut res = evaluate(rows, &q, &mut current, 0)?;
+    let mut previous = f64::INFINITY;
+    let mut hessians = HessianCache::new(d);
+    let mut system = None;
+    let mut delta = vec![0.0; unknowns];
+    let mut trial = q.clone();
+    for iteration in 0..=options.max_iterations {
+        let at = Location::Newton(iteration);
+        let scale = 1.0 + max_norm(&current.f) + h_alpha * max_norm(&current.p);
+        hessians.invalidate();
+        let (matrix, lu) = assemble(rows, &q, &current, &mut hessians, &mut system)
+            .map_err(|_| Error::SingularJacobian { at })?;
+        if !matrix.is_finite() {
+            return Err(Error::NotFinite { at });
+        }
+        let j_norm = matrix.norm_inf();
+        lu.factorize(matrix)
+            .map_err(|_| Error::SingularJacobian { at })?;
+        delta.copy_from_slice(&current.r);
+        lu.solve_in_place(&mut delta);
+        if !delta.iter().all(|c| c.is_finite()) {
+            return Err(Error::SingularJacobian { at });
+        }
+        if res <= options.tolerance * scale || at_round_off(res, previous, j_norm, max_norm(&q)) {
+            let band = system.as_ref().map_or(0, |(m, _)| m.bandwidth());
+            return Ok((q, iteration, band));
+        }
+        if iteration == options.max_iterations {
+            break;
+        }
+        // The line search: q − λ δ on the interior nodes, λ = 1, ½, ¼, …, the shortest taken
+        // anyway below 1/32.
+        let mut lambda = 1.0;
+        loop {
+            for ((t, q), delta) in trial[d..n * d].iter_mut().zip(&q[d..n * d]).zip(&delta) {
+                *t = q - delta * lambda;
+            }
+            let last = lambda < 1.0 / 32.0;
+            match evaluate(rows, &trial, &mut trial_values, iteration + 1) {
+                Ok(rt) if rt < res || last => {
+                    std::mem::swap(&mut q, &mut trial);
+                    std::mem::swap(&mut current, &mut trial_values);
+                    (previous, res) = (res, rt);
+                    break;
+                }
+                Err(e) if last => return Err(e),
+                _ => lambda *= 0.5,
+            }
+        }
+    }
+    Err(Error::NewtonDidNotConverge {
+        at: Location::Newton(options.max_iterations),
+        iterations: options.max_iterations,
+        residual: res,
+    })
+}

@@ -1,0 +1,362 @@
+//! Boundary value problems of run-time-dimension models against the const-generic solver: the
+//! same scheme on the same FPUT chain (between walls, and a ring) gives the same nodes in the
+//! same number of Newton iterations, for every classical embedding; a large chain's boundary
+//! value problem returns the nodes of its initial value problem; bad input gives typed errors.
+
+use varembed::{
+    DynProblem, Embedding, Error, Grid, Location, NewtonOptions, Problem, Scheme, Side, Vector,
+    lagrangian,
+};
+use varembed_tests::models::chain::FputChain;
+use varembed_tests::models::generated::fput16;
+
+const RING: usize = 12;
+
+/// The periodic FPUT chain, written with the macro (the const-generic oracle of the ring).
+#[lagrangian]
+fn ring(x: [f64; RING], v: [f64; RING], alpha: f64, beta: f64) -> f64 {
+    let mut l = 0.0;
+    for i in 0..RING {
+        let d = x[(i + 1) % RING] - x[i];
+        l += 0.5 * v[i] * v[i] - (0.5 * d * d + alpha / 3.0 * d.powi(3) + beta / 4.0 * d.powi(4));
+    }
+    l
+}
+
+/// A smooth displacement of amplitude `amplitude` with phase `phase`.
+fn displacement(n: usize, amplitude: f64, phase: f64) -> Vec<f64> {
+    (0..n)
+        .map(|i| {
+            amplitude
+                * ((i as f64 + 1.0) * 0.7 + phase).sin()
+                * (1.0 + 0.3 * (i as f64 * 1.3).cos())
+        })
+        .collect()
+}
+
+/// Every classical embedding the run-time-dimension boundary value problems offer, each with
+/// both schemes.
+fn kinds() -> Vec<(Embedding, Scheme)> {
+    let mut out = Vec::new();
+    for side in [Side::Backward, Side::Forward] {
+        for embedding in [
+            Embedding::finite_difference(side),
+            Embedding::asymmetric(side),
+        ] {
+            for scheme in [Scheme::Direct, Scheme::Variational] {
+                out.push((embedding, scheme));
+            }
+        }
+    }
+    out
+}
+
+/// The largest gap between the flat nodes `q` and the const-generic nodes, relative to the
+/// largest node value.
+fn relative_gap<const D: usize>(q: &[f64], reference: &[Vector<D>]) -> f64 {
+    let flat: Vec<f64> = reference.iter().flat_map(|x| x.iter().copied()).collect();
+    assert_eq!(q.len(), flat.len());
+    let scale = flat.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    q.iter()
+        .zip(&flat)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+        / scale
+}
+
+#[test]
+fn the_sparse_lu_solve_matches_the_const_generic_solve_for_every_scheme() {
+    let (alpha, beta) = (0.25, 0.5);
+    let model = fput16::Fput { alpha, beta };
+    let chain = FputChain {
+        n: 16,
+        alpha,
+        beta,
+        periodic: false,
+    };
+    let grid = Grid::new(0.0, 2.0, 50).unwrap();
+    let (qa, qb) = (displacement(16, 0.3, 0.0), displacement(16, 0.3, 1.1));
+    let (qa16, qb16): ([f64; 16], [f64; 16]) = (
+        qa.clone().try_into().unwrap(),
+        qb.clone().try_into().unwrap(),
+    );
+    for (embedding, scheme) in kinds() {
+        let reference = Problem::new(&model, grid, embedding)
+            .solve_bvp(scheme, qa16, qb16)
+            .unwrap();
+        assert!(reference.newton_iterations >= 2, "{embedding} {scheme}");
+        for (name, solution) in [
+            (
+                "generated",
+                DynProblem::new(&model, grid, embedding).solve_bvp(scheme, &qa, &qb),
+            ),
+            (
+                "hand-written",
+                DynProblem::new(&chain, grid, embedding).solve_bvp(scheme, &qa, &qb),
+            ),
+        ] {
+            let solution = solution.unwrap();
+            let gap = relative_gap(&solution.q, &reference.q);
+            assert!(gap <= 1e-12, "{name} {embedding} {scheme}: gap {gap:e}");
+            assert_eq!(
+                solution.run.newton_iterations, reference.newton_iterations,
+                "{name} {embedding} {scheme}"
+            );
+            assert_eq!(solution.len(), 51);
+            assert_eq!(solution.indices, (0..=50).collect::<Vec<_>>());
+            assert_eq!(solution.run.last, qb);
+            // Three consecutive nodes, each block tridiagonal: the time-major band is d or d + 1.
+            assert!(
+                (16..=17).contains(&solution.run.band),
+                "{}",
+                solution.run.band
+            );
+            assert_eq!(solution.run.explicit_steps, 0);
+        }
+    }
+}
+
+#[test]
+fn a_ring_which_is_not_banded_matches_the_const_generic_ring() {
+    let (alpha, beta) = (0.3, 0.4);
+    let oracle = Ring { alpha, beta };
+    let chain = FputChain {
+        n: RING,
+        alpha,
+        beta,
+        periodic: true,
+    };
+    let grid = Grid::new(0.0, 1.0, 40).unwrap();
+    let (qa, qb) = (displacement(RING, 0.3, 0.4), displacement(RING, 0.25, 2.0));
+    let (qa12, qb12): ([f64; RING], [f64; RING]) = (
+        qa.clone().try_into().unwrap(),
+        qb.clone().try_into().unwrap(),
+    );
+    for (embedding, scheme) in kinds() {
+        let reference = Problem::new(&oracle, grid, embedding)
+            .solve_bvp(scheme, qa12, qb12)
+            .unwrap();
+        for (name, solution) in [
+            (
+                "generated",
+                DynProblem::new(&oracle, grid, embedding).solve_bvp(scheme, &qa, &qb),
+            ),
+            (
+                "hand-written",
+                DynProblem::new(&chain, grid, embedding).solve_bvp(scheme, &qa, &qb),
+            ),
+        ] {
+            let solution = solution.unwrap();
+            let gap = relative_gap(&solution.q, &reference.q);
+            assert!(gap <= 1e-12, "{name} {embedding} {scheme}: gap {gap:e}");
+            assert_eq!(
+                solution.run.newton_iterations, reference.newton_iterations,
+                "{name} {embedding} {scheme}"
+            );
+        }
+    }
+}
+
+#[test]
+fn from_a_guess_the_solve_matches_the_const_generic_solve() {
+    let model = fput16::Fput {
+        alpha: 0.25,
+        beta: 0.5,
+    };
+    let grid = Grid::new(0.0, 1.0, 30).unwrap();
+    let guess: Vec<Vector<16>> = (0..=30)
+        .map(|k| Vector::<16>::from_iterator(displacement(16, 0.2, 0.05 * k as f64)))
+        .collect();
+    let flat: Vec<f64> = guess.iter().flat_map(|x| x.iter().copied()).collect();
+    let embedding = Embedding::finite_difference(Side::Forward);
+    for scheme in [Scheme::Direct, Scheme::Variational] {
+        let reference = Problem::new(&model, grid, embedding)
+            .solve_bvp_from(scheme, &guess)
+            .unwrap();
+        let solution = DynProblem::new(&model, grid, embedding)
+            .solve_bvp_from(scheme, &flat)
+            .unwrap();
+        assert!(relative_gap(&solution.q, &reference.q) <= 1e-12);
+        assert_eq!(solution.run.newton_iterations, reference.newton_iterations);
+    }
+}
+
+/// A chain of 300 particles (walls, and a ring): the boundary value problem between the first
+/// and last nodes of an initial value run returns that run's nodes.
+#[test]
+fn a_large_chain_returns_the_nodes_of_its_initial_value_run() {
+    for periodic in [false, true] {
+        let chain = FputChain {
+            n: 300,
+            alpha: 0.25,
+            beta: 0.5,
+            periodic,
+        };
+        let grid = Grid::new(0.0, 1.0, 40).unwrap();
+        let q0 = displacement(300, 0.3, 0.0);
+        let v0: Vec<f64> = q0.iter().map(|q| 0.2 * q).collect();
+        for (side, scheme) in [
+            (Side::Backward, Scheme::Direct),
+            (Side::Forward, Scheme::Variational),
+        ] {
+            let problem = DynProblem::new(&chain, grid, Embedding::finite_difference(side));
+            let run = problem.solve_ivp(scheme, &q0, &v0).unwrap();
+            let bvp = problem
+                .solve_bvp(scheme, run.node(0), run.node(40))
+                .unwrap();
+            let gap = bvp
+                .q
+                .iter()
+                .zip(&run.q)
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(
+                gap <= 1e-10,
+                "periodic {periodic} {side:?} {scheme}: {gap:e}"
+            );
+        }
+    }
+}
+
+#[test]
+fn bad_input_gives_typed_errors() {
+    let chain = FputChain {
+        n: 8,
+        alpha: 0.25,
+        beta: 0.5,
+        periodic: false,
+    };
+    let grid = Grid::new(0.0, 1.0, 10).unwrap();
+    let fde = DynProblem::new(&chain, grid, Embedding::finite_difference(Side::Backward));
+    let (qa, qb) = (vec![0.1; 8], vec![0.2; 8]);
+    let v = Scheme::Variational;
+
+    assert!(matches!(
+        fde.solve_bvp(v, &qa[..7], &qb),
+        Err(Error::WrongLength {
+            what: "qa",
+            expected: 8,
+            found: 7
+        })
+    ));
+    assert!(matches!(
+        fde.solve_bvp(v, &qa, &[0.0; 9]),
+        Err(Error::WrongLength {
+            what: "qb",
+            expected: 8,
+            found: 9
+        })
+    ));
+    assert!(matches!(
+        fde.solve_bvp_from(v, &[0.0; 8 * 11 + 3]),
+        Err(Error::WrongDimension { dimension: 8, .. })
+    ));
+    assert!(matches!(
+        fde.solve_bvp_from(v, &[0.0; 8 * 10]),
+        Err(Error::WrongLength {
+            expected: 11,
+            found: 10,
+            ..
+        })
+    ));
+    let mut bad = qa.clone();
+    bad[3] = f64::NAN;
+    match fde.solve_bvp(v, &bad, &qb) {
+        Err(Error::NonFiniteInput { what }) => assert!(what.contains("Q_0 at a"), "{what}"),
+        other => panic!("{other:?}"),
+    }
+    match fde.solve_bvp(v, &qa, &[f64::INFINITY; 8]) {
+        Err(Error::NonFiniteInput { what }) => assert!(what.contains("Q_10 at b"), "{what}"),
+        other => panic!("{other:?}"),
+    }
+    let mut guess = vec![0.0; 8 * 11];
+    guess[8 * 4 + 2] = f64::NAN;
+    match fde.solve_bvp_from(v, &guess) {
+        Err(Error::NonFiniteInput { what }) => assert!(what.contains("Q_4[2]"), "{what}"),
+        other => panic!("{other:?}"),
+    }
+    let nan_constant = fput16::Fput {
+        alpha: f64::NAN,
+        beta: 0.5,
+    };
+    let dyn16 = DynProblem::new(
+        &nan_constant,
+        grid,
+        Embedding::finite_difference(Side::Backward),
+    );
+    match dyn16.solve_bvp(v, &[0.0; 16], &[0.0; 16]) {
+        Err(Error::NonFiniteInput { what }) => assert!(what.contains("alpha"), "{what}"),
+        other => panic!("{other:?}"),
+    }
+    for embedding in [
+        Embedding::midpoint(),
+        Embedding::trapezoidal(),
+        Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap(),
+        Embedding::gauss_legendre(2).unwrap(),
+    ] {
+        for scheme in [Scheme::Direct, Scheme::Variational] {
+            let problem = DynProblem::new(&chain, grid, embedding);
+            assert!(
+                matches!(
+                    problem.solve_bvp(scheme, &qa, &qb),
+                    Err(Error::Unsupported { .. })
+                ),
+                "{embedding}"
+            );
+            assert!(matches!(
+                problem.solve_bvp_from(scheme, &[0.0; 88]),
+                Err(Error::Unsupported { .. })
+            ));
+        }
+    }
+    // Too few iterations for a nonlinear solve: the iteration count and residual are reported.
+    let capped = DynProblem::new(&chain, grid, Embedding::finite_difference(Side::Forward))
+        .with_newton(NewtonOptions {
+            max_iterations: 1,
+            ..NewtonOptions::default()
+        });
+    assert!(matches!(
+        capped.solve_bvp(v, &[0.5; 8], &[-0.5; 8]),
+        Err(Error::NewtonDidNotConverge {
+            at: Location::Newton(1),
+            iterations: 1,
+            ..
+        })
+    ));
+}
+
+/// `L = ½ v₀² − ½ x₀² − ½ x₁²`, no kinetic term in the second coordinate: `∂²L/∂v²` is singular, reported at the
+/// first quadrature node of the guess as for the const-generic path.
+#[test]
+fn a_degenerate_model_is_reported_at_a_node() {
+    const TWO: usize = 2;
+    #[lagrangian]
+    fn half(x: [f64; TWO], v: [f64; TWO]) -> f64 {
+        let mut l = 0.0;
+        for i in 0..TWO - 1 {
+            l += 0.5 * v[i] * v[i] - 0.5 * x[i] * x[i];
+        }
+        l - 0.5 * x[TWO - 1] * x[TWO - 1]
+    }
+    let grid = Grid::new(0.0, 1.0, 10).unwrap();
+    let embedding = Embedding::finite_difference(Side::Backward);
+    let dynamic = DynProblem::new(&Half, grid, embedding).solve_bvp(
+        Scheme::Variational,
+        &[0.0, 0.0],
+        &[1.0, 1.0],
+    );
+    let reference =
+        Problem::new(&Half, grid, embedding).solve_bvp(Scheme::Variational, [0.0, 0.0], [1.0, 1.0]);
+    assert!(matches!(
+        dynamic,
+        Err(Error::DegenerateLagrangian {
+            at: Location::Node(1),
+            ..
+        })
+    ));
+    assert!(matches!(
+        reference,
+        Err(Error::DegenerateLagrangian {
+            at: Location::Node(1),
+            ..
+        })
+    ));
+}
