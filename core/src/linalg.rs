@@ -187,18 +187,18 @@ impl BandedMatrix {
 
     /// `‖A‖∞` and the largest absolute entry in one pass, with whether every entry is finite.
     pub fn norms(&self) -> BandNorms {
-        let (mut inf, mut largest, mut total) = (0.0f64, 0.0f64, 0.0);
+        let (mut inf, mut largest, mut finite) = (0.0f64, 0.0f64, true);
         for row in self.data.chunks(self.width) {
             let sum: f64 = row.iter().map(|a| a.abs()).sum();
             let top = row.iter().fold(0.0f64, |m, a| m.max(a.abs()));
             inf = inf.max(sum);
             largest = largest.max(top);
-            total += sum;
+            finite &= row.iter().all(|a| a.is_finite());
         }
         BandNorms {
             inf,
             largest,
-            total,
+            finite,
         }
     }
 
@@ -284,14 +284,14 @@ pub struct BandNorms {
     pub inf: f64,
     /// The largest absolute entry.
     pub largest: f64,
-    /// The sum of all absolute entries: not finite exactly when an entry is not.
-    total: f64,
+    /// Whether every entry is finite (`inf` and `largest` mean nothing otherwise).
+    finite: bool,
 }
 
 impl BandNorms {
     /// Whether every entry of the matrix is finite.
     pub fn is_finite(&self) -> bool {
-        self.total.is_finite()
+        self.finite
     }
 }
 

@@ -433,7 +433,7 @@ pub fn is_affine(kind: StepKind, dependence: &HessianDependence) -> bool {
 
 /// Whether every block in the Jacobian of `kind` is a constant, so that with a uniform step
 /// the Jacobian is the same at every step.
-fn jacobian_is_constant(kind: StepKind, dependence: &HessianDependence) -> bool {
+pub(crate) fn jacobian_is_constant(kind: StepKind, dependence: &HessianDependence) -> bool {
     let HessianDependence { xx, xv, vv } = *dependence;
     let none = Dependence::NONE;
     match kind {

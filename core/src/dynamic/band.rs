@@ -12,11 +12,9 @@
 //!
 //! [`DynLagrangian::hessian_bandwidth`]: super::DynLagrangian::hessian_bandwidth
 
-use std::collections::VecDeque;
-
 use crate::linalg::{BandNorms, BandedMatrix};
 
-use super::sparse::{SparseBlock, SparseHessian};
+use super::sparse::SparseBlock;
 
 /// An entry of the matrix falls outside the planned band.
 #[derive(Debug)]
@@ -33,12 +31,13 @@ pub(crate) struct BandSystem {
 }
 
 impl BandSystem {
-    /// The system for the pattern of `hessian`: the claimed band `claimed` when every entry
-    /// lies within it, otherwise the reverse Cuthill–McKee order of the pattern.
-    pub(crate) fn plan(d: usize, claimed: Option<usize>, hessian: &SparseHessian) -> Self {
+    /// The system for the pattern of `blocks` (the blocks that enter the matrix, their entries
+    /// listed): the claimed band `claimed` when every entry lies within it, otherwise the
+    /// reverse Cuthill–McKee order of the pattern.
+    pub(crate) fn plan(d: usize, claimed: Option<usize>, blocks: &[&SparseBlock]) -> Self {
         let entries = || {
-            [&hessian.xx, &hessian.xv, &hessian.vv]
-                .into_iter()
+            blocks
+                .iter()
                 .flat_map(|b| b.entries().iter().map(|e| (e.0, e.1)))
         };
         if let Some(b) = claimed.filter(|&b| entries().all(|(i, j)| i.abs_diff(j) <= b)) {
@@ -224,21 +223,26 @@ pub(crate) fn reverse_cuthill_mckee(
     }
     let degree = |i: usize| neighbours[i].len();
     let mut order = Vec::with_capacity(d);
-    let mut seen = vec![false; d];
+    // One marker array for every search: a node is marked with the number of the search that
+    // reached it (0: none), so that no search clears or copies it and the whole ordering is
+    // linear in the size of the pattern, however many components it has.
+    let mut mark = vec![0usize; d];
+    let mut search = 0;
     let mut by_degree: Vec<usize> = (0..d).collect();
     by_degree.sort_by_key(|&i| degree(i));
+    let mut component = Vec::new();
     for &root in &by_degree {
-        if seen[root] {
+        if mark[root] != 0 {
             continue;
         }
-        // The last node a search from `root` reaches is far from it: start there.
-        let far = *breadth_first(root, &neighbours, &seen)
-            .last()
-            .unwrap_or(&root);
-        for i in breadth_first(far, &neighbours, &seen) {
-            seen[i] = true;
-            order.push(i);
-        }
+        // The last node a search from `root` reaches is far from it: start there. The probe
+        // marks its nodes with its own number; the search from `far` re-marks them.
+        search += 1;
+        breadth_first(root, &neighbours, &mut mark, search, &mut component);
+        let far = *component.last().unwrap_or(&root);
+        search += 1;
+        breadth_first(far, &neighbours, &mut mark, search, &mut component);
+        order.extend_from_slice(&component);
     }
     let mut position = vec![0; d];
     for (place, &i) in order.iter().rev().enumerate() {
@@ -247,32 +251,39 @@ pub(crate) fn reverse_cuthill_mckee(
     position
 }
 
-/// The nodes reachable from `root` outside `excluded`, in breadth-first order, each node's
-/// neighbours visited by increasing degree.
-fn breadth_first(root: usize, neighbours: &[Vec<usize>], excluded: &[bool]) -> Vec<usize> {
-    let mut visited = excluded.to_vec();
-    let mut order = vec![root];
-    visited[root] = true;
-    let mut queue = VecDeque::from([root]);
-    while let Some(i) = queue.pop_front() {
-        let mut next: Vec<usize> = neighbours[i]
-            .iter()
-            .copied()
-            .filter(|&j| !visited[j])
-            .collect();
+/// The nodes reachable from `root` that no earlier component holds, in breadth-first order
+/// (each node's neighbours by increasing degree), into `order`; each is marked `search`. A
+/// node marked by an earlier *component* is never reached (components are disconnected), so
+/// any mark below `search` but from this component's probe is simply overwritten.
+fn breadth_first(
+    root: usize,
+    neighbours: &[Vec<usize>],
+    mark: &mut [usize],
+    search: usize,
+    order: &mut Vec<usize>,
+) {
+    order.clear();
+    order.push(root);
+    mark[root] = search;
+    let mut head = 0;
+    let mut next = Vec::new();
+    while head < order.len() {
+        let i = order[head];
+        head += 1;
+        next.clear();
+        next.extend(neighbours[i].iter().copied().filter(|&j| mark[j] != search));
         next.sort_by_key(|&j| neighbours[j].len());
-        for j in next {
-            visited[j] = true;
+        for &j in &next {
+            mark[j] = search;
             order.push(j);
-            queue.push_back(j);
         }
     }
-    order
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::dynamic::sparse::SparseHessian;
 
     /// A periodic chain of `d` unknowns: neighbours and the wrap-around pair.
     fn ring(d: usize) -> impl Iterator<Item = (usize, usize)> {
@@ -316,7 +327,7 @@ mod tests {
             hessian.xx.add(i, (i + 1) % d, -1.0);
             hessian.xx.add((i + 1) % d, i, -1.0);
         }
-        let mut system = BandSystem::plan(d, None, &hessian);
+        let mut system = BandSystem::plan(d, None, &[&hessian.xx]);
         assert!(system.is_reordered() && system.band() == 2);
         let mut dense = vec![0.0; d * d];
         for &(i, j, value) in hessian.xx.entries() {

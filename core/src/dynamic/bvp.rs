@@ -277,13 +277,9 @@ fn vv_pivots<L: DynLagrangian + ?Sized>(
     system: &mut Option<BandSystem>,
 ) -> (f64, f64) {
     let d = l.dimension();
-    let vv_only = || SparseHessian {
-        vv: hessian.vv.clone(),
-        ..SparseHessian::new(d)
-    };
     for _ in 0..2 {
-        let band =
-            system.get_or_insert_with(|| BandSystem::plan(d, l.hessian_bandwidth(), &vv_only()));
+        let band = system
+            .get_or_insert_with(|| BandSystem::plan(d, l.hessian_bandwidth(), &[&hessian.vv]));
         band.clear();
         let fits = hessian
             .vv
@@ -291,7 +287,7 @@ fn vv_pivots<L: DynLagrangian + ?Sized>(
             .iter()
             .all(|&(i, j, value)| band.add(i, j, value).is_ok());
         if !fits {
-            *system = Some(BandSystem::plan(d, None, &vv_only()));
+            *system = Some(BandSystem::plan(d, None, &[&hessian.vv]));
             continue;
         }
         return if band.factorize() {

@@ -115,8 +115,10 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         let mut pi = vec![0.0; d];
         self.lagrangian.momentum(q0, v0, t0, &mut pi);
         let mut start = StepSolver::new(self.lagrangian, start_kind, h, self.newton, (q0, v0, t0));
-        let mut b: Vec<f64> = q0.iter().zip(v0).map(|(q, v)| q + h * v).collect();
-        start.solve(q0, &pi, (t0, grid.t(1)), &mut b, 1)?;
+        // The node before q0 on the tangent, so that Newton's guess 2b − a is q0 + h v0.
+        let before: Vec<f64> = q0.iter().zip(v0).map(|(q, v)| q - h * v).collect();
+        let mut b = vec![0.0; d];
+        start.solve((&before, q0), &pi, (t0, grid.t(1)), &mut b, 1)?;
         drop(start);
         let mut a = q0.to_vec();
         observe(DynNode {
@@ -133,7 +135,6 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         });
 
         let mut solver = StepSolver::new(self.lagrangian, kind, h, self.newton, (q0, v0, t0));
-        let (band, reordered) = solver.band();
         let drifts = matches!(kind, StepKind::DirectBackward | StepKind::DirectForward);
         let enabled = self.blow_up_guard && !self.lagrangian.dependence().t;
         let mut guard = BlowUpGuard::watching(drifts, grid.n(), enabled);
@@ -158,11 +159,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
                 solver.verlet((&a, &b), times.1, &mut y, n)?;
                 0
             } else {
-                // Newton's guess: the linear extrapolation 2b − a.
-                for ((y, a), b) in y.iter_mut().zip(&a).zip(&b) {
-                    *y = 2.0 * b - a;
-                }
-                solver.solve(&b, &pi, (grid.t(n - 1), grid.t(n)), &mut y, n)?
+                solver.solve((&a, &b), &pi, (grid.t(n - 1), grid.t(n)), &mut y, n)?
             };
             iterations += its;
             explicit_steps += usize::from(its == 0);
@@ -177,7 +174,9 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             });
         }
         guard.finish()?;
-        let last = if grid.n() == 0 { a } else { b };
+        // Read after the run: an entry outside the planned band re-plans the system mid-run.
+        let (band, reordered) = solver.band();
+        let last = b;
         Ok(DynRun {
             scheme,
             embedding: self.embedding,
@@ -241,12 +240,8 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
 /// The pivot ratio of `∂²L/∂v²` (the block `vv` of `hessian`), factorised as a band: 0 when
 /// singular.
 fn vv_pivot_ratio(d: usize, claimed: Option<usize>, hessian: &SparseHessian) -> f64 {
-    let vv_only = SparseHessian {
-        vv: hessian.vv.clone(),
-        ..SparseHessian::new(d)
-    };
-    let mut system = BandSystem::plan(d, claimed, &vv_only);
-    for &(i, j, value) in vv_only.vv.entries() {
+    let mut system = BandSystem::plan(d, claimed, &[&hessian.vv]);
+    for &(i, j, value) in hessian.vv.entries() {
         if system.add(i, j, value).is_err() {
             return 0.0;
         }

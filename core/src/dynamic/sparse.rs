@@ -6,6 +6,11 @@
 /// A model writes it with [`add`](Self::add). [`clear`](Self::clear) keeps the allocation, so
 /// a solver that clears and refills one block at every Newton iteration allocates only once.
 ///
+/// The blocks the solver hands to [`DynLagrangian::hessian`](super::DynLagrangian::hessian)
+/// of a banded model are in *band mode*: an entry within the band is summed in place, and
+/// [`entries`](Self::entries) lists only those outside it. A model should only
+/// [`add`](Self::add) to the blocks it is given, never read them back.
+///
 /// ```
 /// use varembed::SparseBlock;
 /// let mut b = SparseBlock::new(3);

@@ -8,14 +8,13 @@
 //! [`BandSystem`]. Every buffer is allocated once per run.
 
 use crate::error::{Error, Location, Result};
-use crate::lagrangian::Dependence;
 use crate::options::NewtonOptions;
 use crate::solve::newton::at_round_off;
-use crate::step::{StepKind, is_affine};
+use crate::step::{StepKind, is_affine, jacobian_is_constant};
 
 use super::DynLagrangian;
 use super::band::BandSystem;
-use super::sparse::SparseHessian;
+use super::sparse::{SparseBlock, SparseHessian};
 
 /// How the newest node of a step is found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -85,11 +84,15 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         let d = lagrangian.dimension();
         let mut hessian = SparseHessian::new(d);
         lagrangian.hessian(x, v, t, &mut hessian);
-        let system = BandSystem::plan(d, lagrangian.hessian_bandwidth(), &hessian);
+        let system = BandSystem::plan(
+            d,
+            lagrangian.hessian_bandwidth(),
+            &jacobian_blocks(kind, &hessian),
+        );
         let dependence = lagrangian.hessian_dependence();
         let update = if !is_affine(kind, &dependence) {
             Update::Newton
-        } else if jacobian_is_constant(kind, lagrangian) {
+        } else if jacobian_is_constant(kind, &dependence) {
             if scaled_jacobian_is_identity(kind, h, &hessian) {
                 let variational = matches!(
                     kind,
@@ -109,7 +112,9 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         // In the model's own order, the blocks are summed in place in band storage and the
         // Jacobian is combined row by row; a reordered system reads the listed entries.
         drop(hessian);
-        let blocks = if system.is_reordered() {
+        let blocks = if system.is_reordered() || matches!(update, Update::Identity | Update::Verlet)
+        {
+            // Listed entries, or none at all: these updates never read the blocks.
             SparseHessian::new(d)
         } else {
             SparseHessian::with_band(d, system.band())
@@ -224,54 +229,68 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         self.lagrangian.value(x, &self.v, t)
     }
 
-    /// Solves `G(y) = π` for the newest node of step `n` (nodes `b` at `t_b`, `y` at `t_y`),
-    /// starting from `y` as given (the guess) and leaving the node in `y`. Returns the Newton
-    /// iterations (0 for a closed-form step).
+    /// Solves `G(y) = π` for the newest node of step `n` from `a = Q_{n−2}`, `b = Q_{n−1}`
+    /// (times `t_b`, `t_y` of `b` and `y`) into `y`. Returns the Newton iterations (0 for a
+    /// closed-form step).
+    ///
+    /// As in the const-generic path, a closed form that fails (its Jacobian singular or not
+    /// finite, or its node not finite) hands the step to Newton's method, from the linear
+    /// extrapolation `2b − a` like every implicit step, which reports the failure if it is one.
     pub(crate) fn solve(
         &mut self,
-        b: &[f64],
+        (a, b): (&[f64], &[f64]),
         pi: &[f64],
-        (t_b, t_y): (f64, f64),
+        times: (f64, f64),
         y: &mut [f64],
         n: usize,
     ) -> Result<usize> {
-        let at = Location::Step(n);
         if !pi.iter().all(|c| c.is_finite()) {
-            return Err(Error::NotFinite { at });
+            return Err(Error::NotFinite {
+                at: Location::Step(n),
+            });
         }
-        if self.update != Update::Newton {
-            y.copy_from_slice(b);
-            self.residual(b, pi, (t_b, t_y), y);
-            let reads_blocks = match self.update {
-                Update::PerStep => true,
-                Update::Constant => !self.factored,
-                _ => false,
-            };
-            if reads_blocks {
-                self.read_blocks(b, (t_b, t_y), y);
-            }
-            match self.update {
-                // A Verlet solver's start (the one step it takes through `solve`) is `h J = I`.
-                Update::Identity | Update::Verlet => {}
-                Update::Constant if self.factored => self.system.solve_in_place(&mut self.r),
-                _ => {
-                    self.assemble(at)?;
-                    if !self.system.factorize() {
-                        return Err(Error::SingularJacobian { at });
-                    }
-                    self.factored = true;
-                    self.system.solve_in_place(&mut self.r);
-                }
-            }
-            for (y, z) in y.iter_mut().zip(&self.r) {
-                *y -= self.h * z;
-            }
-            if !y.iter().all(|c| c.is_finite()) {
-                return Err(Error::NotFinite { at });
-            }
+        if self.update != Update::Newton && self.closed_form(b, pi, times, y, n) {
             return Ok(0);
         }
-        self.newton(b, pi, (t_b, t_y), y, n)
+        for ((y, a), b) in y.iter_mut().zip(a).zip(b) {
+            *y = 2.0 * b - a;
+        }
+        self.newton(b, pi, times, y, n)
+    }
+
+    /// The closed-form node `y = b − h (h J)⁻¹ (G(b) − π)` of an affine step; `false` when its
+    /// Jacobian is singular or not finite or the node is not finite.
+    fn closed_form(
+        &mut self,
+        b: &[f64],
+        pi: &[f64],
+        times: (f64, f64),
+        y: &mut [f64],
+        n: usize,
+    ) -> bool {
+        y.copy_from_slice(b);
+        self.residual(b, pi, times, y);
+        match self.update {
+            // A Verlet solver's start (the one step it takes through `solve`) is `h J = I`.
+            Update::Identity | Update::Verlet => {}
+            Update::Constant if self.factored => self.system.solve_in_place(&mut self.r),
+            _ => {
+                self.read_blocks(b, times, y);
+                if self.assemble(Location::Step(n)).is_err() {
+                    return false;
+                }
+                let norms = self.system.norms();
+                if !self.system.factorize_scaled(&norms) {
+                    return false;
+                }
+                self.factored = true;
+                self.system.solve_in_place(&mut self.r);
+            }
+        }
+        for (y, z) in y.iter_mut().zip(&self.r) {
+            *y -= self.h * z;
+        }
+        y.iter().all(|c| c.is_finite())
     }
 
     /// Newton's method on step `n` (the stopping rule and the errors of the const-generic
@@ -397,7 +416,7 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
             // entries from now on.
             let d = self.lagrangian.dimension();
             self.hessian = self.hessian.to_listed();
-            self.system = BandSystem::plan(d, None, &self.hessian);
+            self.system = BandSystem::plan(d, None, &jacobian_blocks(self.kind, &self.hessian));
             self.try_assemble()
                 .map_err(|_| Error::SingularJacobian { at })?;
         }
@@ -438,19 +457,19 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
     }
 }
 
-/// Whether every block in the Jacobian of `kind` is a constant (depends on none of `x`, `v`,
-/// `t`), so that with a uniform step it is the same at every step.
-fn jacobian_is_constant<L: DynLagrangian + ?Sized>(kind: StepKind, lagrangian: &L) -> bool {
-    let blocks = lagrangian.hessian_dependence();
-    let none = Dependence::NONE;
-    match kind {
-        StepKind::VariationalBackward | StepKind::VariationalForward => {
-            blocks.xv == none && blocks.vv == none
-        }
-        StepKind::DirectBackward => blocks.xx == none && blocks.xv == none && blocks.vv == none,
-        StepKind::DirectForward => blocks.vv == none,
-        _ => false,
+/// The blocks that enter the Jacobian of `kind` (second table of the step module): `vv`
+/// always, `xv` (and its transpose) except for the direct σ = + step, `xx` for the direct σ = −
+/// step only. The system is planned on their pattern alone: a long-range `L_xx` does not widen
+/// the band of a step whose Jacobian does not read it.
+fn jacobian_blocks(kind: StepKind, hessian: &SparseHessian) -> Vec<&SparseBlock> {
+    let mut blocks = vec![&hessian.vv];
+    if kind != StepKind::DirectForward {
+        blocks.push(&hessian.xv);
     }
+    if kind == StepKind::DirectBackward {
+        blocks.push(&hessian.xx);
+    }
+    blocks
 }
 
 /// Whether `h J` is exactly the identity for the constant blocks in `hessian`: `L_vv = I` and
