@@ -7,7 +7,7 @@ use std::fs;
 use varembed::{Comparison, Start};
 use varembed_examples::report;
 use varembed_examples::scene::{Context, Mode};
-use varembed_examples::scenes::{ALL, harmonic};
+use varembed_examples::scenes::{ALL, harmonic, large_chain};
 
 #[test]
 fn quick_tour_writes_a_complete_finite_report() {
@@ -56,6 +56,30 @@ fn quick_tour_writes_a_complete_finite_report() {
         )),
         "{notes:#?}"
     );
+
+    // The large chain's energy figure: the direct scheme ends below its start, the
+    // variational one near it; its table has one row per size.
+    let chain = reports.iter().find(|s| s.name == large_chain::NAME);
+    let chain = chain.expect("the large chain");
+    let energy = chain
+        .figures
+        .iter()
+        .find(|f| f.file == "large-chain-energy.svg")
+        .expect("the energy figure");
+    let last = |label: &str| {
+        let series = energy.series.iter().find(|s| s.label == label);
+        series.expect(label).points.last().expect("points").1
+    };
+    assert!(last("direct") < 0.99, "{}", last("direct"));
+    assert!((last("variational") - 1.0).abs() < 0.01);
+    assert_eq!(chain.tables.len(), 1);
+    for d in [64, 128, 256] {
+        assert!(
+            chain.tables[0].contains(&format!("\n  {d:>5} ")),
+            "{}",
+            chain.tables[0]
+        );
+    }
 
     for scene in &reports {
         assert!(!scene.tables.is_empty(), "{}: no table", scene.name);

@@ -7,6 +7,7 @@ pub mod fput;
 pub mod fractional;
 pub mod harmonic;
 pub mod kepler;
+pub mod large_chain;
 pub mod parametric;
 pub mod pendulum;
 pub mod stiff_fpu;
@@ -17,7 +18,7 @@ use crate::scene::{Context, SceneReport};
 pub type Run = fn(&Context) -> varembed::Result<SceneReport>;
 
 /// Every scene, in the order of the report.
-pub const ALL: [(&str, Run); 9] = [
+pub const ALL: [(&str, Run); 10] = [
     ("harmonic oscillator", harmonic::run),
     ("pendulum", pendulum::run),
     ("Kepler, e = 0.9", kepler::run),
@@ -26,5 +27,6 @@ pub const ALL: [(&str, Run); 9] = [
     ("q̈ + q̇ + q = 0", damped::run),
     ("FPUT recurrence", fput::run),
     ("stiff FPU", stiff_fpu::run),
+    ("large chain", large_chain::run),
     ("fractional BVP", fractional::run),
 ];
