@@ -3,7 +3,8 @@
 //! solves; strides and observers see the same nodes; bad input gives typed errors.
 
 use varembed::{
-    DynProblem, Embedding, Error, Grid, Location, Problem, Scheme, Side, Vector, lagrangian,
+    DynProblem, DynSolution, Embedding, Error, Grid, Lagrangian, Location, Problem, Scheme, Side,
+    Solution, Vector, lagrangian,
 };
 use varembed_tests::models::chain::FputChain;
 use varembed_tests::models::generated::fput16;
@@ -27,6 +28,34 @@ fn displacement(n: usize, amplitude: f64) -> Vec<f64> {
     (0..n)
         .map(|i| amplitude * ((i as f64 + 1.0) * 0.7).sin() * (1.0 + 0.3 * (i as f64 * 1.3).cos()))
         .collect()
+}
+
+/// The const-generic run of `model` (the oracle of the run-time-dimension one) from `q0`, `v0`.
+fn const_generic_run<L: Lagrangian<D>, const D: usize>(
+    model: &L,
+    (grid, embedding, scheme): (Grid, Embedding, Scheme),
+    q0: &[f64],
+    v0: &[f64],
+) -> Solution<D> {
+    Problem::new(model, grid, embedding)
+        .solve_ivp(
+            scheme,
+            Vector::<D>::from_column_slice(q0),
+            Vector::<D>::from_column_slice(v0),
+        )
+        .unwrap()
+}
+
+/// The largest gap between every node of `run` and of `reference`.
+fn node_gap<const D: usize>(run: &DynSolution, reference: &Solution<D>) -> f64 {
+    (0..reference.q.len())
+        .map(|k| {
+            let node = run.node(k);
+            (0..D)
+                .map(|i| (node[i] - reference.q[k][i]).abs())
+                .fold(0.0, f64::max)
+        })
+        .fold(0.0, f64::max)
 }
 
 const KINDS: [(Side, Scheme); 4] = [
@@ -55,21 +84,8 @@ fn the_banded_run_matches_the_const_generic_run_for_every_scheme() {
             .solve_ivp(scheme, &q0, &v0)
             .unwrap();
         assert_eq!((run.run.band, run.run.reordered), (1, false));
-        let reference = Problem::new(&generated, grid, embedding)
-            .solve_ivp(
-                scheme,
-                Vector::<16>::from_column_slice(&q0),
-                Vector::<16>::from_column_slice(&v0),
-            )
-            .unwrap();
-        let worst = (0..=200)
-            .map(|k| {
-                let node = run.node(k);
-                (0..16)
-                    .map(|i| (node[i] - reference.q[k][i]).abs())
-                    .fold(0.0, f64::max)
-            })
-            .fold(0.0, f64::max);
+        let reference = const_generic_run::<_, 16>(&generated, (grid, embedding, scheme), &q0, &v0);
+        let worst = node_gap(&run, &reference);
         assert!(
             worst < 1e-12,
             "{side:?} {scheme:?}: nodes differ by {worst:.2e}"
@@ -118,24 +134,16 @@ fn the_periodic_chain_is_reordered_into_a_band_and_matches_the_const_generic_run
             (band, true),
             "{side:?} {scheme:?}"
         );
-        let reference = Problem::new(&generated, grid, embedding)
-            .solve_ivp(
-                scheme,
-                Vector::<RING>::from_column_slice(&q0),
-                Vector::<RING>::from_column_slice(&v0),
-            )
-            .unwrap();
+        let reference =
+            const_generic_run::<_, RING>(&generated, (grid, embedding, scheme), &q0, &v0);
         assert_eq!(
             run.run.newton_iterations, reference.newton_iterations,
             "{side:?} {scheme:?}"
         );
-        let last = reference.q[100];
-        let worst = (0..RING)
-            .map(|i| (run.run.last[i] - last[i]).abs())
-            .fold(0.0, f64::max);
+        let worst = node_gap(&run, &reference);
         assert!(
             worst < 1e-12,
-            "{side:?} {scheme:?}: last nodes differ by {worst:.2e}"
+            "{side:?} {scheme:?}: nodes differ by {worst:.2e}"
         );
     }
 }
@@ -465,21 +473,9 @@ fn every_block_enters_the_banded_jacobian_as_in_the_const_generic_run() {
             if affine { 59 } else { 0 },
             "{side:?} {scheme:?}"
         );
-        let reference = Problem::new(&model, grid, embedding)
-            .solve_ivp(
-                scheme,
-                Vector::<COUPLED>::from_column_slice(&q0),
-                Vector::<COUPLED>::from_column_slice(&v0),
-            )
-            .unwrap();
-        let worst = (0..=60)
-            .map(|k| {
-                let node = run.node(k);
-                (0..COUPLED)
-                    .map(|i| (node[i] - reference.q[k][i]).abs())
-                    .fold(0.0, f64::max)
-            })
-            .fold(0.0, f64::max);
+        let reference =
+            const_generic_run::<_, COUPLED>(&model, (grid, embedding, scheme), &q0, &v0);
+        let worst = node_gap(&run, &reference);
         assert!(
             worst < 1e-12,
             "{side:?} {scheme:?}: nodes differ by {worst:.2e}"
@@ -588,17 +584,9 @@ fn the_listed_assembly_of_a_reordered_system_matches_the_const_generic_run() {
             .solve_ivp(scheme, &q0, &v0)
             .unwrap();
         assert!(run.run.reordered, "{side:?} {scheme:?}");
-        let reference = Problem::new(&model, grid, embedding)
-            .solve_ivp(
-                scheme,
-                Vector::<COUPLED>::from_column_slice(&q0),
-                Vector::<COUPLED>::from_column_slice(&v0),
-            )
-            .unwrap();
-        let last = reference.q[60];
-        let worst = (0..COUPLED)
-            .map(|i| (run.run.last[i] - last[i]).abs())
-            .fold(0.0, f64::max);
+        let reference =
+            const_generic_run::<_, COUPLED>(&model, (grid, embedding, scheme), &q0, &v0);
+        let worst = node_gap(&run, &reference);
         assert!(worst < 1e-12, "{side:?} {scheme:?}: {worst:.2e}");
         let (ours, theirs) = (run.run.newton_iterations, reference.newton_iterations);
         assert!(
@@ -641,20 +629,13 @@ fn a_constant_mass_matrix_is_factorised_once_and_gives_the_const_generic_nodes()
             (79, 0),
             "{side:?}"
         );
-        let reference = Problem::new(&model, grid, embedding)
-            .solve_ivp(
-                Scheme::Variational,
-                Vector::<MASSES>::from_column_slice(&q0),
-                Vector::<MASSES>::from_column_slice(&v0),
-            )
-            .unwrap();
-        let worst = (0..=80)
-            .map(|k| {
-                (0..MASSES)
-                    .map(|i| (run.node(k)[i] - reference.q[k][i]).abs())
-                    .fold(0.0, f64::max)
-            })
-            .fold(0.0, f64::max);
+        let reference = const_generic_run::<_, MASSES>(
+            &model,
+            (grid, embedding, Scheme::Variational),
+            &q0,
+            &v0,
+        );
+        let worst = node_gap(&run, &reference);
         assert!(worst < 1e-12, "{side:?}: {worst:.2e}");
     }
 }

@@ -12,26 +12,10 @@
 use num_dual::HyperDual64;
 use varembed::{DynLagrangian, Lagrangian, SparseBlock, SparseHessian, Vector, lagrangian};
 use varembed_tests::models::dual_chains::{fput_fixed_dual, n_link_dual, toda_dual};
+// The FPUT chain of run-time length, shared with the solver's tests and benches.
+use varembed_tests::models::generated::{FputChain as Fput, fput_chain as fput};
 use varembed_tests::models::num_dual::{close, dual_derivatives};
 use varembed_tests::rng::Rng;
-
-/// FPUT chain with fixed ends `x_{-1} = x_n = 0`, of `n` unit masses.
-#[lagrangian]
-pub fn fput(x: &[f64], v: &[f64], n: usize, alpha: f64, beta: f64) -> f64 {
-    let mut kinetic = 0.0;
-    for i in 0..n {
-        kinetic += 0.5 * v[i] * v[i];
-    }
-    let mut potential = 0.0;
-    for i in 0..n - 1 {
-        let d = x[i + 1] - x[i];
-        potential += 0.5 * d * d + alpha / 3.0 * d.powi(3) + beta / 4.0 * d.powi(4);
-    }
-    let (first, last) = (x[0], -x[n - 1]);
-    potential += 0.5 * first * first + alpha / 3.0 * first.powi(3) + beta / 4.0 * first.powi(4);
-    potential += 0.5 * last * last + alpha / 3.0 * last.powi(3) + beta / 4.0 * last.powi(4);
-    kinetic - potential
-}
 
 /// Toda lattice, periodic: `V(d) = (a/b) e^{−b d} + a d`, iterator sum and `% n`.
 #[lagrangian]
@@ -314,7 +298,10 @@ fn invalid_dimension_reports_reads_beyond_n() {
         beta: 0.0,
     };
     let msg = fput(0).invalid_dimension().expect("0..n - 1 at n = 0");
-    assert!(msg.contains("`fput`") && msg.contains("0..n - 1"), "{msg}");
+    assert!(
+        msg.contains("`fput_chain`") && msg.contains("0..n - 1"),
+        "{msg}"
+    );
     assert!(msg.contains("n = 0"), "{msg}");
     assert_eq!(fput(1).invalid_dimension(), None);
 
