@@ -88,7 +88,7 @@ macro_rules! fput_chain {
 fput_chain!(fput16, 16);
 fput_chain!(fput64, 64);
 
-/// The FPUT chain of the [`fput_chain!`] models with its length `n` a run-time value:
+/// The FPUT chain of the `fput_chain!` models with its length `n` a run-time value:
 /// `n` unit masses between two walls at 0, `V(d) = d²/2 + α d³/3 + β d⁴/4`. Through
 /// `#[lagrangian]` it implements only `DynLagrangian` (tridiagonal Hessian,
 /// `hessian_bandwidth() = Some(1)`).
