@@ -639,3 +639,65 @@ fn a_constant_mass_matrix_is_factorised_once_and_gives_the_const_generic_nodes()
         assert!(worst < 1e-12, "{side:?}: {worst:.2e}");
     }
 }
+
+/// The hand-written chain, listing an entry of its Hessian only where the state it couples is
+/// not at rest (`x_i ≠ 0` or `x_j ≠ 0`): a model whose pattern grows during the run. At rest
+/// at the start it lists only the diagonal.
+struct GrowingPattern(FputChain);
+
+impl varembed::DynLagrangian for GrowingPattern {
+    fn dimension(&self) -> usize {
+        self.0.dimension()
+    }
+    fn value(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
+        self.0.value(x, v, t)
+    }
+    fn force(&self, x: &[f64], v: &[f64], t: f64, f: &mut [f64]) {
+        self.0.force(x, v, t, f)
+    }
+    fn momentum(&self, x: &[f64], v: &[f64], t: f64, p: &mut [f64]) {
+        self.0.momentum(x, v, t, p)
+    }
+    fn hessian(&self, x: &[f64], v: &[f64], t: f64, out: &mut varembed::SparseHessian) {
+        let mut all = varembed::SparseHessian::new(self.dimension());
+        self.0.hessian(x, v, t, &mut all);
+        for &(i, j, value) in all.xx.entries() {
+            if i == j || x[i] != 0.0 || x[j] != 0.0 {
+                out.xx.add(i, j, value);
+            }
+        }
+        for &(i, j, value) in all.vv.entries() {
+            out.vv.add(i, j, value);
+        }
+    }
+}
+
+#[test]
+fn a_pattern_that_grows_mid_run_is_planned_again_and_reported() {
+    let chain = FputChain {
+        n: 20,
+        alpha: 0.25,
+        beta: 0.5,
+        periodic: false,
+    };
+    let grid = Grid::new(0.0, 2.0, 40).unwrap();
+    let embedding = Embedding::finite_difference(Side::Backward);
+    let (q0, v0) = (vec![0.0; 20], displacement(20, 0.8));
+    let honest = DynProblem::new(&chain, grid, embedding)
+        .solve_ivp(Scheme::Direct, &q0, &v0)
+        .unwrap();
+    let growing = GrowingPattern(chain);
+    let run = DynProblem::new(&growing, grid, embedding)
+        .solve_ivp(Scheme::Direct, &q0, &v0)
+        .unwrap();
+    // Planned on the diagonal at rest, then on the chain's pattern once it moved: the report
+    // gives the plan the run ended with.
+    assert_eq!((run.run.band, run.run.reordered), (1, true));
+    let gap = run
+        .q
+        .iter()
+        .zip(&honest.q)
+        .map(|(a, b)| (a - b).abs())
+        .fold(0.0, f64::max);
+    assert!(gap < 1e-12, "{gap:.2e}");
+}
