@@ -491,27 +491,59 @@ fn every_block_enters_the_banded_jacobian_as_in_the_const_generic_run() {
     }
 }
 
-/// The hand-written chain with a wrong promise: it claims a diagonal Hessian.
-struct ClaimsDiagonal(FputChain);
+/// A model with its promises about its Hessian changed: the bandwidth it states, and which
+/// entries of `L_xx` it lists (`lists(x, i, j)`; `L_xv`, `L_vv` are listed whole). Everything
+/// else is the model's.
+struct Altered<L> {
+    model: L,
+    bandwidth: Option<usize>,
+    lists: fn(&[f64], usize, usize) -> bool,
+}
 
-impl varembed::DynLagrangian for ClaimsDiagonal {
+impl<L: varembed::DynLagrangian> Altered<L> {
+    /// `model` stating `bandwidth`, every entry listed.
+    fn claiming(model: L, bandwidth: Option<usize>) -> Self {
+        Altered {
+            model,
+            bandwidth,
+            lists: |_, _, _| true,
+        }
+    }
+}
+
+impl<L: varembed::DynLagrangian> varembed::DynLagrangian for Altered<L> {
     fn dimension(&self) -> usize {
-        self.0.dimension()
+        self.model.dimension()
     }
     fn value(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
-        self.0.value(x, v, t)
+        self.model.value(x, v, t)
     }
     fn force(&self, x: &[f64], v: &[f64], t: f64, f: &mut [f64]) {
-        self.0.force(x, v, t, f)
+        self.model.force(x, v, t, f)
     }
     fn momentum(&self, x: &[f64], v: &[f64], t: f64, p: &mut [f64]) {
-        self.0.momentum(x, v, t, p)
+        self.model.momentum(x, v, t, p)
     }
     fn hessian(&self, x: &[f64], v: &[f64], t: f64, out: &mut varembed::SparseHessian) {
-        self.0.hessian(x, v, t, out)
+        let mut all = varembed::SparseHessian::new(self.dimension());
+        self.model.hessian(x, v, t, &mut all);
+        for &(i, j, value) in all.xx.entries() {
+            if (self.lists)(x, i, j) {
+                out.xx.add(i, j, value);
+            }
+        }
+        for &(i, j, value) in all.xv.entries() {
+            out.xv.add(i, j, value);
+        }
+        for &(i, j, value) in all.vv.entries() {
+            out.vv.add(i, j, value);
+        }
+    }
+    fn hessian_dependence(&self) -> varembed::HessianDependence {
+        self.model.hessian_dependence()
     }
     fn hessian_bandwidth(&self) -> Option<usize> {
-        Some(0)
+        self.bandwidth
     }
 }
 
@@ -531,7 +563,8 @@ fn a_wrong_bandwidth_claim_costs_a_reordering_never_the_answer() {
     let honest = DynProblem::new(&chain, grid, embedding)
         .solve_ivp(Scheme::Direct, &q0, &v0)
         .unwrap();
-    let wrong = ClaimsDiagonal(chain);
+    // The chain claiming a diagonal Hessian.
+    let wrong = Altered::claiming(chain, Some(0));
     assert_eq!(wrong.hessian_bandwidth(), Some(0));
     let run = DynProblem::new(&wrong, grid, embedding)
         .solve_ivp(Scheme::Direct, &q0, &v0)
@@ -546,35 +579,11 @@ fn a_wrong_bandwidth_claim_costs_a_reordering_never_the_answer() {
     assert!(gap < 1e-12, "{gap:.2e}");
 }
 
-/// A model with its bandwidth claim hidden: the solver orders it by reverse Cuthill–McKee and
-/// assembles the listed entries.
-struct NoClaim<L>(L);
-
-impl<L: varembed::DynLagrangian> varembed::DynLagrangian for NoClaim<L> {
-    fn dimension(&self) -> usize {
-        self.0.dimension()
-    }
-    fn value(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
-        self.0.value(x, v, t)
-    }
-    fn force(&self, x: &[f64], v: &[f64], t: f64, f: &mut [f64]) {
-        self.0.force(x, v, t, f)
-    }
-    fn momentum(&self, x: &[f64], v: &[f64], t: f64, p: &mut [f64]) {
-        self.0.momentum(x, v, t, p)
-    }
-    fn hessian(&self, x: &[f64], v: &[f64], t: f64, out: &mut varembed::SparseHessian) {
-        self.0.hessian(x, v, t, out)
-    }
-    fn hessian_dependence(&self) -> varembed::HessianDependence {
-        self.0.hessian_dependence()
-    }
-}
-
 #[test]
 fn the_listed_assembly_of_a_reordered_system_matches_the_const_generic_run() {
     let model = Coupled { a: 0.4 };
-    let hidden = NoClaim(Coupled { a: 0.4 });
+    // Its bandwidth claim hidden: ordered by reverse Cuthill–McKee, the listed entries assembled.
+    let hidden = Altered::claiming(Coupled { a: 0.4 }, None);
     let grid = Grid::new(0.0, 3.0, 60).unwrap();
     let q0 = displacement(COUPLED, 0.6);
     let v0: Vec<f64> = q0.iter().map(|q| 0.4 - q).collect();
@@ -640,38 +649,6 @@ fn a_constant_mass_matrix_is_factorised_once_and_gives_the_const_generic_nodes()
     }
 }
 
-/// The hand-written chain, listing an entry of its Hessian only where the state it couples is
-/// not at rest (`x_i ≠ 0` or `x_j ≠ 0`): a model whose pattern grows during the run. At rest
-/// at the start it lists only the diagonal.
-struct GrowingPattern(FputChain);
-
-impl varembed::DynLagrangian for GrowingPattern {
-    fn dimension(&self) -> usize {
-        self.0.dimension()
-    }
-    fn value(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
-        self.0.value(x, v, t)
-    }
-    fn force(&self, x: &[f64], v: &[f64], t: f64, f: &mut [f64]) {
-        self.0.force(x, v, t, f)
-    }
-    fn momentum(&self, x: &[f64], v: &[f64], t: f64, p: &mut [f64]) {
-        self.0.momentum(x, v, t, p)
-    }
-    fn hessian(&self, x: &[f64], v: &[f64], t: f64, out: &mut varembed::SparseHessian) {
-        let mut all = varembed::SparseHessian::new(self.dimension());
-        self.0.hessian(x, v, t, &mut all);
-        for &(i, j, value) in all.xx.entries() {
-            if i == j || x[i] != 0.0 || x[j] != 0.0 {
-                out.xx.add(i, j, value);
-            }
-        }
-        for &(i, j, value) in all.vv.entries() {
-            out.vv.add(i, j, value);
-        }
-    }
-}
-
 #[test]
 fn a_pattern_that_grows_mid_run_is_planned_again_and_reported() {
     let chain = FputChain {
@@ -686,7 +663,13 @@ fn a_pattern_that_grows_mid_run_is_planned_again_and_reported() {
     let honest = DynProblem::new(&chain, grid, embedding)
         .solve_ivp(Scheme::Direct, &q0, &v0)
         .unwrap();
-    let growing = GrowingPattern(chain);
+    // Listing an entry of `L_xx` only where the state it couples is not at rest: a pattern that
+    // grows during the run (at rest at the start, only the diagonal).
+    let growing = Altered {
+        model: chain,
+        bandwidth: None,
+        lists: |x, i, j| i == j || x[i] != 0.0 || x[j] != 0.0,
+    };
     let run = DynProblem::new(&growing, grid, embedding)
         .solve_ivp(Scheme::Direct, &q0, &v0)
         .unwrap();
