@@ -62,6 +62,17 @@ fn at_right(kind: StepKind) -> bool {
     )
 }
 
+/// Where the step evaluates on the interval `[u, w]` (times `t_u`, `t_w`), with the velocity
+/// `(w − u)/h`: at `(w, t_w)` `@right` (σ = −), at `(u, t_u)` `@left` (σ = +). The momentum
+/// reads it on `[a, b]`, the step equation on `[b, y]`.
+fn point<'a>(
+    kind: StepKind,
+    (u, w): (&'a [f64], &'a [f64]),
+    (t_u, t_w): (f64, f64),
+) -> (&'a [f64], f64) {
+    if at_right(kind) { (w, t_w) } else { (u, t_u) }
+}
+
 /// Whether the momentum is `p + h f` (otherwise `p`); the equation is then `p` (otherwise
 /// `p − h f`).
 fn momentum_has_force(kind: StepKind) -> bool {
@@ -191,11 +202,7 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         for ((v, a), b) in self.v.iter_mut().zip(a).zip(b) {
             *v = (b - a) * inv_h;
         }
-        let (x, t) = if at_right(self.kind) {
-            (b, t_b)
-        } else {
-            (a, t_a)
-        };
+        let (x, t) = point(self.kind, (a, b), (t_a, t_b));
         self.lagrangian.momentum(x, &self.v, t, pi);
         let terms = sample.then(|| {
             let vp = self.v.iter().zip(pi.iter()).map(|(v, p)| v * p).sum();
@@ -211,21 +218,15 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         terms
     }
 
-    /// `L` at the momentum's point of the step from `a`, `b`: with [`momentum`](Self::momentum)'s
-    /// `v·p`, the energy the blow-up guard samples.
+    /// `L` at the momentum's point of the step from `a`, `b`, right after
+    /// [`momentum`](Self::momentum) of the same step (whose velocity it reads): with its `v·p`,
+    /// the energy the blow-up guard samples.
     pub(crate) fn lagrangian_at_momentum_point(
-        &mut self,
-        (a, b): (&[f64], &[f64]),
-        (t_a, t_b): (f64, f64),
+        &self,
+        nodes: (&[f64], &[f64]),
+        times: (f64, f64),
     ) -> f64 {
-        let (x, t) = if at_right(self.kind) {
-            (b, t_b)
-        } else {
-            (a, t_a)
-        };
-        for ((v, a), b) in self.v.iter_mut().zip(a).zip(b) {
-            *v = (b - a) * self.inv_h;
-        }
+        let (x, t) = point(self.kind, nodes, times);
         self.lagrangian.value(x, &self.v, t)
     }
 
@@ -376,11 +377,7 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         for ((v, y), b) in self.v.iter_mut().zip(y).zip(b) {
             *v = (y - b) * inv_h;
         }
-        let (x, t) = if at_right(self.kind) {
-            (y, t_y)
-        } else {
-            (b, t_b)
-        };
+        let (x, t) = point(self.kind, (b, y), (t_b, t_y));
         let l = self.lagrangian;
         l.momentum(x, &self.v, t, &mut self.p);
         if momentum_has_force(self.kind) {
@@ -399,11 +396,7 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
     /// The blocks at the equation's point into `self.hessian`, after
     /// [`residual`](Self::residual) at the same `y` (whose velocity they read).
     fn read_blocks(&mut self, b: &[f64], (t_b, t_y): (f64, f64), y: &[f64]) {
-        let (x, t) = if at_right(self.kind) {
-            (y, t_y)
-        } else {
-            (b, t_b)
-        };
+        let (x, t) = point(self.kind, (b, y), (t_b, t_y));
         self.hessian.clear();
         self.lagrangian.hessian(x, &self.v, t, &mut self.hessian);
     }
