@@ -351,24 +351,8 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
                     add(i, j - 1, &(hk.xv * c));
                 }
             }
-            let b_entries: Vec<(usize, f64)> = match (scheme, self.embedding.kind()) {
-                (Scheme::Direct, EmbeddingKind::FiniteDifference) => self
-                    .velocity
-                    .row_entries(k)
-                    .map(|(m, c)| (m, sigma * c))
-                    .collect(),
-                (Scheme::Direct, _) => self
-                    .adjoint
-                    .row_entries(k)
-                    .map(|(m, c)| (m, -sigma * c))
-                    .collect(),
-                (Scheme::Variational, _) => self
-                    .velocity
-                    .column_entries(k)
-                    .map(|(m, c)| (m, -sigma * c))
-                    .collect(),
-            };
-            for (m, b) in b_entries {
+            let operators = (&self.velocity, &self.adjoint);
+            for (m, b) in self.embedding.momentum_row(scheme, operators, k) {
                 let hm = hess[m].as_ref().expect("B only reaches nodes of I_σ");
                 if unknown(m) {
                     add(i, m - 1, &(hm.xv.transpose() * b));

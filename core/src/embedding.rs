@@ -472,6 +472,35 @@ impl Embedding {
         self.operator(self.side.opposite(), grid)
     }
 
+    /// Row `k` of the operator `B` that brings the momenta into row `k` of `scheme`'s residual,
+    /// `f_k + Σ_m B[k, m] p_m`, as its entries `(m, B[k, m])`: `σ Δ_σ` for the direct
+    /// Gauss-FDEσ scheme, `−σ Δ_{−σ}` for the direct scheme of the other three-point embeddings,
+    /// `−σ Δ_σᵀ` for every variational scheme. `velocity` and `adjoint` are
+    /// [`velocity_operator`](Self::velocity_operator) and
+    /// [`adjoint_operator`](Self::adjoint_operator) on the grid.
+    pub(crate) fn momentum_row(
+        &self,
+        scheme: Scheme,
+        (velocity, adjoint): (&Operator, &Operator),
+        k: usize,
+    ) -> Vec<(usize, f64)> {
+        let sigma = self.side.sign();
+        match (scheme, self.kind) {
+            (Scheme::Direct, EmbeddingKind::FiniteDifference) => velocity
+                .row_entries(k)
+                .map(|(m, c)| (m, sigma * c))
+                .collect(),
+            (Scheme::Direct, _) => adjoint
+                .row_entries(k)
+                .map(|(m, c)| (m, -sigma * c))
+                .collect(),
+            (Scheme::Variational, _) => velocity
+                .column_entries(k)
+                .map(|(m, c)| (m, -sigma * c))
+                .collect(),
+        }
+    }
+
     fn operator(&self, side: Side, grid: &Grid) -> Operator {
         match self.kind {
             EmbeddingKind::GrunwaldLetnikov { alpha } => {

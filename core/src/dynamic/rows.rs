@@ -145,28 +145,22 @@ impl<'a, L: DynLagrangian + ?Sized> DynRows<'a, L> {
 
     /// The residual rows from `f` and `p`, as the const-generic discretisation sums them.
     fn residual(&self, values: &mut CurveValues) {
-        let (d, sigma) = (self.d, self.sigma());
+        let d = self.d;
         let CurveValues { f, p, r, .. } = values;
         let mut acc = vec![0.0; d];
         for (i, k) in self.rows().enumerate() {
             acc.fill(0.0);
-            // The operator applied to p: its entries of row k, or of column k for Dᵀ.
-            let (entries, sign): (Vec<(usize, f64)>, f64) =
-                match (self.scheme, self.embedding.kind()) {
-                    (Scheme::Direct, EmbeddingKind::FiniteDifference) => {
-                        (self.velocity.row_entries(k).collect(), sigma)
-                    }
-                    (Scheme::Direct, _) => (self.adjoint.row_entries(k).collect(), -sigma),
-                    (Scheme::Variational, _) => (self.velocity.column_entries(k).collect(), -sigma),
-                };
-            for (m, c) in entries {
+            // B p: the momenta's entries of row k (signs included; ±1 is exact, so this sums
+            // what the const-generic discretisation sums).
+            let operators = (&self.velocity, &self.adjoint);
+            for (m, c) in self.embedding.momentum_row(self.scheme, operators, k) {
                 for (acc, p) in acc.iter_mut().zip(&p[m * d..(m + 1) * d]) {
                     *acc += p * c;
                 }
             }
             let row = &mut r[i * d..(i + 1) * d];
             for ((r, f), acc) in row.iter_mut().zip(&f[k * d..(k + 1) * d]).zip(&acc) {
-                *r = f + acc * sign;
+                *r = f + acc;
             }
         }
     }
@@ -190,24 +184,8 @@ impl<'a, L: DynLagrangian + ?Sized> DynRows<'a, L> {
                 out.push((k, Part::Xv, j, c));
             }
         }
-        let b_entries: Vec<(usize, f64)> = match (self.scheme, self.embedding.kind()) {
-            (Scheme::Direct, EmbeddingKind::FiniteDifference) => self
-                .velocity
-                .row_entries(k)
-                .map(|(m, c)| (m, sigma * c))
-                .collect(),
-            (Scheme::Direct, _) => self
-                .adjoint
-                .row_entries(k)
-                .map(|(m, c)| (m, -sigma * c))
-                .collect(),
-            (Scheme::Variational, _) => self
-                .velocity
-                .column_entries(k)
-                .map(|(m, c)| (m, -sigma * c))
-                .collect(),
-        };
-        for (m, b) in b_entries {
+        let operators = (&self.velocity, &self.adjoint);
+        for (m, b) in self.embedding.momentum_row(self.scheme, operators, k) {
             if unknown(m) {
                 out.push((m, Part::Vx, m, b));
             }
