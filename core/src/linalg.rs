@@ -4,6 +4,10 @@
 
 use crate::lagrangian::{Matrix, Vector};
 
+mod tridiagonal;
+
+pub use tridiagonal::TridiagonalMatrix;
+
 /// Max-norm of a list of points.
 pub fn max_norm<const D: usize>(x: &[Vector<D>]) -> f64 {
     x.iter().fold(0.0, |m, v| m.max(v.amax()))
@@ -99,17 +103,6 @@ impl BandedMatrix {
     /// iteration).
     pub fn clear(&mut self) {
         self.data.fill(0.0);
-    }
-
-    /// The smallest over the largest absolute diagonal entry of `U` after
-    /// [`factorize`](Self::factorize): the scale-free pivot ratio the degeneracy checks read.
-    pub fn pivot_ratio(&self) -> f64 {
-        let (lo, hi) = (0..self.n)
-            .map(|i| self.data[self.slot(i, i)].abs())
-            .fold((f64::INFINITY, 0.0f64), |(lo, hi), u| {
-                (lo.min(u), hi.max(u))
-            });
-        if hi > 0.0 { lo / hi } else { 0.0 }
     }
 
     /// Row `i` of the storage: columns `i − kl ..= i + kl + ku` at offsets `0 ..= 2kl + ku`
@@ -289,6 +282,13 @@ pub struct BandNorms {
 }
 
 impl BandNorms {
+    /// The norms of a matrix with an entry that is not finite.
+    pub const NOT_FINITE: BandNorms = BandNorms {
+        inf: f64::NAN,
+        largest: f64::NAN,
+        finite: false,
+    };
+
     /// Whether every entry of the matrix is finite.
     pub fn is_finite(&self) -> bool {
         self.finite

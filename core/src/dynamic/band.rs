@@ -10,9 +10,12 @@
 //! nonzero, or a wrong claim) makes the caller plan again from the new pattern: a wrong
 //! claim costs speed, never the answer.
 //!
+//! A band of half-width 1 (a chain's Jacobian) is stored as three diagonals and factorised
+//! by the tridiagonal LU, which gives the band LU's factors without its index arithmetic.
+//!
 //! [`DynLagrangian::hessian_bandwidth`]: super::DynLagrangian::hessian_bandwidth
 
-use crate::linalg::{BandNorms, BandedMatrix};
+use crate::linalg::{BandNorms, BandedMatrix, TridiagonalMatrix};
 
 use super::sparse::SparseBlock;
 
@@ -25,9 +28,16 @@ pub(crate) struct BandSystem {
     /// `position[i]`: where unknown `i` sits in the band order (`None`: the identity).
     position: Option<Vec<usize>>,
     band: usize,
-    matrix: BandedMatrix,
+    matrix: Storage,
     /// The right-hand side in band order.
     scratch: Vec<f64>,
+}
+
+/// The matrix of a [`BandSystem`]: three diagonals for a half-width of at most 1, rows of the
+/// band otherwise.
+enum Storage {
+    Tridiagonal(TridiagonalMatrix),
+    Band(BandedMatrix),
 }
 
 impl BandSystem {
@@ -55,7 +65,11 @@ impl BandSystem {
         BandSystem {
             position,
             band,
-            matrix: BandedMatrix::zeros(d, band, band),
+            matrix: if band <= 1 {
+                Storage::Tridiagonal(TridiagonalMatrix::zeros(d))
+            } else {
+                Storage::Band(BandedMatrix::zeros(d, band, band))
+            },
             scratch: vec![0.0; d],
         }
     }
@@ -72,7 +86,10 @@ impl BandSystem {
 
     /// Sets the matrix to zero.
     pub(crate) fn clear(&mut self) {
-        self.matrix.clear();
+        match &mut self.matrix {
+            Storage::Tridiagonal(m) => m.clear(),
+            Storage::Band(m) => m.clear(),
+        }
     }
 
     /// Adds `value` to entry `(i, j)` (in the model's order).
@@ -85,7 +102,10 @@ impl BandSystem {
         if i.abs_diff(j) > self.band {
             return Err(OutsideBand);
         }
-        self.matrix.add(i, j, value);
+        match &mut self.matrix {
+            Storage::Tridiagonal(m) => m.add(i, j, value),
+            Storage::Band(m) => m.add(i, j, value),
+        }
         Ok(())
     }
 
@@ -103,32 +123,15 @@ impl BandSystem {
             return Err(OutsideBand);
         }
         let b = self.band;
-        let width = 2 * b + 1;
         let terms = [
             band_of(b, plain[0])?,
             band_of(b, plain[1])?,
             band_of(b, plain[2])?,
         ];
         let transposed_band = band_of(b, transposed)?;
-        let d = self.matrix.order();
-        for i in 0..d {
-            let row = self.matrix.row_mut(i);
-            row.fill(0.0);
-            let head = &mut row[..width];
-            for (c, values) in terms.iter().flatten() {
-                for (a, x) in head.iter_mut().zip(&values[i * width..(i + 1) * width]) {
-                    *a += c * x;
-                }
-            }
-            if let Some((c, values)) = transposed_band {
-                // Entry (i, j) of Bᵀ is B(j, i), at offset i + b − j of row j.
-                for (o, a) in head.iter_mut().enumerate() {
-                    let Some(j) = (i + o).checked_sub(b).filter(|&j| j < d) else {
-                        continue;
-                    };
-                    *a += c * values[j * width + 2 * b - o];
-                }
-            }
+        match &mut self.matrix {
+            Storage::Tridiagonal(m) => set_diagonals(m, b, &terms, transposed_band),
+            Storage::Band(m) => set_rows(m, b, &terms, transposed_band),
         }
         for (c, block) in plain {
             if c != 0.0 {
@@ -146,40 +149,54 @@ impl BandSystem {
         Ok(())
     }
 
-    /// `‖A‖∞` and the largest entry (before [`factorize`](Self::factorize)), from one pass.
-    pub(crate) fn norms(&self) -> BandNorms {
-        self.matrix.norms()
-    }
-
     /// Factorises in place; `false` when singular or not finite.
     pub(crate) fn factorize(&mut self) -> bool {
-        self.matrix.factorize().is_ok()
+        self.factorize_measured().1
     }
 
-    /// [`factorize`](Self::factorize) with the norms already measured.
-    pub(crate) fn factorize_scaled(&mut self, norms: &BandNorms) -> bool {
-        norms.is_finite() && self.matrix.factorize_scaled(norms.largest).is_ok()
+    /// Factorises in place and returns the norms of the matrix as it was (`‖A‖∞` for the
+    /// round-off floor of Newton's stopping rule), and whether it is regular: finite, with no
+    /// pivot at or below `1e-14` times its largest entry. The tridiagonal LU measures on its
+    /// way through the rows; a wider band takes one pass first.
+    pub(crate) fn factorize_measured(&mut self) -> (BandNorms, bool) {
+        match &mut self.matrix {
+            Storage::Tridiagonal(m) => m.factorize_measured(),
+            Storage::Band(m) => {
+                let norms = m.norms();
+                let regular = norms.is_finite() && m.factorize_scaled(norms.largest).is_ok();
+                (norms, regular)
+            }
+        }
     }
 
-    /// The pivot ratio of the factors (see [`BandedMatrix::pivot_ratio`]).
+    /// The smallest over the largest pivot of the factors: the scale-free ratio the
+    /// degeneracy checks read (0 when every pivot is 0).
     pub(crate) fn pivot_ratio(&self) -> f64 {
-        self.matrix.pivot_ratio()
+        let (lo, hi) = self.pivot_range();
+        if hi > 0.0 { lo / hi } else { 0.0 }
     }
 
     /// The smallest and largest pivot of the factors (see [`BandedMatrix::pivot_range`]).
     pub(crate) fn pivot_range(&self) -> (f64, f64) {
-        self.matrix.pivot_range()
+        match &self.matrix {
+            Storage::Tridiagonal(m) => m.pivot_range(),
+            Storage::Band(m) => m.pivot_range(),
+        }
     }
 
     /// Solves `A z = r` with the factors, `z` overwriting `r`.
     pub(crate) fn solve_in_place(&mut self, r: &mut [f64]) {
+        let solve = |matrix: &Storage, r: &mut [f64]| match matrix {
+            Storage::Tridiagonal(m) => m.solve_inplace(r),
+            Storage::Band(m) => m.solve_inplace(r),
+        };
         match &self.position {
-            None => self.matrix.solve_inplace(r),
+            None => solve(&self.matrix, r),
             Some(p) => {
                 for (i, &pi) in p.iter().enumerate() {
                     self.scratch[pi] = r[i];
                 }
-                self.matrix.solve_inplace(&mut self.scratch);
+                solve(&self.matrix, &mut self.scratch);
                 for (i, &pi) in p.iter().enumerate() {
                     r[i] = self.scratch[pi];
                 }
@@ -188,12 +205,78 @@ impl BandSystem {
     }
 }
 
+/// A block's band storage scaled by `c` (entry `(i, j)` at `i (2b + 1) + j + b − i`), one
+/// term of [`BandSystem::set_from_bands`].
+type Term<'a> = Option<(f64, &'a [f64])>;
+
+/// `Σ c_k B_k + c_t B_tᵀ` into the rows of a band matrix of half-width `b`.
+fn set_rows(matrix: &mut BandedMatrix, b: usize, plain: &[Term<'_>; 3], transposed: Term<'_>) {
+    let width = 2 * b + 1;
+    let d = matrix.order();
+    for i in 0..d {
+        let row = matrix.row_mut(i);
+        row.fill(0.0);
+        let head = &mut row[..width];
+        for (c, values) in plain.iter().flatten() {
+            for (a, x) in head.iter_mut().zip(&values[i * width..(i + 1) * width]) {
+                *a += c * x;
+            }
+        }
+        if let Some((c, values)) = transposed {
+            // Entry (i, j) of Bᵀ is B(j, i), at offset i + b − j of row j.
+            for (o, a) in head.iter_mut().enumerate() {
+                let Some(j) = (i + o).checked_sub(b).filter(|&j| j < d) else {
+                    continue;
+                };
+                *a += c * values[j * width + 2 * b - o];
+            }
+        }
+    }
+}
+
+/// `Σ c_k B_k + c_t B_tᵀ` into the three diagonals of a matrix of half-width `b ≤ 1`, one
+/// diagonal at a time. In the blocks' storage (rows of `2b + 1`), `B(i, i)` sits at
+/// `i w + b`, `B(i, i + 1)` at `i w + b + 1` and `B(i + 1, i)` at `(i + 1) w + b − 1`; `Bᵀ`
+/// exchanges the last two.
+fn set_diagonals(
+    matrix: &mut TridiagonalMatrix,
+    b: usize,
+    plain: &[Term<'_>; 3],
+    transposed: Term<'_>,
+) {
+    let w = 2 * b + 1;
+    let (lower, diagonal, upper) = matrix.diagonals_mut();
+    lower.fill(0.0);
+    diagonal.fill(0.0);
+    upper.fill(0.0);
+    let terms = plain.iter().flatten().map(|&t| (t, false));
+    for ((c, values), transpose) in terms.chain(transposed.map(|t| (t, true))) {
+        for (a, row) in diagonal.iter_mut().zip(values.chunks_exact(w)) {
+            *a += c * row[b];
+        }
+        if b == 0 {
+            continue;
+        }
+        // Row i + 1's entry before its diagonal, and row i's entry after it.
+        let below = values[w..].chunks_exact(w).map(|row| row[0]);
+        let above = values.chunks_exact(w).map(|row| row[2]);
+        let (below_into, above_into) = if transpose {
+            (upper.iter_mut(), lower.iter_mut())
+        } else {
+            (lower.iter_mut(), upper.iter_mut())
+        };
+        for (a, x) in below_into.zip(below) {
+            *a += c * x;
+        }
+        for (a, x) in above_into.zip(above) {
+            *a += c * x;
+        }
+    }
+}
+
 /// A term `c B` of [`BandSystem::set_from_bands`]: `B`'s band storage when it has one of
 /// half-width `b` and `c ≠ 0`; `None` for nothing to add; `Err` for a band of another width.
-fn band_of(
-    b: usize,
-    (c, block): (f64, &SparseBlock),
-) -> Result<Option<(f64, &[f64])>, OutsideBand> {
+fn band_of(b: usize, (c, block): (f64, &SparseBlock)) -> Result<Term<'_>, OutsideBand> {
     match block.band() {
         _ if c == 0.0 => Ok(None),
         None => Ok(None),

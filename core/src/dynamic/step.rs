@@ -8,6 +8,7 @@
 //! [`BandSystem`]. Every buffer is allocated once per run.
 
 use crate::error::{Error, Location, Result};
+use crate::linalg::BandNorms;
 use crate::options::NewtonOptions;
 use crate::solve::newton::at_round_off;
 use crate::step::{StepKind, is_affine, jacobian_is_constant};
@@ -277,11 +278,7 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
             Update::Constant if self.factored => self.system.solve_in_place(&mut self.r),
             _ => {
                 self.read_blocks(b, times, y);
-                if self.assemble(Location::Step(n)).is_err() {
-                    return false;
-                }
-                let norms = self.system.norms();
-                if !self.system.factorize_scaled(&norms) {
+                if self.assemble(Location::Step(n)).is_err() || !self.system.factorize() {
                     return false;
                 }
                 self.factored = true;
@@ -317,13 +314,7 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
             self.residual(b, pi, times, y);
             let previous = residual;
             // NaN when an entry is: one pass both measures and checks.
-            residual = self.r.iter().fold(0.0, |m, c| {
-                if c.abs() > m || c.is_nan() {
-                    c.abs()
-                } else {
-                    m
-                }
-            });
+            residual = max_norm(&self.r);
             if residual.is_finite() && iteration > 0 && residual <= options.tolerance * scale {
                 // Converged after a step from an iterate whose Jacobian was factorised (and
                 // regular): the converged iterate is `O(|δ|)` from it, so its Jacobian is not
@@ -335,18 +326,22 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
                 self.read_blocks(b, times, y);
             }
             let assembled = residual.is_finite() && self.assemble(at).is_ok();
-            let norms = self.system.norms();
-            let j_norm = norms.inf * self.inv_h;
-            if !assembled || !norms.is_finite() {
+            let (norms, regular) = if assembled {
+                self.system.factorize_measured()
+            } else {
+                (BandNorms::NOT_FINITE, false)
+            };
+            if !norms.is_finite() {
                 return Err(if iteration == 0 {
                     Error::NotFinite { at }
                 } else {
                     diverged(iteration, previous)
                 });
             }
+            let j_norm = norms.inf * self.inv_h;
             let converged = residual <= options.tolerance * scale
                 || at_round_off(residual, previous, j_norm, max_norm(y));
-            if !self.system.factorize_scaled(&norms) {
+            if !regular {
                 return Err(if iteration == 0 || converged {
                     Error::SingularJacobian { at }
                 } else {
@@ -360,10 +355,13 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
                 break;
             }
             self.system.solve_in_place(&mut self.r);
+            // `0 · c` is ±0 for a finite `c` and NaN otherwise: one branch-free test per entry.
+            let mut not_finite = 0.0;
             for (y, z) in y.iter_mut().zip(&self.r) {
                 *y -= self.h * z;
+                not_finite += *y * 0.0;
             }
-            if !y.iter().all(|c| c.is_finite()) {
+            if not_finite != 0.0 {
                 return Err(diverged(iteration + 1, residual));
             }
         }
@@ -490,7 +488,50 @@ fn scaled_jacobian_is_identity(kind: StepKind, h: f64, hessian: &SparseHessian) 
         && (!xx_enters || others_zero(&hessian.xx))
 }
 
-/// Max-norm of a slice.
+/// Max-norm of a slice; NaN when an entry is NaN.
+///
+/// Four running maxima over interleaved entries, so that each comparison waits on the one
+/// four entries back rather than on the last (a single running maximum is a chain of
+/// dependent comparisons, the slowest pass of a Newton iteration on a chain).
 pub(crate) fn max_norm(x: &[f64]) -> f64 {
-    x.iter().fold(0.0, |m, c| m.max(c.abs()))
+    let mut lanes = [0.0f64; 4];
+    let mut nan = false;
+    let mut chunks = x.chunks_exact(4);
+    for chunk in &mut chunks {
+        for (m, c) in lanes.iter_mut().zip(chunk) {
+            let a = c.abs();
+            *m = if a > *m { a } else { *m };
+            nan |= a.is_nan();
+        }
+    }
+    for (m, c) in lanes.iter_mut().zip(chunks.remainder()) {
+        let a = c.abs();
+        *m = if a > *m { a } else { *m };
+        nan |= a.is_nan();
+    }
+    if nan {
+        f64::NAN
+    } else {
+        lanes.into_iter().fold(0.0, f64::max)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::max_norm;
+
+    #[test]
+    fn max_norm_is_the_largest_magnitude_and_nan_anywhere_shows() {
+        for n in 0..11 {
+            let x: Vec<f64> = (0..n).map(|i| ((i * 37 % 11) as f64 - 5.3) * 1.7).collect();
+            let expected = x.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+            assert_eq!(max_norm(&x), expected, "n = {n}");
+            for k in 0..n {
+                let mut with_nan = x.clone();
+                with_nan[k] = f64::NAN;
+                assert!(max_norm(&with_nan).is_nan(), "NaN at {k} of {n}");
+            }
+        }
+        assert_eq!(max_norm(&[1.0, f64::NEG_INFINITY]), f64::INFINITY);
+    }
 }
