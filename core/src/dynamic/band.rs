@@ -169,6 +169,20 @@ impl BandSystem {
         }
     }
 
+    /// [`factorize_measured`](Self::factorize_measured), and when the matrix is regular, the
+    /// solution `z` of `A z = r` in place of `r` (a Newton iteration's solve: the tridiagonal
+    /// LU substitutes forward during its elimination).
+    pub(crate) fn factorize_solving(&mut self, r: &mut [f64]) -> (BandNorms, bool) {
+        if let (Storage::Tridiagonal(m), None) = (&mut self.matrix, &self.position) {
+            return m.factorize_solving(r);
+        }
+        let (norms, regular) = self.factorize_measured();
+        if regular {
+            self.solve_in_place(r);
+        }
+        (norms, regular)
+    }
+
     /// The smallest over the largest pivot of the factors: the scale-free ratio the
     /// degeneracy checks read (0 when every pivot is 0).
     pub(crate) fn pivot_ratio(&self) -> f64 {
