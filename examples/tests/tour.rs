@@ -203,7 +203,9 @@ fn report_orders_are_the_comparisons_orders_and_each_grid_is_solved_once() {
     let (legendre, second_order) = (&runs.tables[0], runs.tables.last().expect("tables"));
     assert_eq!(legendre.0, Start::Legendre);
     assert_eq!(second_order.0, Start::SecondOrder);
-    let solved = |table: &Result<Comparison<1>, String>| table.clone().expect("the table solves");
+    let solved = |table: &Result<Comparison<varembed::Solution<1>>, String>| {
+        table.clone().expect("the table solves")
+    };
     let (legendre, second_order) = (solved(&legendre.1), solved(&second_order.1));
     let checks = [
         (&legendre.direct, "direct FDE−", &report.tables[0]),

@@ -64,7 +64,7 @@ pub struct DynProblem<'l, L: ?Sized> {
     pub(crate) grid: Grid,
     pub(crate) embedding: Embedding,
     pub(crate) newton: NewtonOptions,
-    blow_up_guard: bool,
+    pub(crate) blow_up_guard: bool,
 }
 
 /// The stored nodes of a run of a [`DynProblem`]: `Q_k` for `k` in [`indices`](Self::indices),
