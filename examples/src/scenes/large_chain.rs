@@ -261,7 +261,7 @@ pub fn sweep_line(
 }
 
 /// The library's comparison of the two Gauss-FDE− schemes at `d` particles with `n` steps on
-/// `[0, SWEEP_END]` from [`initial_data`]: errors against Runge–Kutta 4 ([`reference`]) with
+/// `[0, SWEEP_END]` from [`initial_data`]: errors against Runge–Kutta 4 ([`reference()`]) with
 /// four steps between the nodes of the `4n` grid, so `h/16`, and read at every node of the
 /// grids of the order (`n`, `2n`, `4n`).
 pub fn comparison(d: usize, n: usize) -> varembed::Result<Comparison<DynSolution>> {
