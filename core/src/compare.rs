@@ -280,8 +280,9 @@ pub struct Comparison<S> {
 
 /// What a comparison needs of a problem of either path: its grid and embedding, whether its
 /// flow conserves the energy, and the energy and a scheme's residual on a solution.
-/// [`Problem`](crate::Problem) implements it (its comparisons in `problem/comparisons.rs`),
-/// and so does [`DynProblem`](crate::DynProblem) (in `compare/dyn_problem.rs`).
+/// A private view of [`Problem`](crate::Problem) implements it (its comparisons in
+/// `problem/comparisons.rs`), and one of [`DynProblem`](crate::DynProblem) (in
+/// `compare/dyn_problem.rs`).
 pub(crate) trait Compares {
     /// The solutions it compares.
     type Solution: ComparedSolution;

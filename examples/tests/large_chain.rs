@@ -89,13 +89,7 @@ fn the_variational_run_is_a_hand_written_stormer_verlet_loop() {
     assert_eq!(nodes.len(), steps + 1);
     assert_eq!(run.newton_iterations, 0, "explicit");
 
-    let mut by_hand = vec![q0.clone(), (0..d).map(|i| q0[i] + h * v0[i]).collect()];
-    for n in 2..=steps {
-        let (a, b) = (&by_hand[n - 2], &by_hand[n - 1]);
-        let f = force(b);
-        let next = (0..d).map(|i| 2.0 * b[i] - a[i] + h * h * f[i]).collect();
-        by_hand.push(next);
-    }
+    let by_hand = stormer_verlet(&q0, &v0, h, steps);
     for (n, (lib, hand)) in nodes.iter().zip(&by_hand).enumerate() {
         let gap = max_gap(lib, hand);
         assert!(gap <= 1e-12, "node {n}: {gap:e}");

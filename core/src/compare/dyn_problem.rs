@@ -18,19 +18,23 @@ use crate::solve::start::Start;
 
 use super::convergence::Convergence;
 
-impl<L: DynLagrangian + ?Sized> Compares for DynProblem<'_, L> {
+/// A problem as the comparison sees it (a private type, so that what the comparison needs is
+/// no part of `DynProblem`'s public interface).
+struct Comparer<'p, 'l, L: ?Sized>(&'p DynProblem<'l, L>);
+
+impl<L: DynLagrangian + ?Sized> Compares for Comparer<'_, '_, L> {
     type Solution = DynSolution;
 
     fn grid(&self) -> Grid {
-        self.grid
+        self.0.grid
     }
 
     fn embedding(&self) -> Embedding {
-        self.embedding
+        self.0.embedding
     }
 
     fn depends_on_t(&self) -> bool {
-        self.lagrangian.dependence().t
+        self.0.lagrangian.dependence().t
     }
 
     /// One evaluation of `scheme`'s rows gives both: the rows need `V` and `p = ∂L/∂v` at the
@@ -40,8 +44,14 @@ impl<L: DynLagrangian + ?Sized> Compares for DynProblem<'_, L> {
         scheme: Scheme,
         solution: &DynSolution,
     ) -> Result<(Vec<f64>, f64)> {
-        let rows = DynRows::new(self.lagrangian, self.grid, self.embedding, scheme)?;
-        let (n, d) = (self.grid.n(), rows.d);
+        let DynProblem {
+            lagrangian,
+            grid,
+            embedding,
+            ..
+        } = *self.0;
+        let rows = DynRows::new(lagrangian, grid, embedding, scheme)?;
+        let (n, d) = (grid.n(), rows.d);
         check_len("discrete curve Q", (n + 1) * d, solution.q.len())?;
         let mut values = CurveValues::zeros(n, d);
         rows.evaluate(&solution.q, &mut values)?;
@@ -50,7 +60,7 @@ impl<L: DynLagrangian + ?Sized> Compares for DynProblem<'_, L> {
             .map(|k| {
                 let at = k * d..(k + 1) * d;
                 let (x, v) = (&solution.q[at.clone()], &values.v[at]);
-                self.lagrangian.energy(x, v, self.grid.t(k))
+                lagrangian.energy(x, v, grid.t(k))
             })
             .collect();
         Ok((energy, max_norm(&values.r)))
@@ -151,7 +161,7 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
         options: &CompareOptions<'_, Vec<f64>>,
     ) -> Result<Comparison<DynSolution>> {
         compare(
-            self,
+            &Comparer(self),
             |scheme, levels| self.convergence_ivp(scheme, q0, v0, options, levels),
             options,
         )
@@ -212,7 +222,7 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
         options: &CompareOptions<'_, Vec<f64>>,
     ) -> Result<Comparison<DynSolution>> {
         compare(
-            self,
+            &Comparer(self),
             |scheme, levels| self.convergence_bvp(scheme, qa, qb, options, levels),
             options,
         )
@@ -337,6 +347,6 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
         direct: &Convergence<DynSolution>,
         variational: &Convergence<DynSolution>,
     ) -> Result<Comparison<DynSolution>> {
-        compare_runs(self, direct, variational)
+        compare_runs(&Comparer(self), direct, variational)
     }
 }

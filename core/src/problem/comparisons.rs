@@ -14,19 +14,23 @@ use crate::solve::bvp;
 use crate::solve::ivp::Ivp;
 use crate::solve::solution::Solution;
 
-impl<L: Lagrangian<D> + ?Sized, const D: usize> Compares for Problem<'_, L, D> {
+/// A problem as the comparison sees it (a private type, so that what the comparison needs is
+/// no part of `Problem`'s public interface).
+struct Comparer<'p, 'l, L: ?Sized, const D: usize>(&'p Problem<'l, L, D>);
+
+impl<L: Lagrangian<D> + ?Sized, const D: usize> Compares for Comparer<'_, '_, L, D> {
     type Solution = Solution<D>;
 
     fn grid(&self) -> Grid {
-        *self.discretisation.grid()
+        *self.0.discretisation.grid()
     }
 
     fn embedding(&self) -> Embedding {
-        *self.discretisation.embedding()
+        *self.0.discretisation.embedding()
     }
 
     fn depends_on_t(&self) -> bool {
-        self.discretisation.lagrangian().dependence().t
+        self.0.discretisation.lagrangian().dependence().t
     }
 
     fn energy_and_residual(
@@ -34,8 +38,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Compares for Problem<'_, L, D> {
         scheme: Scheme,
         solution: &Solution<D>,
     ) -> Result<(Vec<f64>, f64)> {
-        let energy = self.discretisation.energy(&solution.q)?;
-        let residual = self.discretisation.residual(scheme, &solution.q)?;
+        let energy = self.0.discretisation.energy(&solution.q)?;
+        let residual = self.0.discretisation.residual(scheme, &solution.q)?;
         Ok((energy, max_norm(&residual)))
     }
 }
@@ -97,7 +101,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     ) -> Result<Comparison<Solution<D>>> {
         let (q0, v0) = (q0.into_vector(), v0.into_vector());
         compare::compare(
-            self,
+            &Comparer(self),
             |scheme, levels| self.convergence_ivp(scheme, q0, v0, options, levels),
             options,
         )
@@ -146,7 +150,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     ) -> Result<Comparison<Solution<D>>> {
         let (qa, qb) = (qa.into_vector(), qb.into_vector());
         compare::compare(
-            self,
+            &Comparer(self),
             |scheme, levels| self.convergence_bvp(scheme, qa, qb, options, levels),
             options,
         )
@@ -182,7 +186,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         let (q0, v0) = (q0.into_vector(), v0.into_vector());
         let solve =
             self.on_grid(|d| Ivp::new(d, &self.options).solve(scheme, q0, v0, options.start));
-        let grid = Compares::grid(self);
+        let grid = *self.discretisation.grid();
         compare::convergence(
             "initial value problem",
             scheme,
@@ -221,7 +225,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             let guess = bvp::straight_line(qa, qb, d.grid().n());
             bvp::solve(d, &self.options, scheme, &guess)
         });
-        let grid = Compares::grid(self);
+        let grid = *self.discretisation.grid();
         compare::convergence(
             "boundary value problem",
             scheme,
@@ -257,6 +261,6 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         direct: &Convergence<Solution<D>>,
         variational: &Convergence<Solution<D>>,
     ) -> Result<Comparison<Solution<D>>> {
-        compare::compare_runs(self, direct, variational)
+        compare::compare_runs(&Comparer(self), direct, variational)
     }
 }
