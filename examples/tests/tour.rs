@@ -58,7 +58,8 @@ fn quick_tour_writes_a_complete_finite_report() {
     );
 
     // The large chain's energy figure: the direct scheme ends below its start, the
-    // variational one near it; its table has one row per size.
+    // variational one near it; its scaling table has one row per size, and its second table
+    // is the library's comparison of the run-time model.
     let chain = reports.iter().find(|s| s.name == large_chain::NAME);
     let chain = chain.expect("the large chain");
     let energy = chain
@@ -72,7 +73,14 @@ fn quick_tour_writes_a_complete_finite_report() {
     };
     assert!(last("direct") < 0.99, "{}", last("direct"));
     assert!((last("variational") - 1.0).abs() < 0.01);
-    assert_eq!(chain.tables.len(), 1);
+    assert_eq!(chain.tables.len(), 2);
+    let compared = &chain.tables[1];
+    assert!(
+        compared.contains("initial value problem under Gauss-FDE−, N = 400")
+            && compared.contains("Runge–Kutta 4 at h/16")
+            && compared.contains("  variational "),
+        "{compared}"
+    );
     for d in [64, 128, 256] {
         assert!(
             chain.tables[0].contains(&format!("\n  {d:>5} ")),

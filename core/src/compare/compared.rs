@@ -111,19 +111,19 @@ impl<const D: usize> ComparedSolution for Solution<D> {
     }
 }
 
-impl DynSolution {
-    /// `max_k |A_k − B_{k·s}|∞` over the stored nodes of `self`, node `j` of `self` against
-    /// node `j s` of `other`.
-    fn flat_distance(&self, other: &Self, s: usize) -> f64 {
-        (0..self.len())
-            .map(|j| {
-                self.node(j)
-                    .iter()
-                    .zip(other.node(j * s))
-                    .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
-            })
-            .fold(0.0, f64::max)
-    }
+/// `|x − y|∞` of two nodes.
+fn gap(x: &[f64], y: &[f64]) -> f64 {
+    x.iter()
+        .zip(y)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
+}
+
+/// `max_j |A_j − B_{j·s}|∞` over the stored nodes `A_j` of `a`, node `j` of `a` against node
+/// `j s` of `b`.
+fn flat_distance(a: &DynSolution, b: &DynSolution, s: usize) -> f64 {
+    (0..a.len())
+        .map(|j| gap(a.node(j), b.node(j * s)))
+        .fold(0.0, f64::max)
 }
 
 impl ComparedSolution for DynSolution {
@@ -155,19 +155,13 @@ impl ComparedSolution for DynSolution {
         self.indices
             .iter()
             .enumerate()
-            .map(|(j, &k)| {
-                let exact = reference(self.run.grid.t(k));
-                self.node(j)
-                    .iter()
-                    .zip(&exact)
-                    .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()))
-            })
+            .map(|(j, &k)| gap(self.node(j), &reference(self.run.grid.t(k))))
             .fold(0.0, f64::max)
     }
 
     fn distance_to(&self, other: &Self) -> Option<f64> {
         (self.indices == other.indices && self.dimension == other.dimension)
-            .then(|| self.flat_distance(other, 1))
+            .then(|| flat_distance(self, other, 1))
     }
 
     fn distance_on_coarse_nodes(&self, fine: &Self) -> Option<f64> {
@@ -176,6 +170,6 @@ impl ComparedSolution for DynSolution {
             return None;
         }
         let s = stride(self.len(), fine.len())?;
-        Some(self.flat_distance(fine, s))
+        Some(flat_distance(self, fine, s))
     }
 }
