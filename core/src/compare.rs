@@ -24,24 +24,27 @@
 //!
 //! The table prints, besides the numbers, a legend of its columns
 //! ([`Comparison::legend`]), and renders as markdown too ([`Comparison::to_markdown`]).
+//!
+//! One comparison serves both paths: the reports are generic over the solution
+//! ([`ComparedSolution`]: [`Solution<D>`](crate::Solution) of a [`Problem`](crate::Problem),
+//! [`DynSolution`](crate::DynSolution) of a [`DynProblem`](crate::DynProblem)), the options
+//! over the value of the reference curve (`Vector<D>`, `Vec<f64>`), and the columns are
+//! computed and printed by the same code.
 
-use crate::discretisation::Discretisation;
-use crate::embedding::Scheme;
+use crate::embedding::{Embedding, Scheme};
 use crate::error::{Error, Result};
 use crate::grid::Grid;
-use crate::lagrangian::{Lagrangian, Vector};
-use crate::linalg::max_norm;
-use crate::options::SolverOptions;
-use crate::solve::bvp;
-use crate::solve::ivp::Ivp;
-use crate::solve::solution::Solution;
+use crate::lagrangian::Vector;
 use crate::solve::start::Start;
 use std::time::{Duration, Instant};
 
+pub(crate) mod compared;
 pub(crate) mod convergence;
+mod dyn_problem;
 pub(crate) mod order;
 mod table;
 
+use compared::ComparedSolution;
 use convergence::{Convergence, Level};
 
 use order::OrderStatus;
@@ -66,27 +69,10 @@ pub fn max_error<const D: usize>(
         .fold(0.0, f64::max)
 }
 
-/// `max_k |coarse_k − fine_{k·s}|∞` over the nodes of the coarse curve, `s` the refinement
-/// factor; `None` when the fine grid is not a refinement of the coarse one.
-fn distance_on_coarse_nodes<const D: usize>(
-    coarse: &[Vector<D>],
-    fine: &[Vector<D>],
-) -> Option<f64> {
-    let (n, m) = (coarse.len() - 1, fine.len() - 1);
-    if n == 0 || m % n != 0 {
-        return None;
-    }
-    let stride = m / n;
-    Some(
-        coarse
-            .iter()
-            .enumerate()
-            .map(|(k, x)| (x - fine[k * stride]).amax())
-            .fold(0.0, f64::max),
-    )
-}
-
-/// What errors are measured against.
+/// What errors are measured against: a curve `t ↦ q(t)` whose value `Q` is a [`Vector<D>`]
+/// for a [`Problem`](crate::Problem) and a `Vec<f64>` of length `d` for a
+/// [`DynProblem`](crate::DynProblem) (a new vector per node: a comparison stores every node
+/// anyway, so this costs no more memory than the solutions).
 ///
 /// ```
 /// # use varembed::{CompareOptions, Embedding, Grid, Problem, Reference, Scheme, Side, Vector, lagrangian};
@@ -99,24 +85,33 @@ fn distance_on_coarse_nodes<const D: usize>(
 /// assert_eq!(comparison.reference, "exact solution");
 /// # Ok::<(), varembed::Error>(())
 /// ```
-#[derive(Clone, Copy)]
-pub enum Reference<'a, const D: usize> {
+pub enum Reference<'a, Q> {
     /// No reference: errors are not reported, the order is the self-convergence estimate.
     None,
     /// An exact solution `t ↦ q(t)`.
-    Exact(&'a dyn Fn(f64) -> Vector<D>),
+    Exact(&'a dyn Fn(f64) -> Q),
     /// An independently computed solution `t ↦ q(t)` (e.g. a high-order integrator on a fine
     /// grid), with the name under which the table reports it.
     Computed {
         /// How the reference was computed (shown in the table).
         name: &'a str,
         /// The reference curve.
-        q: &'a dyn Fn(f64) -> Vector<D>,
+        q: &'a dyn Fn(f64) -> Q,
     },
 }
 
-impl<const D: usize> Reference<'_, D> {
-    fn curve(&self) -> Option<&dyn Fn(f64) -> Vector<D>> {
+// By hand: a derive would ask `Q: Copy`, and `Vec<f64>` is not, though only references to
+// curves are held.
+impl<Q> Clone for Reference<'_, Q> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<Q> Copy for Reference<'_, Q> {}
+
+impl<Q> Reference<'_, Q> {
+    fn curve(&self) -> Option<&dyn Fn(f64) -> Q> {
         match self {
             Reference::None => None,
             Reference::Exact(q) | Reference::Computed { q, .. } => Some(*q),
@@ -132,7 +127,10 @@ impl<const D: usize> Reference<'_, D> {
 }
 
 /// Options of the comparisons ([`Problem::compare_ivp_with`](crate::Problem::compare_ivp_with), [`Problem::compare_bvp_with`](crate::Problem::compare_bvp_with)) and
-/// of the convergence runs ([`Problem::convergence_ivp`](crate::Problem::convergence_ivp), [`Problem::convergence_bvp`](crate::Problem::convergence_bvp)).
+/// of the convergence runs ([`Problem::convergence_ivp`](crate::Problem::convergence_ivp), [`Problem::convergence_bvp`](crate::Problem::convergence_bvp)),
+/// and of their [`DynProblem`](crate::DynProblem) counterparts; `Q` is the value of the
+/// reference curve: [`Vector<D>`] for a [`Problem`](crate::Problem), `Vec<f64>` of length `d`
+/// for a [`DynProblem`](crate::DynProblem).
 ///
 /// ```
 /// # use varembed::{CompareOptions, Embedding, Grid, Problem, Reference, Scheme, Side, Vector, lagrangian};
@@ -146,10 +144,9 @@ impl<const D: usize> Reference<'_, D> {
 /// assert_eq!((comparison.extra_solves, comparison.direct.order), (0, None));
 /// # Ok::<(), varembed::Error>(())
 /// ```
-#[derive(Clone, Copy)]
-pub struct CompareOptions<'a, const D: usize> {
+pub struct CompareOptions<'a, Q> {
     /// The reference for the error column.
-    pub reference: Reference<'a, D>,
+    pub reference: Reference<'a, Q>,
     /// The start of initial value problems.
     pub start: Start,
     /// Whether a comparison solves on `2N` and `4N` (and `8N` without a reference) for the
@@ -160,7 +157,16 @@ pub struct CompareOptions<'a, const D: usize> {
     pub order: bool,
 }
 
-impl<const D: usize> Default for CompareOptions<'_, D> {
+// By hand, as for `Reference`: no bound on `Q`.
+impl<Q> Clone for CompareOptions<'_, Q> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<Q> Copy for CompareOptions<'_, Q> {}
+
+impl<Q> Default for CompareOptions<'_, Q> {
     fn default() -> Self {
         CompareOptions {
             reference: Reference::None,
@@ -185,9 +191,9 @@ impl<const D: usize> Default for CompareOptions<'_, D> {
 /// # Ok::<(), varembed::Error>(())
 /// ```
 #[derive(Clone, Debug)]
-pub struct SchemeReport<const D: usize> {
-    /// The solution.
-    pub solution: Solution<D>,
+pub struct SchemeReport<S> {
+    /// The solution ([`Solution<D>`](crate::Solution) or [`DynSolution`](crate::DynSolution)).
+    pub solution: S,
     /// Max-norm of the other scheme's residual evaluated on this solution.
     pub residual_of_other: f64,
     /// Max over the nodes of `|Q_k − q(t_k)|∞` against the reference, if any.
@@ -240,7 +246,7 @@ pub struct SchemeReport<const D: usize> {
 /// # Ok::<(), varembed::Error>(())
 /// ```
 #[derive(Clone, Debug)]
-pub struct Comparison<const D: usize> {
+pub struct Comparison<S> {
     /// What was solved: "initial value problem" or "boundary value problem".
     pub kind: &'static str,
     /// The embedding, as text.
@@ -250,14 +256,14 @@ pub struct Comparison<const D: usize> {
     /// Which reference the errors are against.
     pub reference: String,
     /// The direct scheme.
-    pub direct: SchemeReport<D>,
+    pub direct: SchemeReport<S>,
     /// The variational scheme.
-    pub variational: SchemeReport<D>,
+    pub variational: SchemeReport<S>,
     /// `max_k |Q_direct,k − Q_variational,k|∞`.
     pub max_distance: f64,
     /// Why the energy column is empty: `Some(reason)` when the flow does not conserve
     /// `E = v·∂L/∂v − L` (the Lagrangian may depend on `t`, as its
-    /// [`dependence`](Lagrangian::dependence) says; or the embedding is fractional), `None`
+    /// [`dependence`](crate::Lagrangian::dependence) says; or the embedding is fractional), `None`
     /// when it does and [`SchemeReport::energy_deviation`] is reported.
     pub energy_not_conserved: Option<&'static str>,
     /// The finer grids (their `N`) whose solutions the orders and their status come from:
@@ -272,250 +278,208 @@ pub struct Comparison<const D: usize> {
     pub extra_solves: usize,
 }
 
-/// What a comparison needs of a problem: its discretisation (the Lagrangian, the grid, the
-/// embedding, the residuals and the energy) and its solver settings. `Problem`'s comparison
-/// methods hand their parts to it.
-pub(crate) struct Comparer<'a, 'l, L: ?Sized, const D: usize> {
-    pub(crate) discretisation: &'a Discretisation<'l, L, D>,
-    pub(crate) options: &'a SolverOptions,
+/// What a comparison needs of a problem of either path: its grid and embedding, whether its
+/// flow conserves the energy, and the energy and a scheme's residual on a solution.
+/// A private view of [`Problem`](crate::Problem) implements it (its comparisons in
+/// `problem/comparisons.rs`), and one of [`DynProblem`](crate::DynProblem) (in
+/// `compare/dyn_problem.rs`).
+pub(crate) trait Compares {
+    /// The solutions it compares.
+    type Solution: ComparedSolution;
+
+    /// The grid of `N` steps the comparison is at.
+    fn grid(&self) -> Grid;
+
+    /// The embedding.
+    fn embedding(&self) -> Embedding;
+
+    /// Whether the Lagrangian may depend on `t` (its `dependence()`).
+    fn depends_on_t(&self) -> bool;
+
+    /// `E = V_k·∂L/∂v − L` at the quadrature nodes of `solution`, and the max-norm of the
+    /// residual of `scheme` on it.
+    fn energy_and_residual(
+        &self,
+        scheme: Scheme,
+        solution: &Self::Solution,
+    ) -> Result<(Vec<f64>, f64)>;
 }
 
-impl<L: Lagrangian<D> + ?Sized, const D: usize> Comparer<'_, '_, L, D> {
-    /// Both schemes on the initial value problem, with the solves the order needs.
-    pub(crate) fn compare_ivp(
-        &self,
-        q0: Vector<D>,
-        v0: Vector<D>,
-        options: &CompareOptions<'_, D>,
-    ) -> Result<Comparison<D>> {
-        self.compare(
-            |scheme, levels| self.convergence_ivp(scheme, q0, v0, options, levels),
-            options,
-        )
-    }
+/// The value of a reference curve of the solutions `S`.
+type ValueOf<S> = <S as ComparedSolution>::Value;
 
-    /// Both schemes on the boundary value problem, with the solves the order needs.
-    pub(crate) fn compare_bvp(
-        &self,
-        qa: Vector<D>,
-        qb: Vector<D>,
-        options: &CompareOptions<'_, D>,
-    ) -> Result<Comparison<D>> {
-        self.compare(
-            |scheme, levels| self.convergence_bvp(scheme, qa, qb, options, levels),
-            options,
-        )
+/// The comparison at `problem`'s grid from a run of each scheme that solved it (same data and
+/// options): nothing is solved again, the solutions, errors and wall times are the runs', and
+/// each order is [`Convergence::order_at`] this `N`. Errors if a run failed at this `N` (that
+/// failure), or is of the wrong scheme, or did not solve this grid and embedding.
+pub(crate) fn compare_runs<C: Compares>(
+    problem: &C,
+    direct: &Convergence<C::Solution>,
+    variational: &Convergence<C::Solution>,
+) -> Result<Comparison<C::Solution>> {
+    let (grid, embedding) = (problem.grid(), problem.embedding());
+    let mismatch = |operation| Error::Unsupported {
+        operation,
+        embedding: embedding.to_string(),
+    };
+    if direct.reference != variational.reference || direct.kind != variational.kind {
+        return Err(mismatch("a comparison of runs with different data"));
     }
-
-    /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` with `scheme` on
-    /// `N, 2N, …, 2^{levels−1} N` steps (`N` this problem's), with `options.start`, timing each
-    /// solve and measuring its error against `options.reference`. A size that fails is recorded
-    /// in [`Convergence::failures`] and the run goes on.
-    pub(crate) fn convergence_ivp(
-        &self,
-        scheme: Scheme,
-        q0: Vector<D>,
-        v0: Vector<D>,
-        options: &CompareOptions<'_, D>,
-        levels: usize,
-    ) -> Convergence<D> {
-        self.convergence("initial value problem", scheme, options, levels, |d| {
-            Ivp::new(d, self.options).solve(scheme, q0, v0, options.start)
-        })
-    }
-
-    /// [`convergence_ivp`](Self::convergence_ivp) for the boundary value problem `Q_0 = qa`,
-    /// `Q_N = qb` (the start is not used).
-    pub(crate) fn convergence_bvp(
-        &self,
-        scheme: Scheme,
-        qa: Vector<D>,
-        qb: Vector<D>,
-        options: &CompareOptions<'_, D>,
-        levels: usize,
-    ) -> Convergence<D> {
-        self.convergence("boundary value problem", scheme, options, levels, |d| {
-            let guess = bvp::straight_line(qa, qb, d.grid().n());
-            bvp::solve(d, self.options, scheme, &guess)
-        })
-    }
-
-    /// The comparison at this problem's grid from a run of each scheme that solved it (same
-    /// data and options, e.g. the sweeps of a work–precision report): nothing is solved again,
-    /// the solutions, errors and wall times are the runs', and each order is
-    /// [`Convergence::order_at`] this `N`. Errors if a run failed at this `N` (that failure), or
-    /// is of the wrong scheme, or did not solve this problem's grid and embedding.
-    pub(crate) fn compare_runs(
-        &self,
-        direct: &Convergence<D>,
-        variational: &Convergence<D>,
-    ) -> Result<Comparison<D>> {
-        let mismatch = |operation| Error::Unsupported {
-            operation,
-            embedding: self.discretisation.embedding().to_string(),
-        };
-        if direct.reference != variational.reference || direct.kind != variational.kind {
-            return Err(mismatch("a comparison of runs with different data"));
+    let n = grid.n();
+    let energy_not_conserved = if embedding.is_fractional() {
+        Some("the embedding is fractional: its flow does not conserve E")
+    } else if problem.depends_on_t() {
+        Some("L may depend on t (its `dependence()` says so): E is not conserved")
+    } else {
+        None
+    };
+    let report = |run: &Convergence<C::Solution>, scheme: Scheme| {
+        if run.scheme != scheme {
+            return Err(mismatch("a comparison of runs of the wrong scheme"));
         }
-        let n = self.discretisation.grid().n();
-        let energy_not_conserved = if self.discretisation.embedding().is_fractional() {
-            Some("the embedding is fractional: its flow does not conserve E")
-        } else if self.discretisation.lagrangian().dependence().t {
-            Some("L may depend on t (its `dependence()` says so): E is not conserved")
-        } else {
-            None
-        };
-        let report = |run: &Convergence<D>, scheme: Scheme| -> Result<SchemeReport<D>> {
-            if run.scheme != scheme {
-                return Err(mismatch("a comparison of runs of the wrong scheme"));
-            }
-            if let Some((_, e)) = run.failures.iter().find(|(m, _)| *m == n) {
-                return Err(e.clone());
-            }
-            let level = run
-                .level(n)
-                .filter(|l| {
-                    l.solution.grid == *self.discretisation.grid()
-                        && l.solution.embedding == *self.discretisation.embedding()
-                })
-                .ok_or_else(|| mismatch("a comparison of runs that did not solve this grid"))?;
-            let other = scheme.other();
-            let q = &level.solution.q;
-            let energy = self.discretisation.energy(q)?;
-            let energy_deviation = energy_not_conserved.is_none().then(|| {
-                energy
-                    .iter()
-                    .map(|e| (e - energy[0]).abs())
-                    .fold(0.0, f64::max)
-            });
-            Ok(SchemeReport {
-                solution: level.solution.clone(),
-                residual_of_other: max_norm(&self.discretisation.residual(other, q)?),
-                error: level.error,
-                energy,
-                energy_deviation,
-                order: run.order_at(n),
-                order_status: run.order_status_at(n),
-                theoretical_order: self.discretisation.embedding().order(scheme),
-                wall_time: level.wall_time,
-            })
-        };
-        let direct_report = report(direct, Scheme::Direct)?;
-        let variational_report = report(variational, Scheme::Variational)?;
-        let max_distance = direct_report
-            .solution
-            .max_distance(&variational_report.solution.q)
-            .unwrap_or(f64::NAN);
-        // The orders and their status use the next two errors after N: the levels 2N, 4N
-        // against a reference, and 8N too for the self-convergence estimates.
-        let needed = if direct.levels.iter().any(|l| l.error.is_some()) {
-            2
-        } else {
-            3
-        };
-        let order_grids = direct
-            .levels
-            .iter()
-            .map(Level::n)
-            .filter(|&m| m > n && variational.level(m).is_some())
-            .take(needed)
-            .collect();
-        Ok(Comparison {
-            kind: direct.kind,
-            embedding: self.discretisation.embedding().to_string(),
-            grid: *self.discretisation.grid(),
-            reference: direct.reference.clone(),
-            direct: direct_report,
-            variational: variational_report,
-            max_distance,
-            energy_not_conserved,
-            order_grids,
-            extra_solves: 0,
+        if let Some((_, e)) = run.failures.iter().find(|(m, _)| *m == n) {
+            return Err(e.clone());
+        }
+        let level = run
+            .level(n)
+            .filter(|l| *l.solution.grid() == grid && *l.solution.embedding() == embedding)
+            .ok_or_else(|| mismatch("a comparison of runs that did not solve this grid"))?;
+        let (energy, residual_of_other) =
+            problem.energy_and_residual(scheme.other(), &level.solution)?;
+        let energy_deviation = energy_not_conserved.is_none().then(|| {
+            energy
+                .iter()
+                .map(|e| (e - energy[0]).abs())
+                .fold(0.0, f64::max)
+        });
+        Ok(SchemeReport {
+            solution: level.solution.clone(),
+            residual_of_other,
+            error: level.error,
+            energy,
+            energy_deviation,
+            order: run.order_at(n),
+            order_status: run.order_status_at(n),
+            theoretical_order: embedding.order(scheme),
+            wall_time: level.wall_time,
         })
-    }
+    };
+    let direct_report = report(direct, Scheme::Direct)?;
+    let variational_report = report(variational, Scheme::Variational)?;
+    let max_distance = direct_report
+        .solution
+        .distance_to(&variational_report.solution)
+        .unwrap_or(f64::NAN);
+    // The orders and their status use the next two errors after N: the levels 2N, 4N
+    // against a reference, and 8N too for the self-convergence estimates.
+    let needed = if direct.levels.iter().any(|l| l.error.is_some()) {
+        2
+    } else {
+        3
+    };
+    let order_grids = direct
+        .levels
+        .iter()
+        .map(Level::n)
+        .filter(|&m| m > n && variational.level(m).is_some())
+        .take(needed)
+        .collect();
+    Ok(Comparison {
+        kind: direct.kind,
+        embedding: embedding.to_string(),
+        grid,
+        reference: direct.reference.clone(),
+        direct: direct_report,
+        variational: variational_report,
+        max_distance,
+        energy_not_conserved,
+        order_grids,
+        extra_solves: 0,
+    })
+}
 
-    /// Both schemes on `N` (and `2N`, `4N`, `8N` for the order), the first failure being the
-    /// answer.
-    fn compare(
-        &self,
-        run: impl Fn(Scheme, usize) -> Convergence<D>,
-        options: &CompareOptions<'_, D>,
-    ) -> Result<Comparison<D>> {
-        let levels = match (options.order, options.reference.curve()) {
-            (false, _) => 1,
-            (true, Some(_)) => 3,
-            (true, None) => 4,
-        };
-        let solved = |scheme| {
-            let run = run(scheme, levels);
-            match run.failures.first() {
-                Some((_, e)) => Err(e.clone()),
-                None => Ok(run),
-            }
-        };
-        let mut comparison =
-            self.compare_runs(&solved(Scheme::Direct)?, &solved(Scheme::Variational)?)?;
-        comparison.extra_solves = levels - 1;
-        Ok(comparison)
-    }
+/// Both schemes of `problem` on `N` (and `2N`, `4N`, `8N` for the order), `run(scheme,
+/// levels)` solving one scheme on `levels` grids; the first failure is the answer.
+pub(crate) fn compare<C: Compares>(
+    problem: &C,
+    run: impl Fn(Scheme, usize) -> Convergence<C::Solution>,
+    options: &CompareOptions<'_, ValueOf<C::Solution>>,
+) -> Result<Comparison<C::Solution>> {
+    let levels = match (options.order, options.reference.curve()) {
+        (false, _) => 1,
+        (true, Some(_)) => 3,
+        (true, None) => 4,
+    };
+    let solved = |scheme| {
+        let run = run(scheme, levels);
+        match run.failures.first() {
+            Some((_, e)) => Err(e.clone()),
+            None => Ok(run),
+        }
+    };
+    let mut comparison = compare_runs(
+        problem,
+        &solved(Scheme::Direct)?,
+        &solved(Scheme::Variational)?,
+    )?;
+    comparison.extra_solves = levels - 1;
+    Ok(comparison)
+}
 
-    fn convergence(
-        &self,
-        kind: &'static str,
-        scheme: Scheme,
-        options: &CompareOptions<'_, D>,
-        levels: usize,
-        solve: impl Fn(&Discretisation<'_, L, D>) -> Result<Solution<D>>,
-    ) -> Convergence<D> {
-        let mut run = Convergence {
-            kind,
-            scheme,
-            reference: options.reference.name().to_string(),
-            levels: Vec::with_capacity(levels),
-            failures: Vec::new(),
-        };
-        let grid = *self.discretisation.grid();
-        let (a, b, n0) = (grid.a(), grid.b(), grid.n());
-        for j in 0..levels {
-            let n = u32::try_from(j)
-                .ok()
-                .and_then(|j| 1usize.checked_shl(j))
-                .and_then(|factor| n0.checked_mul(factor));
-            let Some(n) = n else {
-                let reason = "N·2^j steps do not fit in usize";
-                let failure = Error::InvalidGrid {
-                    a,
-                    b,
-                    n: n0,
-                    reason,
-                };
-                run.failures.push((usize::MAX, failure));
-                break;
+/// `scheme` solved by `solve(grid)` on the grids of `N, 2N, …, 2^{levels−1} N` steps over
+/// `grid`'s interval (`N` its own), timing each solve and measuring its error against
+/// `reference`. A size that fails is recorded in [`Convergence::failures`] and the run goes
+/// on.
+pub(crate) fn convergence<S: ComparedSolution>(
+    kind: &'static str,
+    scheme: Scheme,
+    grid: Grid,
+    reference: &Reference<'_, S::Value>,
+    levels: usize,
+    solve: impl Fn(Grid) -> Result<S>,
+) -> Convergence<S> {
+    let mut run = Convergence {
+        kind,
+        scheme,
+        reference: reference.name().to_string(),
+        levels: Vec::with_capacity(levels),
+        failures: Vec::new(),
+    };
+    let (a, b, n0) = (grid.a(), grid.b(), grid.n());
+    for j in 0..levels {
+        let n = u32::try_from(j)
+            .ok()
+            .and_then(|j| 1usize.checked_shl(j))
+            .and_then(|factor| n0.checked_mul(factor));
+        let Some(n) = n else {
+            let reason = "N·2^j steps do not fit in usize";
+            let failure = Error::InvalidGrid {
+                a,
+                b,
+                n: n0,
+                reason,
             };
-            let solved = Grid::new(a, b, n).and_then(|grid| {
-                let d = self.discretisation;
-                let on_grid = Discretisation::new(d.lagrangian(), grid, *d.embedding());
-                let start = Instant::now();
-                let solution = solve(&on_grid)?;
-                Ok((solution, start.elapsed()))
-            });
-            match solved {
-                Ok((solution, wall_time)) => {
-                    let error = options
-                        .reference
-                        .curve()
-                        .map(|q| max_error(&solution.grid, &solution.q, q));
-                    run.levels.push(Level {
-                        solution,
-                        wall_time,
-                        error,
-                    });
-                }
-                Err(e) => run.failures.push((n, e)),
+            run.failures.push((usize::MAX, failure));
+            break;
+        };
+        let solved = Grid::new(a, b, n).and_then(|grid| {
+            let start = Instant::now();
+            let solution = solve(grid)?;
+            Ok((solution, start.elapsed()))
+        });
+        match solved {
+            Ok((solution, wall_time)) => {
+                let error = reference.curve().map(|q| solution.max_error(q));
+                run.levels.push(Level {
+                    solution,
+                    wall_time,
+                    error,
+                });
             }
+            Err(e) => run.failures.push((n, e)),
         }
-        run
     }
+    run
 }
 
 #[cfg(test)]

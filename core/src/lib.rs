@@ -33,7 +33,8 @@
 //!   momenta, energy; CSV export): [`NodeValues`], [`NodeState`], [`NodeRule`],
 //!   [`NodeFormula`].
 //! - Comparing the two schemes: [`Comparison`], [`CompareOptions`], [`Reference`],
-//!   [`SchemeReport`]; convergence over `N, 2N, 4N, …`: [`Convergence`], [`Level`], and the one
+//!   [`SchemeReport`], for a [`Problem`] and a [`DynProblem`] alike (generic over the
+//!   [`ComparedSolution`]); convergence over `N, 2N, 4N, …`: [`Convergence`], [`Level`], and the one
 //!   definition of the observed order, [`observed_order`] ([`observed_orders`] along a run)
 //!   and how far it can be trusted, [`OrderStatus`],
 //!   with [`max_error`] against a reference curve.
@@ -88,6 +89,7 @@ mod test_models;
 mod toeplitz;
 mod weights;
 
+pub use compare::compared::ComparedSolution;
 pub use compare::convergence::{Convergence, Level};
 pub use compare::order::{OrderStatus, observed_order, observed_orders};
 pub use compare::{CompareOptions, Comparison, Reference, SchemeReport, max_error};

@@ -10,7 +10,7 @@ use std::borrow::Cow;
 use varembed::Convergence;
 use varembed::{
     CompareOptions, Comparison, Embedding, Grid, Lagrangian, Problem, Reference, Scheme, Side,
-    Start, Vector,
+    Solution, Start, Vector,
 };
 
 /// How the trajectory figure draws the solution.
@@ -218,11 +218,11 @@ impl Units {
 /// Everything an initial value scene solved, as the library returned it.
 pub struct IvpRuns<const D: usize> {
     /// One run per variant over the sweep's `N`, in the order of the variants.
-    pub sweep: Vec<Convergence<D>>,
+    pub sweep: Vec<Convergence<Solution<D>>>,
     /// The comparison tables at `table_n` with their start: every table embedding with the
     /// discrete Legendre start, then Gauss-FDE− with the second-order start. A table whose
     /// runs failed at `table_n` is the failure, as text ([`failed_table`]).
-    pub tables: Vec<(Start, Result<Comparison<D>, String>)>,
+    pub tables: Vec<(Start, Result<Comparison<Solution<D>>, String>)>,
 }
 
 /// Where a table takes the run of one scheme from.
@@ -343,7 +343,7 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
         }
     }
 
-    fn reference<'c>(&'c self, curve: &'c dyn Fn(f64) -> Vector<D>) -> Reference<'c, D> {
+    fn reference<'c>(&'c self, curve: &'c dyn Fn(f64) -> Vector<D>) -> Reference<'c, Vector<D>> {
         if self.exact {
             Reference::Exact(curve)
         } else {
@@ -370,8 +370,8 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
     fn sweep_runs(
         &self,
         cx: &Context,
-        reference: Reference<'_, D>,
-    ) -> varembed::Result<Vec<Convergence<D>>> {
+        reference: Reference<'_, Vector<D>>,
+    ) -> varembed::Result<Vec<Convergence<Solution<D>>>> {
         self.variants
             .iter()
             .map(|variant| {
@@ -397,7 +397,7 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
             .collect()
     }
 
-    fn sweep_lines(&self, runs: &[Convergence<D>]) -> Vec<SweepLine> {
+    fn sweep_lines(&self, runs: &[Convergence<Solution<D>>]) -> Vec<SweepLine> {
         self.variants
             .iter()
             .zip(runs)
@@ -405,7 +405,7 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
             .collect()
     }
 
-    fn trajectory_figure(&self, c: &Comparison<D>) -> Figure {
+    fn trajectory_figure(&self, c: &Comparison<Solution<D>>) -> Figure {
         let grid = c.grid;
         let nodes = |q: &[Vector<D>], i: usize| -> Vec<(f64, f64)> {
             match self.trajectory {
@@ -461,7 +461,7 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
         }
     }
 
-    fn energy_figure(&self, c: &Comparison<D>) -> Figure {
+    fn energy_figure(&self, c: &Comparison<Solution<D>>) -> Figure {
         let grid = c.grid;
         let rows = c.direct.solution.embedding.quadrature_rows(grid.n());
         let reference_energy = |t: f64| {

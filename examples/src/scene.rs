@@ -3,7 +3,7 @@
 
 use indicatif::ProgressBar;
 use std::sync::{Mutex, PoisonError};
-use varembed::{Convergence, Embedding, OrderStatus, observed_orders};
+use varembed::{Convergence, Embedding, OrderStatus, Solution, observed_orders};
 
 /// How much of the tour to run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -78,7 +78,7 @@ impl Context {
         &self,
         scene: &'static str,
         what: &str,
-        run: &Convergence<D>,
+        run: &Convergence<Solution<D>>,
     ) {
         let sizes = run.levels.iter().map(|l| l.n());
         for n in sizes.chain(run.failures.iter().map(|(n, _)| *n)) {
@@ -157,7 +157,10 @@ impl SweepLine {
     /// The line of a convergence run against a reference: per solved `N`, its wall time and
     /// error as the library measured them (a level without an error, i.e. a run without a
     /// reference, gives no point).
-    pub fn from_run<const D: usize>(label: impl Into<String>, run: &Convergence<D>) -> Self {
+    pub fn from_run<const D: usize>(
+        label: impl Into<String>,
+        run: &Convergence<Solution<D>>,
+    ) -> Self {
         let points: Vec<SweepPoint> = run
             .levels
             .iter()
@@ -283,7 +286,7 @@ pub struct SceneReport {
 pub fn failed_table<const D: usize>(
     embedding: Embedding,
     n: usize,
-    runs: [(&str, &Convergence<D>); 2],
+    runs: [(&str, &Convergence<Solution<D>>); 2],
     error: &varembed::Error,
 ) -> String {
     let kind = runs[0].1.kind;

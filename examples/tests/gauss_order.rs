@@ -38,7 +38,7 @@ fn orders<L: Lagrangian<D>, const D: usize>(
     model: &L,
     (b, sizes): (f64, &[usize]),
     (q0, v0): (Vector<D>, Vector<D>),
-    reference: Reference<'_, D>,
+    reference: Reference<'_, Vector<D>>,
     s: usize,
 ) -> (Vec<(usize, f64)>, Vec<f64>) {
     let grid = Grid::new(0.0, b, sizes[0]).unwrap();

@@ -1,10 +1,11 @@
 //! The large-chain scene against oracles at small `d`: its model's energy against the FPUT
 //! Hamiltonian written bond by bond, its variational run against a hand-written Störmer–Verlet
 //! loop, its direct run's energy non-increasing (implicit Euler on a convex potential) and the
-//! variational one's bounded, and the Runge–Kutta reference of its sweep against the
-//! variational run at a fine step.
+//! variational one's bounded, the Runge–Kutta reference of its sweep against the
+//! variational run at a fine step, and its comparison table's numbers against the
+//! hand-written Störmer–Verlet loop and the energy read off the nodes by hand.
 
-use varembed::{DynLagrangian, DynProblem, Embedding, Grid, Scheme, Side};
+use varembed::{DynLagrangian, DynProblem, Embedding, Grid, OrderStatus, Scheme, Side};
 use varembed_examples::scene::{Context, Mode};
 use varembed_examples::scenes::large_chain::{self, EnergyRun};
 use varembed_tests::rng::Rng;
@@ -88,13 +89,7 @@ fn the_variational_run_is_a_hand_written_stormer_verlet_loop() {
     assert_eq!(nodes.len(), steps + 1);
     assert_eq!(run.newton_iterations, 0, "explicit");
 
-    let mut by_hand = vec![q0.clone(), (0..d).map(|i| q0[i] + h * v0[i]).collect()];
-    for n in 2..=steps {
-        let (a, b) = (&by_hand[n - 2], &by_hand[n - 1]);
-        let f = force(b);
-        let next = (0..d).map(|i| 2.0 * b[i] - a[i] + h * h * f[i]).collect();
-        by_hand.push(next);
-    }
+    let by_hand = stormer_verlet(&q0, &v0, h, steps);
     for (n, (lib, hand)) in nodes.iter().zip(&by_hand).enumerate() {
         let gap = max_gap(lib, hand);
         assert!(gap <= 1e-12, "node {n}: {gap:e}");
@@ -170,4 +165,86 @@ fn the_reference_and_the_sweep_are_consistent() {
     assert!(errors.windows(2).all(|w| w[1] < w[0]), "{errors:?}");
     let orders = line.orders();
     assert!(orders.iter().all(|p| (0.7..1.5).contains(p)), "{orders:?}");
+}
+
+/// Störmer–Verlet by hand from the discrete Legendre start of σ = − (`Q_1 = q0 + h v0`), every
+/// node.
+fn stormer_verlet(q0: &[f64], v0: &[f64], h: f64, steps: usize) -> Vec<Vec<f64>> {
+    let d = q0.len();
+    let mut nodes = vec![q0.to_vec(), (0..d).map(|i| q0[i] + h * v0[i]).collect()];
+    for n in 2..=steps {
+        let (a, b) = (&nodes[n - 2], &nodes[n - 1]);
+        let f = force(b);
+        let next = (0..d).map(|i| 2.0 * b[i] - a[i] + h * h * f[i]).collect();
+        nodes.push(next);
+    }
+    nodes
+}
+
+/// The scene's comparison at small `d`: the variational line's error and energy drift are
+/// those of the hand-written Störmer–Verlet loop against the same Runge–Kutta nodes (the
+/// energy with the backward velocity, `E_k = H(Q_k, (Q_k − Q_{k−1})/h)` for `k ≥ 1`, the
+/// quadrature nodes of σ = −); its order is that loop's `log₂(e_N / e_2N)`; the direct
+/// scheme loses energy and needs Newton; Gauss-FDE− is not coherent, so the other scheme's
+/// residual is far from round-off; the table names its reference and the grids of the order.
+#[test]
+fn the_comparison_table_is_the_hand_written_loop_against_the_same_reference() {
+    let (d, n) = (16, 100);
+    let compared = large_chain::comparison(d, n).expect("both schemes solve");
+    let h = large_chain::SWEEP_END / n as f64;
+    let (q0, v0) = large_chain::initial_data(d);
+    let reference = large_chain::reference(d, large_chain::SWEEP_END, 4 * n, 4);
+    let error_by_hand = |m: usize| {
+        let nodes = stormer_verlet(&q0, &v0, large_chain::SWEEP_END / m as f64, m);
+        let stride = 4 * n / m;
+        (0..=m).fold(0.0f64, |e, k| {
+            e.max(max_gap(&nodes[k], &reference[k * stride]))
+        })
+    };
+    let errors: Vec<f64> = [n, 2 * n, 4 * n].map(error_by_hand).to_vec();
+    let variational = &compared.variational;
+    let error = variational.error.expect("a reference");
+    assert!(
+        (error - errors[0]).abs() <= 1e-9 * errors[0],
+        "{error:e} {:e}",
+        errors[0]
+    );
+    let order = (errors[0] / errors[1]).log2();
+    let observed = variational.order.expect("solved on 2N");
+    assert!((observed - order).abs() < 1e-6, "{observed} {order}");
+    assert!((0.8..1.2).contains(&observed), "first order: {observed}");
+    assert_ne!(variational.order_status, Some(OrderStatus::RoundOff));
+
+    let nodes = stormer_verlet(&q0, &v0, h, n);
+    let energies: Vec<f64> = (1..=n)
+        .map(|k| {
+            let v: Vec<f64> = (0..d)
+                .map(|i| (nodes[k][i] - nodes[k - 1][i]) / h)
+                .collect();
+            hamiltonian(&nodes[k], &v)
+        })
+        .collect();
+    assert_eq!(variational.energy.len(), energies.len());
+    for (lib, hand) in variational.energy.iter().zip(&energies) {
+        assert!((lib - hand).abs() <= 1e-12, "{lib} {hand}");
+    }
+    let drift = energies
+        .iter()
+        .fold(0.0f64, |m, e| m.max((e - energies[0]).abs()));
+    let deviation = variational.energy_deviation.expect("conserved flow");
+    assert!(
+        (deviation - drift).abs() <= 1e-12,
+        "{deviation:e} {drift:e}"
+    );
+    assert_eq!(variational.solution.run.newton_iterations, 0, "explicit");
+
+    let direct = &compared.direct;
+    assert!(direct.solution.run.newton_iterations >= n - 1);
+    let (first, last) = (direct.energy[0], direct.energy[direct.energy.len() - 1]);
+    assert!(last < first, "implicit Euler dissipates: {first} {last}");
+    // Not coherent: each solution leaves the other scheme's equation far from round-off.
+    assert!(direct.residual_of_other > 1e-6 && variational.residual_of_other > 1e-6);
+    assert_eq!(compared.order_grids, [2 * n, 4 * n]);
+    let table = compared.to_string();
+    assert!(table.contains("Runge–Kutta 4 at h/16"), "{table}");
 }

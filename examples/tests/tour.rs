@@ -58,7 +58,8 @@ fn quick_tour_writes_a_complete_finite_report() {
     );
 
     // The large chain's energy figure: the direct scheme ends below its start, the
-    // variational one near it; its table has one row per size.
+    // variational one near it; its scaling table has one row per size, and its second table
+    // is the library's comparison of the run-time model.
     let chain = reports.iter().find(|s| s.name == large_chain::NAME);
     let chain = chain.expect("the large chain");
     let energy = chain
@@ -72,7 +73,14 @@ fn quick_tour_writes_a_complete_finite_report() {
     };
     assert!(last("direct") < 0.99, "{}", last("direct"));
     assert!((last("variational") - 1.0).abs() < 0.01);
-    assert_eq!(chain.tables.len(), 1);
+    assert_eq!(chain.tables.len(), 2);
+    let compared = &chain.tables[1];
+    assert!(
+        compared.contains("initial value problem under Gauss-FDE−, N = 400")
+            && compared.contains("Runge–Kutta 4 at h/16")
+            && compared.contains("  variational "),
+        "{compared}"
+    );
     for d in [64, 128, 256] {
         assert!(
             chain.tables[0].contains(&format!("\n  {d:>5} ")),
@@ -203,7 +211,9 @@ fn report_orders_are_the_comparisons_orders_and_each_grid_is_solved_once() {
     let (legendre, second_order) = (&runs.tables[0], runs.tables.last().expect("tables"));
     assert_eq!(legendre.0, Start::Legendre);
     assert_eq!(second_order.0, Start::SecondOrder);
-    let solved = |table: &Result<Comparison<1>, String>| table.clone().expect("the table solves");
+    let solved = |table: &Result<Comparison<varembed::Solution<1>>, String>| {
+        table.clone().expect("the table solves")
+    };
     let (legendre, second_order) = (solved(&legendre.1), solved(&second_order.1));
     let checks = [
         (&legendre.direct, "direct FDE−", &report.tables[0]),

@@ -54,7 +54,7 @@ fn ivp_comparison_reports_errors_orders_energy_and_coherence() {
         // Gauss-FDE− is not coherent: each solution leaves the other scheme a residual of order h·q⃛.
         assert!(cmp.direct.residual_of_other > 1e-4 && cmp.variational.residual_of_other > 1e-4);
         // The direct σ = − scheme dissipates: energy falls by about 1 − r^{2N} ≈ 1 − e^{−hT}.
-        let drift = |r: &varembed::SchemeReport<1>| r.energy_deviation.unwrap();
+        let drift = |r: &varembed::SchemeReport<varembed::Solution<1>>| r.energy_deviation.unwrap();
         assert!(drift(&cmp.direct) > 10.0 * drift(&cmp.variational));
         assert!(cmp.max_distance > 1e-3);
         let table = cmp.to_string();

@@ -15,11 +15,11 @@
 
 #[allow(unused_imports)]
 use varembed::{
-    CompareOptions, Comparison, Convergence, Dependence, DifferentialOperator, DirectEmbedding,
-    Embedding, EmbeddingKind, Error, FractionalSolver, Grid, Hessian, HessianDependence,
-    IntoVector, Lagrangian, Level, Location, Matrix, NewtonOptions, NodeFormula, NodeRule,
-    NodeState, NodeValues, OrderStatus, Problem, Reference, Result, Scheme, SchemeReport, Side,
-    Solution, Start, Vector, Warning, curve_from_flat, lagrangian, max_error, observed_order,
+    CompareOptions, ComparedSolution, Comparison, Convergence, Dependence, DifferentialOperator,
+    DirectEmbedding, DynSolution, Embedding, EmbeddingKind, Error, FractionalSolver, Grid, Hessian,
+    HessianDependence, IntoVector, Lagrangian, Level, Location, Matrix, NewtonOptions, NodeFormula,
+    NodeRule, NodeState, NodeValues, OrderStatus, Problem, Reference, Result, Scheme, SchemeReport,
+    Side, Solution, Start, Vector, Warning, curve_from_flat, lagrangian, max_error, observed_order,
     observed_orders,
 };
 
@@ -30,8 +30,9 @@ fn auto_traits<L: Lagrangian<2> + Sync + 'static>() {
     shared::<Problem<'static, L, 2>>();
     shared::<Solution<2>>();
     shared::<NodeValues<2>>();
-    shared::<Comparison<2>>();
-    shared::<Convergence<2>>();
+    shared::<Comparison<Solution<2>>>();
+    shared::<Comparison<DynSolution>>();
+    shared::<Convergence<Solution<2>>>();
     shared::<OrderStatus>();
     shared::<Warning>();
     shared::<Error>();
@@ -46,6 +47,7 @@ use syn::{Attribute, ImplItem, Item, TraitItem, UseTree, Visibility};
 /// The public items at the crate root.
 const ROOT: &[&str] = &[
     "CompareOptions",
+    "ComparedSolution",
     "Comparison",
     "Convergence",
     "Dependence",

@@ -1,11 +1,9 @@
 //! [`Convergence`]: one scheme of one problem solved on `N, 2N, 4N, …`, and its [`Level`]s.
 
-use super::distance_on_coarse_nodes;
+use super::compared::ComparedSolution;
 use super::order::{OrderStatus, observed_order, observed_orders, order_statuses};
 use crate::embedding::Scheme;
 use crate::error::Error;
-use crate::linalg::max_norm;
-use crate::solve::solution::Solution;
 use std::time::Duration;
 
 /// One solved grid of a [`Convergence`] run.
@@ -23,16 +21,17 @@ use std::time::Duration;
 /// # Ok::<(), varembed::Error>(())
 /// ```
 #[derive(Clone, Debug)]
-pub struct Level<const D: usize> {
-    /// The solution; its grid has the level's `N`.
-    pub solution: Solution<D>,
+pub struct Level<S> {
+    /// The solution ([`Solution<D>`](crate::Solution) or [`DynSolution`](crate::DynSolution));
+    /// its grid has the level's `N`.
+    pub solution: S,
     /// Wall time of the solve (measured once: each grid is solved once).
     pub wall_time: Duration,
     /// `max_k |Q_k − q(t_k)|∞` against the reference, if there is one.
     pub error: Option<f64>,
 }
 
-impl<const D: usize> Level<D> {
+impl<S: ComparedSolution> Level<S> {
     /// The number of steps `N`.
     ///
     /// ```
@@ -47,13 +46,16 @@ impl<const D: usize> Level<D> {
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn n(&self) -> usize {
-        self.solution.grid.n()
+        self.solution.grid().n()
     }
 }
 
 /// One scheme of one problem solved on `N, 2N, 4N, …` steps over the same interval
-/// ([`Problem::convergence_ivp`](crate::Problem::convergence_ivp), [`Problem::convergence_bvp`](crate::Problem::convergence_bvp)): every solution with its error
-/// and wall time, and the [`observed_order`] between successive grids.
+/// ([`Problem::convergence_ivp`](crate::Problem::convergence_ivp), [`Problem::convergence_bvp`](crate::Problem::convergence_bvp);
+/// [`DynProblem::convergence_ivp`](crate::DynProblem::convergence_ivp),
+/// [`DynProblem::convergence_bvp`](crate::DynProblem::convergence_bvp) for a run-time
+/// dimension, `S` = [`DynSolution`](crate::DynSolution)): every solution with its error and
+/// wall time, and the [`observed_order`] between successive grids.
 ///
 /// ```
 /// # use varembed::{CompareOptions, Embedding, Grid, Problem, Reference, Scheme, Side, Vector, lagrangian};
@@ -68,7 +70,7 @@ impl<const D: usize> Level<D> {
 /// # Ok::<(), varembed::Error>(())
 /// ```
 #[derive(Clone, Debug)]
-pub struct Convergence<const D: usize> {
+pub struct Convergence<S> {
     /// What was solved: "initial value problem" or "boundary value problem".
     pub kind: &'static str,
     /// The scheme.
@@ -76,13 +78,13 @@ pub struct Convergence<const D: usize> {
     /// Which reference the errors are against ("none" without one).
     pub reference: String,
     /// The grids that solved, by increasing `N`.
-    pub levels: Vec<Level<D>>,
+    pub levels: Vec<Level<S>>,
     /// The sizes whose solve failed, with the error (e.g. Newton not converging on a coarse
     /// grid): reported, not hidden. The orders skip them.
     pub failures: Vec<(usize, Error)>,
 }
 
-impl<const D: usize> Convergence<D> {
+impl<S: ComparedSolution> Convergence<S> {
     /// The level on `n` steps, if it solved.
     ///
     /// ```
@@ -96,7 +98,7 @@ impl<const D: usize> Convergence<D> {
     /// assert!(run.level(40).is_some() && run.level(30).is_none());
     /// # Ok::<(), varembed::Error>(())
     /// ```
-    pub fn level(&self, n: usize) -> Option<&Level<D>> {
+    pub fn level(&self, n: usize) -> Option<&Level<S>> {
         self.levels.iter().find(|level| level.n() == n)
     }
 
@@ -127,7 +129,7 @@ impl<const D: usize> Convergence<D> {
     /// [`error_estimates`](Self::error_estimates) with the size of the solutions each is
     /// measured on (`max_k |Q_k|∞`), the scale of its round-off.
     fn scaled_estimates(&self) -> Vec<(usize, f64, f64)> {
-        let size = |level: &Level<D>| max_norm(&level.solution.q);
+        let size = |level: &Level<S>| level.solution.size();
         self.levels
             .iter()
             .enumerate()
@@ -135,7 +137,9 @@ impl<const D: usize> Convergence<D> {
                 Some(e) => Some((level.n(), e, size(level))),
                 None => {
                     let next = self.levels.get(i + 1)?;
-                    distance_on_coarse_nodes(&level.solution.q, &next.solution.q)
+                    level
+                        .solution
+                        .distance_on_coarse_nodes(&next.solution)
                         .map(|e| (level.n(), e, size(level).max(size(next))))
                 }
             })

@@ -2,6 +2,7 @@
 //! column, as text (`Display`) and as markdown ([`Comparison::to_markdown`]), from one set of
 //! cells.
 
+use super::compared::ComparedSolution;
 use super::{Comparison, OrderStatus, SchemeReport};
 use crate::solve::solution::Warning;
 use std::fmt;
@@ -23,7 +24,7 @@ fn mark(status: Option<OrderStatus>) -> &'static str {
     status.map_or("", OrderStatus::mark)
 }
 
-fn cells<const D: usize>(name: &str, r: &SchemeReport<D>) -> [String; 8] {
+fn cells<S: ComparedSolution>(name: &str, r: &SchemeReport<S>) -> [String; 8] {
     let dash = || "—".to_string();
     [
         name.to_string(),
@@ -33,12 +34,12 @@ fn cells<const D: usize>(name: &str, r: &SchemeReport<D>) -> [String; 8] {
         r.theoretical_order.map_or_else(dash, |o| o.to_string()),
         r.energy_deviation.map_or_else(dash, |e| format!("{e:.3e}")),
         format!("{:.3e}", r.residual_of_other),
-        r.solution.newton_iterations.to_string(),
+        r.solution.newton_iterations().to_string(),
         format!("{:.3?}", r.wall_time),
     ]
 }
 
-impl<const D: usize> Comparison<D> {
+impl<S: ComparedSolution> Comparison<S> {
     /// The warnings of the two solutions (e.g. [`Warning::IllPosedFractional`]), each once.
     ///
     /// ```
@@ -51,8 +52,8 @@ impl<const D: usize> Comparison<D> {
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn warnings(&self) -> Vec<Warning> {
-        let mut all = self.direct.solution.warnings.clone();
-        for w in &self.variational.solution.warnings {
+        let mut all = self.direct.solution.warnings().to_vec();
+        for w in self.variational.solution.warnings() {
             if !all.contains(w) {
                 all.push(*w);
             }
@@ -203,7 +204,7 @@ impl<const D: usize> Comparison<D> {
     }
 }
 
-impl<const D: usize> fmt::Display for Comparison<D> {
+impl<S: ComparedSolution> fmt::Display for Comparison<S> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "{}", self.heading())?;
         let line = |f: &mut fmt::Formatter<'_>, c: &[String; 8]| {

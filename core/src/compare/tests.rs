@@ -1,7 +1,7 @@
 use super::order::{observed_order, observed_orders, order_statuses};
 use super::*;
 use crate::embedding::Embedding;
-use crate::lagrangian::{Dependence, Hessian, Matrix};
+use crate::lagrangian::{Dependence, Hessian, Lagrangian, Matrix};
 use crate::problem::Problem;
 use crate::side::Side;
 
@@ -42,7 +42,7 @@ fn problem(n: usize) -> Problem<'static, Oscillator, 1> {
     )
 }
 
-fn exact_options() -> CompareOptions<'static, 1> {
+fn exact_options() -> CompareOptions<'static, Vector<1>> {
     CompareOptions {
         reference: Reference::Exact(&cosine),
         start: Start::SecondOrder,
@@ -98,7 +98,7 @@ fn convergence_run_solves_each_doubling_once_with_its_error_and_orders() {
 
 #[test]
 fn self_convergence_estimates_are_distances_on_the_coarse_nodes() {
-    let options = CompareOptions::<1>::default();
+    let options = CompareOptions::<Vector<1>>::default();
     let run = problem(64).convergence_ivp(Scheme::Direct, 1.0, 0.0, &options, 3);
     assert_eq!(run.reference, "none");
     assert!(run.levels.iter().all(|l| l.error.is_none()));
@@ -256,7 +256,7 @@ impl Lagrangian<1> for Stiffening {
 
 #[test]
 fn the_energy_column_is_shown_only_where_the_flow_conserves_energy() {
-    let options = CompareOptions::<1> {
+    let options = CompareOptions::<Vector<1>> {
         order: false,
         ..CompareOptions::default()
     };

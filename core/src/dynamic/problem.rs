@@ -19,7 +19,10 @@ use super::ivp::{DynIvp, DynNode, DynRun};
 /// closed form, and a constant step Jacobian is factorised once per run. The runs are watched
 /// by the blow-up guard of the const-generic path; the eigenvalue stability check of that path
 /// (a `2d × 2d` eigenproblem) is not run, so an unstable step shows as
-/// [`Error::BlowUp`] or [`Error::NotFinite`] once it has grown.
+/// [`Error::BlowUp`] or [`Error::NotFinite`] once it has grown. Its two schemes are compared
+/// as a [`Problem`](crate::Problem)'s are, into the same
+/// [`Comparison`](crate::Comparison) ([`compare_ivp`](Self::compare_ivp),
+/// [`compare_bvp`](Self::compare_bvp)).
 ///
 /// # Example
 ///
@@ -64,7 +67,7 @@ pub struct DynProblem<'l, L: ?Sized> {
     pub(crate) grid: Grid,
     pub(crate) embedding: Embedding,
     pub(crate) newton: NewtonOptions,
-    blow_up_guard: bool,
+    pub(crate) blow_up_guard: bool,
 }
 
 /// The stored nodes of a run of a [`DynProblem`]: `Q_k` for `k` in [`indices`](Self::indices),

@@ -1,18 +1,58 @@
-//! [`Problem`]'s comparisons of the two schemes: each method hands the problem's parts to the
-//! comparison.
+//! [`Problem`]'s comparisons of the two schemes: the problem tells the comparison what it
+//! needs ([`Compares`]) and solves each grid of a run.
 
 use super::Problem;
 use crate::compare::convergence::Convergence;
-use crate::compare::{CompareOptions, Comparer, Comparison};
-use crate::embedding::Scheme;
+use crate::compare::{self, CompareOptions, Compares, Comparison};
+use crate::discretisation::Discretisation;
+use crate::embedding::{Embedding, Scheme};
 use crate::error::Result;
-use crate::lagrangian::{IntoVector, Lagrangian};
+use crate::grid::Grid;
+use crate::lagrangian::{IntoVector, Lagrangian, Vector};
+use crate::linalg::max_norm;
+use crate::solve::bvp;
+use crate::solve::ivp::Ivp;
+use crate::solve::solution::Solution;
+
+/// A problem as the comparison sees it (a private type, so that what the comparison needs is
+/// no part of `Problem`'s public interface).
+struct Comparer<'p, 'l, L: ?Sized, const D: usize>(&'p Problem<'l, L, D>);
+
+impl<L: Lagrangian<D> + ?Sized, const D: usize> Compares for Comparer<'_, '_, L, D> {
+    type Solution = Solution<D>;
+
+    fn grid(&self) -> Grid {
+        *self.0.discretisation.grid()
+    }
+
+    fn embedding(&self) -> Embedding {
+        *self.0.discretisation.embedding()
+    }
+
+    fn depends_on_t(&self) -> bool {
+        self.0.discretisation.lagrangian().dependence().t
+    }
+
+    fn energy_and_residual(
+        &self,
+        scheme: Scheme,
+        solution: &Solution<D>,
+    ) -> Result<(Vec<f64>, f64)> {
+        let energy = self.0.discretisation.energy(&solution.q)?;
+        let residual = self.0.discretisation.residual(scheme, &solution.q)?;
+        Ok((energy, max_norm(&residual)))
+    }
+}
 
 impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
-    fn comparer(&self) -> Comparer<'_, '_, L, D> {
-        Comparer {
-            discretisation: &self.discretisation,
-            options: &self.options,
+    /// `solve` on each grid of a run: this problem's Lagrangian and embedding on `grid`.
+    fn on_grid(
+        &self,
+        solve: impl Fn(&Discretisation<'_, L, D>) -> Result<Solution<D>>,
+    ) -> impl Fn(Grid) -> Result<Solution<D>> {
+        move |grid| {
+            let d = &self.discretisation;
+            solve(&Discretisation::new(d.lagrangian(), grid, *d.embedding()))
         }
     }
 
@@ -34,7 +74,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         &self,
         q0: impl IntoVector<D>,
         v0: impl IntoVector<D>,
-    ) -> Result<Comparison<D>> {
+    ) -> Result<Comparison<Solution<D>>> {
         self.compare_ivp_with(q0, v0, &CompareOptions::default())
     }
 
@@ -57,10 +97,14 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         &self,
         q0: impl IntoVector<D>,
         v0: impl IntoVector<D>,
-        options: &CompareOptions<'_, D>,
-    ) -> Result<Comparison<D>> {
-        self.comparer()
-            .compare_ivp(q0.into_vector(), v0.into_vector(), options)
+        options: &CompareOptions<'_, Vector<D>>,
+    ) -> Result<Comparison<Solution<D>>> {
+        let (q0, v0) = (q0.into_vector(), v0.into_vector());
+        compare::compare(
+            &Comparer(self),
+            |scheme, levels| self.convergence_ivp(scheme, q0, v0, options, levels),
+            options,
+        )
     }
 
     /// Compares both schemes on the boundary value problem `Q_0 = qa`, `Q_N = qb`.
@@ -80,7 +124,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         &self,
         qa: impl IntoVector<D>,
         qb: impl IntoVector<D>,
-    ) -> Result<Comparison<D>> {
+    ) -> Result<Comparison<Solution<D>>> {
         self.compare_bvp_with(qa, qb, &CompareOptions::default())
     }
 
@@ -102,10 +146,14 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         &self,
         qa: impl IntoVector<D>,
         qb: impl IntoVector<D>,
-        options: &CompareOptions<'_, D>,
-    ) -> Result<Comparison<D>> {
-        self.comparer()
-            .compare_bvp(qa.into_vector(), qb.into_vector(), options)
+        options: &CompareOptions<'_, Vector<D>>,
+    ) -> Result<Comparison<Solution<D>>> {
+        let (qa, qb) = (qa.into_vector(), qb.into_vector());
+        compare::compare(
+            &Comparer(self),
+            |scheme, levels| self.convergence_bvp(scheme, qa, qb, options, levels),
+            options,
+        )
     }
 
     /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` with `scheme` on
@@ -132,11 +180,21 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         scheme: Scheme,
         q0: impl IntoVector<D>,
         v0: impl IntoVector<D>,
-        options: &CompareOptions<'_, D>,
+        options: &CompareOptions<'_, Vector<D>>,
         levels: usize,
-    ) -> Convergence<D> {
-        self.comparer()
-            .convergence_ivp(scheme, q0.into_vector(), v0.into_vector(), options, levels)
+    ) -> Convergence<Solution<D>> {
+        let (q0, v0) = (q0.into_vector(), v0.into_vector());
+        let solve =
+            self.on_grid(|d| Ivp::new(d, &self.options).solve(scheme, q0, v0, options.start));
+        let grid = *self.discretisation.grid();
+        compare::convergence(
+            "initial value problem",
+            scheme,
+            grid,
+            &options.reference,
+            levels,
+            solve,
+        )
     }
 
     /// [`convergence_ivp`](Self::convergence_ivp) for the boundary value problem `Q_0 = qa`,
@@ -159,11 +217,23 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         scheme: Scheme,
         qa: impl IntoVector<D>,
         qb: impl IntoVector<D>,
-        options: &CompareOptions<'_, D>,
+        options: &CompareOptions<'_, Vector<D>>,
         levels: usize,
-    ) -> Convergence<D> {
-        self.comparer()
-            .convergence_bvp(scheme, qa.into_vector(), qb.into_vector(), options, levels)
+    ) -> Convergence<Solution<D>> {
+        let (qa, qb) = (qa.into_vector(), qb.into_vector());
+        let solve = self.on_grid(|d| {
+            let guess = bvp::straight_line(qa, qb, d.grid().n());
+            bvp::solve(d, &self.options, scheme, &guess)
+        });
+        let grid = *self.discretisation.grid();
+        compare::convergence(
+            "boundary value problem",
+            scheme,
+            grid,
+            &options.reference,
+            levels,
+            solve,
+        )
     }
 
     /// The comparison at this problem's grid from a run of each scheme that solved it (same
@@ -188,9 +258,9 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// ```
     pub fn compare_runs(
         &self,
-        direct: &Convergence<D>,
-        variational: &Convergence<D>,
-    ) -> Result<Comparison<D>> {
-        self.comparer().compare_runs(direct, variational)
+        direct: &Convergence<Solution<D>>,
+        variational: &Convergence<Solution<D>>,
+    ) -> Result<Comparison<Solution<D>>> {
+        compare::compare_runs(&Comparer(self), direct, variational)
     }
 }

@@ -12,10 +12,10 @@
 //! the tables read the variational scheme off the sweep.
 
 use crate::scene::{Context, Figure, SceneReport, Series, SweepLine, doubling, failed_table};
-use varembed::Level;
 use varembed::{
     CompareOptions, Embedding, Grid, Problem, Reference, Scheme, Side, Vector, lagrangian,
 };
+use varembed::{Level, Solution};
 
 /// The scene's file-name stem.
 pub const NAME: &str = "fractional";
@@ -61,7 +61,7 @@ impl Extrapolated {
         let order = run
             .order_at(m / 4)
             .expect("three solved doublings give a self-convergence order");
-        let on_coarse = |level: &Level<1>| -> Vec<f64> {
+        let on_coarse = |level: &Level<Solution<1>>| -> Vec<f64> {
             let stride = level.n() / (m / 4);
             (0..=m / 4)
                 .map(|k| level.solution.q[k * stride][0])
