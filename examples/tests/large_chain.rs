@@ -5,7 +5,7 @@
 //! variational run at a fine step, and its comparison table's numbers against the
 //! hand-written Störmer–Verlet loop and the energy read off the nodes by hand.
 
-use varembed::{DynLagrangian, DynProblem, Embedding, Grid, OrderStatus, Scheme, Side};
+use varembed::{DynLagrangian, DynProblem, Embedding, Grid, OrderStatus, Scheme, Side, Start};
 use varembed_examples::scene::{Context, Mode};
 use varembed_examples::scenes::large_chain::{self, EnergyRun};
 use varembed_tests::rng::Rng;
@@ -153,11 +153,12 @@ fn the_reference_and_the_sweep_are_consistent() {
     assert!(gap < 5e-5, "{gap:e}");
 
     let cx = Context::hidden(Mode::Quick);
+    let sizes = [40, 80, 160, 320];
     let line = large_chain::sweep_line(
         &cx,
         "direct",
-        (d, Scheme::Direct),
-        &[40, 80, 160, 320],
+        (d, Scheme::Direct, Start::Legendre),
+        &sizes,
         &reference,
     );
     assert!(line.failures.is_empty(), "{:?}", line.failures);
@@ -165,6 +166,17 @@ fn the_reference_and_the_sweep_are_consistent() {
     assert!(errors.windows(2).all(|w| w[1] < w[0]), "{errors:?}");
     let orders = line.orders();
     assert!(orders.iter().all(|p| (0.7..1.5).contains(p)), "{orders:?}");
+    // From the second-order start, Störmer–Verlet is second order against the same reference.
+    let line = large_chain::sweep_line(
+        &cx,
+        "second-order start",
+        (d, Scheme::Variational, Start::SecondOrder),
+        &sizes,
+        &reference,
+    );
+    assert!(line.failures.is_empty(), "{:?}", line.failures);
+    let orders = line.orders();
+    assert!(orders.iter().all(|p| (1.8..2.2).contains(p)), "{orders:?}");
 }
 
 /// Störmer–Verlet by hand from the discrete Legendre start of σ = − (`Q_1 = q0 + h v0`), every

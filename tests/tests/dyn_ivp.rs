@@ -4,7 +4,7 @@
 
 use varembed::{
     DynProblem, DynSolution, Embedding, Error, Grid, Lagrangian, Location, Problem, Scheme, Side,
-    Solution, Vector, lagrangian,
+    Solution, Start, Vector, lagrangian,
 };
 use varembed_tests::models::chain::FputChain;
 use varembed_tests::models::generated::fput16;
@@ -37,11 +37,23 @@ fn const_generic_run<L: Lagrangian<D>, const D: usize>(
     q0: &[f64],
     v0: &[f64],
 ) -> Solution<D> {
+    const_generic_run_from(model, (grid, embedding, scheme), q0, v0, Start::Legendre)
+}
+
+/// [`const_generic_run`] with `start`.
+fn const_generic_run_from<L: Lagrangian<D>, const D: usize>(
+    model: &L,
+    (grid, embedding, scheme): (Grid, Embedding, Scheme),
+    q0: &[f64],
+    v0: &[f64],
+    start: Start,
+) -> Solution<D> {
     Problem::new(model, grid, embedding)
-        .solve_ivp(
+        .solve_ivp_with(
             scheme,
             Vector::<D>::from_column_slice(q0),
             Vector::<D>::from_column_slice(v0),
+            start,
         )
         .unwrap()
 }
@@ -683,4 +695,77 @@ fn a_pattern_that_grows_mid_run_is_planned_again_and_reported() {
         .map(|(a, b)| (a - b).abs())
         .fold(0.0, f64::max);
     assert!(gap < 1e-12, "{gap:.2e}");
+}
+
+const DAMPED: usize = 6;
+
+/// A Caldirola–Kanai chain: `e^{γt}` times a chain's Lagrangian, so that `p = e^{γt} v` moves
+/// with `t` and the second-order start's `∂p/∂t` term is not zero.
+#[lagrangian]
+fn damped_chain(x: [f64; DAMPED], v: [f64; DAMPED], t: f64, gamma: f64) -> f64 {
+    let mut l = 0.0;
+    for i in 0..DAMPED {
+        l += 0.5 * v[i] * v[i] - 0.5 * x[i] * x[i];
+    }
+    for i in 0..DAMPED - 1 {
+        l -= 0.25 * (x[i + 1] - x[i]).powi(4);
+    }
+    (gamma * t).exp() * l
+}
+
+/// The run-time-dimension run from `start` on `model` against the const-generic run from the
+/// same start, every scheme: the largest node gap, and `Q_1`'s distance to the Legendre start's
+/// (which shows the start was taken).
+fn second_order_gaps<L: Lagrangian<D> + varembed::DynLagrangian, const D: usize>(
+    model: &L,
+    grid: Grid,
+    (q0, v0): (&[f64], &[f64]),
+) {
+    for (side, scheme) in KINDS {
+        let embedding = Embedding::finite_difference(side);
+        let run = DynProblem::new(model, grid, embedding)
+            .with_start(Start::SecondOrder)
+            .solve_ivp(scheme, q0, v0)
+            .unwrap();
+        let reference = const_generic_run_from::<_, D>(
+            model,
+            (grid, embedding, scheme),
+            q0,
+            v0,
+            Start::SecondOrder,
+        );
+        let worst = node_gap(&run, &reference);
+        assert!(
+            worst < 1e-12,
+            "{side:?} {scheme:?}: nodes differ by {worst:.2e}"
+        );
+        let legendre = DynProblem::new(model, grid, embedding)
+            .solve_ivp(scheme, q0, v0)
+            .unwrap();
+        let moved = (0..D)
+            .map(|i| (run.node(1)[i] - legendre.node(1)[i]).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            moved > 1e-6,
+            "{side:?} {scheme:?}: Q_1 moved by {moved:.2e} only"
+        );
+    }
+}
+
+#[test]
+fn the_second_order_start_is_the_const_generic_one() {
+    let grid = Grid::new(0.0, 2.0, 40).unwrap();
+    // Every block nonzero and `L_xv` unsymmetric: the start's `L_vx v0` term and a mass
+    // matrix that depends on x, solved as a band.
+    let q0 = displacement(COUPLED, 0.6);
+    let v0: Vec<f64> = q0.iter().map(|q| 0.4 - q).collect();
+    second_order_gaps::<_, COUPLED>(&Coupled { a: 0.4 }, grid, (&q0, &v0));
+    // A constant tridiagonal mass matrix.
+    let q0 = displacement(MASSES, 0.7);
+    let v0: Vec<f64> = q0.iter().map(|q| 0.2 * q - 0.1).collect();
+    second_order_gaps::<_, MASSES>(&CoupledMasses, grid, (&q0, &v0));
+    // A momentum that depends on t.
+    let q0 = displacement(DAMPED, 0.5);
+    let v0: Vec<f64> = q0.iter().map(|q| -0.3 * q).collect();
+    second_order_gaps::<_, DAMPED>(&DampedChain { gamma: 0.3 }, grid, (&q0, &v0));
 }

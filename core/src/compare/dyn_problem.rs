@@ -12,9 +12,8 @@ use crate::dynamic::problem::{DynProblem, DynSolution};
 use crate::dynamic::rows::{CurveValues, DynRows};
 use crate::dynamic::step::max_norm;
 use crate::embedding::{Embedding, Scheme};
-use crate::error::{Error, Result, check_len};
+use crate::error::{Result, check_len};
 use crate::grid::Grid;
-use crate::solve::start::Start;
 
 use super::convergence::Convergence;
 
@@ -76,10 +75,11 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
             embedding: self.embedding,
             newton: self.newton,
             blow_up_guard: self.blow_up_guard,
+            start: self.start,
         }
     }
 
-    /// [`Error::WrongLength`] when the reference's value at `a` is not of length `d`: the
+    /// [`Error::WrongLength`](crate::Error::WrongLength) when the reference's value at `a` is not of length `d`: the
     /// error column compares node by node.
     fn check_reference(&self, reference: &Reference<'_, Vec<f64>>) -> Result<()> {
         match reference.curve() {
@@ -129,9 +129,8 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
     }
 
     /// [`compare_ivp`](Self::compare_ivp) with options; the reference returns `Vec<f64>` of
-    /// length `d` ([`Error::WrongLength`] otherwise), and the start must be
-    /// [`Start::Legendre`], the one the run-time-dimension solver takes
-    /// ([`Error::Unsupported`] otherwise).
+    /// length `d` ([`Error::WrongLength`](crate::Error::WrongLength) otherwise); `options.start` is the start of every
+    /// solve (see [`with_start`](Self::with_start)).
     ///
     /// # Example
     ///
@@ -265,14 +264,9 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
     ) -> Convergence<DynSolution> {
         let solve = |grid| {
             self.check_reference(&options.reference)?;
-            if options.start != Start::Legendre {
-                return Err(Error::Unsupported {
-                    operation: "a start other than the discrete Legendre start for a \
-                                run-time-dimension model",
-                    embedding: self.embedding.to_string(),
-                });
-            }
-            self.on(grid).solve_ivp(scheme, q0, v0)
+            self.on(grid)
+                .with_start(options.start)
+                .solve_ivp(scheme, q0, v0)
         };
         let kind = "initial value problem";
         convergence(kind, scheme, self.grid, &options.reference, levels, solve)

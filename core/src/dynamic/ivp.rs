@@ -13,6 +13,7 @@ use crate::options::NewtonOptions;
 use crate::regularity::DEGENERACY_THRESHOLD;
 use crate::side::Side;
 use crate::solve::guard::BlowUpGuard;
+use crate::solve::start::Start;
 use crate::step::StepKind;
 
 use super::DynLagrangian;
@@ -89,37 +90,25 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         }
     }
 
-    /// The run of `scheme` from `q(a) = q0`, `q̇(a) = v0` with the discrete Legendre start,
-    /// each node `Q_0, …, Q_N` handed to `observe` in order.
+    /// The run of `scheme` from `q(a) = q0`, `q̇(a) = v0` with `start` for `Q_1`, each node
+    /// `Q_0, …, Q_N` handed to `observe` in order.
     pub(crate) fn run(
         &self,
         scheme: Scheme,
-        q0: &[f64],
-        v0: &[f64],
+        (q0, v0): (&[f64], &[f64]),
+        start: Start,
         mut observe: impl FnMut(DynNode<'_>),
     ) -> Result<DynRun> {
         let kind = self.step_kind(scheme)?;
-        self.check_initial_data(q0, v0)?;
+        let vv = self.check_initial_data(q0, v0)?;
         let (grid, h) = (self.grid, self.grid.h());
         let d = q0.len();
         let t0 = grid.t(0);
-
-        // The discrete Legendre start: the variational step equation with π = ∂L/∂v at the
-        // initial data, from the guess q0 + h v0.
-        let start_kind = match kind {
-            StepKind::VariationalBackward | StepKind::DirectBackward => {
-                StepKind::VariationalBackward
-            }
-            _ => StepKind::VariationalForward,
-        };
         let mut pi = vec![0.0; d];
-        self.lagrangian.momentum(q0, v0, t0, &mut pi);
-        let mut start = StepSolver::new(self.lagrangian, start_kind, h, self.newton, (q0, v0, t0));
-        // The node before q0 on the tangent, so that Newton's guess 2b − a is q0 + h v0.
-        let before: Vec<f64> = q0.iter().zip(v0).map(|(q, v)| q - h * v).collect();
-        let mut b = vec![0.0; d];
-        start.solve((&before, q0), &pi, (t0, grid.t(1)), &mut b, 1)?;
-        drop(start);
+        let mut b = match start {
+            Start::Legendre => self.legendre_start(kind, q0, v0, &mut pi)?,
+            Start::SecondOrder => self.second_order_start(q0, v0, vv)?,
+        };
         let mut a = q0.to_vec();
         observe(DynNode {
             index: 0,
@@ -189,10 +178,72 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         })
     }
 
+    /// The discrete Legendre start: the variational step equation with `π = ∂L/∂v` at the
+    /// initial data, from the guess `q0 + h v0`; `pi` is a buffer of length `d`.
+    fn legendre_start(
+        &self,
+        kind: StepKind,
+        q0: &[f64],
+        v0: &[f64],
+        pi: &mut [f64],
+    ) -> Result<Vec<f64>> {
+        let (grid, h, t0) = (self.grid, self.grid.h(), self.grid.t(0));
+        let start_kind = match kind {
+            StepKind::VariationalBackward | StepKind::DirectBackward => {
+                StepKind::VariationalBackward
+            }
+            _ => StepKind::VariationalForward,
+        };
+        self.lagrangian.momentum(q0, v0, t0, pi);
+        let mut start = StepSolver::new(self.lagrangian, start_kind, h, self.newton, (q0, v0, t0));
+        // The node before q0 on the tangent, so that Newton's guess 2b − a is q0 + h v0.
+        let before: Vec<f64> = q0.iter().zip(v0).map(|(q, v)| q - h * v).collect();
+        let mut b = vec![0.0; q0.len()];
+        start.solve((&before, q0), pi, (t0, grid.t(1)), &mut b, 1)?;
+        Ok(b)
+    }
+
+    /// `Q_1 = q0 + h v0 + ½h² q̈(a)`, the const-generic path's second-order start: the
+    /// acceleration solves the Euler–Lagrange equation at the initial data,
+    /// `L_vv q̈ = ∂L/∂x − L_vx v0 − ∂p/∂t` (`∂p/∂t` by a central difference in `t`), with
+    /// `vv` the factorised `L_vv` the checks of the initial data left.
+    fn second_order_start(&self, q0: &[f64], v0: &[f64], mut vv: BandSystem) -> Result<Vec<f64>> {
+        let l = self.lagrangian;
+        let (t, h, d) = (self.grid.t(0), self.grid.h(), q0.len());
+        let dt = 1e-5 * (1.0 + t.abs());
+        let (mut rhs, mut later, mut earlier) = (vec![0.0; d], vec![0.0; d], vec![0.0; d]);
+        l.force(q0, v0, t, &mut rhs);
+        l.momentum(q0, v0, t + dt, &mut later);
+        l.momentum(q0, v0, t - dt, &mut earlier);
+        for ((r, p1), p0) in rhs.iter_mut().zip(&later).zip(&earlier) {
+            *r -= (p1 - p0) / (2.0 * dt);
+        }
+        let mut hessian = SparseHessian::new(d);
+        l.hessian(q0, v0, t, &mut hessian);
+        // (L_vx v0)_j = Σ_i L_xv(i, j) v0_i: the block's entries, transposed.
+        for &(i, j, value) in hessian.xv.entries() {
+            rhs[j] -= value * v0[i];
+        }
+        vv.solve_in_place(&mut rhs);
+        let q1: Vec<f64> = q0
+            .iter()
+            .zip(v0)
+            .zip(&rhs)
+            .map(|((q, v), acceleration)| q + v * h + acceleration * (0.5 * h * h))
+            .collect();
+        if q1.iter().all(|c| c.is_finite()) {
+            Ok(q1)
+        } else {
+            Err(Error::NotFinite {
+                at: Location::Step(1),
+            })
+        }
+    }
+
     /// The checks before any step: the model at its dimension, finite constants, the initial
     /// data of the right length and finite, `L` and its derivatives finite there, and
-    /// `∂²L/∂v²` not degenerate there.
-    fn check_initial_data(&self, q0: &[f64], v0: &[f64]) -> Result<()> {
+    /// `∂²L/∂v²` not degenerate there. Returns `∂²L/∂v²` there, factorised.
+    fn check_initial_data(&self, q0: &[f64], v0: &[f64]) -> Result<BandSystem> {
         let l = self.lagrangian;
         if let Some(reason) = l.invalid_dimension() {
             return Err(Error::InvalidModel { reason });
@@ -226,29 +277,34 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
                 what: "the initial data q0, v0".to_string(),
             });
         }
-        let measure = vv_pivot_ratio(d, l.hessian_bandwidth(), &hessian);
-        if measure < DEGENERACY_THRESHOLD {
-            return Err(Error::DegenerateLagrangian {
+        let (system, measure) = vv_factorised(d, l.hessian_bandwidth(), &hessian);
+        match system {
+            Some(system) if measure >= DEGENERACY_THRESHOLD => Ok(system),
+            _ => Err(Error::DegenerateLagrangian {
                 at: Location::Step(0),
                 measure,
-            });
+            }),
         }
-        Ok(())
     }
 }
 
-/// The pivot ratio of `∂²L/∂v²` (the block `vv` of `hessian`), factorised as a band: 0 when
-/// singular.
-fn vv_pivot_ratio(d: usize, claimed: Option<usize>, hessian: &SparseHessian) -> f64 {
+/// `∂²L/∂v²` (the block `vv` of `hessian`) factorised as a band, with its pivot ratio; `None`
+/// and 0 when singular.
+fn vv_factorised(
+    d: usize,
+    claimed: Option<usize>,
+    hessian: &SparseHessian,
+) -> (Option<BandSystem>, f64) {
     let mut system = BandSystem::plan(d, claimed, &[&hessian.vv]);
     for &(i, j, value) in hessian.vv.entries() {
         if system.add(i, j, value).is_err() {
-            return 0.0;
+            return (None, 0.0);
         }
     }
     if system.factorize() {
-        system.pivot_ratio()
+        let ratio = system.pivot_ratio();
+        (Some(system), ratio)
     } else {
-        0.0
+        (None, 0.0)
     }
 }
