@@ -713,9 +713,9 @@ fn damped_chain(x: [f64; DAMPED], v: [f64; DAMPED], t: f64, gamma: f64) -> f64 {
     (gamma * t).exp() * l
 }
 
-/// The run-time-dimension run from `start` on `model` against the const-generic run from the
-/// same start, every scheme: the largest node gap, and `Q_1`'s distance to the Legendre start's
-/// (which shows the start was taken).
+/// Asserts, for every scheme, that the run-time-dimension run of `model` from the second-order
+/// start has the const-generic run's nodes (from the same start), and that its `Q_1` is not
+/// the Legendre start's (so the start was taken).
 fn second_order_gaps<L: Lagrangian<D> + varembed::DynLagrangian, const D: usize>(
     model: &L,
     grid: Grid,

@@ -415,6 +415,48 @@ mod tests {
     }
 
     #[test]
+    fn the_diagonals_are_the_band_rows_of_the_same_combination() {
+        // Blocks in band mode with every entry of the band set, plain and transposed terms
+        // with distinct coefficients, at half-widths 1 and 0.
+        for b in [1, 0] {
+            let d = 7;
+            let mut hessian = SparseHessian::with_band(d, b);
+            for i in 0..d {
+                for j in i.saturating_sub(b)..=(i + b).min(d - 1) {
+                    let (x, y) = (i as f64, j as f64);
+                    hessian.xx.add(i, j, (0.3 * x + 1.1 * y).sin());
+                    hessian.xv.add(i, j, (0.7 * x - 0.2 * y).cos());
+                    hessian.vv.add(i, j, 1.0 + 0.1 * x * y);
+                }
+            }
+            let terms = [
+                band_of(b, (1.0, &hessian.vv)).unwrap(),
+                band_of(b, (-0.3, &hessian.xx)).unwrap(),
+                band_of(b, (0.7, &hessian.xv)).unwrap(),
+            ];
+            let transposed = band_of(b, (1.9, &hessian.xv)).unwrap();
+            let mut rows = BandedMatrix::zeros(d, b, b);
+            set_rows(&mut rows, b, &terms, transposed);
+            let mut tri = TridiagonalMatrix::zeros(d);
+            set_diagonals(&mut tri, b, &terms, transposed);
+            let (lower, diagonal, upper) = tri.diagonals_mut();
+            for i in 0..d {
+                assert_eq!(
+                    diagonal[i].to_bits(),
+                    rows.get(i, i).to_bits(),
+                    "b = {b}, {i}"
+                );
+                if i + 1 < d {
+                    assert_eq!(lower[i].to_bits(), rows.get(i + 1, i).to_bits(), "{i}");
+                    assert_eq!(upper[i].to_bits(), rows.get(i, i + 1).to_bits(), "{i}");
+                }
+            }
+            // The transposed term is not the plain one: the combination is not symmetric.
+            assert!(b == 0 || lower[2] != upper[2]);
+        }
+    }
+
+    #[test]
     fn the_reordered_solve_matches_the_dense_one() {
         // The periodic second-difference matrix plus 3 I: diagonally dominant, nonsingular.
         let d = 12;

@@ -106,7 +106,11 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         let t0 = grid.t(0);
         let mut pi = vec![0.0; d];
         let mut b = match start {
-            Start::Legendre => self.legendre_start(kind, q0, v0, &mut pi)?,
+            Start::Legendre => {
+                // Not needed by this start: freed before the run, whose memory is O(d b).
+                drop(vv);
+                self.legendre_start(kind, q0, v0, &mut pi)?
+            }
             Start::SecondOrder => self.second_order_start(q0, v0, vv)?,
         };
         let mut a = q0.to_vec();

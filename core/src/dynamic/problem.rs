@@ -144,7 +144,10 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
     /// Legendre start (the default), or `Q_1 = q0 + h v0 + ½h² q̈(a)`
     /// ([`Start::SecondOrder`], the acceleration from the Euler–Lagrange equation at the
     /// initial data, `∂²L/∂v²` solved as a band), which makes the Störmer–Verlet recurrence
-    /// of `L = ½|v|² − U` second order in its positions.
+    /// of `L = ½|v|² − U` second order in its positions. The comparisons
+    /// ([`compare_ivp_with`](Self::compare_ivp_with), [`convergence_ivp`](Self::convergence_ivp))
+    /// take their start from [`CompareOptions::start`](crate::CompareOptions::start) instead,
+    /// as [`Problem`](crate::Problem)'s do.
     ///
     /// # Example
     ///

@@ -70,7 +70,10 @@ impl TridiagonalMatrix {
 
     /// Factorises in place and measures the matrix it factorises on the way: its norms (of
     /// the entries as given), and whether it is regular, that is finite with no pivot at or
-    /// below `1e-14` times its largest entry (the band LU's threshold).
+    /// below `1e-14` times its largest entry (the band LU's threshold), and with finite
+    /// factors. The last condition is where the two can differ, only when the elimination
+    /// overflows or a pivot's reciprocal does (entries near `1e-295`): the band LU would go on
+    /// with a NaN or infinite factor, this one calls the matrix singular.
     ///
     /// The measure costs no pass of its own: row `i + 1` is read before column `i`'s
     /// elimination changes it, while the elimination waits on its division. The reciprocals of
@@ -81,9 +84,9 @@ impl TridiagonalMatrix {
     }
 
     /// [`factorize_measured`](Self::factorize_measured), and when the matrix is regular, the
-    /// solution of `A x = b` in place of `b`: the forward substitution runs inside the
-    /// elimination, as in the Thomas algorithm, so a factorisation used for one solve (a
-    /// Newton iteration) reads the rows once less.
+    /// solution of `A x = b` in place of `b` (otherwise `b` holds nothing of use): the forward
+    /// substitution runs inside the elimination, as in the Thomas algorithm, so a
+    /// factorisation used for one solve (a Newton iteration) reads the rows once less.
     pub fn factorize_solving(&mut self, b: &mut [f64]) -> (BandNorms, bool) {
         assert_eq!(b.len(), self.order(), "right-hand side of the wrong length");
         let (norms, regular) = self.eliminate(b);
@@ -280,10 +283,26 @@ mod tests {
                 (bn.inf, bn.largest, bn.finite)
             );
             assert!(
-                n < 4 || tri.exchanged.iter().any(|&e| e),
+                n < 3 || tri.exchanged.iter().any(|&e| e),
                 "some rows exchanged"
             );
-            assert_eq!(tri.pivot_range(), band.pivot_range());
+            // Exchange by exchange, multiplier by multiplier, pivot by pivot: the band LU's,
+            // and the rows of U divided by the pivot in the same operations.
+            for i in 0..n {
+                if i + 1 < n {
+                    assert_eq!(tri.exchanged[i], band.pivots[i] == i + 1, "n = {n}, {i}");
+                    assert_eq!(tri.lower[i].to_bits(), band.get(i + 1, i).to_bits());
+                }
+                let pivot = band.get(i, i);
+                assert_eq!(tri.diagonal[i].to_bits(), pivot.to_bits(), "n = {n}, {i}");
+                let scaled = |j: usize| band.get(i, j) * (1.0 / pivot);
+                if i + 1 < n {
+                    assert_eq!(tri.upper[i].to_bits(), scaled(i + 1).to_bits());
+                }
+                if i + 2 < n {
+                    assert_eq!(tri.fill[i].to_bits(), scaled(i + 2).to_bits());
+                }
+            }
             let rhs = rhs_again(n);
             let (mut x, mut y) = (rhs.clone(), rhs);
             tri.solve_inplace(&mut x);
