@@ -19,6 +19,7 @@ pub(crate) mod problem;
 pub(crate) mod rows;
 pub(crate) mod sparse;
 pub(crate) mod sparse_lu;
+pub(crate) mod stability;
 pub(crate) mod step;
 
 use sparse::SparseHessian;

@@ -7,7 +7,7 @@ use varembed::{
     Solution, Start, Vector, lagrangian,
 };
 use varembed_tests::models::chain::FputChain;
-use varembed_tests::models::generated::fput16;
+use varembed_tests::models::generated::{fput16, fput64};
 
 const RING: usize = 12;
 
@@ -260,13 +260,44 @@ fn an_unstable_explicit_run_is_an_error_with_its_step_never_ok() {
     let error = problem
         .solve_ivp(Scheme::Variational, &q0, &vec![0.0; 64])
         .unwrap_err();
-    match error {
-        Error::BlowUp { to, .. } => assert!(to < 1000, "{error}"),
-        Error::NotFinite {
-            at: Location::Step(n),
-        } => assert!(n <= 1000),
-        other => panic!("expected a blow-up, got {other}"),
-    }
+    // Proven at the initial data, with the eigenvalue of the sawtooth mode: the const-generic
+    // check's (from the step map's Schur form at step 2), or a bound of it from within.
+    let Error::Unstable {
+        at: Location::Step(0),
+        re,
+        im,
+    } = error
+    else {
+        panic!("expected the instability at the initial data, got {error}");
+    };
+    let oracle = Problem::new(
+        &fput64::Fput {
+            alpha: 0.25,
+            beta: 0.0,
+        },
+        grid,
+        Embedding::finite_difference(Side::Forward),
+    )
+    .solve_ivp(
+        Scheme::Variational,
+        Vector::<64>::from_column_slice(&q0),
+        Vector::<64>::zeros(),
+    )
+    .unwrap_err();
+    let Error::Unstable { re: exact, .. } = oracle else {
+        panic!("the const-generic check: {oracle}");
+    };
+    assert_eq!(im, 0.0);
+    assert!(
+        exact <= re && re < -1.0 && re - exact < 0.01 * exact.abs(),
+        "{re} against {exact}"
+    );
+    // Without the check's proof (a step just inside the limit), the run is not stopped: at
+    // h ω_max ≈ 1.9 Störmer–Verlet is stable and the run ends normally.
+    let stable = Grid::new(0.0, 950.0, 1000).unwrap();
+    DynProblem::new(&chain, stable, Embedding::finite_difference(Side::Forward))
+        .solve_ivp(Scheme::Variational, &q0, &vec![0.0; 64])
+        .unwrap();
 }
 
 #[test]

@@ -19,6 +19,7 @@ use crate::step::StepKind;
 use super::DynLagrangian;
 use super::band::BandSystem;
 use super::sparse::SparseHessian;
+use super::stability::verlet_unstable;
 use super::step::{StepSolver, max_norm};
 
 /// A node handed to the observer of a run: `Q_k` at `t_k`, with the node before it
@@ -100,7 +101,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         mut observe: impl FnMut(DynNode<'_>),
     ) -> Result<DynRun> {
         let kind = self.step_kind(scheme)?;
-        let vv = self.check_initial_data(q0, v0)?;
+        let (vv, sawtooth) = self.check_initial_data(q0, v0)?;
         let (grid, h) = (self.grid, self.grid.h());
         let d = q0.len();
         let t0 = grid.t(0);
@@ -136,6 +137,15 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         let mut y = vec![0.0; d];
         let (mut iterations, mut explicit_steps) = (0, 0);
         let verlet = solver.is_verlet();
+        // The Störmer–Verlet recurrence's linear stability at the initial data (the implicit
+        // steps have no such bound; the guard watches every run).
+        if let (true, Some(re)) = (verlet, sawtooth) {
+            return Err(Error::Unstable {
+                at: Location::Step(0),
+                re,
+                im: 0.0,
+            });
+        }
         for n in 2..=grid.n() {
             let times = (grid.t(n - 2), grid.t(n - 1));
             let sample = guard.is_enabled() && (n - 2) % stride == 0;
@@ -246,8 +256,10 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
 
     /// The checks before any step: the model at its dimension, finite constants, the initial
     /// data of the right length and finite, `L` and its derivatives finite there, and
-    /// `∂²L/∂v²` not degenerate there. Returns `∂²L/∂v²` there, factorised.
-    fn check_initial_data(&self, q0: &[f64], v0: &[f64]) -> Result<BandSystem> {
+    /// `∂²L/∂v²` not degenerate there. Returns `∂²L/∂v²` there, factorised, and the step
+    /// map's eigenvalue below −1 if the Störmer–Verlet recurrence of step `h` is proven
+    /// unstable there (read only by a run that takes Störmer–Verlet steps).
+    fn check_initial_data(&self, q0: &[f64], v0: &[f64]) -> Result<(BandSystem, Option<f64>)> {
         let l = self.lagrangian;
         if let Some(reason) = l.invalid_dimension() {
             return Err(Error::InvalidModel { reason });
@@ -282,8 +294,9 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             });
         }
         let (system, measure) = vv_factorised(d, l.hessian_bandwidth(), &hessian);
+        let sawtooth = verlet_unstable(&hessian.xx, self.grid.h());
         match system {
-            Some(system) if measure >= DEGENERACY_THRESHOLD => Ok(system),
+            Some(system) if measure >= DEGENERACY_THRESHOLD => Ok((system, sawtooth)),
             _ => Err(Error::DegenerateLagrangian {
                 at: Location::Step(0),
                 measure,

@@ -19,9 +19,11 @@ use super::ivp::{DynIvp, DynNode, DynRun};
 /// boundary value problems. Every implicit step is solved by Newton's method on a band matrix
 /// (`O(d b²)` for half-bandwidth `b`); a step that is affine in the newest node is taken in
 /// closed form, and a constant step Jacobian is factorised once per run. The runs are watched
-/// by the blow-up guard of the const-generic path; the eigenvalue stability check of that path
-/// (a `2d × 2d` eigenproblem) is not run, so an unstable step shows as
-/// [`Error::BlowUp`] or [`Error::NotFinite`] once it has grown. Its two schemes are compared
+/// by the blow-up guard of the const-generic path. The eigenvalue stability check of that path
+/// (a `2d × 2d` eigenproblem) is not run; a Störmer–Verlet run is checked at its initial data
+/// by bounds on the eigenvalues of `−∂²L/∂x²` ([`Error::Unstable`] when they prove `h ω > 2`),
+/// and any other unstable step shows as [`Error::BlowUp`] or [`Error::NotFinite`] once it has
+/// grown. Its two schemes are compared
 /// as a [`Problem`](crate::Problem)'s are, into the same
 /// [`Comparison`](crate::Comparison) ([`compare_ivp`](Self::compare_ivp),
 /// [`compare_bvp`](Self::compare_bvp)).
