@@ -7,32 +7,9 @@ use varembed::{
     DynProblem, Embedding, Error, Grid, Location, NewtonOptions, Problem, Scheme, Side, Vector,
     lagrangian,
 };
-use varembed_tests::models::chain::FputChain;
+use varembed_tests::models::chain::{FputChain, displacement};
 use varembed_tests::models::generated::fput16;
-
-const RING: usize = 12;
-
-/// The periodic FPUT chain, written with the macro (the const-generic oracle of the ring).
-#[lagrangian]
-fn ring(x: [f64; RING], v: [f64; RING], alpha: f64, beta: f64) -> f64 {
-    let mut l = 0.0;
-    for i in 0..RING {
-        let d = x[(i + 1) % RING] - x[i];
-        l += 0.5 * v[i] * v[i] - (0.5 * d * d + alpha / 3.0 * d.powi(3) + beta / 4.0 * d.powi(4));
-    }
-    l
-}
-
-/// A smooth displacement of amplitude `amplitude` with phase `phase`.
-fn displacement(n: usize, amplitude: f64, phase: f64) -> Vec<f64> {
-    (0..n)
-        .map(|i| {
-            amplitude
-                * ((i as f64 + 1.0) * 0.7 + phase).sin()
-                * (1.0 + 0.3 * (i as f64 * 1.3).cos())
-        })
-        .collect()
-}
+use varembed_tests::models::generated::ring12::{N as RING, Ring};
 
 /// Every classical embedding the run-time-dimension boundary value problems offer, each with
 /// both schemes.

@@ -6,29 +6,9 @@ use varembed::{
     DynProblem, DynSolution, Embedding, Error, Grid, Lagrangian, Location, Problem, Scheme, Side,
     Solution, Start, Vector, lagrangian,
 };
-use varembed_tests::models::chain::FputChain;
+use varembed_tests::models::chain::{FputChain, displacement};
+use varembed_tests::models::generated::ring12::{N as RING, Ring};
 use varembed_tests::models::generated::{fput16, fput64};
-
-const RING: usize = 12;
-
-/// The periodic FPUT chain, written with the macro (the const-generic oracle of the ring).
-#[lagrangian]
-fn ring(x: [f64; RING], v: [f64; RING], alpha: f64, beta: f64) -> f64 {
-    let mut l = 0.0;
-    for i in 0..RING {
-        let d = x[(i + 1) % RING] - x[i];
-        l += 0.5 * v[i] * v[i] - (0.5 * d * d + alpha / 3.0 * d.powi(3) + beta / 4.0 * d.powi(4));
-    }
-    l
-}
-
-/// A smooth initial displacement of amplitude `amplitude` (not a normal mode, so every mode
-/// and the nonlinearity take part).
-fn displacement(n: usize, amplitude: f64) -> Vec<f64> {
-    (0..n)
-        .map(|i| amplitude * ((i as f64 + 1.0) * 0.7).sin() * (1.0 + 0.3 * (i as f64 * 1.3).cos()))
-        .collect()
-}
 
 /// The const-generic run of `model` (the oracle of the run-time-dimension one) from `q0`, `v0`.
 fn const_generic_run<L: Lagrangian<D>, const D: usize>(
@@ -88,7 +68,7 @@ fn the_banded_run_matches_the_const_generic_run_for_every_scheme() {
     };
     let generated = fput16::Fput { alpha, beta };
     let grid = Grid::new(0.0, 10.0, 200).unwrap();
-    let q0 = displacement(16, 0.4);
+    let q0 = displacement(16, 0.4, 0.0);
     let v0: Vec<f64> = q0.iter().map(|q| 0.5 * q).collect();
     for (side, scheme) in KINDS {
         let embedding = Embedding::finite_difference(side);
@@ -127,7 +107,7 @@ fn the_periodic_chain_is_reordered_into_a_band_and_matches_the_const_generic_run
     };
     let generated = Ring { alpha, beta };
     let grid = Grid::new(0.0, 5.0, 100).unwrap();
-    let q0 = displacement(RING, 0.3);
+    let q0 = displacement(RING, 0.3, 0.0);
     let v0 = vec![0.1; RING];
     for (side, scheme) in KINDS {
         let embedding = Embedding::finite_difference(side);
@@ -170,7 +150,7 @@ fn a_stride_and_an_observer_see_the_nodes_of_the_full_run() {
     };
     let grid = Grid::new(0.0, 3.0, 95).unwrap();
     let problem = DynProblem::new(&chain, grid, Embedding::finite_difference(Side::Backward));
-    let q0 = displacement(40, 0.5);
+    let q0 = displacement(40, 0.5, 0.0);
     let v0 = vec![0.0; 40];
     let full = problem.solve_ivp(Scheme::Direct, &q0, &v0).unwrap();
     let strided = problem
@@ -256,7 +236,7 @@ fn an_unstable_explicit_run_is_an_error_with_its_step_never_ok() {
     };
     let grid = Grid::new(0.0, 1200.0, 1000).unwrap();
     let problem = DynProblem::new(&chain, grid, Embedding::finite_difference(Side::Forward));
-    let q0 = displacement(64, 1e-3);
+    let q0 = displacement(64, 1e-3, 0.0);
     let error = problem
         .solve_ivp(Scheme::Variational, &q0, &vec![0.0; 64])
         .unwrap_err();
@@ -313,7 +293,7 @@ fn the_runs_match_the_hand_written_loops_of_the_same_schemes() {
         periodic: false,
     };
     let grid = Grid::new(0.0, 10.0, 200).unwrap();
-    let q0 = displacement(50, 0.5);
+    let q0 = displacement(50, 0.5, 0.0);
     let v0: Vec<f64> = q0.iter().map(|q| -0.3 * q).collect();
     let cases: [(Side, Scheme, HandWrittenRun); 2] = [
         (Side::Backward, Scheme::Direct, |q, v, g, p, o| {
@@ -363,7 +343,7 @@ fn the_generated_run_time_model_takes_the_hand_written_models_steps() {
     let generated = Generated { n: 64, alpha, beta };
     assert_eq!(generated.hessian_bandwidth(), Some(1));
     let grid = Grid::new(0.0, 5.0, 100).unwrap();
-    let q0 = displacement(64, 0.5);
+    let q0 = displacement(64, 0.5, 0.0);
     let v0: Vec<f64> = q0.iter().map(|q| 0.2 * q).collect();
     for (side, scheme) in KINDS {
         let embedding = Embedding::finite_difference(side);
@@ -501,7 +481,7 @@ fn every_block_enters_the_banded_jacobian_as_in_the_const_generic_run() {
     let model = Coupled { a: 0.4 };
     assert_eq!(DynLagrangian::hessian_bandwidth(&model), Some(1));
     let grid = Grid::new(0.0, 3.0, 60).unwrap();
-    let q0 = displacement(COUPLED, 0.6);
+    let q0 = displacement(COUPLED, 0.6, 0.0);
     let v0: Vec<f64> = q0.iter().map(|q| 0.4 - q).collect();
     for (side, scheme) in KINDS {
         let embedding = Embedding::finite_difference(side);
@@ -600,7 +580,7 @@ fn a_wrong_bandwidth_claim_costs_a_reordering_never_the_answer() {
         periodic: false,
     };
     let grid = Grid::new(0.0, 4.0, 80).unwrap();
-    let q0 = displacement(30, 0.5);
+    let q0 = displacement(30, 0.5, 0.0);
     let v0 = vec![0.0; 30];
     let embedding = Embedding::finite_difference(Side::Backward);
     let honest = DynProblem::new(&chain, grid, embedding)
@@ -628,7 +608,7 @@ fn the_listed_assembly_of_a_reordered_system_matches_the_const_generic_run() {
     // Its bandwidth claim hidden: ordered by reverse Cuthill–McKee, the listed entries assembled.
     let hidden = Altered::claiming(Coupled { a: 0.4 }, None);
     let grid = Grid::new(0.0, 3.0, 60).unwrap();
-    let q0 = displacement(COUPLED, 0.6);
+    let q0 = displacement(COUPLED, 0.6, 0.0);
     let v0: Vec<f64> = q0.iter().map(|q| 0.4 - q).collect();
     for (side, scheme) in KINDS {
         let embedding = Embedding::finite_difference(side);
@@ -669,7 +649,7 @@ fn coupled_masses(x: [f64; MASSES], v: [f64; MASSES]) -> f64 {
 fn a_constant_mass_matrix_is_factorised_once_and_gives_the_const_generic_nodes() {
     let model = CoupledMasses;
     let grid = Grid::new(0.0, 4.0, 80).unwrap();
-    let q0 = displacement(MASSES, 0.7);
+    let q0 = displacement(MASSES, 0.7, 0.0);
     let v0: Vec<f64> = q0.iter().map(|q| 0.2 * q - 0.1).collect();
     for side in [Side::Backward, Side::Forward] {
         let embedding = Embedding::finite_difference(side);
@@ -702,7 +682,7 @@ fn a_pattern_that_grows_mid_run_is_planned_again_and_reported() {
     };
     let grid = Grid::new(0.0, 2.0, 40).unwrap();
     let embedding = Embedding::finite_difference(Side::Backward);
-    let (q0, v0) = (vec![0.0; 20], displacement(20, 0.8));
+    let (q0, v0) = (vec![0.0; 20], displacement(20, 0.8, 0.0));
     let honest = DynProblem::new(&chain, grid, embedding)
         .solve_ivp(Scheme::Direct, &q0, &v0)
         .unwrap();
@@ -788,15 +768,15 @@ fn the_second_order_start_is_the_const_generic_one() {
     let grid = Grid::new(0.0, 2.0, 40).unwrap();
     // Every block nonzero and `L_xv` unsymmetric: the start's `L_vx v0` term and a mass
     // matrix that depends on x, solved as a band.
-    let q0 = displacement(COUPLED, 0.6);
+    let q0 = displacement(COUPLED, 0.6, 0.0);
     let v0: Vec<f64> = q0.iter().map(|q| 0.4 - q).collect();
     second_order_gaps::<_, COUPLED>(&Coupled { a: 0.4 }, grid, (&q0, &v0));
     // A constant tridiagonal mass matrix.
-    let q0 = displacement(MASSES, 0.7);
+    let q0 = displacement(MASSES, 0.7, 0.0);
     let v0: Vec<f64> = q0.iter().map(|q| 0.2 * q - 0.1).collect();
     second_order_gaps::<_, MASSES>(&CoupledMasses, grid, (&q0, &v0));
     // A momentum that depends on t.
-    let q0 = displacement(DAMPED, 0.5);
+    let q0 = displacement(DAMPED, 0.5, 0.0);
     let v0: Vec<f64> = q0.iter().map(|q| -0.3 * q).collect();
     second_order_gaps::<_, DAMPED>(&DampedChain { gamma: 0.3 }, grid, (&q0, &v0));
 }

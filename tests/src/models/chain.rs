@@ -20,6 +20,18 @@ pub struct FputChain {
     pub periodic: bool,
 }
 
+/// A smooth initial displacement of `n` masses, of amplitude `amplitude` and phase `phase`:
+/// not a normal mode, so every mode and the nonlinearity take part.
+pub fn displacement(n: usize, amplitude: f64, phase: f64) -> Vec<f64> {
+    (0..n)
+        .map(|i| {
+            amplitude
+                * ((i as f64 + 1.0) * 0.7 + phase).sin()
+                * (1.0 + 0.3 * (i as f64 * 1.3).cos())
+        })
+        .collect()
+}
+
 impl FputChain {
     /// `V'(d)`.
     fn dv(&self, d: f64) -> f64 {

@@ -88,6 +88,28 @@ macro_rules! fput_chain {
 fput_chain!(fput16, 16);
 fput_chain!(fput64, 64);
 
+/// The periodic FPUT chain of `N = 12` particles (a ring: the bond `x_0 − x_{N−1}` closes it),
+/// written with loops and `x[(i + 1) % N]`: the const-generic oracle of the run-time ring, whose
+/// Hessian is not banded in the model's order.
+pub mod ring12 {
+    use varembed::lagrangian;
+
+    /// The number of particles.
+    pub const N: usize = 12;
+
+    /// The FPUT ring, `V(d) = d²/2 + α d³/3 + β d⁴/4` on every bond.
+    #[lagrangian]
+    pub fn ring(x: [f64; N], v: [f64; N], alpha: f64, beta: f64) -> f64 {
+        let mut l = 0.0;
+        for i in 0..N {
+            let d = x[(i + 1) % N] - x[i];
+            l += 0.5 * v[i] * v[i]
+                - (0.5 * d * d + alpha / 3.0 * d.powi(3) + beta / 4.0 * d.powi(4));
+        }
+        l
+    }
+}
+
 /// The FPUT chain of the `fput_chain!` models with its length `n` a run-time value:
 /// `n` unit masses between two walls at 0, `V(d) = d²/2 + α d³/3 + β d⁴/4`. Through
 /// `#[lagrangian]` it implements only `DynLagrangian` (tridiagonal Hessian,
