@@ -4,8 +4,8 @@
 //! value problem returns the nodes of its initial value problem; bad input gives typed errors.
 
 use varembed::{
-    DynProblem, Embedding, Error, Grid, Location, NewtonOptions, Problem, Scheme, Side, Vector,
-    lagrangian,
+    DynProblem, DynSolution, Embedding, Error, Grid, Location, NewtonOptions, Problem, Scheme,
+    Side, Vector, lagrangian,
 };
 use varembed_tests::models::chain::{FputChain, displacement};
 use varembed_tests::models::generated::fput16;
@@ -40,6 +40,42 @@ fn relative_gap<const D: usize>(q: &[f64], reference: &[Vector<D>]) -> f64 {
         / scale
 }
 
+/// The boundary value problem `(qa, qb)` of `scheme` under `embedding`, solved through
+/// `DynProblem` for the generated model and for the hand-written one: each must give the
+/// const-generic `reference`'s nodes (to 1e-12 relative) in as many Newton iterations. Returns
+/// both solutions for the caller's further checks.
+fn both_match<G, H, const D: usize>(
+    (generated, hand_written): (&G, &H),
+    (grid, embedding, scheme): (Grid, Embedding, Scheme),
+    (qa, qb): (&[f64], &[f64]),
+    reference: &varembed::Solution<D>,
+) -> [DynSolution; 2]
+where
+    G: varembed::DynLagrangian,
+    H: varembed::DynLagrangian,
+{
+    let solved = [
+        (
+            "generated",
+            DynProblem::new(generated, grid, embedding).solve_bvp(scheme, qa, qb),
+        ),
+        (
+            "hand-written",
+            DynProblem::new(hand_written, grid, embedding).solve_bvp(scheme, qa, qb),
+        ),
+    ];
+    solved.map(|(name, solution)| {
+        let solution = solution.unwrap();
+        let gap = relative_gap(&solution.q, &reference.q);
+        assert!(gap <= 1e-12, "{name} {embedding} {scheme}: gap {gap:e}");
+        assert_eq!(
+            solution.run.newton_iterations, reference.newton_iterations,
+            "{name} {embedding} {scheme}"
+        );
+        solution
+    })
+}
+
 #[test]
 fn the_sparse_lu_solve_matches_the_const_generic_solve_for_every_scheme() {
     let (alpha, beta) = (0.25, 0.5);
@@ -61,23 +97,8 @@ fn the_sparse_lu_solve_matches_the_const_generic_solve_for_every_scheme() {
             .solve_bvp(scheme, qa16, qb16)
             .unwrap();
         assert!(reference.newton_iterations >= 2, "{embedding} {scheme}");
-        for (name, solution) in [
-            (
-                "generated",
-                DynProblem::new(&model, grid, embedding).solve_bvp(scheme, &qa, &qb),
-            ),
-            (
-                "hand-written",
-                DynProblem::new(&chain, grid, embedding).solve_bvp(scheme, &qa, &qb),
-            ),
-        ] {
-            let solution = solution.unwrap();
-            let gap = relative_gap(&solution.q, &reference.q);
-            assert!(gap <= 1e-12, "{name} {embedding} {scheme}: gap {gap:e}");
-            assert_eq!(
-                solution.run.newton_iterations, reference.newton_iterations,
-                "{name} {embedding} {scheme}"
-            );
+        let kind = (grid, embedding, scheme);
+        for solution in both_match((&model, &chain), kind, (&qa, &qb), &reference) {
             assert_eq!(solution.len(), 51);
             assert_eq!(solution.indices, (0..=50).collect::<Vec<_>>());
             assert_eq!(solution.run.last, qb);
@@ -112,24 +133,8 @@ fn a_ring_which_is_not_banded_matches_the_const_generic_ring() {
         let reference = Problem::new(&oracle, grid, embedding)
             .solve_bvp(scheme, qa12, qb12)
             .unwrap();
-        for (name, solution) in [
-            (
-                "generated",
-                DynProblem::new(&oracle, grid, embedding).solve_bvp(scheme, &qa, &qb),
-            ),
-            (
-                "hand-written",
-                DynProblem::new(&chain, grid, embedding).solve_bvp(scheme, &qa, &qb),
-            ),
-        ] {
-            let solution = solution.unwrap();
-            let gap = relative_gap(&solution.q, &reference.q);
-            assert!(gap <= 1e-12, "{name} {embedding} {scheme}: gap {gap:e}");
-            assert_eq!(
-                solution.run.newton_iterations, reference.newton_iterations,
-                "{name} {embedding} {scheme}"
-            );
-        }
+        let kind = (grid, embedding, scheme);
+        both_match((&oracle, &chain), kind, (&qa, &qb), &reference);
     }
 }
 
