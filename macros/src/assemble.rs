@@ -10,19 +10,37 @@
 //! two index expressions that name the same component at some `i` (`x[i]` and `x[j]` at
 //! `i = j`) come out right: their contributions add up, as the chain rule says.
 //!
-//! Sums enter `L` linearly: through `+`, `−`, products (a factor is moved into the loop: `a ·
-//! Σ_i b = Σ_i a·b`, and a product of two sums is a double sum), a division by a sum-free
-//! divisor and either branch of an `if`. A sum inside a function (`sqrt`, `powi`, …) or a
-//! divisor is rejected.
+//! Sums are values. Where a sum enters polynomially — through `+`, `−`, products, `powi` with
+//! a small positive exponent, a division by a sum-free divisor and either branch of an `if` —
+//! `L` is expanded into terms by the distributive law: `(Σ_i a_i)·(Σ_i b_i)` is the double sum
+//! `Σ_i Σ_j a_i·b_j`, and the second factor's loop variables are renamed so that the two
+//! factors never share an index (a sum squared is a double sum, not `Σ_i a_i²`). A sum inside
+//! a function, a divisor or a condition is *lifted*: replaced by a leaf `s_k`
+//! ([`Var::Lifted`]), its value computed first by its own loop, and `L` differentiated
+//! through it by the chain rule in reverse mode: with the adjoints `s̄_k = ∂L/∂s_k` (each the
+//! partial of `L`'s terms plus the adjoints of the later sums that read `s_k`),
+//! `∇L = ∂F/∂z + Σ_k s̄_k ∇s_k`, which is the gradient of the assembled function
+//! `Φ = F + Σ_k s̄_k·(the terms of s_k)` with the adjoints held fixed. Its Hessian is
+//! `Φ_zz + Σ_k (U_k W_kᵀ + W_k U_kᵀ)`, where `W_k = ds_k/dz` (forward: `∂s_k/∂z` plus the
+//! earlier sums it reads) and `U_k = Φ_{z s_k} + ½ Σ_l Φ_{s_k s_l} W_l`: the sparse part of
+//! the terms and a dense part of rank `2m`, which is why such a model claims no band.
+//! A lifted sum must not read an enclosing loop's variable (it is then one value per
+//! iteration, an array the scheme does not hold): that is a compile error naming the sum.
 
-use std::collections::HashMap;
+use std::collections::{HashMap, HashSet};
 
 use crate::diff::Differentiator;
 use crate::ir::{Dependence, Graph, HessianDependence, Id, IndexVar, Node, Var};
 
 /// A Lagrangian with loops, as terms and their derivatives.
 pub struct Assembly {
+    /// The terms of `Φ`: those of `L` (its lifted sums as leaves), then each lifted sum's terms
+    /// weighted by its adjoint.
     pub terms: Vec<Term>,
+    /// The terms of each lifted sum `s_k`, unweighted, in the order they are computed.
+    pub sums: Vec<Vec<Term>>,
+    /// Which blocks (`xx`, `xv`, `vv`) get the dense part of the lifted sums' Hessian.
+    pub dense_blocks: [bool; 3],
     pub hessian_dependence: HessianDependence,
     pub dependence: Dependence,
 }
@@ -31,10 +49,14 @@ pub struct Assembly {
 pub struct Term {
     pub loops: Vec<IndexVar>,
     pub value: Id,
-    /// `(component, ∂value/∂component)`, nonzero ones.
+    /// `(component, ∂value/∂component)`, nonzero ones; the components are `x`, `v` and the
+    /// lifted sums the body reads.
     pub gradient: Vec<(Var, Id)>,
     /// The nonzero second derivatives.
     pub hessian: Vec<Entry>,
+    /// `Some(k)`: a term of lifted sum `k`, weighted by its adjoint (it adds to the derivatives
+    /// of `L`, not to its value).
+    pub weighted: Option<usize>,
 }
 
 /// Which second-derivative block an entry is added to.
@@ -43,6 +65,10 @@ pub enum Block {
     Xx,
     Xv,
     Vv,
+    /// A state component (row) and a lifted sum (column).
+    Zs,
+    /// Two lifted sums.
+    Ss,
 }
 
 /// `block[(row, col)] += id`, and `block[(col, row)] += id` too when `mirror`.
@@ -64,12 +90,202 @@ fn sum_inside(g: &Graph) -> Vec<bool> {
     has
 }
 
+/// The loop variables each node reads and does not bind, for every node.
+pub fn free_vars(g: &Graph) -> Vec<Vec<IndexVar>> {
+    let mut free: Vec<Vec<IndexVar>> = Vec::with_capacity(g.len());
+    for id in 0..g.len() {
+        let mut vars: Vec<IndexVar> = match g.node(id) {
+            Node::Var(Var::XAt(c) | Var::VAt(c)) => c.at.var.into_iter().collect(),
+            Node::Var(Var::Index(i)) => vec![i],
+            Node::Sum(i, body) => {
+                let r = &g.ranges[i.0 as usize];
+                free[body]
+                    .iter()
+                    .copied()
+                    .filter(|&v| v != i)
+                    .chain(r.start.var)
+                    .chain(r.end.var)
+                    .collect()
+            }
+            node => node
+                .children()
+                .iter()
+                .flat_map(|&c| free[c].clone())
+                .collect(),
+        };
+        vars.sort_unstable();
+        vars.dedup();
+        free.push(vars);
+    }
+    free
+}
+
+/// The largest `powi` exponent expanded as a product of sums; a higher power of a sum is
+/// lifted.
+const MAX_EXPANDED_POWER: i32 = 4;
+
+/// The sums `L` uses as values (inside a function, a divisor or a condition), in increasing
+/// id (an inner sum before the sum whose body holds it), or a message naming one that reads
+/// an enclosing loop's variable.
+fn lifted_sums(g: &Graph, has: &[bool], root: Id) -> Result<Vec<Id>, String> {
+    let free = free_vars(g);
+    let mut lifted = HashSet::new();
+    let mut seen = HashSet::new();
+    let mut stack = vec![(root, false)];
+    while let Some((id, inside)) = stack.pop() {
+        if !has[id] || !seen.insert((id, inside)) {
+            continue;
+        }
+        let node = g.node(id);
+        if let Node::Sum(i, body) = node {
+            if inside {
+                if let Some(&outer) = free[id].first() {
+                    let name = |v: IndexVar| g.ranges[v.0 as usize].name.clone();
+                    return Err(format!(
+                        "the sum over `{}` reads `{}`, the variable of an enclosing loop, and is \
+                         used inside a function, a divisor or a condition: such a sum may only \
+                         be added, multiplied or raised to a small power (`powi`); write the \
+                         function of it outside that loop, or as a sum of its own",
+                        name(i),
+                        name(outer)
+                    ));
+                }
+                lifted.insert(id);
+            }
+            // The body of a sum is a value of its own: what it does with further sums is
+            // judged afresh.
+            stack.push((body, false));
+            continue;
+        }
+        let linear: Vec<bool> = match node {
+            Node::Add(..) | Node::Sub(..) | Node::Neg(_) | Node::Mul(..) => {
+                vec![inside; 2]
+            }
+            Node::Powi(_, n) if (1..=MAX_EXPANDED_POWER).contains(&n) => vec![inside],
+            Node::Div(..) => vec![inside, true],
+            Node::Select(..) => vec![true, true, inside, inside],
+            _ => vec![true; 2],
+        };
+        for (k, c) in node.children().into_iter().enumerate() {
+            stack.push((c, linear.get(k).copied().unwrap_or(true)));
+        }
+    }
+    let mut out: Vec<Id> = lifted.into_iter().collect();
+    out.sort_unstable();
+    Ok(out)
+}
+
+/// `id` with the nodes of `map` replaced (rebuilt through the smart constructors above them).
+fn replace(g: &mut Graph, id: Id, map: &HashMap<Id, Id>) -> Id {
+    let mut memo: HashMap<Id, Id> = HashMap::new();
+    for n in g.reachable(&[id]) {
+        if let Some(&r) = map.get(&n) {
+            memo.insert(n, r);
+            continue;
+        }
+        let m = |c: Id| memo[&c];
+        let new = match g.node(n) {
+            Node::Num(_) | Node::Var(_) => n,
+            Node::Add(a, b) => g.add(m(a), m(b)),
+            Node::Sub(a, b) => g.sub(m(a), m(b)),
+            Node::Mul(a, b) => g.mul(m(a), m(b)),
+            Node::Div(a, b) => g.div(m(a), m(b)),
+            Node::Neg(a) => g.neg(m(a)),
+            Node::Call(f, a) => g.call(f, m(a)),
+            Node::Powi(a, k) => g.powi(m(a), k),
+            Node::Powf(a, b) => g.powf(m(a), m(b)),
+            Node::Hypot(a, b) => g.hypot(m(a), m(b)),
+            Node::Select(op, l, r, a, b) => g.select(op, m(l), m(r), m(a), m(b)),
+            Node::Sum(i, body) => g.sum(i, m(body)),
+        };
+        memo.insert(n, new);
+    }
+    memo[&id]
+}
+
+/// `id` with the loop variables of `map` renamed (their ranges are copied for the new
+/// variables beforehand). A renaming keeps the shape of every node, so nodes are interned as
+/// they are.
+fn rename(g: &mut Graph, id: Id, map: &HashMap<IndexVar, IndexVar>) -> Id {
+    let at = |c: crate::ir::Component| crate::ir::Component {
+        at: crate::ir::Affine {
+            var: c.at.var.map(|v| *map.get(&v).unwrap_or(&v)),
+            ..c.at
+        },
+        ..c
+    };
+    let mut memo: HashMap<Id, Id> = HashMap::new();
+    for n in g.reachable(&[id]) {
+        let m = |c: Id| memo[&c];
+        let node = match g.node(n) {
+            Node::Var(Var::XAt(c)) => Node::Var(Var::XAt(at(c))),
+            Node::Var(Var::VAt(c)) => Node::Var(Var::VAt(at(c))),
+            Node::Var(Var::Index(i)) => Node::Var(Var::Index(*map.get(&i).unwrap_or(&i))),
+            node @ (Node::Num(_) | Node::Var(_)) => node,
+            Node::Add(a, b) => Node::Add(m(a), m(b)),
+            Node::Sub(a, b) => Node::Sub(m(a), m(b)),
+            Node::Mul(a, b) => Node::Mul(m(a), m(b)),
+            Node::Div(a, b) => Node::Div(m(a), m(b)),
+            Node::Neg(a) => Node::Neg(m(a)),
+            Node::Call(f, a) => Node::Call(f, m(a)),
+            Node::Powi(a, k) => Node::Powi(m(a), k),
+            Node::Powf(a, b) => Node::Powf(m(a), m(b)),
+            Node::Hypot(a, b) => Node::Hypot(m(a), m(b)),
+            Node::Select(op, l, r, a, b) => Node::Select(op, m(l), m(r), m(a), m(b)),
+            Node::Sum(i, body) => Node::Sum(*map.get(&i).unwrap_or(&i), m(body)),
+        };
+        let new = g.intern(node);
+        memo.insert(n, new);
+    }
+    memo[&id]
+}
+
+/// Fresh copies of the loop variables `path` (outermost first), each range rewritten in the
+/// copies of the variables before it, with `body` renamed to them.
+fn fresh_copy(g: &mut Graph, path: &[IndexVar], body: Id) -> (Vec<IndexVar>, Id) {
+    let mut map: HashMap<IndexVar, IndexVar> = HashMap::new();
+    let mut new_path = Vec::with_capacity(path.len());
+    for &i in path {
+        let mut r = g.ranges[i.0 as usize].clone();
+        for end in [&mut r.start, &mut r.end] {
+            if let Some(v) = end.var {
+                end.var = Some(*map.get(&v).unwrap_or(&v));
+            }
+        }
+        let new = IndexVar(g.ranges.len() as u32);
+        g.ranges.push(r);
+        map.insert(i, new);
+        new_path.push(new);
+    }
+    (new_path, rename(g, body, &map))
+}
+
+type Terms = Vec<(Vec<IndexVar>, Id)>;
+
+/// The product of two term lists; the second factor's loop variables are renamed where they
+/// meet the first's, so that two sums never share an index.
+fn product(g: &mut Graph, ta: &Terms, tb: &Terms) -> Terms {
+    let mut out = Vec::new();
+    for (pa, ba) in ta {
+        for (pb, bb) in tb {
+            let (pb, bb) = if pb.iter().any(|v| pa.contains(v)) {
+                fresh_copy(g, pb, *bb)
+            } else {
+                (pb.clone(), *bb)
+            };
+            let path = pa.iter().chain(&pb).copied().collect();
+            out.push((path, g.mul(*ba, bb)));
+        }
+    }
+    out
+}
+
 /// `L` as terms, or a message saying where a sum is used in a way that is not a sum of terms.
-fn terms(g: &mut Graph, has: &[bool], id: Id) -> Result<Vec<(Vec<IndexVar>, Id)>, String> {
+fn terms(g: &mut Graph, has: &[bool], id: Id) -> Result<Terms, String> {
     if id >= has.len() || !has[id] {
         return Ok(vec![(Vec::new(), id)]);
     }
-    let scale = |g: &mut Graph, ts: Vec<(Vec<IndexVar>, Id)>, f: &dyn Fn(&mut Graph, Id) -> Id| {
+    let scale = |g: &mut Graph, ts: Terms, f: &dyn Fn(&mut Graph, Id) -> Id| {
         ts.into_iter()
             .map(|(p, b)| (p, f(g, b)))
             .collect::<Vec<_>>()
@@ -92,14 +308,15 @@ fn terms(g: &mut Graph, has: &[bool], id: Id) -> Result<Vec<(Vec<IndexVar>, Id)>
         }
         Node::Mul(a, b) => {
             let (ta, tb) = (terms(g, has, a)?, terms(g, has, b)?);
-            let mut out = Vec::new();
-            for (pa, ba) in &ta {
-                for (pb, bb) in &tb {
-                    let path = pa.iter().chain(pb).copied().collect();
-                    out.push((path, g.mul(*ba, *bb)));
-                }
+            product(g, &ta, &tb)
+        }
+        Node::Powi(a, n) if (1..=MAX_EXPANDED_POWER).contains(&n) => {
+            let ta = terms(g, has, a)?;
+            let mut t = ta.clone();
+            for _ in 1..n {
+                t = product(g, &t, &ta);
             }
-            out
+            t
         }
         Node::Div(a, b) if !has[b] => {
             let t = terms(g, has, a)?;
@@ -119,34 +336,33 @@ fn terms(g: &mut Graph, has: &[bool], id: Id) -> Result<Vec<(Vec<IndexVar>, Id)>
             .collect(),
         _ => {
             return Err(
-                "a sum is used inside a function, a divisor or a condition: the \
-                 Lagrangian must be a sum of terms, each a sum over indices of a formula \
-                 (move the function inside the sum)"
+                "a sum is used inside a function, a divisor or a condition where the macro \
+                 cannot lift it"
                     .into(),
             );
         }
     })
 }
 
-/// The components a body reads, positions then velocities, each in id order.
-fn components(g: &Graph, body: Id) -> (Vec<Var>, Vec<Var>) {
-    let (mut xs, mut vs) = (Vec::new(), Vec::new());
+/// The components a body reads: positions, velocities and lifted sums, each in id order.
+fn components(g: &Graph, body: Id) -> [Vec<Var>; 3] {
+    let (mut xs, mut vs, mut ss) = (Vec::new(), Vec::new(), Vec::new());
     for id in g.reachable(&[body]) {
         match g.node(id) {
             Node::Var(w @ (Var::X(_) | Var::XAt(_))) => xs.push(w),
             Node::Var(w @ (Var::V(_) | Var::VAt(_))) => vs.push(w),
+            Node::Var(w @ Var::Lifted(_)) => ss.push(w),
             _ => {}
         }
     }
-    (xs, vs)
+    [xs, vs, ss]
 }
 
-/// Writes `L` (the node `root`) as terms and differentiates each twice.
-pub fn assemble(g: &mut Graph, root: Id) -> Result<Assembly, String> {
-    let has = sum_inside(g);
-    let mut by_path: Vec<(Vec<IndexVar>, Id)> = Vec::new();
+/// Terms with the same loops, merged into one body each, in first-seen order.
+fn merged(g: &mut Graph, ts: Terms) -> Terms {
+    let mut by_path: Terms = Vec::new();
     let mut index: HashMap<Vec<IndexVar>, usize> = HashMap::new();
-    for (path, body) in terms(g, &has, root)? {
+    for (path, body) in ts {
         match index.get(&path) {
             Some(&k) => by_path[k].1 = g.add(by_path[k].1, body),
             None => {
@@ -155,16 +371,21 @@ pub fn assemble(g: &mut Graph, root: Id) -> Result<Assembly, String> {
             }
         }
     }
-    let mut d = Differentiator::new();
+    by_path
+}
+
+/// Differentiates each term twice.
+fn differentiate(g: &mut Graph, d: &mut Differentiator, ts: Terms) -> Vec<Term> {
     let mut out = Vec::new();
-    for (loops, value) in by_path {
+    for (loops, value) in ts {
         if g.is_num(value, 0.0) {
             continue;
         }
-        let (xs, vs) = components(g, value);
+        let [xs, vs, ss] = components(g, value);
+        let states: Vec<Var> = xs.iter().chain(&vs).copied().collect();
         let mut gradient = Vec::new();
         let mut first = HashMap::new();
-        for &u in xs.iter().chain(&vs) {
+        for &u in states.iter().chain(&ss) {
             let du = d.diff(g, value, u);
             first.insert(u, du);
             if !g.is_num(du, 0.0) {
@@ -176,6 +397,8 @@ pub fn assemble(g: &mut Graph, root: Id) -> Result<Assembly, String> {
             (Block::Xx, &xs, &xs, true),
             (Block::Xv, &xs, &vs, false),
             (Block::Vv, &vs, &vs, true),
+            (Block::Zs, &states, &ss, false),
+            (Block::Ss, &ss, &ss, true),
         ];
         for (block, rows, cols, symmetric) in blocks {
             for (a, &row) in rows.iter().enumerate() {
@@ -202,21 +425,192 @@ pub fn assemble(g: &mut Graph, root: Id) -> Result<Assembly, String> {
             value,
             gradient,
             hessian,
+            weighted: None,
         });
     }
+    out
+}
+
+/// `term` weighted by the adjoint of lifted sum `k`.
+fn weighted(g: &mut Graph, term: &Term, k: usize) -> Term {
+    let adjoint = g.var(Var::Adjoint(k));
+    let w = |g: &mut Graph, id: Id| g.mul(adjoint, id);
+    Term {
+        loops: term.loops.clone(),
+        value: w(g, term.value),
+        gradient: term.gradient.iter().map(|&(u, id)| (u, w(g, id))).collect(),
+        hessian: term
+            .hessian
+            .iter()
+            .map(|e| Entry {
+                id: w(g, e.id),
+                ..*e
+            })
+            .collect(),
+        weighted: Some(k),
+    }
+}
+
+/// Writes `L` (the node `root`) as terms and differentiates each twice.
+pub fn assemble(g: &mut Graph, root: Id) -> Result<Assembly, String> {
+    let has = sum_inside(g);
+    let lifted = lifted_sums(g, &has, root)?;
+    // Each lifted sum becomes a leaf; its own body reads the leaves of the sums lifted
+    // inside it (smaller ids, so lower numbers: computed before it).
+    let mut map: HashMap<Id, Id> = HashMap::new();
+    let mut definitions = Vec::new();
+    for (k, &s) in lifted.iter().enumerate() {
+        definitions.push(replace(g, s, &map));
+        let leaf = g.var(Var::Lifted(k));
+        map.insert(s, leaf);
+    }
+    let top = replace(g, root, &map);
+    let has = sum_inside(g);
+    let mut d = Differentiator::new();
+    let top_terms = terms(g, &has, top)?;
+    let top_terms = merged(g, top_terms);
+    let mut out = differentiate(g, &mut d, top_terms);
+    let mut sums = Vec::new();
+    for (k, &def) in definitions.iter().enumerate() {
+        let ts = terms(g, &has, def)?;
+        let ts = merged(g, ts);
+        let own = differentiate(g, &mut d, ts);
+        for t in &own {
+            let w = weighted(g, t, k);
+            out.push(w);
+        }
+        sums.push(own);
+    }
+    let deep = Deep::new(g, &out, &sums);
+    let dense_blocks = dense_blocks(&out, &sums);
     let block_ids = |b: Block| -> Vec<Id> {
         out.iter()
             .flat_map(|t| t.hessian.iter().filter(|e| e.block == b).map(|e| e.id))
             .collect()
     };
+    // The dense part of block `b` reads every derivative of the lifted sums and the
+    // lifted blocks of `Φ`.
+    let rank_ids: Vec<Id> = sums
+        .iter()
+        .flatten()
+        .flat_map(|t| t.gradient.iter().map(|e| e.1))
+        .chain(out.iter().flat_map(|t| {
+            t.hessian
+                .iter()
+                .filter(|e| matches!(e.block, Block::Zs | Block::Ss))
+                .map(|e| e.id)
+        }))
+        .collect();
+    let block_dependence = |b: Block, k: usize| {
+        let mut ids = block_ids(b);
+        if dense_blocks[k] {
+            ids.extend(&rank_ids);
+        }
+        deep.dependence(g, &ids)
+    };
     let hessian_dependence = HessianDependence {
-        xx: g.dependence(&block_ids(Block::Xx)),
-        xv: g.dependence(&block_ids(Block::Xv)),
-        vv: g.dependence(&block_ids(Block::Vv)),
+        xx: block_dependence(Block::Xx, 0),
+        xv: block_dependence(Block::Xv, 1),
+        vv: block_dependence(Block::Vv, 2),
     };
     Ok(Assembly {
         dependence: g.dependence(&[root]),
         terms: out,
+        sums,
+        dense_blocks,
         hessian_dependence,
     })
+}
+
+/// What the lifted sums and their adjoints depend on, so that the dependence of a node that
+/// reads their leaves is known.
+struct Deep {
+    lifted: Vec<Dependence>,
+    adjoint: Vec<Dependence>,
+}
+
+impl Deep {
+    fn new(g: &Graph, terms: &[Term], sums: &[Vec<Term>]) -> Self {
+        let mut deep = Deep {
+            lifted: Vec::new(),
+            adjoint: vec![Dependence::NONE; sums.len()],
+        };
+        for s in sums {
+            let ids: Vec<Id> = s.iter().map(|t| t.value).collect();
+            let dep = deep.dependence(g, &ids);
+            deep.lifted.push(dep);
+        }
+        // The adjoint of sum `k` reads the adjoints of later sums only.
+        for k in (0..sums.len()).rev() {
+            let ids: Vec<Id> = terms
+                .iter()
+                .flat_map(|t| t.gradient.iter())
+                .filter(|e| e.0 == Var::Lifted(k))
+                .map(|e| e.1)
+                .collect();
+            deep.adjoint[k] = deep.dependence(g, &ids);
+        }
+        deep
+    }
+
+    /// On which of `x`, `v`, `t` the nodes `ids` depend, through the leaves of lifted sums
+    /// and adjoints too.
+    fn dependence(&self, g: &Graph, ids: &[Id]) -> Dependence {
+        let mut dep = g.dependence(ids);
+        for id in g.reachable(ids) {
+            let other = match g.node(id) {
+                Node::Var(Var::Lifted(k)) => self.lifted.get(k),
+                Node::Var(Var::Adjoint(k)) => self.adjoint.get(k),
+                _ => None,
+            };
+            if let Some(o) = other {
+                dep.x |= o.x;
+                dep.v |= o.v;
+                dep.t |= o.t;
+            }
+        }
+        dep
+    }
+}
+
+/// Which of the blocks `xx`, `xv`, `vv` the dense part `Σ_k (U_k W_kᵀ + W_k U_kᵀ)` can
+/// reach: where some `W_k` or `U_k` has entries on each side.
+fn dense_blocks(terms: &[Term], sums: &[Vec<Term>]) -> [bool; 3] {
+    let is_x = |u: &Var| matches!(u, Var::X(_) | Var::XAt(_));
+    let is_v = |u: &Var| matches!(u, Var::V(_) | Var::VAt(_));
+    // `W_k` has `x` (`v`) entries when sum `k` reads positions (velocities), directly or
+    // through an earlier sum.
+    let mut w: Vec<[bool; 2]> = Vec::new();
+    for s in sums {
+        let mut side = [false; 2];
+        for (u, _) in s.iter().flat_map(|t| &t.gradient) {
+            side[0] |= is_x(u);
+            side[1] |= is_v(u);
+            if let Var::Lifted(j) = u {
+                side[0] |= w[*j][0];
+                side[1] |= w[*j][1];
+            }
+        }
+        w.push(side);
+    }
+    // `U_k` has entries where `Φ_{z s_k}` has, or where a `W_l` with `Φ_{s_k s_l} ≠ 0` has.
+    let mut u = vec![[false; 2]; sums.len()];
+    for e in terms.iter().flat_map(|t| &t.hessian) {
+        match (e.block, e.row, e.col) {
+            (Block::Zs, row, Var::Lifted(k)) => {
+                u[k][0] |= is_x(&row);
+                u[k][1] |= is_v(&row);
+            }
+            (Block::Ss, Var::Lifted(j), Var::Lifted(l)) => {
+                for (a, b) in [(j, l), (l, j)] {
+                    u[a][0] |= w[b][0];
+                    u[a][1] |= w[b][1];
+                }
+            }
+            _ => {}
+        }
+    }
+    let pair =
+        |r: usize, c: usize| (0..sums.len()).any(|k| (u[k][r] && w[k][c]) || (w[k][r] && u[k][c]));
+    [pair(0, 0), pair(0, 1), pair(1, 1)]
 }

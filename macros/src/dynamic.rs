@@ -12,6 +12,7 @@ use quote::quote;
 
 use crate::emit::{param, private};
 use crate::ir::{Id, Model, Var};
+use crate::lifted::Lifted;
 use crate::scatter::{Loops, Style, Target, gradient_out, hessian_out, value_out};
 
 /// `impl DynLagrangian for Name { … }`, its model constants (`properties`) as in the
@@ -26,11 +27,15 @@ pub fn emit(model: &Model, loops: &Loops<'_>, properties: &TokenStream) -> Token
         ::core::debug_assert_eq!(v.len(), #dim);
     };
 
+    let lifted = Lifted::new(loops, Style::Sparse, quote!(::std::vec![0.0; #dim]));
+    let (values, adjoints) = (lifted.values(), lifted.adjoints());
+    let (dense, dense_used) = lifted.dense_part();
+
     let (code, _) = loops.body(&value_out, Style::Dense);
     let value = method(
         quote!(value),
         quote!(-> f64),
-        quote!(#check let mut value = 0.0; #code value),
+        quote!(#check #values let mut value = 0.0; #code value),
         None,
     );
 
@@ -49,19 +54,19 @@ pub fn emit(model: &Model, loops: &Loops<'_>, properties: &TokenStream) -> Token
     let force = method(
         quote!(force),
         quote!(),
-        quote!(#check ::core::debug_assert_eq!(fx.len(), #dim); fx.fill(0.0); #code),
+        quote!(#check ::core::debug_assert_eq!(fx.len(), #dim); fx.fill(0.0); #values #adjoints #code),
         Some(quote!(fx: &mut [f64])),
     );
     let (code, _) = loops.body(&state(false), Style::Dense);
     let momentum = method(
         quote!(momentum),
         quote!(),
-        quote!(#check ::core::debug_assert_eq!(fv.len(), #dim); fv.fill(0.0); #code),
+        quote!(#check ::core::debug_assert_eq!(fv.len(), #dim); fv.fill(0.0); #values #adjoints #code),
         Some(quote!(fv: &mut [f64])),
     );
 
     let (code, used) = loops.body(&hessian_out, Style::Sparse);
-    let out = if used[3..].iter().any(|&u| u) {
+    let out = if used[3..].iter().chain(&dense_used).any(|&u| u) {
         quote!(out)
     } else {
         quote!(_out)
@@ -69,7 +74,7 @@ pub fn emit(model: &Model, loops: &Loops<'_>, properties: &TokenStream) -> Token
     let hessian = method(
         quote!(hessian),
         quote!(),
-        quote!(#check #code),
+        quote!(#check #values #adjoints #code #dense),
         Some(quote!(#out: &mut #sparse)),
     );
 

@@ -420,7 +420,13 @@ fn leaf(consts: &[Ident]) -> impl Fn(Var) -> TokenStream + '_ {
             let c = &consts[k];
             quote!(self.#c)
         }
-        Var::XAt(_) | Var::VAt(_) | Var::Index(_) | Var::Dim | Var::Sym(_) => {
+        Var::XAt(_)
+        | Var::VAt(_)
+        | Var::Index(_)
+        | Var::Dim
+        | Var::Sym(_)
+        | Var::Lifted(_)
+        | Var::Adjoint(_) => {
             unreachable!("a model without loops reads literal components only")
         }
     }

@@ -60,6 +60,13 @@ pub enum Var {
     /// Model constant number `k` (a field of the generated struct): fixed for a whole run, so
     /// it counts for no [`Dependence`].
     Const(usize),
+    /// The value of the `k`-th sum that the Lagrangian uses as a value (inside a function, a
+    /// divisor or a condition): `assemble.rs` replaces such a sum by this leaf and
+    /// differentiates through it by the chain rule.
+    Lifted(usize),
+    /// The adjoint `∂L/∂s_k` of the `k`-th lifted sum at the point: a number the generated code
+    /// computes before it adds the sum's derivatives, weighted by it. Not differentiated.
+    Adjoint(usize),
 }
 
 /// Elementary functions of one argument.

@@ -26,6 +26,7 @@ mod fallback;
 mod helpers;
 mod indices;
 mod ir;
+mod lifted;
 mod names;
 mod parse;
 mod render;

@@ -40,9 +40,13 @@ impl<'a> Names<'a> {
                         .count()
                         > 1
                 });
-                let reserved = ["x", "v", "t", "fx", "fv", "xx", "xv", "vv", "value", "out"]
-                    .contains(&r.name.as_str())
-                    || r.name.starts_with('e');
+                let reserved = [
+                    "x", "v", "t", "fx", "fv", "xx", "xv", "vv", "value", "out", "row", "col",
+                ]
+                .contains(&r.name.as_str())
+                    || r.name.starts_with('e')
+                    || r.name.starts_with("lifted")
+                    || r.name.starts_with("adjoint");
                 if clash || reserved {
                     format_ident!("{}_{}", r.name.trim_start_matches("r#"), k)
                 } else {
@@ -197,6 +201,8 @@ impl<'a> Names<'a> {
                 let s = self.sym(s);
                 quote!((#s as f64))
             }
+            Var::Lifted(k) => lifted(k),
+            Var::Adjoint(k) => adjoint(k),
         }
     }
 
@@ -205,4 +211,16 @@ impl<'a> Names<'a> {
         let (start, end) = (self.affine(r.start), self.affine(r.end));
         quote!(#start..#end)
     }
+}
+
+/// The local holding the value of lifted sum `k`.
+pub fn lifted(k: usize) -> TokenStream {
+    let name = quote::format_ident!("lifted_{}", k);
+    quote!(#name)
+}
+
+/// The local holding the adjoint `∂L/∂s_k` of lifted sum `k`.
+pub fn adjoint(k: usize) -> TokenStream {
+    let name = quote::format_ident!("adjoint_{}", k);
+    quote!(#name)
 }

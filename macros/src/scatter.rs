@@ -17,6 +17,7 @@ use crate::cse::Plan;
 use crate::emit::{method_on, private, shell};
 use crate::indices::Affine;
 use crate::ir::{Graph, Id, IndexVar, Model, Node, Var};
+use crate::lifted::Lifted;
 use crate::names::Names;
 use crate::render::Render;
 
@@ -44,11 +45,11 @@ struct Nest {
 }
 
 impl Nest {
-    /// The nest of `a`'s terms, with the outputs `pick` gives for each.
-    fn new(a: &Assembly, pick: &dyn Fn(&Term) -> Vec<(Target, Id)>) -> Self {
+    /// The nest of `terms`, with the outputs `pick` gives for each.
+    fn new(terms: &[Term], pick: &dyn Fn(&Term) -> Vec<(Target, Id)>) -> Self {
         let mut scopes = vec![Scope::default()];
         let mut by_path: HashMap<Vec<IndexVar>, usize> = HashMap::new();
-        for term in &a.terms {
+        for term in terms {
             let outputs = pick(term);
             if outputs.is_empty() {
                 // No loop for a term that adds nothing here.
@@ -168,44 +169,32 @@ impl Nest {
     }
 }
 
-/// The loop variables each node reads, for every node.
-fn free_vars(g: &Graph) -> Vec<Vec<IndexVar>> {
-    let mut free: Vec<Vec<IndexVar>> = Vec::with_capacity(g.len());
-    for id in 0..g.len() {
-        let mut vars: Vec<IndexVar> = match g.node(id) {
-            Node::Var(Var::XAt(c) | Var::VAt(c)) => c.at.var.into_iter().collect(),
-            Node::Var(Var::Index(i)) => vec![i],
-            Node::Sum(i, body) => free[body].iter().copied().filter(|&v| v != i).collect(),
-            node => node
-                .children()
-                .iter()
-                .flat_map(|&c| free[c].clone())
-                .collect(),
-        };
-        vars.sort_unstable();
-        vars.dedup();
-        free.push(vars);
-    }
-    free
-}
-
-/// The value a term adds.
+/// The value a term adds (a lifted sum's weighted term adds to the derivatives only).
 pub fn value_out(t: &Term) -> Vec<(Target, Id)> {
-    vec![(Target::Value, t.value)]
+    match t.weighted {
+        None => vec![(Target::Value, t.value)],
+        Some(_) => Vec::new(),
+    }
 }
 
-/// What a term adds to the gradient.
+/// What a term adds to the gradient with respect to the state.
 pub fn gradient_out(t: &Term) -> Vec<(Target, Id)> {
     t.gradient
         .iter()
+        .filter(|(u, _)| !matches!(u, Var::Lifted(_)))
         .map(|&(u, id)| (Target::Gradient(u), id))
         .collect()
 }
 
-/// What a term adds to the Hessian blocks, the mirrored entries of the symmetric blocks too.
+/// What a term adds to the Hessian blocks of the state, the mirrored entries of the
+/// symmetric blocks too.
 pub fn hessian_out(t: &Term) -> Vec<(Target, Id)> {
     let mut out = Vec::new();
-    for e in &t.hessian {
+    for e in t
+        .hessian
+        .iter()
+        .filter(|e| matches!(e.block, Block::Xx | Block::Xv | Block::Vv))
+    {
         out.push((Target::Hessian(e.block, e.row, e.col), e.id));
         if e.mirror {
             out.push((Target::Hessian(e.block, e.col, e.row), e.id));
@@ -236,8 +225,13 @@ impl<'a> Loops<'a> {
             model,
             a,
             names: Names::new(model, a),
-            free: free_vars(&model.graph),
+            free: crate::assemble::free_vars(&model.graph),
         }
+    }
+
+    /// The assembly the nests are made of.
+    pub fn assembly(&self) -> &Assembly {
+        self.a
     }
 
     /// The loop nest adding the outputs `pick` gives for each term, and which of `value`,
@@ -247,8 +241,18 @@ impl<'a> Loops<'a> {
         pick: &dyn Fn(&Term) -> Vec<(Target, Id)>,
         style: Style,
     ) -> (TokenStream, [bool; 6]) {
+        self.body_of(&self.a.terms, pick, style)
+    }
+
+    /// [`Loops::body`] over `terms` (a lifted sum's).
+    pub fn body_of(
+        &self,
+        terms: &[Term],
+        pick: &dyn Fn(&Term) -> Vec<(Target, Id)>,
+        style: Style,
+    ) -> (TokenStream, [bool; 6]) {
         let g = &self.model.graph;
-        let nest = Nest::new(self.a, pick);
+        let nest = Nest::new(terms, pick);
         let (plan, temps) = nest.plan(g, &self.free);
         let leaf = |v: Var| self.names.leaf(&self.model.consts, v);
         let r = Render::new(g, &plan, &leaf);
@@ -315,12 +319,21 @@ pub fn emit(
         quote!(#a #b #c)
     };
     let hessian = private("Hessian");
+    let lifted = Lifted::new(loops, Style::Dense, quote!(#vec_expr::zeros()));
+    let (values, adjoints) = (lifted.values(), lifted.adjoints());
+    let (dense, dense_used) = lifted.dense_part();
+    let with_dense = |mut used: [bool; 6]| {
+        for (u, d) in used[3..].iter_mut().zip(dense_used) {
+            *u |= d;
+        }
+        used
+    };
 
     let (code, _) = body(&value_out);
     let value = method_on(
         quote!(value),
         quote!(f64),
-        quote!(let mut value = 0.0; #code value),
+        quote!(#values let mut value = 0.0; #code value),
         &vector,
     );
     let (code, used) = body(&gradient_out);
@@ -328,7 +341,7 @@ pub fn emit(
     let gradient = method_on(
         quote!(gradient),
         quote!((#vector, #vector)),
-        quote!(#decls #code (#fx, #fv)),
+        quote!(#values #adjoints #decls #code (#fx, #fv)),
         &vector,
     );
     let (code, used) = body(&value_gradient_out);
@@ -336,24 +349,25 @@ pub fn emit(
     let value_and_gradient = method_on(
         quote!(value_and_gradient),
         quote!((f64, #vector, #vector)),
-        quote!(let mut value = 0.0; #decls #code (value, #fx, #fv)),
+        quote!(#values #adjoints let mut value = 0.0; #decls #code (value, #fx, #fv)),
         &vector,
     );
     let (code, used) = body(&hessian_out);
-    let decls = hessian_decls(&used);
+    let decls = hessian_decls(&with_dense(used));
     let hessian_m = method_on(
         quote!(hessian),
         quote!(#hessian_ty),
-        quote!(#decls #code #hessian { #xx, #xv, #vv }),
+        quote!(#values #adjoints #decls #code #dense #hessian { #xx, #xv, #vv }),
         &vector,
     );
     let (code, used) = body(&both_out);
+    let used = with_dense(used);
     let decls = (gradient_decls(&used), hessian_decls(&used));
     let (gd, hd) = decls;
     let both = method_on(
         quote!(gradient_and_hessian),
         quote!((#vector, #vector, #hessian_ty)),
-        quote!(#gd #hd #code (#fx, #fv, #hessian { #xx, #xv, #vv })),
+        quote!(#values #adjoints #gd #hd #code #dense (#fx, #fv, #hessian { #xx, #xv, #vv })),
         &vector,
     );
     // A literal component `x[k]` of a named dimension `N` is checked when `N` is known.
@@ -395,13 +409,17 @@ pub fn emit(
 /// variables (a double sum), different scales or a difference naming `N` or another const
 /// leave it unbounded: `None`.
 pub fn bandwidth(a: &Assembly) -> Option<usize> {
+    if a.dense_blocks.iter().any(|&d| d) {
+        return None;
+    }
     let at = |u: Var| match u {
         Var::X(k) | Var::V(k) => Some(Affine::constant(k as i64)),
         Var::XAt(c) | Var::VAt(c) if !c.wrap => Some(c.at),
         _ => None,
     };
     let mut band = 0;
-    for e in a.terms.iter().flat_map(|t| &t.hessian) {
+    let state = |e: &&crate::assemble::Entry| matches!(e.block, Block::Xx | Block::Xv | Block::Vv);
+    for e in a.terms.iter().flat_map(|t| &t.hessian).filter(state) {
         let (row, col) = (at(e.row)?, at(e.col)?);
         let difference = row.add_scaled(col, -1)?.as_constant()?;
         band = band.max(difference.unsigned_abs() as usize);
@@ -446,6 +464,9 @@ fn scope(
                         Block::Xx => (3, quote!(xx)),
                         Block::Xv => (4, quote!(xv)),
                         Block::Vv => (5, quote!(vv)),
+                        Block::Zs | Block::Ss => {
+                            unreachable!("the lifted sums' blocks are picked into vectors")
+                        }
                     };
                     used[k] = true;
                     match style {

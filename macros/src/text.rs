@@ -222,6 +222,8 @@ impl Printer<'_> {
             Var::Index(i) => format!("({} as f64)", self.g.ranges[i.0 as usize].name),
             Var::Dim => format!("({} as f64)", self.dim()),
             Var::Sym(s) => format!("({} as f64)", self.sym(s)),
+            Var::Lifted(k) => format!("s{k}"),
+            Var::Adjoint(k) => format!("∂L/∂s{k}"),
         }
     }
 

@@ -382,15 +382,25 @@ impl Parser {
         }
     }
 
-    /// Records `name += value` in the innermost loop.
+    /// Records `name += value`: in the binding itself when `name` was declared at the current
+    /// loop depth (an accumulator declared inside this loop's body, or outside every loop),
+    /// otherwise in the innermost loop, which sums it over its index when it closes.
     fn add_to(&mut self, name: &str, value: Id, env: &mut Env) {
-        let Some(frame) = self.frames.last_mut() else {
+        let declared_here = match env.get(name) {
+            Some(&Binding::Mut { depth, .. }) => depth >= self.frames.len(),
+            _ => return,
+        };
+        if declared_here {
             if let Some(Binding::Mut { id, depth }) = env.get(name).cloned() {
                 let new = self.graph.add(id, value);
                 env.insert(name.to_string(), Binding::Mut { id: new, depth });
             }
             return;
-        };
+        }
+        let frame = self
+            .frames
+            .last_mut()
+            .expect("an accumulator of an outer loop depth");
         match frame.adds.iter_mut().find(|(n, _)| n == name) {
             Some((_, acc)) => *acc = self.graph.add(*acc, value),
             None => frame.adds.push((name.to_string(), value)),

@@ -454,19 +454,35 @@ impl Parser {
         self.error(cond, "a condition is a comparison of numbers (`<`, `<=`, `>`, `>=`, `==`, `!=`), possibly combined with `&&`, `||`, `!`")
     }
 
-    /// Whether `id` holds a sum: a sum may only enter `L` linearly (`assemble.rs`).
+    /// Whether `id` holds a sum that reads the variable of a loop around it: such a sum is one
+    /// value per iteration, which may enter `L` polynomially but not inside a function, a
+    /// divisor or a condition (a sum of the whole body is lifted there: `assemble.rs`).
     fn holds_sum(&self, id: Id) -> bool {
-        self.graph
-            .reachable(&[id])
-            .into_iter()
-            .any(|n| matches!(self.graph.node(n), crate::ir::Node::Sum(..)))
+        let g = &self.graph;
+        let mut stack = vec![id];
+        let mut outer = Vec::new();
+        let mut seen = std::collections::HashSet::new();
+        while let Some(n) = stack.pop() {
+            if !seen.insert(n) {
+                continue;
+            }
+            match g.node(n) {
+                crate::ir::Node::Sum(..) => outer.push(n),
+                node => stack.extend(node.children()),
+            }
+        }
+        if outer.is_empty() {
+            return false;
+        }
+        let free = crate::assemble::free_vars(g);
+        outer.iter().any(|&s| !free[s].is_empty())
     }
 
-    /// The error for a sum used where `L` would stop being a sum of terms.
+    /// The error for a per-iteration sum used where only a value of the whole body can be.
     fn sum_inside(&mut self, at: &dyn quote::ToTokens, what: &str) -> Id {
         self.error(
             at,
-            format!("a sum cannot be inside {what}: the Lagrangian must be a sum of terms, with functions applied inside each sum"),
+            format!("a sum that reads the variable of a loop around it cannot be inside {what}: it may be added, multiplied or raised to a power up to 4 (`powi`); or compute it as a sum of its own outside that loop"),
         )
     }
 

@@ -2,10 +2,16 @@ use varembed::lagrangian;
 
 const N: usize = 8;
 
+/// A sum that reads the loop variable around it is one value per iteration: it may be added,
+/// multiplied or raised to a small power, but not taken the root of.
 #[lagrangian]
-fn radial(x: [f64; N], v: [f64; N]) -> f64 {
-    let kinetic: f64 = (0..N).map(|i| 0.5 * v[i] * v[i]).sum();
-    kinetic + (0..N).map(|i| x[i] * x[i]).sum::<f64>().sqrt()
+fn speeds(x: [f64; N], v: [f64; N]) -> f64 {
+    let mut l = 0.0;
+    for k in 0..N {
+        let speed2: f64 = (0..=k).map(|i| v[i] * v[i]).sum();
+        l += speed2.sqrt() - x[k] * x[k];
+    }
+    l
 }
 
 fn main() {}
