@@ -59,9 +59,8 @@ pub fn loops_text(model: &Model, a: &Assembly) -> String {
         model,
     };
     let mut lines = vec![format!("L = {}", p.print(model.root))];
-    for term in &a.terms {
-        let head: String = term
-            .loops
+    let head = |term: &crate::assemble::Term| -> String {
+        term.loops
             .iter()
             .map(|&i| {
                 let r = &p.g.ranges[i.0 as usize];
@@ -72,7 +71,16 @@ pub fn loops_text(model: &Model, a: &Assembly) -> String {
                     p.affine(r.end)
                 )
             })
-            .collect();
+            .collect()
+    };
+    // The sums used as values, each computed first (`s0`, `s1`, …).
+    for (k, terms) in a.sums.iter().enumerate() {
+        for term in terms {
+            lines.push(format!("{}s{k} += {}", head(term), p.print(term.value)));
+        }
+    }
+    for term in &a.terms {
+        let head = head(term);
         for &(u, id) in &term.gradient {
             lines.push(format!("{head}∂L/∂{} += {}", p.var(u), p.print(id)));
         }

@@ -496,7 +496,9 @@ impl Parser {
         env: &Env,
     ) -> Id {
         let s = name.to_string();
-        if self.holds_sum(recv) {
+        let small_power =
+            s == "powi" && args.len() == 1 && matches!(int_literal(args[0]), Some(Ok(1..=4)));
+        if !small_power && self.holds_sum(recv) {
             return self.sum_inside(name, &format!("`{s}`"));
         }
         let arity = usize::from(BINARY.contains(&s.as_str()));
