@@ -396,7 +396,7 @@ fn the_two_n_link_pendulums_give_the_same_nodes() {
     let q0 = Vector::<N>::from_fn(|i, _| 0.3 + 0.2 * i as f64);
     let v0 = Vector::<N>::from_fn(|i, _| 0.5 - 0.25 * i as f64);
     for embedding in [Embedding::midpoint(), Embedding::gauss_legendre(2).unwrap()] {
-        let a = Problem::new(&NLinkAccumulated { g, l }, grid, embedding.clone())
+        let a = Problem::new(&NLinkAccumulated { g, l }, grid, embedding)
             .solve_ivp(Scheme::Variational, q0, v0)
             .unwrap();
         let b = Problem::new(&NLinkClosed { g, l }, grid, embedding)
