@@ -29,6 +29,7 @@ mod ir;
 mod lifted;
 mod names;
 mod parse;
+mod readable;
 mod render;
 mod scatter;
 mod simplify;

@@ -5,6 +5,7 @@ use std::collections::HashMap;
 
 use crate::assemble::{Assembly, Block};
 use crate::ir::{Affine, Derivatives, Func, Graph, Id, Model, Node, Prec, Var, constant_name};
+use crate::readable::Poly;
 
 /// Formulas longer than this are not spelled out (the expansion of a DAG can be exponential).
 const MAX_TEXT_NODES: usize = 4000;
@@ -125,7 +126,72 @@ impl Printer<'_> {
         if size[&id] > MAX_TEXT_NODES {
             return format!("(formula of {}+ operations, not printed)", MAX_TEXT_NODES);
         }
-        self.go(id).0
+        self.normal(id).print().0
+    }
+
+    /// The node in the normal form for reading ([`crate::readable`]).
+    fn normal(&self, id: Id) -> Poly {
+        let atom = |p: Poly| {
+            let (s, prec) = p.print();
+            if prec < Prec::Atom {
+                format!("({s})")
+            } else {
+                s
+            }
+        };
+        let plain = |p: Poly| p.print().0;
+        match self.g.node(id) {
+            Node::Num(bits) => Poly::number(f64::from_bits(bits)),
+            Node::Var(v) => Poly::atom(self.var(v), Prec::Atom),
+            Node::Add(a, b) => self.normal(a).add(self.normal(b)),
+            Node::Sub(a, b) => self.normal(a).add(self.normal(b).scale(-1.0)),
+            Node::Neg(a) => self.normal(a).scale(-1.0),
+            Node::Mul(a, b) => self.normal(a).mul(self.normal(b)),
+            Node::Div(a, b) => self.normal(a).div(self.normal(b)),
+            Node::Powi(a, n) => self.normal(a).powi(n),
+            Node::Call(Func::Recip, a) => self.normal(a).powi(-1),
+            Node::Call(Func::Sign, a) => {
+                Poly::atom(format!("sign({})", plain(self.normal(a))), Prec::Atom)
+            }
+            Node::Call(f, a) => Poly::atom(
+                format!("{}.{}()", atom(self.normal(a)), f.name()),
+                Prec::Atom,
+            ),
+            Node::Select(op, l, r, a, b) => {
+                let side = |x: Id| {
+                    let (s, p) = self.normal(x).print();
+                    if p < Prec::Add { format!("({s})") } else { s }
+                };
+                Poly::atom(
+                    format!(
+                        "if {} {} {} {{ {} }} else {{ {} }}",
+                        side(l),
+                        op.symbol(),
+                        side(r),
+                        plain(self.normal(a)),
+                        plain(self.normal(b))
+                    ),
+                    Prec::If,
+                )
+            }
+            Node::Sum(i, body) => {
+                let r = &self.g.ranges[i.0 as usize];
+                Poly::atom(
+                    format!(
+                        "Σ_{{{} in {}..{}}} {}",
+                        r.name,
+                        self.affine(r.start),
+                        self.affine(r.end),
+                        atom(self.normal(body))
+                    ),
+                    Prec::Neg,
+                )
+            }
+            _ => {
+                let (s, p) = self.go(id);
+                Poly::atom(s, p)
+            }
+        }
     }
 
     fn wrap(&self, id: Id, need: Prec) -> String {

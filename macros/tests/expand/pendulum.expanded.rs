@@ -16,7 +16,7 @@ pub struct Pendulum {
 impl Pendulum {
     /// The derivatives of `L` computed by `#[lagrangian]`, one per line (zero entries
     /// omitted; symmetric blocks listed once, `i ≤ j`).
-    pub const DERIVATIVES: &str = "L = 0.5 * l * l * v * v + g * l * x.cos()\n∂L/∂x = -(g * l * x.sin())\n∂L/∂v = 2.0 * (0.5 * l * l * v)\n∂²L/∂x∂x = -(g * l * x.cos())\n∂²L/∂v∂v = 2.0 * (0.5 * l * l)";
+    pub const DERIVATIVES: &str = "L = 0.5 * l.powi(2) * v.powi(2) + g * l * x.cos()\n∂L/∂x = -g * l * x.sin()\n∂L/∂v = l.powi(2) * v\n∂²L/∂x∂x = -g * l * x.cos()\n∂²L/∂v∂v = l.powi(2)";
 }
 impl ::varembed::__private::Lagrangian<1> for Pendulum {
     #[inline]
