@@ -79,8 +79,8 @@ use proc_macro::TokenStream;
 /// literal or an index expression (`x[i + 1]`, `x[(i + 1) % N]`, `x[2 * i + 1]`), other `usize`
 /// consts where `N` may stand (`for i in 0..M`), division of constants by a literal (`0..N / 2`,
 /// `x[N / 2]`), indices as numbers (`(N - i) as f64`), `+ - * /`, unary `-`, literals, the
-/// parameters, the `f64` methods (or `f64::` functions) `sin cos tan asin acos atan sinh cosh
-/// tanh exp ln log10 sqrt cbrt recip abs signum powi powf hypot max min`,
+/// parameters, the `f64` methods (or `f64::` functions) `sin cos tan asin acos atan atan2 sinh
+/// cosh tanh exp exp_m1 ln ln_1p log10 sqrt cbrt recip abs signum powi powf hypot max min`,
 /// `if c { a } else { b }`, `std::f64::consts::*`, and helper fns marked
 /// `#[lagrangian(helper)]`. The derivatives of loops are loops (the expansion does not grow
 /// with the dimension). Anything else is a compile error on the

@@ -174,6 +174,10 @@ impl Printer<'_> {
                 format!("{}.hypot({})", self.wrap(a, Prec::Atom), self.go(b).0),
                 Prec::Atom,
             ),
+            Node::Atan2(a, b) => (
+                format!("{}.atan2({})", self.wrap(a, Prec::Atom), self.go(b).0),
+                Prec::Atom,
+            ),
             Node::Select(op, l, r, a, b) => (
                 format!(
                     "if {} {} {} {{ {} }} else {{ {} }}",

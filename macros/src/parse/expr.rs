@@ -9,11 +9,11 @@ use super::signature::Length;
 use crate::ir::{Cmp, Func, Id, Var, constant_value};
 
 /// The `f64` functions a body may call, for the error on any other.
-const METHODS: &str = "the f64 methods are sin cos tan asin acos atan sinh cosh tanh exp ln \
-     log10 sqrt cbrt recip abs signum powi powf hypot max min";
+const METHODS: &str = "the f64 methods are sin cos tan asin acos atan atan2 sinh cosh tanh exp \
+     exp_m1 ln ln_1p log10 sqrt cbrt recip abs signum powi powf hypot max min";
 
 /// The functions of one argument besides the receiver.
-const BINARY: [&str; 5] = ["powi", "powf", "hypot", "max", "min"];
+const BINARY: [&str; 6] = ["powi", "powf", "hypot", "atan2", "max", "min"];
 
 impl Parser {
     pub(super) fn expr(&mut self, e: &Expr, env: &Env) -> Id {
@@ -507,7 +507,7 @@ impl Parser {
                     "the `powi` exponent must be an integer literal (use `powf` for a general exponent)",
                 ),
             },
-            "powf" | "hypot" | "max" | "min" => {
+            "powf" | "hypot" | "atan2" | "max" | "min" => {
                 let b = self.expr(args[0], env);
                 if self.holds_sum(b) {
                     return self.sum_inside(args[0], &format!("`{s}`"));
@@ -515,6 +515,7 @@ impl Parser {
                 match s.as_str() {
                     "powf" => self.graph.powf(recv, b),
                     "hypot" => self.graph.hypot(recv, b),
+                    "atan2" => self.graph.atan2(recv, b),
                     "max" => self.graph.select(Cmp::Ge, recv, b, recv, b),
                     _ => self.graph.select(Cmp::Le, recv, b, recv, b),
                 }
