@@ -9,6 +9,12 @@
 //! (also from helpers) has been gathered, that expands the Lagrangian with their bodies. The
 //! relay macro is made path-scoped by a `use`, so the helper may be written before or after
 //! the Lagrangian.
+//!
+//! A fn that is not marked has no relay, and rustc's error names the macro it cannot find; so
+//! the relay's name is the instruction, `mark_spring_with_lagrangian_helper`. A fallback relay
+//! with a `compile_error!` cannot be given: the real relay reaches a Lagrangian in another
+//! module through the user's glob import (`use super::*;`), and a second glob (or a glob in an
+//! inner scope) that supplied a fallback would make the name ambiguous where the helper exists.
 
 use std::collections::BTreeSet;
 
@@ -18,9 +24,10 @@ use syn::{FnArg, ItemFn, Pat, ReturnType};
 
 use crate::parse::signature::is_f64;
 
-/// The name of the relay macro of helper `name`.
+/// The name of the relay macro of helper `name`: what a call of an unmarked fn reports as the
+/// macro it cannot find, so it says what to do.
 fn relay(name: &Ident) -> Ident {
-    format_ident!("__lagrangian_helper_{}", name, span = name.span())
+    format_ident!("mark_{}_with_lagrangian_helper", name, span = name.span())
 }
 
 /// Whether the attribute arguments are `helper`.
