@@ -66,8 +66,9 @@ pub fn define(item: TokenStream) -> TokenStream {
     }
 }
 
-/// The errors of a helper: its signature must be `fn name(a: f64, …) -> f64`, and its body
-/// what a Lagrangian's body may be.
+/// The errors of a helper: its signature must be `fn name(a: f64, …) -> R` with `R` one of
+/// `f64`, `(f64, …)`, `[f64; K]`, and its body what a Lagrangian's body may be, ending with
+/// what `R` says.
 fn check(f: &ItemFn) -> Option<syn::Error> {
     let mut errors = Vec::new();
     let sig = &f.sig;
@@ -96,14 +97,15 @@ fn check(f: &ItemFn) -> Option<syn::Error> {
             }
         }
     }
-    match &sig.output {
-        ReturnType::Type(_, ty) if is_f64(ty) => {}
-        _ => errors.push(syn::Error::new_spanned(
-            &sig.ident,
-            "a helper returns `f64`",
-        )),
-    }
-    errors.extend(crate::parse::check_helper_body(f, &params));
+    let returns = crate::parse::returns(&sig.output).unwrap_or_else(|| {
+        let msg = "a helper returns `f64`, a tuple `(f64, f64, …)` or an array `[f64; K]` (`K` an integer literal)";
+        errors.push(match &sig.output {
+            ReturnType::Type(_, ty) => syn::Error::new_spanned(ty, msg),
+            ReturnType::Default => syn::Error::new_spanned(&sig.ident, msg),
+        });
+        crate::parse::Returns::Scalar
+    });
+    errors.extend(crate::parse::check_helper_body(f, &params, returns));
     let mut it = errors.into_iter();
     let mut first = it.next()?;
     for e in it {

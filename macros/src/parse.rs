@@ -8,6 +8,7 @@ mod expr;
 mod index;
 mod scope;
 pub mod signature;
+mod values;
 
 use proc_macro2::TokenStream;
 use syn::ItemFn;
@@ -20,10 +21,17 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
     parse_with_helpers(args, item, Vec::new())
 }
 
-/// The errors in the body of a helper fn with parameters `params`.
-pub fn check_helper_body(f: &ItemFn, params: &[proc_macro2::Ident]) -> Vec<syn::Error> {
+pub use values::{Returns, returns};
+
+/// The errors in the body of a helper fn with parameters `params`, returning what `returns`
+/// says.
+pub fn check_helper_body(
+    f: &ItemFn,
+    params: &[proc_macro2::Ident],
+    returns: Returns,
+) -> Vec<syn::Error> {
     let mut parser = body::Parser::new(Vec::new(), Vec::new());
-    parser.helper_body(&f.sig.ident, &f.block, params);
+    parser.helper_body(&f.sig.ident, &f.block, params, returns);
     parser.finish().1
 }
 

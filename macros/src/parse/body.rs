@@ -10,8 +10,11 @@ use std::collections::{HashMap, HashSet};
 
 use syn::{BinOp, Expr, Ident, Pat, Stmt};
 
+use quote::ToTokens;
+
 use super::scope::{Binding, Env, State, strip};
 use super::signature::{Length, Shape, Signature, is_f64};
+use super::values::{Returns, reads_values_at_variable};
 use crate::ir::{Affine, Graph, Id, IndexVar, Var};
 
 /// One open loop: what it adds to the accumulators declared outside it.
@@ -62,8 +65,14 @@ impl Parser {
         }
     }
 
-    /// Checks the body of a helper fn with parameters `params`.
-    pub fn helper_body(&mut self, name: &Ident, block: &syn::Block, params: &[Ident]) {
+    /// Checks the body of a helper fn with parameters `params`, returning what `returns` says.
+    pub fn helper_body(
+        &mut self,
+        name: &Ident,
+        block: &syn::Block,
+        params: &[Ident],
+        returns: Returns,
+    ) {
         self.checking_helper = true;
         self.inlining.push(name.to_string());
         let mut env = Env::new();
@@ -73,7 +82,15 @@ impl Parser {
                 Binding::Scalar(self.graph.var(Var::Const(k))),
             );
         }
-        self.block(block, &mut env);
+        match returns {
+            Returns::Scalar => {
+                self.block(block, &mut env);
+            }
+            Returns::Values(kind, n) => {
+                let name = name.to_string();
+                self.values_block(block, &mut env, Some((&name, kind, n)));
+            }
+        }
     }
 
     /// `L` as a node of the graph: the value of `block` with the parameters of `sig` bound.
@@ -156,7 +173,7 @@ impl Parser {
         }
     }
 
-    fn statement(&mut self, stmt: &Stmt, env: &mut Env) {
+    pub(super) fn statement(&mut self, stmt: &Stmt, env: &mut Env) {
         match stmt {
             Stmt::Local(local) => {
                 let Some(init) = &local.init else {
@@ -210,8 +227,17 @@ impl Parser {
                     self.bind(p, value, env);
                 }
             }
-            Pat::Type(pt) if matches!(&*pt.pat, Pat::Tuple(_)) => {
+            Pat::Type(pt) if matches!(&*pt.pat, Pat::Tuple(_) | Pat::Slice(_)) => {
                 self.let_binding(&pt.pat, init, env)
+            }
+            Pat::Slice(_) if self.values_kind(init, env).is_some() => {
+                let values = self.values(init, env);
+                self.bind_values(pat, values, env);
+            }
+            _ if self.is_unknown(init, env) => self.bind_unknown(pat, env),
+            _ if self.values_kind(init, env).is_some() => {
+                let values = self.values(init, env);
+                self.bind_values(pat, values, env);
             }
             _ => {
                 if self.is_int(init, env) || self.is_const_index(init, env) {
@@ -223,18 +249,28 @@ impl Parser {
         }
     }
 
-    /// The values of `init` as an `n`-tuple: `(a, b)` or `a.sin_cos()`.
+    /// The values of `init` as an `n`-tuple: `(a, b)`, `a.sin_cos()`, a tuple bound earlier or
+    /// returned by a helper.
     fn tuple_values(&mut self, init: &Expr, n: usize, env: &mut Env) -> Vec<Id> {
         match init {
             Expr::Tuple(t) if t.elems.len() == n => {
                 t.elems.iter().map(|e| self.expr(e, env)).collect()
             }
             Expr::Paren(p) => self.tuple_values(&p.expr, n, env),
-            Expr::MethodCall(mc) if mc.method == "sin_cos" && mc.args.is_empty() && n == 2 => {
-                let a = self.expr(&mc.receiver, env);
-                let s = self.graph.call(crate::ir::Func::Sin, a);
-                let c = self.graph.call(crate::ir::Func::Cos, a);
-                vec![s, c]
+            _ if self.is_unknown(init, env) => vec![self.graph.num(0.0); n],
+            _ if self.values_kind(init, env) == Some(super::scope::Kind::Tuple) => {
+                let values = self.values(init, env);
+                if values.ids.len() == n {
+                    return values.ids;
+                }
+                let e = self.error(
+                    init,
+                    format!(
+                        "this is a tuple of {} values, bound to {n} names",
+                        values.ids.len()
+                    ),
+                );
+                vec![e; n]
             }
             other => {
                 let e = self.error(
@@ -247,7 +283,7 @@ impl Parser {
     }
 
     /// Binds one name (or `_`) of a `let` to `value`.
-    fn bind(&mut self, pat: &Pat, value: Id, env: &mut Env) {
+    pub(super) fn bind(&mut self, pat: &Pat, value: Id, env: &mut Env) {
         match pat {
             Pat::Ident(pi) if pi.by_ref.is_none() && pi.subpat.is_none() => {
                 let binding = if pi.mutability.is_some() {
@@ -352,10 +388,12 @@ impl Parser {
     /// The accumulator named by `left`: its name, value and depth.
     fn accumulator(&mut self, left: &Expr, env: &Env) -> Option<(String, Id, usize)> {
         if let Expr::Index(ix) = strip(left) {
-            self.error(
-                ix,
-                "`x` and `v` cannot be changed: they are the point the Lagrangian is evaluated at",
-            );
+            let msg = if self.values_kind(&ix.expr, env).is_some() {
+                "an array of values cannot be changed: build it with its values, `let a = [e0, e1];`"
+            } else {
+                "`x` and `v` cannot be changed: they are the point the Lagrangian is evaluated at"
+            };
+            self.error(ix, msg);
             return None;
         }
         let name = match left {
@@ -424,7 +462,13 @@ impl Parser {
         let Some(var_name) = self.loop_pattern(&f.pat) else {
             return;
         };
-        let var = self.range(&f.expr, &var_name, env);
+        let ends = self.range_ends(strip(&f.expr), env);
+        if let Some(ends) = literal(ends)
+            && reads_values_at_variable(f.body.to_token_stream(), env)
+        {
+            return self.unrolled(&f.body, &var_name, ends, env);
+        }
+        let var = self.new_var(ends, &var_name);
         let mut inner = env.clone();
         inner.insert(var_name, Binding::Index(var));
         self.frames.push(Frame {
@@ -463,7 +507,21 @@ impl Parser {
         let Some(name) = self.loop_pattern(&closure.inputs[0]) else {
             return self.graph.num(0.0);
         };
-        let var = self.range(range, &name, env);
+        let ends = self.range_ends(strip(range), env);
+        if let Some((start, end)) = literal(ends)
+            && reads_values_at_variable(closure.body.to_token_stream(), env)
+        {
+            // Unrolled, as a `for` loop that reads a local array at its variable is.
+            let mut sum = self.graph.num(0.0);
+            for k in start..end {
+                let mut inner = env.clone();
+                inner.insert(name.clone(), Binding::Int(self.constant(k)));
+                let body = self.expr(&closure.body, &inner);
+                sum = self.graph.add(sum, body);
+            }
+            return sum;
+        }
+        let var = self.new_var(ends, &name);
         let mut inner = env.clone();
         inner.insert(name, Binding::Index(var));
         self.frames.push(Frame {
@@ -505,13 +563,11 @@ impl Parser {
         }
     }
 
-    /// A new loop variable over the range `a..b` or `a..=b`. A range in error is reported and
-    /// replaced by an empty one, so that the loop's body is still checked, with its variable
-    /// bound (no "unknown index" follows).
-    fn range(&mut self, e: &Expr, name: &str, env: &Env) -> IndexVar {
-        let (start, end) = self
-            .range_ends(strip(e), env)
-            .unwrap_or((Affine::constant(0), Affine::constant(0)));
+    /// A new loop variable over the range `ends` (of `a..b` or `a..=b`). A range in error
+    /// (`None`, reported) is replaced by an empty one, so that the loop's body is still
+    /// checked, with its variable bound (no "unknown index" follows).
+    fn new_var(&mut self, ends: Option<(Affine, Affine)>, name: &str) -> IndexVar {
+        let (start, end) = ends.unwrap_or((Affine::constant(0), Affine::constant(0)));
         let var = IndexVar(self.graph.ranges.len() as u32);
         self.graph.ranges.push(crate::ir::Range {
             name: name.to_string(),
@@ -538,6 +594,12 @@ impl Parser {
         }
         Some((start?, end))
     }
+}
+
+/// The ends of a range of literals (after the dimension's value is put in for `N`).
+fn literal(ends: Option<(Affine, Affine)>) -> Option<(i64, i64)> {
+    let (start, end) = ends?;
+    Some((start.as_constant()?, end.as_constant()?))
 }
 
 /// `+=`, `-=`, `*=`, `/=`.

@@ -4,8 +4,9 @@
 use syn::{BinOp, Expr, Ident, Lit, UnOp};
 
 use super::body::Parser;
-use super::scope::{Binding, Env, State, strip};
+use super::scope::{Binding, Env, Kind, State, Values, strip};
 use super::signature::Length;
+use super::values::Returns;
 use crate::ir::{Cmp, Func, Id, Var, constant_value};
 
 /// The `f64` functions a body may call, for the error on any other.
@@ -91,17 +92,19 @@ impl Parser {
                 "`return` is not supported: the body ends with the value of `L`",
             ),
             Expr::Assign(a) => self.error(a, "an assignment is a statement: end it with `;`"),
+            Expr::Field(f) if self.values_kind(&f.base, env).is_some() => self.field(f, env),
+            Expr::Field(f) if self.is_unknown(&f.base, env) => self.graph.num(0.0),
             Expr::Field(f) => self.error(
                 f,
                 "a field access is not supported: model constants are parameters of the fn",
             ),
             Expr::Tuple(t) => self.error(
                 t,
-                "a tuple is supported only in a tuple `let`, `let (a, b) = (…, …);`",
+                "a tuple is a value of its own: bind it, `let (a, b) = (…, …);` or `let r = (…, …);`, then read `a` or `r.0`",
             ),
-            Expr::Array(a) => self.error(
-                a,
-                "an array is not supported: index `x` and `v` with a loop",
+            Expr::Array(_) | Expr::Repeat(_) => self.error(
+                e,
+                "an array is a value of its own: bind it, `let a = [e0, e1, e2];`, then read `a[1]`",
             ),
             other => self.error(
                 other,
@@ -155,6 +158,11 @@ impl Parser {
                 Some(Binding::Array { .. }) => {
                     self.error(p, format!("`{name}` is an array: use its components `{name}[i]`"))
                 }
+                Some(Binding::Values(v)) => match v.kind {
+                    Kind::Array => self.error(p, format!("`{name}` is an array: read its values, `{name}[0]`")),
+                    Kind::Tuple => self.error(p, format!("`{name}` is a tuple: read its values, `{name}.0`, or bind them, `let (a, b) = {name};`")),
+                },
+                Some(Binding::Unknown) => self.graph.num(0.0),
                 Some(Binding::Index(_) | Binding::Dim) => {
                     self.error(p, format!("`{name}` is an index: use it as a number with `{name} as f64`"))
                 }
@@ -190,6 +198,12 @@ impl Parser {
     }
 
     fn index(&mut self, ix: &syn::ExprIndex, env: &Env) -> Id {
+        if self.values_kind(&ix.expr, env).is_some() {
+            return self.element(ix, env);
+        }
+        if self.is_unknown(&ix.expr, env) {
+            return self.graph.num(0.0);
+        }
         let name = match &*ix.expr {
             Expr::Path(p) if p.qself.is_none() => p.path.get_ident().map(Ident::to_string),
             _ => None,
@@ -205,7 +219,12 @@ impl Parser {
                     ),
                 );
             }
-            _ => return self.error(&ix.expr, "only `x` and `v` can be indexed"),
+            _ => {
+                return self.error(
+                    &ix.expr,
+                    "only `x`, `v` and arrays of values (`let a = [e0, e1];`) can be indexed",
+                );
+            }
         };
         if let Expr::Lit(syn::ExprLit {
             lit: Lit::Int(i), ..
@@ -337,24 +356,58 @@ impl Parser {
         self.function(method, recv, &args, &call.args, env)
     }
 
-    /// A call of a `#[lagrangian(helper)]` fn: its body, with its parameters bound to the
-    /// arguments. Errors inside the helper are reported at its definition, not here.
+    /// A call of a `#[lagrangian(helper)]` fn returning `f64`: its body, with its parameters
+    /// bound to the arguments.
     fn helper_call(&mut self, name: &str, call: &syn::ExprCall, env: &Env) -> Id {
+        if let Some(Returns::Values(kind, n)) = self.helper_returns(name) {
+            return self.error(
+                call,
+                format!("`{name}` returns {} of {n} values: bind them, `let (a, b) = {name}(…);` or `let r = {name}(…);`, then read one", kind.noun()),
+            );
+        }
+        self.inline(name, call, env, |p, block, inner| p.block(block, inner))
+            .unwrap_or_else(|zero| zero)
+    }
+
+    /// A call of a helper returning a tuple or an array: the values of its body.
+    pub(super) fn inline_values(&mut self, name: &str, call: &syn::ExprCall, env: &Env) -> Values {
+        let Some(Returns::Values(kind, n)) = self.helper_returns(name) else {
+            unreachable!("values_kind said a helper returning values");
+        };
+        self.inline(name, call, env, |p, block, inner| {
+            p.values_block(block, inner, Some((name, kind, n)))
+        })
+        .unwrap_or_else(|zero| Values {
+            ids: vec![zero; n],
+            kind,
+        })
+    }
+
+    /// The body of helper `name` read by `read`, its parameters bound to the arguments of
+    /// `call`; `Err` with a placeholder after an error. Errors inside the helper are reported
+    /// at its definition, not here.
+    fn inline<R>(
+        &mut self,
+        name: &str,
+        call: &syn::ExprCall,
+        env: &Env,
+        read: impl FnOnce(&mut Self, &syn::Block, &mut Env) -> R,
+    ) -> Result<R, Id> {
         if self.inlining.iter().any(|h| h == name) {
             self.recursion = true;
-            return self.error(
+            return Err(self.error(
                 &call.func,
                 format!("`{name}` calls itself: a helper cannot be recursive"),
-            );
+            ));
         }
         let Some(helper) = self.helpers.get(name).cloned() else {
             if self.checking_helper {
-                return self.graph.num(0.0);
+                return Err(self.graph.num(0.0));
             }
-            return self.error(
+            return Err(self.error(
                 &call.func,
                 format!("`{name}` is not a helper: mark it `#[lagrangian(helper)]`, or use an `f64` method"),
-            );
+            ));
         };
         let params: Vec<String> = helper
             .sig
@@ -369,10 +422,10 @@ impl Parser {
             })
             .collect();
         if params.len() != call.args.len() {
-            return self.error(
+            return Err(self.error(
                 &call.args,
                 format!("`{name}` takes {} argument(s)", params.len()),
-            );
+            ));
         }
         let mut inner = Env::new();
         for (p, a) in params.into_iter().zip(&call.args) {
@@ -381,15 +434,15 @@ impl Parser {
         }
         let errors = self.errors.len();
         self.inlining.push(name.to_string());
-        let value = self.block(&helper.block, &mut inner);
+        let value = read(self, &helper.block, &mut inner);
         self.inlining.pop();
         // The helper's own errors are reported at its definition; a recursion through other
         // helpers is only seen here, and is reported at the outermost call.
         self.errors.truncate(errors);
         if self.inlining.is_empty() && std::mem::take(&mut self.recursion) {
-            return self.error(&call.func, format!("`{name}` is recursive (it calls itself, directly or through other helpers): a helper cannot be"));
+            return Err(self.error(&call.func, format!("`{name}` is recursive (it calls itself, directly or through other helpers): a helper cannot be")));
         }
-        value
+        Ok(value)
     }
 
     /// `if c { a } else { b }`: both branches are differentiated, the condition is not.
@@ -400,6 +453,16 @@ impl Parser {
                 "an `if` needs an `else`: `if c { a } else { b }`",
             );
         };
+        // A condition on constants alone (the variable of an unrolled loop, a literal
+        // dimension) is decided here, and only the branch it takes is read: the other may
+        // name an index that does not exist there (`a[k - 1]` at `k = 0`).
+        if let Some(taken) = self.constant_condition(&x.cond, env) {
+            return if taken {
+                self.block(&x.then_branch, &mut env.clone())
+            } else {
+                self.expr(else_branch, env)
+            };
+        }
         // The condition does not narrow the range the indices of the branches are checked
         // over (both branches' derivatives are added in every iteration); what it tests is
         // kept for the hint of an index error.
@@ -447,6 +510,52 @@ impl Parser {
                 self.condition(&u.expr, env, other, then)
             }
             _ => self.condition_error(cond),
+        }
+    }
+
+    /// The value of a condition that compares integer constants only (`k > 0` with `k` the
+    /// variable of an unrolled loop), combined with `&&`, `||`, `!`; `None` for any other.
+    fn constant_condition(&mut self, cond: &Expr, env: &Env) -> Option<bool> {
+        match strip(cond) {
+            Expr::Binary(b) => {
+                let op = match b.op {
+                    BinOp::And(_) => {
+                        let l = self.constant_condition(&b.left, env)?;
+                        let r = self.constant_condition(&b.right, env)?;
+                        return Some(l && r);
+                    }
+                    BinOp::Or(_) => {
+                        let l = self.constant_condition(&b.left, env)?;
+                        let r = self.constant_condition(&b.right, env)?;
+                        return Some(l || r);
+                    }
+                    BinOp::Lt(_) => Cmp::Lt,
+                    BinOp::Le(_) => Cmp::Le,
+                    BinOp::Gt(_) => Cmp::Gt,
+                    BinOp::Ge(_) => Cmp::Ge,
+                    BinOp::Eq(_) => Cmp::Eq,
+                    BinOp::Ne(_) => Cmp::Ne,
+                    _ => return None,
+                };
+                if !(self.is_int(&b.left, env) || self.is_int(&b.right, env)) {
+                    return None;
+                }
+                // Read without a trace: a condition that is not constant is read again, with
+                // its errors, as a condition.
+                let (errors, syms) = (self.errors.len(), self.graph.syms.len());
+                let l = self.int_expr(&b.left, env);
+                let r = self.int_expr(&b.right, env);
+                self.errors.truncate(errors);
+                self.graph.syms.truncate(syms);
+                let constant =
+                    |v: Option<super::scope::Int>| v.filter(|v| !v.wrap)?.affine?.as_constant();
+                let (l, r) = (constant(l)?, constant(r)?);
+                Some(op.eval(l as f64, r as f64))
+            }
+            Expr::Unary(u) if matches!(u.op, UnOp::Not(_)) => {
+                self.constant_condition(&u.expr, env).map(|c| !c)
+            }
+            _ => None,
         }
     }
 

@@ -23,6 +23,37 @@ pub enum Binding {
     Int(Int),
     /// A `let mut` accumulator, declared at loop depth `depth`.
     Mut { id: Id, depth: usize },
+    /// A local tuple or array of values: `let a = [b * x[1], -b * x[0], 0.0];`, or what a
+    /// helper returning `(f64, f64)` or `[f64; K]` returned.
+    Values(Values),
+    /// The value of a call of another helper, while a helper is checked on its own (its shape
+    /// is not known there): every use of it is accepted.
+    Unknown,
+}
+
+/// Values bound together: a tuple `(a, b)` (read as `r.0`) or an array `[a, b]` (read as
+/// `r[0]`, also in an unrolled loop over a literal range).
+#[derive(Clone)]
+pub struct Values {
+    pub ids: Vec<Id>,
+    pub kind: Kind,
+}
+
+/// Whether [`Values`] are a tuple or an array: what they are read with.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Kind {
+    Tuple,
+    Array,
+}
+
+impl Kind {
+    /// `a tuple`, `an array`.
+    pub fn noun(self) -> &'static str {
+        match self {
+            Kind::Tuple => "a tuple",
+            Kind::Array => "an array",
+        }
+    }
 }
 
 /// Which of the two state parameters an array is.

@@ -7,6 +7,7 @@ mod derivatives;
 mod emit;
 mod loops;
 mod snapshots;
+mod values;
 
 use std::collections::HashMap;
 
