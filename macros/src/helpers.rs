@@ -97,14 +97,14 @@ fn check(f: &ItemFn) -> Option<syn::Error> {
             }
         }
     }
-    let returns = crate::parse::returns(&sig.output).unwrap_or_else(|| {
+    let returns = crate::parse::returns(&sig.output);
+    if returns.is_none() {
         let msg = "a helper returns `f64`, a tuple `(f64, f64, …)` or an array `[f64; K]` (`K` an integer literal)";
         errors.push(match &sig.output {
             ReturnType::Type(_, ty) => syn::Error::new_spanned(ty, msg),
             ReturnType::Default => syn::Error::new_spanned(&sig.ident, msg),
         });
-        crate::parse::Returns::Scalar
-    });
+    }
     errors.extend(crate::parse::check_helper_body(f, &params, returns));
     let mut it = errors.into_iter();
     let mut first = it.next()?;

@@ -30,7 +30,7 @@
 
 use std::collections::HashMap;
 
-pub use crate::indices::{Affine, Bound, Cmp, Component, IndexVar, Range, Sym, SymId};
+pub use crate::indices::{Affine, Bound, Cmp, Component, Guard, IndexVar, Range, Sym, SymId};
 
 use proc_macro2::Ident;
 use syn::{Attribute, ItemFn, Visibility};

@@ -88,7 +88,9 @@ use proc_macro::TokenStream;
 /// with the dimension). Anything else is a compile error on the
 /// offending tokens; all of them are reported at once. `docs/macro.md` has the details.
 ///
-/// Derivative conventions: `if` is differentiated branch by branch (the condition is not);
+/// Derivative conventions: `if` is differentiated branch by branch (the condition is not),
+/// and a branch whose condition keeps an index in range (`if i > 0 { x[i - 1] } else { 0.0 }`)
+/// adds the derivatives with respect to that component only where it holds;
 /// `abs` is differentiated as `sign(a)·a'` with `sign(0) = 0`;
 /// `a.powf(b)` contributes `a^b·ln a·b'` when the exponent is not constant, which needs
 /// `a > 0` (it is NaN otherwise, as is `powf` itself for a negative base).

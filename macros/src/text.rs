@@ -74,7 +74,8 @@ pub fn loops_text(model: &Model, a: &Assembly) -> String {
             })
             .collect();
         for &(u, id) in &term.gradient {
-            lines.push(format!("{head}∂L/∂{} += {}", p.var(u), p.print(id)));
+            let guard = p.guard(&[u]);
+            lines.push(format!("{head}{guard}∂L/∂{} += {}", p.var(u), p.print(id)));
         }
         for e in &term.hessian {
             let sym = if e.mirror {
@@ -83,8 +84,9 @@ pub fn loops_text(model: &Model, a: &Assembly) -> String {
                 ""
             };
             let _ = Block::Xx;
+            let guard = p.guard(&[e.row, e.col]);
             lines.push(format!(
-                "{head}∂²L/∂{}∂{} += {}{sym}",
+                "{head}{guard}∂²L/∂{}∂{} += {}{sym}",
                 p.var(e.row),
                 p.var(e.col),
                 p.print(e.id)
@@ -202,6 +204,33 @@ impl Printer<'_> {
                     Prec::Neg,
                 )
             }
+        }
+    }
+
+    /// `if i >= 1: ` for derivatives with respect to guarded components (added only where
+    /// the guard holds), nothing for the others.
+    fn guard(&self, vars: &[Var]) -> String {
+        let mut conds: Vec<String> = Vec::new();
+        for &v in vars {
+            let (Var::XAt(c) | Var::VAt(c)) = v else {
+                continue;
+            };
+            let (Some(i), false) = (c.at.var, c.guard.is_none()) else {
+                continue;
+            };
+            let name = &self.g.ranges[i.0 as usize].name;
+            let low = c.guard.low.map(|l| format!("{name} >= {}", self.affine(l)));
+            let high = c.guard.high.map(|h| format!("{name} < {}", self.affine(h)));
+            for cond in [low, high].into_iter().flatten() {
+                if !conds.contains(&cond) {
+                    conds.push(cond);
+                }
+            }
+        }
+        if conds.is_empty() {
+            String::new()
+        } else {
+            format!("if {}: ", conds.join(" && "))
         }
     }
 

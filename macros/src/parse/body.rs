@@ -10,11 +10,8 @@ use std::collections::{HashMap, HashSet};
 
 use syn::{BinOp, Expr, Ident, Pat, Stmt};
 
-use quote::ToTokens;
-
-use super::scope::{Binding, Env, State, strip};
+use super::scope::{Binding, Env, Fact, Returns, State, strip};
 use super::signature::{Length, Shape, Signature, is_f64};
-use super::values::{Returns, reads_values_at_variable};
 use crate::ir::{Affine, Graph, Id, IndexVar, Var};
 
 /// One open loop: what it adds to the accumulators declared outside it.
@@ -44,6 +41,9 @@ pub struct Parser {
     /// The loop variables tested by the conditions of the `if`s being walked, for the hint of
     /// an index error in their branches.
     pub(super) branch_vars: Vec<IndexVar>,
+    /// What the conditions of the branches being read say of the loop variables, outermost
+    /// first (`branch.rs`).
+    pub(super) facts: Vec<Fact>,
 }
 
 impl Parser {
@@ -62,16 +62,18 @@ impl Parser {
             checking_helper: false,
             recursion: false,
             branch_vars: Vec::new(),
+            facts: Vec::new(),
         }
     }
 
-    /// Checks the body of a helper fn with parameters `params`, returning what `returns` says.
+    /// Checks the body of a helper fn with parameters `params`, returning what `returns` says
+    /// (`None`: a return type in error, whose value is not checked).
     pub fn helper_body(
         &mut self,
         name: &Ident,
         block: &syn::Block,
         params: &[Ident],
-        returns: Returns,
+        returns: Option<Returns>,
     ) {
         self.checking_helper = true;
         self.inlining.push(name.to_string());
@@ -83,12 +85,18 @@ impl Parser {
             );
         }
         match returns {
-            Returns::Scalar => {
+            Some(Returns::Scalar) => {
                 self.block(block, &mut env);
             }
-            Returns::Values(kind, n) => {
+            Some(Returns::Values(kind, n)) => {
                 let name = name.to_string();
                 self.values_block(block, &mut env, Some((&name, kind, n)));
+            }
+            None => {
+                let n = block.stmts.len();
+                for stmt in block.stmts.iter().take(n.saturating_sub(1)) {
+                    self.statement(stmt, &mut env);
+                }
             }
         }
     }
@@ -219,7 +227,7 @@ impl Parser {
     }
 
     /// `let pattern = init;`: a name, `mut` name (an accumulator), typed name or tuple.
-    fn let_binding(&mut self, pat: &Pat, init: &Expr, env: &mut Env) {
+    pub(super) fn let_binding(&mut self, pat: &Pat, init: &Expr, env: &mut Env) {
         match pat {
             Pat::Tuple(pt) => {
                 let values = self.tuple_values(init, pt.elems.len(), env);
@@ -245,39 +253,6 @@ impl Parser {
                 }
                 let value = self.expr(init, env);
                 self.bind(pat, value, env);
-            }
-        }
-    }
-
-    /// The values of `init` as an `n`-tuple: `(a, b)`, `a.sin_cos()`, a tuple bound earlier or
-    /// returned by a helper.
-    fn tuple_values(&mut self, init: &Expr, n: usize, env: &mut Env) -> Vec<Id> {
-        match init {
-            Expr::Tuple(t) if t.elems.len() == n => {
-                t.elems.iter().map(|e| self.expr(e, env)).collect()
-            }
-            Expr::Paren(p) => self.tuple_values(&p.expr, n, env),
-            _ if self.is_unknown(init, env) => vec![self.graph.num(0.0); n],
-            _ if self.values_kind(init, env) == Some(super::scope::Kind::Tuple) => {
-                let values = self.values(init, env);
-                if values.ids.len() == n {
-                    return values.ids;
-                }
-                let e = self.error(
-                    init,
-                    format!(
-                        "this is a tuple of {} values, bound to {n} names",
-                        values.ids.len()
-                    ),
-                );
-                vec![e; n]
-            }
-            other => {
-                let e = self.error(
-                    other,
-                    format!("a tuple `let` needs a tuple of {n} values, e.g. `let (a, b) = (x[0], x[1]);`, or `a.sin_cos()`"),
-                );
-                vec![e; n]
             }
         }
     }
@@ -463,9 +438,7 @@ impl Parser {
             return;
         };
         let ends = self.range_ends(strip(&f.expr), env);
-        if let Some(ends) = literal(ends)
-            && reads_values_at_variable(f.body.to_token_stream(), env)
-        {
+        if let Some(ends) = self.unrolls(ends, &f.body, env) {
             return self.unrolled(&f.body, &var_name, ends, env);
         }
         let var = self.new_var(ends, &var_name);
@@ -508,18 +481,8 @@ impl Parser {
             return self.graph.num(0.0);
         };
         let ends = self.range_ends(strip(range), env);
-        if let Some((start, end)) = literal(ends)
-            && reads_values_at_variable(closure.body.to_token_stream(), env)
-        {
-            // Unrolled, as a `for` loop that reads a local array at its variable is.
-            let mut sum = self.graph.num(0.0);
-            for k in start..end {
-                let mut inner = env.clone();
-                inner.insert(name.clone(), Binding::Int(self.constant(k)));
-                let body = self.expr(&closure.body, &inner);
-                sum = self.graph.add(sum, body);
-            }
-            return sum;
+        if let Some(ends) = self.unrolls(ends, &closure.body, env) {
+            return self.unrolled_sum(&closure.body, &name, ends, env);
         }
         let var = self.new_var(ends, &name);
         let mut inner = env.clone();
@@ -578,7 +541,7 @@ impl Parser {
     }
 
     /// The ends of `a..b` (`a..=b` is `a..b + 1`), or `None` after reporting an error.
-    fn range_ends(&mut self, e: &Expr, env: &Env) -> Option<(Affine, Affine)> {
+    pub(super) fn range_ends(&mut self, e: &Expr, env: &Env) -> Option<(Affine, Affine)> {
         let Expr::Range(r) = e else {
             self.iteration_error(e);
             return None;
@@ -594,12 +557,6 @@ impl Parser {
         }
         Some((start?, end))
     }
-}
-
-/// The ends of a range of literals (after the dimension's value is put in for `N`).
-fn literal(ends: Option<(Affine, Affine)>) -> Option<(i64, i64)> {
-    let (start, end) = ends?;
-    Some((start.as_constant()?, end.as_constant()?))
 }
 
 /// `+=`, `-=`, `*=`, `/=`.

@@ -1,12 +1,12 @@
 //! Expressions of a `#[lagrangian]` body: numbers, the parameters, `x[…]`, arithmetic, the
-//! `f64` functions, `if`, casts of indices, iterator sums and calls of helper fns.
+//! `f64` functions, casts of indices, iterator sums and calls of helper fns (branches are in
+//! `branch.rs`, tuples and arrays in `values.rs`).
 
 use syn::{BinOp, Expr, Ident, Lit, UnOp};
 
 use super::body::Parser;
-use super::scope::{Binding, Env, Kind, State, Values, strip};
+use super::scope::{Binding, Env, Kind, Returns, State, Values, strip};
 use super::signature::Length;
-use super::values::Returns;
 use crate::ir::{Cmp, Func, Id, Var, constant_value};
 
 /// The `f64` functions a body may call, for the error on any other.
@@ -445,126 +445,8 @@ impl Parser {
         Ok(value)
     }
 
-    /// `if c { a } else { b }`: both branches are differentiated, the condition is not.
-    fn conditional(&mut self, x: &syn::ExprIf, env: &Env) -> Id {
-        let Some((_, else_branch)) = &x.else_branch else {
-            return self.error(
-                x.if_token,
-                "an `if` needs an `else`: `if c { a } else { b }`",
-            );
-        };
-        // A condition on constants alone (the variable of an unrolled loop, a literal
-        // dimension) is decided here, and only the branch it takes is read: the other may
-        // name an index that does not exist there (`a[k - 1]` at `k = 0`).
-        if let Some(taken) = self.constant_condition(&x.cond, env) {
-            return if taken {
-                self.block(&x.then_branch, &mut env.clone())
-            } else {
-                self.expr(else_branch, env)
-            };
-        }
-        // The condition does not narrow the range the indices of the branches are checked
-        // over (both branches' derivatives are added in every iteration); what it tests is
-        // kept for the hint of an index error.
-        let depth = self.branch_vars.len();
-        tested_vars(&x.cond, env, &mut self.branch_vars);
-        let then = self.block(&x.then_branch, &mut env.clone());
-        let other = self.expr(else_branch, env);
-        self.branch_vars.truncate(depth);
-        self.condition(&x.cond, env, then, other)
-    }
-
-    /// `if cond { then } else { other }` for a condition made of comparisons.
-    fn condition(&mut self, cond: &Expr, env: &Env, then: Id, other: Id) -> Id {
-        match strip(cond) {
-            Expr::Binary(b) => {
-                let op = match b.op {
-                    BinOp::Lt(_) => Cmp::Lt,
-                    BinOp::Le(_) => Cmp::Le,
-                    BinOp::Gt(_) => Cmp::Gt,
-                    BinOp::Ge(_) => Cmp::Ge,
-                    BinOp::Eq(_) => Cmp::Eq,
-                    BinOp::Ne(_) => Cmp::Ne,
-                    BinOp::And(_) => {
-                        let inner = self.condition(&b.right, env, then, other);
-                        return self.condition(&b.left, env, inner, other);
-                    }
-                    BinOp::Or(_) => {
-                        let inner = self.condition(&b.right, env, then, other);
-                        return self.condition(&b.left, env, then, inner);
-                    }
-                    _ => return self.condition_error(cond),
-                };
-                let int = self.is_int(&b.left, env) || self.is_int(&b.right, env);
-                let (l, r) = if int {
-                    (self.int_value(&b.left, env), self.int_value(&b.right, env))
-                } else {
-                    (self.expr(&b.left, env), self.expr(&b.right, env))
-                };
-                if self.holds_sum(l) || self.holds_sum(r) {
-                    return self.sum_inside(cond, "a condition");
-                }
-                self.graph.select(op, l, r, then, other)
-            }
-            Expr::Unary(u) if matches!(u.op, UnOp::Not(_)) => {
-                self.condition(&u.expr, env, other, then)
-            }
-            _ => self.condition_error(cond),
-        }
-    }
-
-    /// The value of a condition that compares integer constants only (`k > 0` with `k` the
-    /// variable of an unrolled loop), combined with `&&`, `||`, `!`; `None` for any other.
-    fn constant_condition(&mut self, cond: &Expr, env: &Env) -> Option<bool> {
-        match strip(cond) {
-            Expr::Binary(b) => {
-                let op = match b.op {
-                    BinOp::And(_) => {
-                        let l = self.constant_condition(&b.left, env)?;
-                        let r = self.constant_condition(&b.right, env)?;
-                        return Some(l && r);
-                    }
-                    BinOp::Or(_) => {
-                        let l = self.constant_condition(&b.left, env)?;
-                        let r = self.constant_condition(&b.right, env)?;
-                        return Some(l || r);
-                    }
-                    BinOp::Lt(_) => Cmp::Lt,
-                    BinOp::Le(_) => Cmp::Le,
-                    BinOp::Gt(_) => Cmp::Gt,
-                    BinOp::Ge(_) => Cmp::Ge,
-                    BinOp::Eq(_) => Cmp::Eq,
-                    BinOp::Ne(_) => Cmp::Ne,
-                    _ => return None,
-                };
-                if !(self.is_int(&b.left, env) || self.is_int(&b.right, env)) {
-                    return None;
-                }
-                // Read without a trace: a condition that is not constant is read again, with
-                // its errors, as a condition.
-                let (errors, syms) = (self.errors.len(), self.graph.syms.len());
-                let l = self.int_expr(&b.left, env);
-                let r = self.int_expr(&b.right, env);
-                self.errors.truncate(errors);
-                self.graph.syms.truncate(syms);
-                let constant =
-                    |v: Option<super::scope::Int>| v.filter(|v| !v.wrap)?.affine?.as_constant();
-                let (l, r) = (constant(l)?, constant(r)?);
-                Some(op.eval(l as f64, r as f64))
-            }
-            Expr::Unary(u) if matches!(u.op, UnOp::Not(_)) => {
-                self.constant_condition(&u.expr, env).map(|c| !c)
-            }
-            _ => None,
-        }
-    }
-
-    fn condition_error(&mut self, cond: &Expr) -> Id {
-        self.error(cond, "a condition is a comparison of numbers (`<`, `<=`, `>`, `>=`, `==`, `!=`), possibly combined with `&&`, `||`, `!`")
-    }
-
     /// Whether `id` holds a sum: a sum may only enter `L` linearly (`assemble.rs`).
-    fn holds_sum(&self, id: Id) -> bool {
+    pub(super) fn holds_sum(&self, id: Id) -> bool {
         self.graph
             .reachable(&[id])
             .into_iter()
@@ -572,7 +454,7 @@ impl Parser {
     }
 
     /// The error for a sum used where `L` would stop being a sum of terms.
-    fn sum_inside(&mut self, at: &dyn quote::ToTokens, what: &str) -> Id {
+    pub(super) fn sum_inside(&mut self, at: &dyn quote::ToTokens, what: &str) -> Id {
         self.error(
             at,
             format!("a sum cannot be inside {what}: the Lagrangian must be a sum of terms, with functions applied inside each sum"),
@@ -649,31 +531,5 @@ fn int_literal(e: &Expr) -> Option<syn::Result<i64>> {
         Expr::Paren(p) => int_literal(&p.expr),
         Expr::Group(g) => int_literal(&g.expr),
         _ => None,
-    }
-}
-
-/// The loop variables a condition names, into `out`.
-fn tested_vars(e: &Expr, env: &Env, out: &mut Vec<crate::ir::IndexVar>) {
-    match strip(e) {
-        Expr::Path(p) => {
-            if let Some(Binding::Index(i)) =
-                p.path.get_ident().and_then(|n| env.get(&n.to_string()))
-            {
-                out.push(*i);
-            }
-        }
-        Expr::Binary(b) => {
-            tested_vars(&b.left, env, out);
-            tested_vars(&b.right, env, out);
-        }
-        Expr::Unary(u) => tested_vars(&u.expr, env, out),
-        Expr::Cast(c) => tested_vars(&c.expr, env, out),
-        Expr::MethodCall(mc) => {
-            tested_vars(&mc.receiver, env, out);
-            for a in &mc.args {
-                tested_vars(a, env, out);
-            }
-        }
-        _ => {}
     }
 }

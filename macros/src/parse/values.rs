@@ -6,57 +6,17 @@
 //! index.
 
 use proc_macro2::{TokenStream, TokenTree};
-use syn::{Expr, ItemFn, Lit, Pat, ReturnType, Stmt, Type};
+use quote::ToTokens;
+use syn::{Expr, ItemFn, Lit, Pat, Stmt};
 
 use super::body::Parser;
-use super::scope::{Binding, Env, Int, Kind, Values, strip};
-use super::signature::is_f64;
+use super::scope::{Binding, Env, Int, Kind, Returns, Values, returns, strip};
 use crate::ir::{Affine, Id};
 
 /// How a local array may be indexed, for the errors on any other index.
 const LOCAL_INDEX: &str = "a local array or a helper's array is read at a literal index \
      (`a[1]`), or at the variable of a loop over a literal range (`for k in 0..3 { … a[k] … }`, \
      which is unrolled)";
-
-/// What a helper returns, read off its signature.
-#[derive(Clone, Copy, PartialEq, Eq)]
-pub enum Returns {
-    Scalar,
-    Values(Kind, usize),
-}
-
-/// What a helper's signature says it returns: `f64`, `(f64, …)` or `[f64; K]` with `K` a
-/// literal; `None` for anything else.
-pub fn returns(output: &ReturnType) -> Option<Returns> {
-    let ReturnType::Type(_, ty) = output else {
-        return None;
-    };
-    match strip_type(ty) {
-        ty if is_f64(ty) => Some(Returns::Scalar),
-        Type::Tuple(t) if !t.elems.is_empty() && t.elems.iter().all(is_f64) => {
-            Some(Returns::Values(Kind::Tuple, t.elems.len()))
-        }
-        Type::Array(a) if is_f64(&a.elem) => match strip(&a.len) {
-            Expr::Lit(syn::ExprLit {
-                lit: Lit::Int(k), ..
-            }) => k
-                .base10_parse::<usize>()
-                .ok()
-                .filter(|&k| k > 0)
-                .map(|k| Returns::Values(Kind::Array, k)),
-            _ => None,
-        },
-        _ => None,
-    }
-}
-
-fn strip_type(ty: &Type) -> &Type {
-    match ty {
-        Type::Paren(p) => strip_type(&p.elem),
-        Type::Group(g) => strip_type(&g.elem),
-        other => other,
-    }
-}
 
 /// `(a, b)`, `[a, b]`, `r.0`-style kinds written out, `(f64, f64)` / `[f64; 2]`.
 fn written(kind: Kind, n: usize) -> String {
@@ -382,6 +342,71 @@ impl Parser {
         }
     }
 
+    /// The values of `init` as an `n`-tuple: `(a, b)`, `a.sin_cos()`, a tuple bound earlier or
+    /// returned by a helper.
+    pub(super) fn tuple_values(&mut self, init: &Expr, n: usize, env: &mut Env) -> Vec<Id> {
+        match init {
+            Expr::Tuple(t) if t.elems.len() == n => {
+                t.elems.iter().map(|e| self.expr(e, env)).collect()
+            }
+            Expr::Paren(p) => self.tuple_values(&p.expr, n, env),
+            _ if self.is_unknown(init, env) => vec![self.graph.num(0.0); n],
+            _ if self.values_kind(init, env) == Some(Kind::Tuple) => {
+                let values = self.values(init, env);
+                if values.ids.len() == n {
+                    return values.ids;
+                }
+                let e = self.error(
+                    init,
+                    format!(
+                        "this is a tuple of {} values, bound to {n} names",
+                        values.ids.len()
+                    ),
+                );
+                vec![e; n]
+            }
+            other => {
+                let e = self.error(
+                    other,
+                    format!("a tuple `let` needs a tuple of {n} values, e.g. `let (a, b) = (x[0], x[1]);`, or `a.sin_cos()`"),
+                );
+                vec![e; n]
+            }
+        }
+    }
+
+    /// The range to unroll a loop over, for a loop over `ends` with the body `body`: a
+    /// literal range, and a body that reads values (not `x`, `v`) at an index that is not a
+    /// literal.
+    pub(super) fn unrolls(
+        &self,
+        ends: Option<(Affine, Affine)>,
+        body: &dyn ToTokens,
+        env: &Env,
+    ) -> Option<(i64, i64)> {
+        let (start, end) = ends?;
+        let range = (start.as_constant()?, end.as_constant()?);
+        reads_values_at_variable(body.to_token_stream(), env).then_some(range)
+    }
+
+    /// `Σ body` over `start..end`, the sum unrolled as a `for` loop is ([`Parser::unrolled`]).
+    pub(super) fn unrolled_sum(
+        &mut self,
+        body: &Expr,
+        name: &str,
+        (start, end): (i64, i64),
+        env: &Env,
+    ) -> Id {
+        let mut sum = self.graph.num(0.0);
+        for k in start..end {
+            let mut inner = env.clone();
+            inner.insert(name.to_string(), Binding::Int(self.constant(k)));
+            let value = self.expr(body, &inner);
+            sum = self.graph.add(sum, value);
+        }
+        sum
+    }
+
     /// The body of a loop over `start..end` with its variable `name` a constant in each copy:
     /// the statements are read as straight-line code, so an accumulator declared outside
     /// receives each copy's updates in turn (a `let` of the body that shadows it ends that).
@@ -465,7 +490,7 @@ fn pattern_names(pat: &Pat) -> Vec<String> {
 /// such a body is unrolled (an index that is still not a constant then is an error). Read
 /// off the tokens: a bracket group that follows a name other than `x`/`v` (or a closing
 /// group) and holds more than one integer literal.
-pub fn reads_values_at_variable(tokens: TokenStream, env: &Env) -> bool {
+fn reads_values_at_variable(tokens: TokenStream, env: &Env) -> bool {
     let tokens: Vec<TokenTree> = tokens.into_iter().collect();
     tokens.iter().enumerate().any(|(k, tt)| {
         let TokenTree::Group(g) = tt else {
