@@ -195,6 +195,7 @@ fn replace(g: &mut Graph, id: Id, map: &HashMap<Id, Id>) -> Id {
             Node::Powi(a, k) => g.powi(m(a), k),
             Node::Powf(a, b) => g.powf(m(a), m(b)),
             Node::Hypot(a, b) => g.hypot(m(a), m(b)),
+            Node::Atan2(a, b) => g.atan2(m(a), m(b)),
             Node::Select(op, l, r, a, b) => g.select(op, m(l), m(r), m(a), m(b)),
             Node::Sum(i, body) => g.sum(i, m(body)),
         };
@@ -231,6 +232,7 @@ fn rename(g: &mut Graph, id: Id, map: &HashMap<IndexVar, IndexVar>) -> Id {
             Node::Powi(a, k) => Node::Powi(m(a), k),
             Node::Powf(a, b) => Node::Powf(m(a), m(b)),
             Node::Hypot(a, b) => Node::Hypot(m(a), m(b)),
+            Node::Atan2(a, b) => Node::Atan2(m(a), m(b)),
             Node::Select(op, l, r, a, b) => Node::Select(op, m(l), m(r), m(a), m(b)),
             Node::Sum(i, body) => Node::Sum(*map.get(&i).unwrap_or(&i), m(body)),
         };

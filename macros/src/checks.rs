@@ -12,7 +12,7 @@
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
-use crate::ir::{Affine, Component, Graph, Model, Node, Sym, Var};
+use crate::ir::{Affine, Component, Graph, Guard, Model, Node, Sym, Var};
 use crate::names::Names;
 
 /// `fn invalid_dimension(&self) -> Option<String>` of a run-time dimension model.
@@ -289,10 +289,46 @@ impl Checker<'_> {
 
     /// The least and greatest value of `a` over the extent of its loop variable.
     fn extremes(&self, a: Affine) -> (Value, Value) {
-        let Some(i) = a.var else {
-            return (Value::Known(a), Value::Known(a));
-        };
+        match a.var {
+            Some(i) => self.extremes_over(a, &self.extents[i.0 as usize]),
+            None => (Value::Known(a), Value::Known(a)),
+        }
+    }
+
+    /// The extent of the loop variable of `c` over the iterations its guard lets through
+    /// (`max(lo, low)..=min(hi, high − 1)`, read where that is not empty); `None` for a
+    /// component without a guard.
+    fn guarded(&self, c: Component) -> Option<Extent> {
+        let i = c.at.var.filter(|_| c.guard != Guard::NONE)?;
         let e = &self.extents[i.0 as usize];
+        let lo = match c.guard.low {
+            Some(low) => {
+                let (a, b) = (self.tokens(&e.lo), self.eval(low));
+                quote!(::core::cmp::max(#a, #b))
+            }
+            None => self.tokens(&e.lo),
+        };
+        let hi = match c.guard.high {
+            Some(high) => {
+                let last = high.add_scaled(Affine::constant(1), -1).unwrap_or(high);
+                let (a, b) = (self.tokens(&e.hi), self.eval(last));
+                quote!(::core::cmp::min(#a, #b))
+            }
+            None => self.tokens(&e.hi),
+        };
+        let live = match &e.live {
+            Some(l) => quote!(#l && #lo <= #hi),
+            None => quote!(#lo <= #hi),
+        };
+        Some(Extent {
+            lo: Value::Dynamic(lo),
+            hi: Value::Dynamic(hi),
+            live: Some(live),
+        })
+    }
+
+    /// The least and greatest value of `a` over the extent `e` of its loop variable.
+    fn extremes_over(&self, a: Affine, e: &Extent) -> (Value, Value) {
         let rest = Affine {
             var: None,
             scale: 0,
@@ -324,10 +360,18 @@ impl Checker<'_> {
         } else {
             format!("{state}[{at}]")
         };
-        let (min, max) = self.extremes(c.at);
-        let reached =
-            c.at.var
-                .and_then(|i| self.extents[i.0 as usize].live.clone());
+        let guarded = self.guarded(c);
+        let (min, max) = match &guarded {
+            Some(e) => self.extremes_over(c.at, e),
+            None => self.extremes(c.at),
+        };
+        let reached = match guarded {
+            Some(e) => e.live,
+            None => {
+                c.at.var
+                    .and_then(|i| self.extents[i.0 as usize].live.clone())
+            }
+        };
         let where_ = |end: &str| match c.at.var {
             Some(_) => format!(" (`{written}` at the {end} of its loop)"),
             None => format!(" (`{written}`)"),

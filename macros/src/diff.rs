@@ -11,11 +11,13 @@
 //! | `asin a`, `acos a`, `atan a` | `a'/√(1 − a²)`, `−a'/√(1 − a²)`, `a'/(1 + a²)` |
 //! | `sinh a`, `cosh a`, `tanh a` | `cosh a·a'`, `sinh a·a'`, `(1 − n²)·a'` |
 //! | `exp a`, `ln a`, `log10 a` | `n·a'`, `a'/a`, `a'/(a·ln 10)` |
+//! | `exp_m1 a`, `ln_1p a` | `exp a·a'`, `a'/(1 + a)` |
 //! | `sqrt a`, `cbrt a`, `recip a` | `a'/(2n)`, `a'/(3n²)`, `−n²·a'` |
 //! | `abs a` | `sign(a)·a'`, with `sign(0) = 0` (a subgradient; `abs` is not differentiable at 0) |
 //! | `a.powi(k)` | `k·a^(k−1)·a'` |
 //! | `a.powf(b)` | `b·a^(b−1)·a' + n·ln a·b'` (the second term, present only when the exponent is not constant, needs `a > 0`) |
 //! | `a.hypot(b)` | `(a·a' + b·b')/n` |
+//! | `y.atan2(x)` | `(x·y' − y·x')/(x² + y²)` |
 //! | `if c { a } else { b }` | `if c { a' } else { b' }` (the condition is not differentiated) |
 //! | `a.signum()` | `0` |
 
@@ -117,7 +119,15 @@ impl Differentiator {
                         g.sub(one, sq)
                     }
                     Func::Exp => id,
+                    // `exp a`, not `n + 1`: exact where `n` is, and shared with an `exp a` of
+                    // the body.
+                    Func::ExpM1 => g.call(Func::Exp, a),
                     Func::Ln => return g.div(da, a),
+                    Func::Ln1p => {
+                        let one = g.num(1.0);
+                        let den = g.add(one, a);
+                        return g.div(da, den);
+                    }
                     Func::Log10 => {
                         let ln10 = g.num(std::f64::consts::LN_10);
                         let den = g.mul(a, ln10);
@@ -171,6 +181,18 @@ impl Differentiator {
                 let r = g.mul(b, d(b));
                 let num = g.add(l, r);
                 g.div(num, id)
+            }
+            Node::Atan2(y, x) => {
+                let l = g.mul(x, d(y));
+                let r = g.mul(y, d(x));
+                let num = g.sub(l, r);
+                if g.is_num(num, 0.0) {
+                    return num;
+                }
+                let xx = g.mul(x, x);
+                let yy = g.mul(y, y);
+                let den = g.add(xx, yy);
+                g.div(num, den)
             }
             // The branch rule: each branch is differentiated, the condition is kept (its
             // derivative is zero wherever it is defined).

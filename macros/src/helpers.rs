@@ -9,6 +9,12 @@
 //! (also from helpers) has been gathered, that expands the Lagrangian with their bodies. The
 //! relay macro is made path-scoped by a `use`, so the helper may be written before or after
 //! the Lagrangian.
+//!
+//! A fn that is not marked has no relay, and rustc's error names the macro it cannot find; so
+//! the relay's name is the instruction, `mark_spring_with_lagrangian_helper`. A fallback relay
+//! with a `compile_error!` cannot be given: the real relay reaches a Lagrangian in another
+//! module through the user's glob import (`use super::*;`), and a second glob (or a glob in an
+//! inner scope) that supplied a fallback would make the name ambiguous where the helper exists.
 
 use std::collections::BTreeSet;
 
@@ -18,9 +24,10 @@ use syn::{FnArg, ItemFn, Pat, ReturnType};
 
 use crate::parse::signature::is_f64;
 
-/// The name of the relay macro of helper `name`.
+/// The name of the relay macro of helper `name`: what a call of an unmarked fn reports as the
+/// macro it cannot find, so it says what to do.
 fn relay(name: &Ident) -> Ident {
-    format_ident!("__lagrangian_helper_{}", name, span = name.span())
+    format_ident!("mark_{}_with_lagrangian_helper", name, span = name.span())
 }
 
 /// Whether the attribute arguments are `helper`.
@@ -59,8 +66,9 @@ pub fn define(item: TokenStream) -> TokenStream {
     }
 }
 
-/// The errors of a helper: its signature must be `fn name(a: f64, …) -> f64`, and its body
-/// what a Lagrangian's body may be.
+/// The errors of a helper: its signature must be `fn name(a: f64, …) -> R` with `R` one of
+/// `f64`, `(f64, …)`, `[f64; K]`, and its body what a Lagrangian's body may be, ending with
+/// what `R` says.
 fn check(f: &ItemFn) -> Option<syn::Error> {
     let mut errors = Vec::new();
     let sig = &f.sig;
@@ -89,14 +97,15 @@ fn check(f: &ItemFn) -> Option<syn::Error> {
             }
         }
     }
-    match &sig.output {
-        ReturnType::Type(_, ty) if is_f64(ty) => {}
-        _ => errors.push(syn::Error::new_spanned(
-            &sig.ident,
-            "a helper returns `f64`",
-        )),
+    let returns = crate::parse::returns(&sig.output);
+    if returns.is_none() {
+        let msg = "a helper returns `f64`, a tuple `(f64, f64, …)` or an array `[f64; K]` (`K` an integer literal)";
+        errors.push(match &sig.output {
+            ReturnType::Type(_, ty) => syn::Error::new_spanned(ty, msg),
+            ReturnType::Default => syn::Error::new_spanned(&sig.ident, msg),
+        });
     }
-    errors.extend(crate::parse::check_helper_body(f, &params));
+    errors.extend(crate::parse::check_helper_body(f, &params, returns));
     let mut it = errors.into_iter();
     let mut first = it.next()?;
     for e in it {

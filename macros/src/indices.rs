@@ -146,11 +146,37 @@ impl Affine {
     }
 }
 
-/// The component a state array is read at: `at`, or `at mod N` for a periodic index.
+/// The component a state array is read at: `at`, or `at mod N` for a periodic index, in the
+/// iterations of its loop that `guard` lets through.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct Component {
     pub at: Affine,
     pub wrap: bool,
+    pub guard: Guard,
+}
+
+/// The iterations at which a component is read, `low ≤ i < high` for the loop variable `i` of
+/// its index, on the sides that the condition of an `if` around the read decides and that its
+/// index needs (`x[i - 1]` in `if i > 0 { … }`: `low = 1`). Each side is free of loop
+/// variables. A component with a side is read, and its derivatives added, only where the
+/// side holds: elsewhere its index may not exist.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Guard {
+    pub low: Option<Affine>,
+    pub high: Option<Affine>,
+}
+
+impl Guard {
+    /// Every iteration.
+    pub const NONE: Guard = Guard {
+        low: None,
+        high: None,
+    };
+
+    /// Whether the guard lets every iteration through.
+    pub fn is_none(self) -> bool {
+        self == Guard::NONE
+    }
 }
 
 /// A check of an index that needs the value of a [`Sym`]: `lhs < rhs` wherever the loop

@@ -30,7 +30,7 @@
 
 use std::collections::HashMap;
 
-pub use crate::indices::{Affine, Bound, Cmp, Component, IndexVar, Range, Sym, SymId};
+pub use crate::indices::{Affine, Bound, Cmp, Component, Guard, IndexVar, Range, Sym, SymId};
 
 use proc_macro2::Ident;
 use syn::{Attribute, ItemFn, Visibility};
@@ -82,7 +82,11 @@ pub enum Func {
     Cosh,
     Tanh,
     Exp,
+    /// `exp(a) − 1`, accurate near `a = 0`.
+    ExpM1,
     Ln,
+    /// `ln(1 + a)`, accurate near `a = 0`.
+    Ln1p,
     Log10,
     Sqrt,
     Cbrt,
@@ -97,7 +101,7 @@ pub enum Func {
 
 impl Func {
     /// The functions a body may call, by their `f64` method name.
-    const USER: [Func; 17] = [
+    const USER: [Func; 19] = [
         Func::Sin,
         Func::Cos,
         Func::Tan,
@@ -108,7 +112,9 @@ impl Func {
         Func::Cosh,
         Func::Tanh,
         Func::Exp,
+        Func::ExpM1,
         Func::Ln,
+        Func::Ln1p,
         Func::Log10,
         Func::Sqrt,
         Func::Cbrt,
@@ -130,7 +136,9 @@ impl Func {
             Func::Cosh => "cosh",
             Func::Tanh => "tanh",
             Func::Exp => "exp",
+            Func::ExpM1 => "exp_m1",
             Func::Ln => "ln",
+            Func::Ln1p => "ln_1p",
             Func::Log10 => "log10",
             Func::Sqrt => "sqrt",
             Func::Cbrt => "cbrt",
@@ -159,7 +167,9 @@ impl Func {
             Func::Cosh => a.cosh(),
             Func::Tanh => a.tanh(),
             Func::Exp => a.exp(),
+            Func::ExpM1 => a.exp_m1(),
             Func::Ln => a.ln(),
+            Func::Ln1p => a.ln_1p(),
             Func::Log10 => a.log10(),
             Func::Sqrt => a.sqrt(),
             Func::Cbrt => a.cbrt(),
@@ -270,6 +280,8 @@ pub enum Node {
     Powi(Id, i32),
     Powf(Id, Id),
     Hypot(Id, Id),
+    /// `y.atan2(x)`, the angle of the point `(x, y)`.
+    Atan2(Id, Id),
     /// `if l op r { a } else { b }`.
     Select(Cmp, Id, Id, Id, Id),
     /// `Σ_i body` over the range of `i`.
@@ -288,7 +300,8 @@ impl Node {
             | Node::Mul(a, b)
             | Node::Div(a, b)
             | Node::Powf(a, b)
-            | Node::Hypot(a, b) => vec![a, b],
+            | Node::Hypot(a, b)
+            | Node::Atan2(a, b) => vec![a, b],
         }
     }
 
@@ -418,6 +431,7 @@ impl Graph {
                 Node::Powi(a, n) => val(a).powi(n),
                 Node::Powf(a, b) => val(a).powf(val(b)),
                 Node::Hypot(a, b) => val(a).hypot(val(b)),
+                Node::Atan2(a, b) => val(a).atan2(val(b)),
                 Node::Select(op, l, r, a, b) => {
                     if op.eval(val(l), val(r)) {
                         val(a)

@@ -76,19 +76,23 @@ use proc_macro::TokenStream;
 ///
 /// The generated code reaches `varembed` only through its hidden `__private` module.
 ///
-/// The body may use `let` bindings (also of tuples), `let mut` accumulators with `for i in
+/// The body may use `let` bindings (also of tuples), local arrays `let a = [e0, e1, e2];` read
+/// at constant indices (a loop over a literal range that reads one at its variable is
+/// unrolled), `let mut` accumulators with `for i in
 /// a..b { acc += … }`, iterator sums `(a..b).map(|i| …).sum::<f64>()`, `x[i]`/`v[i]` at a
 /// literal or an index expression (`x[i + 1]`, `x[(i + 1) % N]`, `x[2 * i + 1]`), other `usize`
 /// consts where `N` may stand (`for i in 0..M`), division of constants by a literal (`0..N / 2`,
 /// `x[N / 2]`), indices as numbers (`(N - i) as f64`), `+ - * /`, unary `-`, literals, the
-/// parameters, the `f64` methods (or `f64::` functions) `sin cos tan asin acos atan sinh cosh
-/// tanh exp ln log10 sqrt cbrt recip abs signum powi powf hypot max min`,
+/// parameters, the `f64` methods (or `f64::` functions) `sin cos tan asin acos atan atan2 sinh
+/// cosh tanh exp exp_m1 ln ln_1p log10 sqrt cbrt recip abs signum powi powf hypot max min`,
 /// `if c { a } else { b }`, `std::f64::consts::*`, and helper fns marked
-/// `#[lagrangian(helper)]`. The derivatives of loops are loops (the expansion does not grow
+/// `#[lagrangian(helper)]` (returning `f64`, `(f64, …)` or `[f64; K]`). The derivatives of loops are loops (the expansion does not grow
 /// with the dimension). Anything else is a compile error on the
 /// offending tokens; all of them are reported at once. `docs/macro.md` has the details.
 ///
-/// Derivative conventions: `if` is differentiated branch by branch (the condition is not);
+/// Derivative conventions: `if` is differentiated branch by branch (the condition is not),
+/// and a branch whose condition keeps an index in range (`if i > 0 { x[i - 1] } else { 0.0 }`)
+/// adds the derivatives with respect to that component only where it holds;
 /// `abs` is differentiated as `sign(a)·a'` with `sign(0) = 0`;
 /// `a.powf(b)` contributes `a^b·ln a·b'` when the exponent is not constant, which needs
 /// `a > 0` (it is NaN otherwise, as is `powf` itself for a negative base).

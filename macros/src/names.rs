@@ -82,6 +82,46 @@ impl<'a> Names<'a> {
         quote!((#(#pa)+* < #(#right)+*))
     }
 
+    /// `a op b` (`op` a comparison) without a subtraction and without parentheses, as
+    /// [`Names::less`] writes `<`: `pos(a) + neg(b) op pos(b) + neg(a)`.
+    fn compare(&self, a: Affine, op: TokenStream, b: Affine) -> TokenStream {
+        let ((mut pa, na), (pb, nb)) = (self.terms(a), self.terms(b));
+        pa.extend(nb);
+        let mut right = pb;
+        right.extend(na);
+        for side in [&mut pa, &mut right] {
+            if side.is_empty() {
+                side.push(quote!(0));
+            }
+        }
+        quote!(#(#pa)+* #op #(#right)+*)
+    }
+
+    /// The condition under which every one of the components `vars` is read (`i >= 1` for
+    /// `x[i - 1]` in `if i > 0 { … }`), `None` when they are read in every iteration.
+    pub fn guard(&self, vars: &[Var]) -> Option<TokenStream> {
+        let mut conds: Vec<TokenStream> = Vec::new();
+        for &v in vars {
+            let (Var::XAt(c) | Var::VAt(c)) = v else {
+                continue;
+            };
+            let Some(i) = c.at.var else {
+                continue;
+            };
+            let var = Affine::var(i);
+            let sides = [
+                c.guard.low.map(|low| self.compare(var, quote!(>=), low)),
+                c.guard.high.map(|high| self.compare(var, quote!(<), high)),
+            ];
+            for cond in sides.into_iter().flatten() {
+                if !conds.iter().any(|k| k.to_string() == cond.to_string()) {
+                    conds.push(cond);
+                }
+            }
+        }
+        (!conds.is_empty()).then(|| quote!(#(#conds)&&*))
+    }
+
     /// The positive terms of `a`, and the magnitudes of its negative ones.
     fn terms(&self, a: Affine) -> (Vec<TokenStream>, Vec<TokenStream>) {
         let mut pos = Vec::new();
@@ -173,16 +213,21 @@ impl<'a> Names<'a> {
         }
     }
 
-    /// The tokens of a leaf.
+    /// The tokens of a leaf. A guarded component is read only where its guard holds (0
+    /// elsewhere): a temporary that holds it may be computed in every iteration, and is used
+    /// only in the branch that the guard protects.
     pub fn leaf(&self, consts: &[Ident], v: Var) -> TokenStream {
         match v {
-            Var::X(_) | Var::XAt(_) => {
+            Var::X(_) | Var::XAt(_) | Var::V(_) | Var::VAt(_) => {
                 let i = self.position(v);
-                quote!(x[#i])
-            }
-            Var::V(_) | Var::VAt(_) => {
-                let i = self.position(v);
-                quote!(v[#i])
+                let read = match v {
+                    Var::X(_) | Var::XAt(_) => quote!(x[#i]),
+                    _ => quote!(v[#i]),
+                };
+                match self.guard(&[v]) {
+                    Some(g) => quote!((if #g { #read } else { 0.0 })),
+                    None => read,
+                }
             }
             Var::T => quote!(t),
             Var::Const(k) => {

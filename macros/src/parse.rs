@@ -4,10 +4,12 @@
 //! are collected and combined, so one mistake does not hide the next.
 
 mod body;
+mod branch;
 mod expr;
 mod index;
 mod scope;
 pub mod signature;
+mod values;
 
 use proc_macro2::TokenStream;
 use syn::ItemFn;
@@ -20,10 +22,17 @@ pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
     parse_with_helpers(args, item, Vec::new())
 }
 
-/// The errors in the body of a helper fn with parameters `params`.
-pub fn check_helper_body(f: &ItemFn, params: &[proc_macro2::Ident]) -> Vec<syn::Error> {
+pub use scope::{Returns, returns};
+
+/// The errors in the body of a helper fn with parameters `params`, returning what `returns`
+/// says (`None`: a return type already reported, the value it ends with is not checked).
+pub fn check_helper_body(
+    f: &ItemFn,
+    params: &[proc_macro2::Ident],
+    returns: Option<Returns>,
+) -> Vec<syn::Error> {
     let mut parser = body::Parser::new(Vec::new(), Vec::new());
-    parser.helper_body(&f.sig.ident, &f.block, params);
+    parser.helper_body(&f.sig.ident, &f.block, params, returns);
     parser.finish().1
 }
 

@@ -113,6 +113,10 @@ impl<'a> Render<'a> {
                 let (a, b) = (self.receiver(a), self.root(b));
                 (quote!(#a.hypot(#b)), Prec::Atom)
             }
+            Node::Atan2(a, b) => {
+                let (a, b) = (self.receiver(a), self.root(b));
+                (quote!(#a.atan2(#b)), Prec::Atom)
+            }
             Node::Select(op, l, r, a, b) => {
                 let (l, r) = (self.wrapped(l, Prec::Add), self.wrapped(r, Prec::Add));
                 let (a, b) = (self.root(a), self.root(b));

@@ -443,7 +443,13 @@ fn scope(
         .iter()
         .map(|&(target, id)| {
             let e = r.root(id);
-            match target {
+            // A guarded component's entry exists only where its guard holds.
+            let guard = match target {
+                Target::Value => None,
+                Target::Gradient(u) => names.guard(&[u]),
+                Target::Hessian(_, row, col) => names.guard(&[row, col]),
+            };
+            let add = match target {
                 Target::Value => {
                     used[0] = true;
                     quote!(value += #e;)
@@ -474,6 +480,10 @@ fn scope(
                         Style::Sparse => quote!(out.#name.add(#i, #j, #e);),
                     }
                 }
+            };
+            match guard {
+                Some(g) => quote!(if #g { #add }),
+                None => add,
             }
         })
         .collect();

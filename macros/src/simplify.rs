@@ -202,6 +202,14 @@ impl Graph {
         self.intern(Node::Hypot(a, b))
     }
 
+    /// `y.atan2(x)`.
+    pub fn atan2(&mut self, y: Id, x: Id) -> Id {
+        if let (Some(a), Some(b)) = (self.num_value(y), self.num_value(x)) {
+            return self.num(a.atan2(b));
+        }
+        self.intern(Node::Atan2(y, x))
+    }
+
     /// `if l op r { a } else { b }`: one branch when both are the same node or the condition is
     /// a comparison of constants.
     pub fn select(&mut self, op: Cmp, l: Id, r: Id, a: Id, b: Id) -> Id {

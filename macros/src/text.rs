@@ -83,7 +83,8 @@ pub fn loops_text(model: &Model, a: &Assembly) -> String {
     for term in &a.terms {
         let head = head(term);
         for &(u, id) in &term.gradient {
-            lines.push(format!("{head}∂L/∂{} += {}", p.var(u), p.print(id)));
+            let guard = p.guard(&[u]);
+            lines.push(format!("{head}{guard}∂L/∂{} += {}", p.var(u), p.print(id)));
         }
         for e in &term.hessian {
             let sym = if e.mirror {
@@ -92,8 +93,9 @@ pub fn loops_text(model: &Model, a: &Assembly) -> String {
                 ""
             };
             let _ = Block::Xx;
+            let guard = p.guard(&[e.row, e.col]);
             lines.push(format!(
-                "{head}∂²L/∂{}∂{} += {}{sym}",
+                "{head}{guard}∂²L/∂{}∂{} += {}{sym}",
                 p.var(e.row),
                 p.var(e.col),
                 p.print(e.id)
@@ -248,6 +250,10 @@ impl Printer<'_> {
                 format!("{}.hypot({})", self.wrap(a, Prec::Atom), self.go(b).0),
                 Prec::Atom,
             ),
+            Node::Atan2(a, b) => (
+                format!("{}.atan2({})", self.wrap(a, Prec::Atom), self.go(b).0),
+                Prec::Atom,
+            ),
             Node::Select(op, l, r, a, b) => (
                 format!(
                     "if {} {} {} {{ {} }} else {{ {} }}",
@@ -272,6 +278,33 @@ impl Printer<'_> {
                     Prec::Neg,
                 )
             }
+        }
+    }
+
+    /// `if i >= 1: ` for derivatives with respect to guarded components (added only where
+    /// the guard holds), nothing for the others.
+    fn guard(&self, vars: &[Var]) -> String {
+        let mut conds: Vec<String> = Vec::new();
+        for &v in vars {
+            let (Var::XAt(c) | Var::VAt(c)) = v else {
+                continue;
+            };
+            let (Some(i), false) = (c.at.var, c.guard.is_none()) else {
+                continue;
+            };
+            let name = &self.g.ranges[i.0 as usize].name;
+            let low = c.guard.low.map(|l| format!("{name} >= {}", self.affine(l)));
+            let high = c.guard.high.map(|h| format!("{name} < {}", self.affine(h)));
+            for cond in [low, high].into_iter().flatten() {
+                if !conds.contains(&cond) {
+                    conds.push(cond);
+                }
+            }
+        }
+        if conds.is_empty() {
+            String::new()
+        } else {
+            format!("if {}: ", conds.join(" && "))
         }
     }
 

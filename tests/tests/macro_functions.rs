@@ -163,12 +163,39 @@ fn exp() {
 }
 
 #[lagrangian]
+fn l_exp_m1(x: f64, _v: f64) -> f64 {
+    x.exp_m1()
+}
+#[test]
+fn exp_m1() {
+    // Near 0 too, where `exp_m1` is what `exp(x) − 1` cannot be.
+    let pts = [-1.3, -1e-9, 3e-12, 0.9];
+    check_unary(&LExpM1, &pts, f64::exp_m1, f64::exp, f64::exp);
+}
+
+#[lagrangian]
 fn l_ln(x: f64, _v: f64) -> f64 {
     x.ln()
 }
 #[test]
 fn ln() {
     check_unary(&LLn, &POSITIVE, f64::ln, |x| 1.0 / x, |x| -1.0 / (x * x));
+}
+
+#[lagrangian]
+fn l_ln_1p(x: f64, _v: f64) -> f64 {
+    f64::ln_1p(x)
+}
+#[test]
+fn ln_1p() {
+    let pts = [-0.9, -1e-9, 3e-12, 12.5];
+    check_unary(
+        &LLn1p,
+        &pts,
+        f64::ln_1p,
+        |x| 1.0 / (1.0 + x),
+        |x| -1.0 / ((1.0 + x) * (1.0 + x)),
+    );
 }
 
 #[lagrangian]
@@ -346,6 +373,49 @@ fn hypot() {
         |x, v| -x * v / r(x, v).powi(3),
         |x, v| x * x / r(x, v).powi(3),
     );
+}
+
+#[lagrangian]
+fn l_atan2(x: f64, v: f64) -> f64 {
+    x.atan2(v)
+}
+#[lagrangian]
+fn l_atan2_path(x: f64, v: f64) -> f64 {
+    f64::atan2(x, v)
+}
+#[test]
+fn atan2() {
+    // L = atan2(x, v), the angle of the point (v, x): ∂/∂x = v/r², ∂/∂v = −x/r²; all four
+    // quadrants, and both sides of the cut along the negative `v` axis.
+    let pts = [
+        (0.3, 1.2),
+        (1.7, -0.5),
+        (-0.4, -2.5),
+        (-1.1, 0.8),
+        (1e-3, -1.0),
+        (-1e-3, -1.0),
+    ];
+    let r2 = |x: f64, v: f64| x * x + v * v;
+    let q = |x: f64, v: f64| r2(x, v) * r2(x, v);
+    macro_rules! check {
+        ($lag:expr) => {
+            check_binary(
+                &$lag,
+                &pts,
+                f64::atan2,
+                |x, v| v / r2(x, v),
+                |x, v| -x / r2(x, v),
+                |x, v| -2.0 * x * v / q(x, v),
+                |x, v| (x * x - v * v) / q(x, v),
+                |x, v| 2.0 * x * v / q(x, v),
+            )
+        };
+    }
+    check!(LAtan2);
+    check!(LAtan2Path);
+    // The angle jumps by 2π across the cut, its derivatives do not.
+    let at = |x: f64| LAtan2.value(&Vector::<1>::new(x), &Vector::<1>::new(-1.0), 0.0);
+    assert!((at(1e-3) - at(-1e-3) - 2.0 * std::f64::consts::PI).abs() < 1e-2);
 }
 
 #[lagrangian]

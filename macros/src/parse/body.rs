@@ -10,7 +10,7 @@ use std::collections::{HashMap, HashSet};
 
 use syn::{BinOp, Expr, Ident, Pat, Stmt};
 
-use super::scope::{Binding, Env, State, strip};
+use super::scope::{Binding, Env, Fact, Returns, State, strip};
 use super::signature::{Length, Shape, Signature, is_f64};
 use crate::ir::{Affine, Graph, Id, IndexVar, Var};
 
@@ -41,6 +41,9 @@ pub struct Parser {
     /// The loop variables tested by the conditions of the `if`s being walked, for the hint of
     /// an index error in their branches.
     pub(super) branch_vars: Vec<IndexVar>,
+    /// What the conditions of the branches being read say of the loop variables, outermost
+    /// first (`branch.rs`).
+    pub(super) facts: Vec<Fact>,
 }
 
 impl Parser {
@@ -59,11 +62,19 @@ impl Parser {
             checking_helper: false,
             recursion: false,
             branch_vars: Vec::new(),
+            facts: Vec::new(),
         }
     }
 
-    /// Checks the body of a helper fn with parameters `params`.
-    pub fn helper_body(&mut self, name: &Ident, block: &syn::Block, params: &[Ident]) {
+    /// Checks the body of a helper fn with parameters `params`, returning what `returns` says
+    /// (`None`: a return type in error, whose value is not checked).
+    pub fn helper_body(
+        &mut self,
+        name: &Ident,
+        block: &syn::Block,
+        params: &[Ident],
+        returns: Option<Returns>,
+    ) {
         self.checking_helper = true;
         self.inlining.push(name.to_string());
         let mut env = Env::new();
@@ -73,7 +84,21 @@ impl Parser {
                 Binding::Scalar(self.graph.var(Var::Const(k))),
             );
         }
-        self.block(block, &mut env);
+        match returns {
+            Some(Returns::Scalar) => {
+                self.block(block, &mut env);
+            }
+            Some(Returns::Values(kind, n)) => {
+                let name = name.to_string();
+                self.values_block(block, &mut env, Some((&name, kind, n)));
+            }
+            None => {
+                let n = block.stmts.len();
+                for stmt in block.stmts.iter().take(n.saturating_sub(1)) {
+                    self.statement(stmt, &mut env);
+                }
+            }
+        }
     }
 
     /// `L` as a node of the graph: the value of `block` with the parameters of `sig` bound.
@@ -156,7 +181,7 @@ impl Parser {
         }
     }
 
-    fn statement(&mut self, stmt: &Stmt, env: &mut Env) {
+    pub(super) fn statement(&mut self, stmt: &Stmt, env: &mut Env) {
         match stmt {
             Stmt::Local(local) => {
                 let Some(init) = &local.init else {
@@ -202,7 +227,7 @@ impl Parser {
     }
 
     /// `let pattern = init;`: a name, `mut` name (an accumulator), typed name or tuple.
-    fn let_binding(&mut self, pat: &Pat, init: &Expr, env: &mut Env) {
+    pub(super) fn let_binding(&mut self, pat: &Pat, init: &Expr, env: &mut Env) {
         match pat {
             Pat::Tuple(pt) => {
                 let values = self.tuple_values(init, pt.elems.len(), env);
@@ -210,8 +235,17 @@ impl Parser {
                     self.bind(p, value, env);
                 }
             }
-            Pat::Type(pt) if matches!(&*pt.pat, Pat::Tuple(_)) => {
+            Pat::Type(pt) if matches!(&*pt.pat, Pat::Tuple(_) | Pat::Slice(_)) => {
                 self.let_binding(&pt.pat, init, env)
+            }
+            Pat::Slice(_) if self.values_kind(init, env).is_some() => {
+                let values = self.values(init, env);
+                self.bind_values(pat, values, env);
+            }
+            _ if self.is_unknown(init, env) => self.bind_unknown(pat, env),
+            _ if self.values_kind(init, env).is_some() => {
+                let values = self.values(init, env);
+                self.bind_values(pat, values, env);
             }
             _ => {
                 if self.is_int(init, env) || self.is_const_index(init, env) {
@@ -223,31 +257,8 @@ impl Parser {
         }
     }
 
-    /// The values of `init` as an `n`-tuple: `(a, b)` or `a.sin_cos()`.
-    fn tuple_values(&mut self, init: &Expr, n: usize, env: &mut Env) -> Vec<Id> {
-        match init {
-            Expr::Tuple(t) if t.elems.len() == n => {
-                t.elems.iter().map(|e| self.expr(e, env)).collect()
-            }
-            Expr::Paren(p) => self.tuple_values(&p.expr, n, env),
-            Expr::MethodCall(mc) if mc.method == "sin_cos" && mc.args.is_empty() && n == 2 => {
-                let a = self.expr(&mc.receiver, env);
-                let s = self.graph.call(crate::ir::Func::Sin, a);
-                let c = self.graph.call(crate::ir::Func::Cos, a);
-                vec![s, c]
-            }
-            other => {
-                let e = self.error(
-                    other,
-                    format!("a tuple `let` needs a tuple of {n} values, e.g. `let (a, b) = (x[0], x[1]);`, or `a.sin_cos()`"),
-                );
-                vec![e; n]
-            }
-        }
-    }
-
     /// Binds one name (or `_`) of a `let` to `value`.
-    fn bind(&mut self, pat: &Pat, value: Id, env: &mut Env) {
+    pub(super) fn bind(&mut self, pat: &Pat, value: Id, env: &mut Env) {
         match pat {
             Pat::Ident(pi) if pi.by_ref.is_none() && pi.subpat.is_none() => {
                 let binding = if pi.mutability.is_some() {
@@ -352,10 +363,12 @@ impl Parser {
     /// The accumulator named by `left`: its name, value and depth.
     fn accumulator(&mut self, left: &Expr, env: &Env) -> Option<(String, Id, usize)> {
         if let Expr::Index(ix) = strip(left) {
-            self.error(
-                ix,
-                "`x` and `v` cannot be changed: they are the point the Lagrangian is evaluated at",
-            );
+            let msg = if self.values_kind(&ix.expr, env).is_some() {
+                "an array of values cannot be changed: build it with its values, `let a = [e0, e1];`"
+            } else {
+                "`x` and `v` cannot be changed: they are the point the Lagrangian is evaluated at"
+            };
+            self.error(ix, msg);
             return None;
         }
         let name = match left {
@@ -434,7 +447,11 @@ impl Parser {
         let Some(var_name) = self.loop_pattern(&f.pat) else {
             return;
         };
-        let var = self.range(&f.expr, &var_name, env);
+        let ends = self.range_ends(strip(&f.expr), env);
+        if let Some(ends) = self.unrolls(ends, &f.body, env) {
+            return self.unrolled(&f.body, &var_name, ends, env);
+        }
+        let var = self.new_var(ends, &var_name);
         let mut inner = env.clone();
         inner.insert(var_name, Binding::Index(var));
         self.frames.push(Frame {
@@ -473,7 +490,11 @@ impl Parser {
         let Some(name) = self.loop_pattern(&closure.inputs[0]) else {
             return self.graph.num(0.0);
         };
-        let var = self.range(range, &name, env);
+        let ends = self.range_ends(strip(range), env);
+        if let Some(ends) = self.unrolls(ends, &closure.body, env) {
+            return self.unrolled_sum(&closure.body, &name, ends, env);
+        }
+        let var = self.new_var(ends, &name);
         let mut inner = env.clone();
         inner.insert(name, Binding::Index(var));
         self.frames.push(Frame {
@@ -515,13 +536,11 @@ impl Parser {
         }
     }
 
-    /// A new loop variable over the range `a..b` or `a..=b`. A range in error is reported and
-    /// replaced by an empty one, so that the loop's body is still checked, with its variable
-    /// bound (no "unknown index" follows).
-    fn range(&mut self, e: &Expr, name: &str, env: &Env) -> IndexVar {
-        let (start, end) = self
-            .range_ends(strip(e), env)
-            .unwrap_or((Affine::constant(0), Affine::constant(0)));
+    /// A new loop variable over the range `ends` (of `a..b` or `a..=b`). A range in error
+    /// (`None`, reported) is replaced by an empty one, so that the loop's body is still
+    /// checked, with its variable bound (no "unknown index" follows).
+    fn new_var(&mut self, ends: Option<(Affine, Affine)>, name: &str) -> IndexVar {
+        let (start, end) = ends.unwrap_or((Affine::constant(0), Affine::constant(0)));
         let var = IndexVar(self.graph.ranges.len() as u32);
         self.graph.ranges.push(crate::ir::Range {
             name: name.to_string(),
@@ -532,7 +551,7 @@ impl Parser {
     }
 
     /// The ends of `a..b` (`a..=b` is `a..b + 1`), or `None` after reporting an error.
-    fn range_ends(&mut self, e: &Expr, env: &Env) -> Option<(Affine, Affine)> {
+    pub(super) fn range_ends(&mut self, e: &Expr, env: &Env) -> Option<(Affine, Affine)> {
         let Expr::Range(r) = e else {
             self.iteration_error(e);
             return None;

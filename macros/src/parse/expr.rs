@@ -1,19 +1,20 @@
 //! Expressions of a `#[lagrangian]` body: numbers, the parameters, `x[…]`, arithmetic, the
-//! `f64` functions, `if`, casts of indices, iterator sums and calls of helper fns.
+//! `f64` functions, casts of indices, iterator sums and calls of helper fns (branches are in
+//! `branch.rs`, tuples and arrays in `values.rs`).
 
 use syn::{BinOp, Expr, Ident, Lit, UnOp};
 
 use super::body::Parser;
-use super::scope::{Binding, Env, State, strip};
+use super::scope::{Binding, Env, Kind, Returns, State, Values, strip};
 use super::signature::Length;
 use crate::ir::{Cmp, Func, Id, Var, constant_value};
 
 /// The `f64` functions a body may call, for the error on any other.
-const METHODS: &str = "the f64 methods are sin cos tan asin acos atan sinh cosh tanh exp ln \
-     log10 sqrt cbrt recip abs signum powi powf hypot max min";
+const METHODS: &str = "the f64 methods are sin cos tan asin acos atan atan2 sinh cosh tanh exp \
+     exp_m1 ln ln_1p log10 sqrt cbrt recip abs signum powi powf hypot max min";
 
 /// The functions of one argument besides the receiver.
-const BINARY: [&str; 5] = ["powi", "powf", "hypot", "max", "min"];
+const BINARY: [&str; 6] = ["powi", "powf", "hypot", "atan2", "max", "min"];
 
 impl Parser {
     pub(super) fn expr(&mut self, e: &Expr, env: &Env) -> Id {
@@ -91,17 +92,19 @@ impl Parser {
                 "`return` is not supported: the body ends with the value of `L`",
             ),
             Expr::Assign(a) => self.error(a, "an assignment is a statement: end it with `;`"),
+            Expr::Field(f) if self.values_kind(&f.base, env).is_some() => self.field(f, env),
+            Expr::Field(f) if self.is_unknown(&f.base, env) => self.graph.num(0.0),
             Expr::Field(f) => self.error(
                 f,
                 "a field access is not supported: model constants are parameters of the fn",
             ),
             Expr::Tuple(t) => self.error(
                 t,
-                "a tuple is supported only in a tuple `let`, `let (a, b) = (…, …);`",
+                "a tuple is a value of its own: bind it, `let (a, b) = (…, …);` or `let r = (…, …);`, then read `a` or `r.0`",
             ),
-            Expr::Array(a) => self.error(
-                a,
-                "an array is not supported: index `x` and `v` with a loop",
+            Expr::Array(_) | Expr::Repeat(_) => self.error(
+                e,
+                "an array is a value of its own: bind it, `let a = [e0, e1, e2];`, then read `a[1]`",
             ),
             other => self.error(
                 other,
@@ -155,6 +158,11 @@ impl Parser {
                 Some(Binding::Array { .. }) => {
                     self.error(p, format!("`{name}` is an array: use its components `{name}[i]`"))
                 }
+                Some(Binding::Values(v)) => match v.kind {
+                    Kind::Array => self.error(p, format!("`{name}` is an array: read its values, `{name}[0]`")),
+                    Kind::Tuple => self.error(p, format!("`{name}` is a tuple: read its values, `{name}.0`, or bind them, `let (a, b) = {name};`")),
+                },
+                Some(Binding::Unknown) => self.graph.num(0.0),
                 Some(Binding::Index(_) | Binding::Dim) => {
                     self.error(p, format!("`{name}` is an index: use it as a number with `{name} as f64`"))
                 }
@@ -190,6 +198,12 @@ impl Parser {
     }
 
     fn index(&mut self, ix: &syn::ExprIndex, env: &Env) -> Id {
+        if self.values_kind(&ix.expr, env).is_some() {
+            return self.element(ix, env);
+        }
+        if self.is_unknown(&ix.expr, env) {
+            return self.graph.num(0.0);
+        }
         let name = match &*ix.expr {
             Expr::Path(p) if p.qself.is_none() => p.path.get_ident().map(Ident::to_string),
             _ => None,
@@ -205,7 +219,12 @@ impl Parser {
                     ),
                 );
             }
-            _ => return self.error(&ix.expr, "only `x` and `v` can be indexed"),
+            _ => {
+                return self.error(
+                    &ix.expr,
+                    "only `x`, `v` and arrays of values (`let a = [e0, e1];`) can be indexed",
+                );
+            }
         };
         if let Expr::Lit(syn::ExprLit {
             lit: Lit::Int(i), ..
@@ -337,24 +356,58 @@ impl Parser {
         self.function(method, recv, &args, &call.args, env)
     }
 
-    /// A call of a `#[lagrangian(helper)]` fn: its body, with its parameters bound to the
-    /// arguments. Errors inside the helper are reported at its definition, not here.
+    /// A call of a `#[lagrangian(helper)]` fn returning `f64`: its body, with its parameters
+    /// bound to the arguments.
     fn helper_call(&mut self, name: &str, call: &syn::ExprCall, env: &Env) -> Id {
+        if let Some(Returns::Values(kind, n)) = self.helper_returns(name) {
+            return self.error(
+                call,
+                format!("`{name}` returns {} of {n} values: bind them, `let (a, b) = {name}(…);` or `let r = {name}(…);`, then read one", kind.noun()),
+            );
+        }
+        self.inline(name, call, env, |p, block, inner| p.block(block, inner))
+            .unwrap_or_else(|zero| zero)
+    }
+
+    /// A call of a helper returning a tuple or an array: the values of its body.
+    pub(super) fn inline_values(&mut self, name: &str, call: &syn::ExprCall, env: &Env) -> Values {
+        let Some(Returns::Values(kind, n)) = self.helper_returns(name) else {
+            unreachable!("values_kind said a helper returning values");
+        };
+        self.inline(name, call, env, |p, block, inner| {
+            p.values_block(block, inner, Some((name, kind, n)))
+        })
+        .unwrap_or_else(|zero| Values {
+            ids: vec![zero; n],
+            kind,
+        })
+    }
+
+    /// The body of helper `name` read by `read`, its parameters bound to the arguments of
+    /// `call`; `Err` with a placeholder after an error. Errors inside the helper are reported
+    /// at its definition, not here.
+    fn inline<R>(
+        &mut self,
+        name: &str,
+        call: &syn::ExprCall,
+        env: &Env,
+        read: impl FnOnce(&mut Self, &syn::Block, &mut Env) -> R,
+    ) -> Result<R, Id> {
         if self.inlining.iter().any(|h| h == name) {
             self.recursion = true;
-            return self.error(
+            return Err(self.error(
                 &call.func,
                 format!("`{name}` calls itself: a helper cannot be recursive"),
-            );
+            ));
         }
         let Some(helper) = self.helpers.get(name).cloned() else {
             if self.checking_helper {
-                return self.graph.num(0.0);
+                return Err(self.graph.num(0.0));
             }
-            return self.error(
+            return Err(self.error(
                 &call.func,
                 format!("`{name}` is not a helper: mark it `#[lagrangian(helper)]`, or use an `f64` method"),
-            );
+            ));
         };
         let params: Vec<String> = helper
             .sig
@@ -369,10 +422,10 @@ impl Parser {
             })
             .collect();
         if params.len() != call.args.len() {
-            return self.error(
+            return Err(self.error(
                 &call.args,
                 format!("`{name}` takes {} argument(s)", params.len()),
-            );
+            ));
         }
         let mut inner = Env::new();
         for (p, a) in params.into_iter().zip(&call.args) {
@@ -381,83 +434,21 @@ impl Parser {
         }
         let errors = self.errors.len();
         self.inlining.push(name.to_string());
-        let value = self.block(&helper.block, &mut inner);
+        let value = read(self, &helper.block, &mut inner);
         self.inlining.pop();
         // The helper's own errors are reported at its definition; a recursion through other
         // helpers is only seen here, and is reported at the outermost call.
         self.errors.truncate(errors);
         if self.inlining.is_empty() && std::mem::take(&mut self.recursion) {
-            return self.error(&call.func, format!("`{name}` is recursive (it calls itself, directly or through other helpers): a helper cannot be"));
+            return Err(self.error(&call.func, format!("`{name}` is recursive (it calls itself, directly or through other helpers): a helper cannot be")));
         }
-        value
-    }
-
-    /// `if c { a } else { b }`: both branches are differentiated, the condition is not.
-    fn conditional(&mut self, x: &syn::ExprIf, env: &Env) -> Id {
-        let Some((_, else_branch)) = &x.else_branch else {
-            return self.error(
-                x.if_token,
-                "an `if` needs an `else`: `if c { a } else { b }`",
-            );
-        };
-        // The condition does not narrow the range the indices of the branches are checked
-        // over (both branches' derivatives are added in every iteration); what it tests is
-        // kept for the hint of an index error.
-        let depth = self.branch_vars.len();
-        tested_vars(&x.cond, env, &mut self.branch_vars);
-        let then = self.block(&x.then_branch, &mut env.clone());
-        let other = self.expr(else_branch, env);
-        self.branch_vars.truncate(depth);
-        self.condition(&x.cond, env, then, other)
-    }
-
-    /// `if cond { then } else { other }` for a condition made of comparisons.
-    fn condition(&mut self, cond: &Expr, env: &Env, then: Id, other: Id) -> Id {
-        match strip(cond) {
-            Expr::Binary(b) => {
-                let op = match b.op {
-                    BinOp::Lt(_) => Cmp::Lt,
-                    BinOp::Le(_) => Cmp::Le,
-                    BinOp::Gt(_) => Cmp::Gt,
-                    BinOp::Ge(_) => Cmp::Ge,
-                    BinOp::Eq(_) => Cmp::Eq,
-                    BinOp::Ne(_) => Cmp::Ne,
-                    BinOp::And(_) => {
-                        let inner = self.condition(&b.right, env, then, other);
-                        return self.condition(&b.left, env, inner, other);
-                    }
-                    BinOp::Or(_) => {
-                        let inner = self.condition(&b.right, env, then, other);
-                        return self.condition(&b.left, env, then, inner);
-                    }
-                    _ => return self.condition_error(cond),
-                };
-                let int = self.is_int(&b.left, env) || self.is_int(&b.right, env);
-                let (l, r) = if int {
-                    (self.int_value(&b.left, env), self.int_value(&b.right, env))
-                } else {
-                    (self.expr(&b.left, env), self.expr(&b.right, env))
-                };
-                if self.holds_sum(l) || self.holds_sum(r) {
-                    return self.sum_inside(cond, "a condition");
-                }
-                self.graph.select(op, l, r, then, other)
-            }
-            Expr::Unary(u) if matches!(u.op, UnOp::Not(_)) => {
-                self.condition(&u.expr, env, other, then)
-            }
-            _ => self.condition_error(cond),
-        }
-    }
-
-    fn condition_error(&mut self, cond: &Expr) -> Id {
-        self.error(cond, "a condition is a comparison of numbers (`<`, `<=`, `>`, `>=`, `==`, `!=`), possibly combined with `&&`, `||`, `!`")
+        Ok(value)
     }
 
     /// Whether `id` holds a sum that reads the variable of a loop around it: such a sum is one
     /// value per iteration, which may enter `L` polynomially but not inside a function, a
     /// divisor or a condition (a sum of the whole body is lifted there: `assemble.rs`).
-    fn holds_sum(&self, id: Id) -> bool {
+    pub(super) fn holds_sum(&self, id: Id) -> bool {
         let g = &self.graph;
         let mut stack = vec![id];
         let mut outer = Vec::new();
@@ -479,7 +470,7 @@ impl Parser {
     }
 
     /// The error for a per-iteration sum used where only a value of the whole body can be.
-    fn sum_inside(&mut self, at: &dyn quote::ToTokens, what: &str) -> Id {
+    pub(super) fn sum_inside(&mut self, at: &dyn quote::ToTokens, what: &str) -> Id {
         self.error(
             at,
             format!("a sum that reads the variable of a loop around it cannot be inside {what}: it may be added, multiplied or raised to a power up to 4 (`powi`); or compute it as a sum of its own outside that loop"),
@@ -525,7 +516,7 @@ impl Parser {
                     "the `powi` exponent must be an integer literal (use `powf` for a general exponent)",
                 ),
             },
-            "powf" | "hypot" | "max" | "min" => {
+            "powf" | "hypot" | "atan2" | "max" | "min" => {
                 let b = self.expr(args[0], env);
                 if self.holds_sum(b) {
                     return self.sum_inside(args[0], &format!("`{s}`"));
@@ -533,6 +524,7 @@ impl Parser {
                 match s.as_str() {
                     "powf" => self.graph.powf(recv, b),
                     "hypot" => self.graph.hypot(recv, b),
+                    "atan2" => self.graph.atan2(recv, b),
                     "max" => self.graph.select(Cmp::Ge, recv, b, recv, b),
                     _ => self.graph.select(Cmp::Le, recv, b, recv, b),
                 }
@@ -557,31 +549,5 @@ fn int_literal(e: &Expr) -> Option<syn::Result<i64>> {
         Expr::Paren(p) => int_literal(&p.expr),
         Expr::Group(g) => int_literal(&g.expr),
         _ => None,
-    }
-}
-
-/// The loop variables a condition names, into `out`.
-fn tested_vars(e: &Expr, env: &Env, out: &mut Vec<crate::ir::IndexVar>) {
-    match strip(e) {
-        Expr::Path(p) => {
-            if let Some(Binding::Index(i)) =
-                p.path.get_ident().and_then(|n| env.get(&n.to_string()))
-            {
-                out.push(*i);
-            }
-        }
-        Expr::Binary(b) => {
-            tested_vars(&b.left, env, out);
-            tested_vars(&b.right, env, out);
-        }
-        Expr::Unary(u) => tested_vars(&u.expr, env, out),
-        Expr::Cast(c) => tested_vars(&c.expr, env, out),
-        Expr::MethodCall(mc) => {
-            tested_vars(&mc.receiver, env, out);
-            for a in &mc.args {
-                tested_vars(a, env, out);
-            }
-        }
-        _ => {}
     }
 }

@@ -4,8 +4,9 @@
 use syn::{BinOp, Expr, Lit};
 
 use super::body::Parser;
+use super::branch::tighter;
 use super::scope::{Binding, Env, Int, strip};
-use crate::ir::{Affine, Bound, Cmp, Component, Id, Sym, Var, constant_value};
+use crate::ir::{Affine, Bound, Cmp, Component, Guard, Id, Sym, Var, constant_value};
 
 const INDEX_FORMS: &str = "index expressions are built from loop variables, the dimension, \
      `usize` consts, integer literals, `+ - *`, `/` of constants by a literal, `% N` and \
@@ -314,7 +315,9 @@ impl Parser {
     }
 
     /// The component an index expression names, checked against the dimension where the
-    /// check can be decided at compile time.
+    /// check can be decided at compile time. An index that leaves `0..N` somewhere in its
+    /// loop but not where the `if`s around it let the loop through is guarded by them
+    /// (`branch.rs`).
     pub(super) fn component(&mut self, e: &Expr, env: &Env) -> Option<Component> {
         let v = self.int_expr(e, env)?;
         let Some(at) = v.affine else {
@@ -322,62 +325,159 @@ impl Parser {
             return None;
         };
         let at = at.at_dim(self.dim);
-        let c = Component { at, wrap: v.wrap };
-        let Some((low, high)) = self.extent(at) else {
-            self.error(e, "this index and the range of its loop name two different consts (or divisions): the bound check follows one; write both in the same const, or in `N`");
-            return None;
-        };
-        // `low`, `high`: the least and greatest value over the loop's range, as `n·N + c`;
-        // where they name a const the macro does not know, the compiler checks.
-        let guard = at.var.map(|i| {
+        let range = at.var.map(|i| {
             let r = &self.graph.ranges[i.0 as usize];
             (r.start, r.end)
         });
-        let text = quote::ToTokens::to_token_stream(e).to_string();
-        let surely_natural = low.n >= 0 && low.k >= 0 && low.c >= 0;
-        if low.sym.is_some() && !surely_natural {
-            let what = format!("the index `{text}` is negative at the start of its loop");
-            self.defer_bound(e, guard, (Affine::constant(-1), low), what);
-        } else if low.n < 0 || (low.n == 0 && low.c < 0) {
-            let msg = if v.wrap {
-                "this index is negative at the start of its loop, and `%` of a negative index underflows: add `N`, e.g. `(i + N - 1) % N`".to_string()
-            } else {
-                format!(
-                    "this index is negative at the start of its loop{}",
-                    self.branch_hint(at, "start")
-                )
-            };
-            self.error(e, msg);
+        let Some(plain) = self.sides(at, range, v.wrap) else {
+            self.error(e, "this index and the range of its loop name two different consts (or divisions): the bound check follows one; write both in the same const, or in `N`");
             return None;
-        }
-        if v.wrap {
-            return Some(c);
-        }
-        if high.sym.is_some() {
-            let what = format!(
-                "the index `{text}` reaches the dimension or beyond at the end of its loop"
-            );
-            self.defer_bound(e, guard, (high, Affine::dim().at_dim(self.dim)), what);
-            return Some(c);
-        }
-        let above = match self.dim {
-            Some(d) => high.n == 0 && high.c >= d as i64,
-            None => high.n > 1 || (high.n == 1 && high.c >= 0),
         };
-        if above {
-            let bound = match self.dim {
-                Some(d) => format!("{d}"),
-                None => "`N`".into(),
-            };
-            let hint = self.branch_hint(at, "end");
-            self.error(e, format!("this index reaches {bound} or beyond at the end of its loop: the components are `0..N`{hint}"));
-            return None;
+        let mut chosen = (Guard::NONE, range, plain);
+        if let (true, Some(i), Some((start, end))) = (plain.fails(), at.var, range) {
+            // The least guard that keeps the index in range: one side, then both.
+            let (low, high) = self.fact_bounds(i);
+            let mut candidates = Vec::new();
+            if low.is_some() {
+                candidates.push((low, None));
+            }
+            if high.is_some() {
+                candidates.push((None, high));
+            }
+            if low.is_some() && high.is_some() {
+                candidates.push((low, high));
+            }
+            for (gl, gh) in candidates {
+                let narrowed = (
+                    gl.map_or(start, |l| tighter(start, l, true)),
+                    gh.map_or(end, |h| tighter(end, h, false)),
+                );
+                if let Some(sides) = self.sides(at, Some(narrowed), v.wrap)
+                    && !sides.fails()
+                {
+                    chosen = (Guard { low: gl, high: gh }, Some(narrowed), sides);
+                    break;
+                }
+            }
         }
-        Some(c)
+        let (guard, range, (low, high)) = chosen;
+        // `low`, `high`: whether the least and greatest value over the iterations that read
+        // the index are in range; where they name a const the macro does not know, the
+        // compiler checks.
+        let text = quote::ToTokens::to_token_stream(e).to_string();
+        let protected = at.var.is_some_and(|i| self.has_facts(i));
+        match low {
+            Side::Deferred(lhs, rhs) => {
+                let what = match guard.low {
+                    Some(_) => format!(
+                        "the index `{text}` is negative at the first iteration that the `if` around it lets through"
+                    ),
+                    None => format!("the index `{text}` is negative at the start of its loop"),
+                };
+                self.defer_bound(e, range, (lhs, rhs), what);
+            }
+            Side::Fails if protected => {
+                let hint = match (at.scale, at.n, at.sym, at.var) {
+                    (1, 0, None, Some(i)) => format!(
+                        " (`if {} >= {}` would)",
+                        self.graph.ranges[i.0 as usize].name, -at.c
+                    ),
+                    _ => String::new(),
+                };
+                self.error(e, format!("the `if` around the index `{text}` does not protect it: the index is negative at the first iteration that its condition lets through{hint}"));
+                return None;
+            }
+            Side::Fails => {
+                let msg = if v.wrap {
+                    "this index is negative at the start of its loop, and `%` of a negative index underflows: add `N`, e.g. `(i + N - 1) % N`".to_string()
+                } else {
+                    format!(
+                        "this index is negative at the start of its loop{}",
+                        self.branch_hint(at, "start")
+                    )
+                };
+                self.error(e, msg);
+                return None;
+            }
+            Side::Ok => {}
+        }
+        let bound = match self.dim {
+            Some(d) => format!("{d}"),
+            None => "`N`".into(),
+        };
+        match high {
+            Side::Deferred(lhs, rhs) => {
+                let what = match guard.high {
+                    Some(_) => format!(
+                        "the index `{text}` reaches the dimension or beyond at the last iteration that the `if` around it lets through"
+                    ),
+                    None => format!(
+                        "the index `{text}` reaches the dimension or beyond at the end of its loop"
+                    ),
+                };
+                self.defer_bound(e, range, (lhs, rhs), what);
+            }
+            Side::Fails if protected => {
+                let n = match self.dim {
+                    Some(d) => format!("{d}"),
+                    None => "N".into(),
+                };
+                self.error(e, format!("the `if` around the index `{text}` does not protect it: the index reaches {bound} or beyond at the last iteration that its condition lets through (`if {text} < {n}` would)"));
+                return None;
+            }
+            Side::Fails => {
+                let hint = self.branch_hint(at, "end");
+                self.error(e, format!("this index reaches {bound} or beyond at the end of its loop: the components are `0..N`{hint}"));
+                return None;
+            }
+            Side::Ok => {}
+        }
+        Some(Component {
+            at,
+            wrap: v.wrap,
+            guard,
+        })
     }
 
-    /// For an index out of range in a branch of an `if` on its loop variable: the branch does
-    /// not guard it (its derivatives are added in every iteration), and the way that does.
+    /// Whether `at` stays in `0..N` at the start and at the end of `range` (the range of its
+    /// loop variable, or a part of it; `None` for an index without one); `None` when that
+    /// needs two different [`Sym`]s. A periodic index (`wrap`) only needs its start.
+    fn sides(
+        &self,
+        at: Affine,
+        range: Option<(Affine, Affine)>,
+        wrap: bool,
+    ) -> Option<(Side, Side)> {
+        // The least and greatest value over the range, as `n·N + c`.
+        let (low, high) = match range {
+            Some((start, end)) => self.extent_over(at, start, end)?,
+            None => (at, at),
+        };
+        let surely_natural = low.n >= 0 && low.k >= 0 && low.c >= 0;
+        let low_side = if low.sym.is_some() && !surely_natural {
+            Side::Deferred(Affine::constant(-1), low)
+        } else if low.n < 0 || (low.n == 0 && low.c < 0) {
+            Side::Fails
+        } else {
+            Side::Ok
+        };
+        if wrap {
+            return Some((low_side, Side::Ok));
+        }
+        let high_side = if high.sym.is_some() {
+            Side::Deferred(high, Affine::dim().at_dim(self.dim))
+        } else {
+            let above = match self.dim {
+                Some(d) => high.n == 0 && high.c >= d as i64,
+                None => high.n > 1 || (high.n == 1 && high.c >= 0),
+            };
+            if above { Side::Fails } else { Side::Ok }
+        };
+        Some((low_side, high_side))
+    }
+
+    /// For an index out of range in a branch of an `if` on its loop variable whose condition
+    /// does not say which iterations read it: the conditions that do, and the way without one.
     fn branch_hint(&self, at: Affine, end: &'static str) -> String {
         match at.var {
             Some(i) if self.branch_vars.contains(&i) => {
@@ -396,7 +496,7 @@ impl Parser {
                     (false, false) => "up to where it is valid".to_string(),
                 };
                 format!(
-                    "; an `if` on `{n}` does not guard an index: run the loop {range} and write the boundary term outside it"
+                    ", and the `if` on `{n}` around it does not say which iterations read it: write its condition as a comparison of `{n}` with a constant or `N` (`{n} > 0`, `{n} + 1 < N`), or run the loop {range} and write the boundary term outside it"
                 )
             }
             _ => String::new(),
@@ -428,18 +528,12 @@ impl Parser {
         }
     }
 
-    /// The least and greatest value of `at` over the range of its loop variable, as affine
-    /// expressions in `N` and a [`Sym`] (`n: 0, c: 0` bounds that are not decidable are
-    /// reported as in range); `None` when that needs two different [`Sym`]s.
-    fn extent(&self, at: Affine) -> Option<(Affine, Affine)> {
-        let Some(i) = at.var else {
-            return Some((at, at));
-        };
-        let r = &self.graph.ranges[i.0 as usize];
-        let (start, last) = (
-            r.start,
-            r.end.add_scaled(Affine::constant(1), -1).unwrap_or(r.end),
-        );
+    /// The least and greatest value of `at` over `start..end` (the range of its loop variable,
+    /// or a part of it), as affine expressions in `N` and a [`Sym`] (`n: 0, c: 0` bounds that
+    /// are not decidable are reported as in range); `None` when that needs two different
+    /// [`Sym`]s.
+    fn extent_over(&self, at: Affine, start: Affine, end: Affine) -> Option<(Affine, Affine)> {
+        let last = end.add_scaled(Affine::constant(1), -1).unwrap_or(end);
         if start.var.is_some() || last.var.is_some() {
             // A range that depends on an outer loop variable: not decided here.
             return Some((Affine::constant(0), Affine::constant(0)));
@@ -456,6 +550,31 @@ impl Parser {
         } else {
             (at_last, at_start)
         })
+    }
+}
+
+/// Whether one end of an index's values is in `0..N`.
+#[derive(Clone, Copy)]
+enum Side {
+    Ok,
+    Fails,
+    /// Decided by the compiler: `lhs < rhs`, a `const` assertion.
+    Deferred(Affine, Affine),
+}
+
+impl Side {
+    fn fails(self) -> bool {
+        matches!(self, Side::Fails)
+    }
+}
+
+trait Fails {
+    fn fails(&self) -> bool;
+}
+
+impl Fails for (Side, Side) {
+    fn fails(&self) -> bool {
+        self.0.fails() || self.1.fails()
     }
 }
 

@@ -3,9 +3,9 @@
 
 use std::collections::HashMap;
 
-use syn::Expr;
+use syn::{Expr, Lit, ReturnType, Type};
 
-use super::signature::Length;
+use super::signature::{Length, is_f64};
 use crate::ir::{Affine, Id, IndexVar, Var};
 
 /// The usable names in the body.
@@ -23,6 +23,37 @@ pub enum Binding {
     Int(Int),
     /// A `let mut` accumulator, declared at loop depth `depth`.
     Mut { id: Id, depth: usize },
+    /// A local tuple or array of values: `let a = [b * x[1], -b * x[0], 0.0];`, or what a
+    /// helper returning `(f64, f64)` or `[f64; K]` returned.
+    Values(Values),
+    /// The value of a call of another helper, while a helper is checked on its own (its shape
+    /// is not known there): every use of it is accepted.
+    Unknown,
+}
+
+/// Values bound together: a tuple `(a, b)` (read as `r.0`) or an array `[a, b]` (read as
+/// `r[0]`, also in an unrolled loop over a literal range).
+#[derive(Clone)]
+pub struct Values {
+    pub ids: Vec<Id>,
+    pub kind: Kind,
+}
+
+/// Whether [`Values`] are a tuple or an array: what they are read with.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub enum Kind {
+    Tuple,
+    Array,
+}
+
+impl Kind {
+    /// `a tuple`, `an array`.
+    pub fn noun(self) -> &'static str {
+        match self {
+            Kind::Tuple => "a tuple",
+            Kind::Array => "an array",
+        }
+    }
 }
 
 /// Which of the two state parameters an array is.
@@ -60,4 +91,53 @@ pub fn strip(e: &Expr) -> &Expr {
         Expr::Group(g) => strip(&g.expr),
         other => other,
     }
+}
+
+/// What a helper returns, read off its signature.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub enum Returns {
+    Scalar,
+    Values(Kind, usize),
+}
+
+/// What a helper's signature says it returns: `f64`, `(f64, …)` or `[f64; K]` with `K` a
+/// literal; `None` for anything else.
+pub fn returns(output: &ReturnType) -> Option<Returns> {
+    let ReturnType::Type(_, ty) = output else {
+        return None;
+    };
+    match strip_type(ty) {
+        ty if is_f64(ty) => Some(Returns::Scalar),
+        Type::Tuple(t) if !t.elems.is_empty() && t.elems.iter().all(is_f64) => {
+            Some(Returns::Values(Kind::Tuple, t.elems.len()))
+        }
+        Type::Array(a) if is_f64(&a.elem) => match strip(&a.len) {
+            Expr::Lit(syn::ExprLit {
+                lit: Lit::Int(k), ..
+            }) => k
+                .base10_parse::<usize>()
+                .ok()
+                .filter(|&k| k > 0)
+                .map(|k| Returns::Values(Kind::Array, k)),
+            _ => None,
+        },
+        _ => None,
+    }
+}
+
+fn strip_type(ty: &Type) -> &Type {
+    match ty {
+        Type::Paren(p) => strip_type(&p.elem),
+        Type::Group(g) => strip_type(&g.elem),
+        other => other,
+    }
+}
+
+/// What the conditions of the branches being read say of a loop variable: `low ≤ var`,
+/// `var < high` (each side free of loop variables; `branch.rs`).
+#[derive(Clone, Copy, Debug)]
+pub struct Fact {
+    pub var: IndexVar,
+    pub low: Option<Affine>,
+    pub high: Option<Affine>,
 }

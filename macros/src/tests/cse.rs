@@ -28,6 +28,7 @@ fn evaluated_subtrees(g: &Graph, plan: &Plan, roots: &[Id]) -> (Vec<String>, Vec
             Node::Powi(_, n) => format!("powi{n}"),
             Node::Powf(..) => "powf".into(),
             Node::Hypot(..) => "hypot".into(),
+            Node::Atan2(..) => "atan2".into(),
             Node::Select(op, ..) => format!("select{}", op.symbol()),
             Node::Sum(i, _) => format!("sum{}", i.0),
         };

@@ -152,3 +152,31 @@ fn runtime_chain_expansion_snapshot() {
         },
     );
 }
+
+/// A chain with fixed ends whose neighbours are read in branches: the derivatives with
+/// respect to `x[i - 1]` and `x[i + 1]` are added inside `if`s on `i` (the entries exist only
+/// there), and a read of a guarded component is itself guarded, since a temporary holding it
+/// is computed in every iteration. The expansion does not grow with the dimension.
+#[test]
+fn guarded_chain_expansion_snapshot() {
+    let item = |dim: TokenStream| {
+        quote! {
+            /// A chain with fixed ends `x_{-1} = x_N = 0`.
+            fn guarded_chain(x: [f64; #dim], v: [f64; #dim], k: f64) -> f64 {
+                let mut l = 0.0;
+                for i in 0..#dim {
+                    let left = if i > 0 { x[i - 1] } else { 0.0 };
+                    let right = if i + 1 < #dim { x[i + 1] } else { 0.0 };
+                    l += 0.5 * v[i] * v[i] - 0.25 * k * ((x[i] - left).powi(2) + (right - x[i]).powi(2));
+                }
+                l
+            }
+        }
+    };
+    let size = |n: usize| {
+        let lit = proc_macro2::Literal::usize_unsuffixed(n);
+        count(expand(quote!(), item(quote!(#lit))).expect("the chain expands"))
+    };
+    assert_eq!(size(4), size(10_000));
+    super::snapshots::check_snapshot("guarded_chain", item(quote!(N)));
+}

@@ -7,6 +7,7 @@ mod derivatives;
 mod emit;
 mod loops;
 mod snapshots;
+mod values;
 
 use std::collections::HashMap;
 
@@ -21,9 +22,10 @@ use crate::parse;
 use varembed_tests::rng::Rng;
 
 /// Every operation the generator draws, to check that all are covered.
-const OPS: [&str; 25] = [
+const OPS: [&str; 28] = [
     "+", "-", "*", "/", "neg", "sin", "cos", "tan", "asin", "acos", "atan", "sinh", "cosh", "tanh",
-    "exp", "ln", "log10", "sqrt", "cbrt", "recip", "abs", "powi", "powf", "hypot", "const",
+    "exp", "exp_m1", "ln", "ln_1p", "log10", "sqrt", "cbrt", "recip", "abs", "powi", "powf",
+    "hypot", "atan2", "const",
 ];
 
 /// Random expression source over `x[0..2]`, `v[0..2]`, `t`, `c` and the `let` names in scope.
@@ -72,7 +74,8 @@ fn gen_expr(
         "sin" | "cos" | "atan" | "tanh" | "abs" => call(rng, op, a),
         "tan" => call(rng, op, format!("0.7 * ({a}).tanh()")),
         "asin" | "acos" => call(rng, op, format!("0.8 * ({a}).tanh()")),
-        "exp" | "sinh" | "cosh" => call(rng, op, format!("2.0 * ({a}).sin()")),
+        "exp" | "exp_m1" | "sinh" | "cosh" => call(rng, op, format!("2.0 * ({a}).sin()")),
+        "ln_1p" => call(rng, op, format!("0.9 * ({a}).tanh()")),
         "ln" | "log10" | "sqrt" | "cbrt" | "recip" => call(rng, op, pos(&a)),
         "powi" => {
             let n = rng.below(7) as i32 - 3;
@@ -85,6 +88,10 @@ fn gen_expr(
         }
         "powf" => format!("{}.powf(0.5 * ({}).sin())", pos(&a), sub(rng)),
         "hypot" => format!("({a}).hypot({})", pos(&sub(rng))),
+        // Both signs of both arguments: every quadrant, the cut along the negative `x` axis
+        // included (a point within the step of it is skipped as not smooth).
+        "atan2" if rng.below(2) == 0 => format!("({a}).atan2({})", sub(rng)),
+        "atan2" => format!("f64::atan2({a}, {})", sub(rng)),
         _ => format!("std::f64::consts::PI * ({a})"),
     }
 }

@@ -2,12 +2,12 @@ use varembed::lagrangian;
 
 const N: usize = 8;
 
-/// The right neighbour guarded by a branch, in an iterator sum.
+/// The right neighbour behind a condition that every iteration passes.
 #[lagrangian]
 fn fixed(x: [f64; N], v: [f64; N]) -> f64 {
     (0..N)
         .map(|j| {
-            let right = if j + 1 < N { x[j + 1] } else { 0.0 };
+            let right = if j < N { x[j + 1] } else { 0.0 };
             0.5 * v[j] * v[j] - 0.5 * (right - x[j]).powi(2)
         })
         .sum::<f64>()
