@@ -19,7 +19,9 @@
 use proc_macro2::TokenStream;
 
 use crate::ir::{Model, Node, Var};
-use crate::{assemble, cse, diff, dynamic, emit, fallback, helpers, parse, scatter, text};
+use crate::{
+    assemble, cse, diff, dynamic, emit, fallback, helpers, loop_impl, parse, scatter, text,
+};
 
 /// The errors of a rejected fn, with the fn's tokens, which the fallback output keeps.
 #[derive(Debug)]
@@ -90,7 +92,7 @@ fn expand_with(
             // A run-time dimension: `DynLagrangian` only.
             emit::head(&model, &text, with_item)
         } else {
-            scatter::emit(&model, &loops, &properties, &text, with_item)
+            loop_impl::emit(&model, &loops, &properties, &text, with_item)
         };
         quote::quote!(#lagrangian #dynamic)
     } else {

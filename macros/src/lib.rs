@@ -8,12 +8,15 @@
 //! share (its integer side, loop variables and index expressions, in `indices.rs`);
 //! `simplify.rs` is the smart constructors every node is built through; `fallback.rs` is what
 //! is emitted on error. A Lagrangian with loops takes `assemble.rs` (its terms and their
-//! derivatives) and `scatter.rs` (loop nests adding them into their entries) in place of
-//! `diff.rs`, `cse.rs` and `emit.rs`'s methods (`names.rs` writes their indices, ranges and
-//! the `const` assertions of the index checks left to the compiler); `helpers.rs` relays
-//! `#[lagrangian(helper)]` fns to the Lagrangians that call them. `dynamic.rs` emits the
-//! `DynLagrangian` impl of a model with loops (the same loop nests on slices), `checks.rs` the
-//! run-time index checks of a model whose dimension is a `usize` constant.
+//! derivatives; `rewrite.rs` lifts the sums used as values and renames loop variables) and
+//! `scatter.rs` (loop nests adding them into their entries) in place of `diff.rs`, `cse.rs`
+//! and `emit.rs`'s methods (`names.rs` writes their indices, ranges and the `const` assertions
+//! of the index checks left to the compiler); `loop_impl.rs` emits its `Lagrangian<N>` impl,
+//! `lifted.rs` the values, adjoints and dense Hessian part of its lifted sums; `helpers.rs`
+//! relays `#[lagrangian(helper)]` fns to the Lagrangians that call them. `dynamic.rs` emits
+//! the `DynLagrangian` impl of a model with loops (the same loop nests on slices), `checks.rs`
+//! the run-time index checks of a model whose dimension is a `usize` constant. `readable.rs`
+//! is the normal form `DERIVATIVES` prints.
 
 mod assemble;
 mod checks;
@@ -27,10 +30,12 @@ mod helpers;
 mod indices;
 mod ir;
 mod lifted;
+mod loop_impl;
 mod names;
 mod parse;
 mod readable;
 mod render;
+mod rewrite;
 mod scatter;
 mod simplify;
 mod text;
@@ -87,7 +92,11 @@ use proc_macro::TokenStream;
 /// cosh tanh exp exp_m1 ln ln_1p log10 sqrt cbrt recip abs signum powi powf hypot max min`,
 /// `if c { a } else { b }`, `std::f64::consts::*`, and helper fns marked
 /// `#[lagrangian(helper)]` (returning `f64`, `(f64, …)` or `[f64; K]`). The derivatives of loops are loops (the expansion does not grow
-/// with the dimension). Anything else is a compile error on the
+/// with the dimension). A sum is a value: bound to a local or accumulated (also in an
+/// accumulator declared inside a loop), it may be squared, divided by, passed to a function,
+/// compared or read in another loop, and is differentiated exactly through the chain rule (a
+/// sum inside a function is computed first and differentiated through in reverse mode; its
+/// Hessian part is dense, and such a model claims no band). Anything else is a compile error on the
 /// offending tokens; all of them are reported at once. `docs/macro.md` has the details.
 ///
 /// Derivative conventions: `if` is differentiated branch by branch (the condition is not),

@@ -465,7 +465,7 @@ impl Parser {
         if outer.is_empty() {
             return false;
         }
-        let free = crate::assemble::free_vars(g);
+        let free = crate::rewrite::free_vars(g);
         outer.iter().any(|&s| !free[s].is_empty())
     }
 
