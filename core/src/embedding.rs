@@ -105,7 +105,7 @@ pub enum EmbeddingKind {
     ///
     /// For `α > 1/2` the solutions converge (slowly near 1/2), change continuously with α and
     /// tend to the classical ones as α → 1, at distance `O(1 − α)`. Tested in
-    /// `tests/tests/hard_fractional.rs`.
+    /// `tests/tests/fractional/hard_fractional.rs`.
     GrunwaldLetnikov {
         /// The order `0 < α ≤ 1`.
         alpha: f64,

@@ -3,7 +3,7 @@
 //! Pendulum `L = ½v² + cos x`, Gauss-GLE− with α = 0.7 on `[0, 1]`, `Q_0 = 0`, `Q_N = 1`.
 //! Three solves side by side: dense LU, the fast path at the default Newton tolerance (1e-12
 //! relative), and the fast path run to round-off (`fast_floor`: tolerance 1e-16, so Newton stops
-//! when the residual stops falling; `tests/tests/residual_floor.rs` shows that this is the residual of
+//! when the residual stops falling; `tests/tests/classical/residual_floor.rs` shows that this is the residual of
 //! the exact discrete solution rounded to doubles). Before timing each size, the solve is run
 //! once and its Newton iterations and reached residual are printed (see `report`).
 //!

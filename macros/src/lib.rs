@@ -108,7 +108,7 @@ use proc_macro::TokenStream;
 ///
 /// # Example
 ///
-/// This example is compiled and run as `tests/tests/macro_doc_example.rs`.
+/// This example is compiled and run as `tests/tests/macros/doc_example.rs`.
 ///
 /// ```ignore
 /// use varembed::{lagrangian, Lagrangian, Vector};

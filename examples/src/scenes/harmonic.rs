@@ -1,6 +1,6 @@
 //! The harmonic oscillator `L = ½v² − ½ω²x²`, `q(0) = 1`, `q̇(0) = 0` on `[0, 20]`: the one
 //! scene with a closed-form solution of the continuous problem *and* of every discrete scheme
-//! (see `tests/tests/harmonic_exact.rs`), so the orders here are the textbook ones.
+//! (see `tests/tests/classical/harmonic_exact.rs`), so the orders here are the textbook ones.
 
 use crate::ivp_scene::{Advice, HigherOrderSweeps, IvpScene, Trajectory, Units, all_variants};
 use crate::reference::ReferenceCurve;

@@ -17,7 +17,7 @@ use crate::render::Render;
 /// `gradient_and_hessian`, printed as Rust and read back by the parser, evaluate to the same
 /// numbers (this checks operator precedence, parentheses, negative literals, named constants).
 /// `abs` is left out of these trees: its derivative `sign` is emitted as an `if`, which the
-/// parser rejects by design; `tests/tests/macro_functions.rs` covers it through the macro.
+/// parser rejects by design; `tests/tests/macros/functions.rs` covers it through the macro.
 #[test]
 fn emitted_code_round_trips_through_the_parser() {
     let mut rng = Rng(0xC0DE);

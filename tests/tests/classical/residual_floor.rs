@@ -352,7 +352,7 @@ fn the_solver_reaches_the_double_precision_floor() {
 }
 
 /// N = 10⁵. Release only (about a minute):
-/// `cargo test -p varembed-tests --release --test residual_floor -- --ignored --nocapture`.
+/// `cargo test -p varembed-tests --release --test classical -- --ignored residual_floor --nocapture`.
 #[test]
 #[ignore = "N = 10⁵ with a double-double oracle: run in release"]
 fn the_floor_at_a_hundred_thousand_nodes() {

@@ -292,7 +292,7 @@ fn a_hard_nonconvex_problem_gives_a_correct_answer_or_a_typed_error() {
 }
 
 /// Fast and dense agree at N = 2000 (dense LU of a 1999² system: run in release,
-/// `cargo test -p varembed-tests --release --test fractional_fast -- --ignored n2000`).
+/// `cargo test -p varembed-tests --release --test fractional -- --ignored n2000`).
 #[test]
 #[ignore = "dense reference at N = 2000: seconds in release, minutes in debug"]
 fn n2000_fast_and_dense_agree() {
@@ -314,7 +314,7 @@ fn n2000_fast_and_dense_agree() {
 
 /// The fast path at N = 10⁶ (d = 1) in O(N) memory. Run alone, in release, so
 /// that the process's peak resident set (`VmHWM`) is this solve's:
-/// `cargo test -p varembed-tests --release --test fractional_fast -- --ignored million --nocapture`.
+/// `cargo test -p varembed-tests --release --test fractional -- --ignored million --nocapture`.
 #[test]
 #[ignore = "N = 10⁶: run alone in release to measure the peak memory"]
 fn million_nodes_in_linear_memory() {

@@ -10,7 +10,7 @@
 //! 3. The signature of every public item and of every public method, associated constant and
 //!    trait implementation of the public types (parsed from `core/src`, bodies and docs
 //!    stripped) equals the snapshot `tests/tests/public_api.txt`. To accept an intended change,
-//!    run `UPDATE_PUBLIC_API=1 cargo test -p varembed-tests --test public_api` and commit the
+//!    run `UPDATE_PUBLIC_API=1 cargo test -p varembed-tests --test project public_api` and commit the
 //!    snapshot with the change.
 
 #[allow(unused_imports)]
@@ -496,7 +496,7 @@ fn the_public_signatures_match_the_snapshot() {
     if actual != expected {
         panic!(
             "the public API changed (- snapshot, + now):\n{}\nIf this is intended, run \
-             `UPDATE_PUBLIC_API=1 cargo test -p varembed-tests --test public_api` and commit {}.",
+             `UPDATE_PUBLIC_API=1 cargo test -p varembed-tests --test project public_api` and commit {}.",
             diff(&expected, &actual),
             snapshot.display()
         );
