@@ -57,7 +57,8 @@ use std::panic::{self, AssertUnwindSafe};
 
 use num_dual::{DualNum, HyperDual64};
 use varembed::{
-    Dependence, DynLagrangian, Hessian, Lagrangian, SparseHessian, Vector, lagrangian,
+    Dependence, DynLagrangian, Hessian, HessianDependence, Lagrangian, SparseHessian, Vector,
+    lagrangian,
 };
 use varembed_tests::rng::Rng;
 
@@ -74,6 +75,21 @@ const FLOOR: f64 = 1e-3;
 /// Mismatch lines shown per program (all are counted).
 const SHOWN: usize = 8;
 
+/// `L` at `(x, v, t)`, of slices.
+type ValueFn<'a> = dyn Fn(&[f64], &[f64], f64) -> f64 + 'a;
+/// `∂L/∂x` or `∂L/∂v` at `(x, v, t)`, written into a buffer.
+type GradientFn<'a> = dyn Fn(&[f64], &[f64], f64, &mut [f64]) + 'a;
+/// The second derivatives at `(x, v, t)`, added to a `SparseHessian`.
+type HessianFn<'a> = dyn Fn(&[f64], &[f64], f64, &mut SparseHessian) + 'a;
+/// A method of `Lagrangian<D>` at `(x, v, t)`.
+type ConstFn<'a, const D: usize, R> = dyn Fn(&Vector<D>, &Vector<D>, f64) -> R + 'a;
+/// The oracle: the terms of `L` at `(x, v, t)`, pushed.
+type OracleFn<'a> = dyn Fn(&[HyperDual64], &[HyperDual64], f64, &mut Vec<HyperDual64>) + 'a;
+/// The blocks `xx`, `xv`, `vv`, dense, row by row.
+type Blocks = [Vec<Vec<f64>>; 3];
+/// `L` and the blocks at `(x, v, t)`.
+type EvalFn<'a> = dyn Fn(&[f64], &[f64], f64) -> (f64, Blocks) + 'a;
+
 /// One generated program, as `check` sees it.
 pub struct Program<'a, const D: usize> {
     pub id: usize,
@@ -81,25 +97,105 @@ pub struct Program<'a, const D: usize> {
     /// The two `#[lagrangian]` fns, as written.
     pub text: &'static str,
     pub time: bool,
-    /// The array model (`[f64; N]`) through its `Lagrangian<N>` impl …
-    pub array: &'a dyn Lagrangian<D>,
-    /// … and through its `DynLagrangian` impl.
-    pub array_dyn: &'a dyn DynLagrangian,
+    /// The array model (`[f64; N]`) through its `Lagrangian<N>` impl.
+    pub array: ConstModel<'a, D>,
+    /// Its other derivative methods, for one program in four: the compile time of the test
+    /// is mostly that of the generated methods.
+    pub every_method: Option<OtherMethods<'a, D>>,
+    /// The array model through its `DynLagrangian` impl, for every other program (for the
+    /// same reason).
+    pub array_dyn: Option<DynModel<'a>>,
     /// The slice model, of run-time dimension `n = N`.
-    pub slice: &'a dyn DynLagrangian,
+    pub slice: DynModel<'a>,
     /// The array fn itself, called on slices.
-    pub array_fn: &'a dyn Fn(&[f64], &[f64], f64) -> f64,
+    pub array_fn: &'a ValueFn<'a>,
     /// The slice fn itself.
-    pub slice_fn: &'a dyn Fn(&[f64], &[f64], f64) -> f64,
+    pub slice_fn: &'a ValueFn<'a>,
     /// The oracle: pushes the terms whose sum is `L`.
-    #[allow(clippy::type_complexity, reason = "one signature, spelled once")]
-    pub oracle: &'a dyn Fn(&[HyperDual64], &[HyperDual64], f64, &mut Vec<HyperDual64>),
+    pub oracle: &'a OracleFn<'a>,
+}
+
+/// The structural claims of a model.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Claims {
+    pub bandwidth: Option<usize>,
+    pub hessian: HessianDependence,
+    pub value: Dependence,
+}
+
+/// A `Lagrangian<D>` through `value`, the fused `gradient_and_hessian` (what the solvers
+/// call) and its claims.
+pub struct ConstModel<'a, const D: usize> {
+    value: Box<ConstFn<'a, D, f64>>,
+    fused: Box<ConstFn<'a, D, (Vector<D>, Vector<D>, Hessian<D>)>>,
+    claims: Claims,
+}
+
+/// The methods of `lag` that every program checks.
+pub fn const_model<const D: usize, L: Lagrangian<D>>(lag: &L) -> ConstModel<'_, D> {
+    ConstModel {
+        value: Box::new(|x, v, t| lag.value(x, v, t)),
+        fused: Box::new(|x, v, t| lag.gradient_and_hessian(x, v, t)),
+        claims: Claims {
+            bandwidth: lag.hessian_bandwidth(),
+            hessian: lag.hessian_dependence(),
+            value: lag.dependence(),
+        },
+    }
+}
+
+/// The derivative methods of a `Lagrangian<D>` that the solvers call less, each of which the
+/// macro writes out separately (its own evaluation plan).
+pub struct OtherMethods<'a, const D: usize> {
+    gradient: Box<ConstFn<'a, D, (Vector<D>, Vector<D>)>>,
+    hessian: Box<ConstFn<'a, D, Hessian<D>>>,
+    value_and_gradient: Box<ConstFn<'a, D, (f64, Vector<D>, Vector<D>)>>,
+}
+
+/// The methods of `lag` that one program in four checks.
+pub fn other_methods<const D: usize, L: Lagrangian<D>>(lag: &L) -> OtherMethods<'_, D> {
+    OtherMethods {
+        gradient: Box::new(|x, v, t| lag.gradient(x, v, t)),
+        hessian: Box::new(|x, v, t| lag.hessian(x, v, t)),
+        value_and_gradient: Box::new(|x, v, t| lag.value_and_gradient(x, v, t)),
+    }
+}
+
+/// A `DynLagrangian` through the methods the check calls. Not a trait object: that would
+/// compile every provided method too (the default `energy`, which inlines `value` and
+/// `momentum`, was a sixth of the test's code).
+pub struct DynModel<'a> {
+    value: Box<ValueFn<'a>>,
+    force: Box<GradientFn<'a>>,
+    momentum: Box<GradientFn<'a>>,
+    hessian: Box<HessianFn<'a>>,
+    claims: Claims,
+    dimension: usize,
+    invalid_dimension: Option<String>,
+}
+
+/// The methods of `lag` that every program checks.
+pub fn dyn_model<L: DynLagrangian>(lag: &L) -> DynModel<'_> {
+    DynModel {
+        value: Box::new(|x, v, t| lag.value(x, v, t)),
+        force: Box::new(|x, v, t, f| lag.force(x, v, t, f)),
+        momentum: Box::new(|x, v, t, p| lag.momentum(x, v, t, p)),
+        hessian: Box::new(|x, v, t, h| lag.hessian(x, v, t, h)),
+        claims: Claims {
+            bandwidth: lag.hessian_bandwidth(),
+            hessian: lag.hessian_dependence(),
+            value: lag.dependence(),
+        },
+        dimension: lag.dimension(),
+        invalid_dimension: lag.invalid_dimension(),
+    }
 }
 
 /// What one program's check found.
 #[derive(Default)]
 pub struct Report {
     id: usize,
+    dimension: usize,
     forms: &'static [&'static str],
     text: &'static str,
     /// `(kind, line)` per mismatch.
@@ -171,18 +267,16 @@ impl Oracle {
         }
     }
 
-    fn gradient_floor(&self) -> f64 {
-        FLOOR * self.gradient.iter().map(|e| e.1).fold(0.0, f64::max)
-    }
-
-    fn hessian_floor(&self) -> f64 {
-        FLOOR
-            * self
-                .hessian
-                .iter()
-                .flatten()
-                .map(|e| e.1)
-                .fold(0.0, f64::max)
+    /// The floor of every entry's scale: `FLOOR` times the largest scale of `L`, its gradient
+    /// and its Hessian.
+    fn floor(&self) -> f64 {
+        let largest = self
+            .gradient
+            .iter()
+            .chain(self.hessian.iter().flatten())
+            .map(|e| e.1)
+            .fold(self.value.1, f64::max);
+        FLOOR * largest
     }
 }
 
@@ -197,7 +291,8 @@ fn compare(
 ) {
     let tol = TOLERANCE * want.1.max(floor);
     // Written so that a NaN on either side is a mismatch.
-    if !((got - want.0).abs() <= tol) {
+    let within = (got - want.0).abs() <= tol;
+    if !within {
         out.mismatch(
             kind,
             format!(
@@ -227,19 +322,23 @@ fn points() -> usize {
 }
 
 /// The three blocks of a `DynLagrangian` at a point, as dense row-major `D × D` arrays.
-fn dyn_blocks(lag: &dyn DynLagrangian, x: &[f64], v: &[f64], t: f64) -> [Vec<Vec<f64>>; 3] {
+fn dyn_blocks(lag: &DynModel<'_>, x: &[f64], v: &[f64], t: f64) -> Blocks {
     let d = x.len();
     let mut h = SparseHessian::new(d);
-    lag.hessian(x, v, t, &mut h);
+    (lag.hessian)(x, v, t, &mut h);
     let dense = |b: &varembed::SparseBlock| -> Vec<Vec<f64>> {
-        (0..d).map(|i| (0..d).map(|j| b.get(i, j)).collect()).collect()
+        (0..d)
+            .map(|i| (0..d).map(|j| b.get(i, j)).collect())
+            .collect()
     };
     [dense(&h.xx), dense(&h.xv), dense(&h.vv)]
 }
 
-fn const_blocks<const D: usize>(h: &Hessian<D>) -> [Vec<Vec<f64>>; 3] {
+fn const_blocks<const D: usize>(h: &Hessian<D>) -> Blocks {
     let dense = |b: &varembed::Matrix<D>| -> Vec<Vec<f64>> {
-        (0..D).map(|i| (0..D).map(|j| b[(i, j)]).collect()).collect()
+        (0..D)
+            .map(|i| (0..D).map(|j| b[(i, j)]).collect())
+            .collect()
     };
     [dense(&h.xx), dense(&h.xv), dense(&h.vv)]
 }
@@ -253,19 +352,26 @@ fn against_oracle(
     o: &Oracle,
     force: &[f64],
     momentum: &[f64],
-    blocks: &[Vec<Vec<f64>>; 3],
+    blocks: &Blocks,
 ) {
     let d = force.len();
-    let (gf, hf) = (o.gradient_floor(), o.hessian_floor());
+    let floor = o.floor();
     for i in 0..d {
-        compare(out, "gradient", || format!("{model} ∂L/∂x[{i}]"), force[i], o.gradient[i], gf);
+        compare(
+            out,
+            "gradient",
+            || format!("{model} ∂L/∂x[{i}]"),
+            force[i],
+            o.gradient[i],
+            floor,
+        );
         compare(
             out,
             "gradient",
             || format!("{model} ∂L/∂v[{i}]"),
             momentum[i],
             o.gradient[d + i],
-            gf,
+            floor,
         );
     }
     for (k, block) in blocks.iter().enumerate() {
@@ -282,7 +388,7 @@ fn against_oracle(
                     || format!("{model} {}[({i}, {j})]", BLOCKS[k]),
                     block[i][j],
                     o.hessian[ro + i][co + j],
-                    hf,
+                    floor,
                 );
             }
         }
@@ -290,7 +396,7 @@ fn against_oracle(
 }
 
 /// `Some(b)` ⇒ every entry beyond the band is exactly zero.
-fn band(out: &mut Report, model: &str, claim: Option<usize>, blocks: &[Vec<Vec<f64>>; 3]) {
+fn band(out: &mut Report, model: &str, claim: Option<usize>, blocks: &Blocks) {
     let Some(b) = claim else { return };
     for (k, block) in blocks.iter().enumerate() {
         for (i, row) in block.iter().enumerate() {
@@ -311,18 +417,22 @@ fn band(out: &mut Report, model: &str, claim: Option<usize>, blocks: &[Vec<Vec<f
 
 /// The claims of `hessian_dependence()` and `dependence()`: redrawing what a block (or `L`)
 /// does not depend on leaves it unchanged, bit for bit.
-#[allow(clippy::too_many_arguments, reason = "a model, its claims and the point")]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a model, its claims and the point"
+)]
 fn dependence_claims(
     out: &mut Report,
     model: &str,
-    eval: &dyn Fn(&[f64], &[f64], f64) -> (f64, [Vec<Vec<f64>>; 3]),
-    claims: [Dependence; 3],
-    value_claim: Dependence,
+    eval: &EvalFn<'_>,
+    claims: Claims,
     rng: &mut Rng,
     x: &[f64],
     v: &[f64],
     t: f64,
 ) {
+    let value_claim = claims.value;
+    let claims = [claims.hessian.xx, claims.hessian.xv, claims.hessian.vv];
     let (l0, b0) = eval(x, v, t);
     let redraw = |rng: &mut Rng, w: &[f64]| -> Vec<f64> {
         w.iter().map(|_| rng.uniform(-1.0, 1.0)).collect()
@@ -371,46 +481,86 @@ fn dependence_claims(
 /// Checks one program at random points (the generated modules call it).
 pub fn check<const D: usize>(out: &mut Report, p: &Program<'_, D>) {
     out.id = p.id;
+    out.dimension = D;
     out.forms = p.forms;
     out.text = p.text;
     let mut rng = Rng(SEED ^ (p.id as u64 + 1).wrapping_mul(0xD1B5_4A32_D192_ED03));
-    if let Some(why) = p.slice.invalid_dimension() {
+    if let Some(why) = &p.slice.invalid_dimension {
         out.mismatch("invalid_dimension", format!("slice model: {why}"));
     }
-    if let Some(why) = p.array_dyn.invalid_dimension() {
-        out.mismatch("invalid_dimension", format!("array model: {why}"));
-    }
-    if p.slice.dimension() != D || p.array_dyn.dimension() != D {
+    if p.slice.dimension != D {
         out.mismatch(
             "dimension",
             format!(
-                "dimension() = {} (slice), {} (array), not {D}",
-                p.slice.dimension(),
-                p.array_dyn.dimension()
+                "the slice model's dimension() is {}, not {D}",
+                p.slice.dimension
             ),
         );
     }
-    let claims = |h: varembed::HessianDependence| [h.xx, h.xv, h.vv];
+    if let Some(array_dyn) = &p.array_dyn {
+        if let Some(why) = &array_dyn.invalid_dimension {
+            out.mismatch("invalid_dimension", format!("array model: {why}"));
+        }
+        if array_dyn.dimension != D {
+            out.mismatch(
+                "dimension",
+                format!(
+                    "the array model's dimension() is {}, not {D}",
+                    array_dyn.dimension
+                ),
+            );
+        }
+        if array_dyn.claims != p.array.claims {
+            out.mismatch(
+                "array≠dyn",
+                format!(
+                    "the array model claims {:?} as a DynLagrangian, {:?} as a Lagrangian<N>",
+                    array_dyn.claims, p.array.claims
+                ),
+            );
+        }
+    }
     for point in 0..points() {
         let x: Vec<f64> = (0..D).map(|_| rng.uniform(-1.0, 1.0)).collect();
         let v: Vec<f64> = (0..D).map(|_| rng.uniform(-1.0, 1.0)).collect();
         let t = if p.time { rng.uniform(0.0, 2.0) } else { 0.0 };
         let at = |s: &str| format!("point {point}: {s}");
         let o = Oracle::at(p, &x, &v, t);
-        let vf = FLOOR * o.value.1;
-
-        // L, five ways.
+        let vf = o.floor();
         let xs = Vector::<D>::from_column_slice(&x);
         let vs = Vector::<D>::from_column_slice(&v);
-        compare(out, "value", || at("array fn L"), (p.array_fn)(&x, &v, t), o.value, vf);
-        compare(out, "value", || at("slice fn L"), (p.slice_fn)(&x, &v, t), o.value, vf);
-        let l = p.array.value(&xs, &vs, t);
-        compare(out, "value", || at("array Lagrangian<N> L"), l, o.value, vf);
-        compare(out, "value", || at("slice DynLagrangian L"), p.slice.value(&x, &v, t), o.value, vf);
 
-        // The array model's `Lagrangian<N>`.
-        let (f, q) = p.array.gradient(&xs, &vs, t);
-        let h = p.array.hessian(&xs, &vs, t);
+        // L, five ways.
+        let l = (p.array.value)(&xs, &vs, t);
+        compare(
+            out,
+            "value",
+            || at("array fn L"),
+            (p.array_fn)(&x, &v, t),
+            o.value,
+            vf,
+        );
+        compare(
+            out,
+            "value",
+            || at("slice fn L"),
+            (p.slice_fn)(&x, &v, t),
+            o.value,
+            vf,
+        );
+        compare(out, "value", || at("array Lagrangian<N> L"), l, o.value, vf);
+        compare(
+            out,
+            "value",
+            || at("slice DynLagrangian L"),
+            (p.slice.value)(&x, &v, t),
+            o.value,
+            vf,
+        );
+
+        // The array model's `Lagrangian<N>`: the fused method, and for some programs every
+        // method, the separate ones bit for bit the fused ones.
+        let (f, q, h) = (p.array.fused)(&xs, &vs, t);
         let blocks = const_blocks(&h);
         against_oracle(
             out,
@@ -420,71 +570,96 @@ pub fn check<const D: usize>(out: &mut Report, p: &Program<'_, D>) {
             q.as_slice(),
             &blocks,
         );
-        let (ff, fq, fh) = p.array.gradient_and_hessian(&xs, &vs, t);
-        let (gl, gf, gq) = p.array.value_and_gradient(&xs, &vs, t);
-        same(out, "fused", || at("value_and_gradient L vs value"), gl, l);
-        for i in 0..D {
-            same(out, "fused", || at(&format!("gradient_and_hessian ∂L/∂x[{i}]")), ff[i], f[i]);
-            same(out, "fused", || at(&format!("gradient_and_hessian ∂L/∂v[{i}]")), fq[i], q[i]);
-            same(out, "fused", || at(&format!("value_and_gradient ∂L/∂x[{i}]")), gf[i], f[i]);
-            same(out, "fused", || at(&format!("value_and_gradient ∂L/∂v[{i}]")), gq[i], q[i]);
-        }
-        for (k, (a, b)) in const_blocks(&fh).iter().zip(&blocks).enumerate() {
+        if let Some(all) = &p.every_method {
+            let (gf, gq) = (all.gradient)(&xs, &vs, t);
+            let gh = const_blocks(&(all.hessian)(&xs, &vs, t));
+            let (vl, vf, vq) = (all.value_and_gradient)(&xs, &vs, t);
+            same(out, "fused", || at("value_and_gradient L vs value"), vl, l);
             for i in 0..D {
-                for j in 0..D {
+                let pairs = [
+                    ("gradient ∂L/∂x", gf[i], f[i]),
+                    ("gradient ∂L/∂v", gq[i], q[i]),
+                    ("value_and_gradient ∂L/∂x", vf[i], f[i]),
+                    ("value_and_gradient ∂L/∂v", vq[i], q[i]),
+                ];
+                for (what, a, b) in pairs {
                     same(
                         out,
                         "fused",
-                        || at(&format!("gradient_and_hessian {}[({i}, {j})]", BLOCKS[k])),
-                        a[i][j],
-                        b[i][j],
+                        || at(&format!("{what}[{i}] vs gradient_and_hessian")),
+                        a,
+                        b,
                     );
                 }
             }
+            for (k, (a, b)) in gh.iter().zip(&blocks).enumerate() {
+                for i in 0..D {
+                    for j in 0..D {
+                        same(
+                            out,
+                            "fused",
+                            || {
+                                at(&format!(
+                                    "hessian {}[({i}, {j})] vs gradient_and_hessian",
+                                    BLOCKS[k]
+                                ))
+                            },
+                            a[i][j],
+                            b[i][j],
+                        );
+                    }
+                }
+            }
         }
-        band(out, &at("array Lagrangian<N>"), p.array.hessian_bandwidth(), &blocks);
+        band(
+            out,
+            &at("array Lagrangian<N>"),
+            p.array.claims.bandwidth,
+            &blocks,
+        );
 
         // The array model's `DynLagrangian`, bit for bit its `Lagrangian<N>`.
-        let mut df = vec![0.0; D];
-        let mut dq = vec![0.0; D];
-        p.array_dyn.force(&x, &v, t, &mut df);
-        p.array_dyn.momentum(&x, &v, t, &mut dq);
-        let dblocks = dyn_blocks(p.array_dyn, &x, &v, t);
-        same(out, "array≠dyn", || at("array DynLagrangian L"), p.array_dyn.value(&x, &v, t), l);
-        for i in 0..D {
-            same(out, "array≠dyn", || at(&format!("array DynLagrangian ∂L/∂x[{i}]")), df[i], f[i]);
-            same(out, "array≠dyn", || at(&format!("array DynLagrangian ∂L/∂v[{i}]")), dq[i], q[i]);
-        }
-        for k in 0..3 {
+        if let Some(array_dyn) = &p.array_dyn {
+            let mut df = vec![0.0; D];
+            let mut dq = vec![0.0; D];
+            (array_dyn.force)(&x, &v, t, &mut df);
+            (array_dyn.momentum)(&x, &v, t, &mut dq);
+            let dblocks = dyn_blocks(array_dyn, &x, &v, t);
+            let dl = (array_dyn.value)(&x, &v, t);
+            same(out, "array≠dyn", || at("array DynLagrangian L"), dl, l);
             for i in 0..D {
-                for j in 0..D {
-                    same(
-                        out,
-                        "array≠dyn",
-                        || at(&format!("array DynLagrangian {}[({i}, {j})]", BLOCKS[k])),
-                        dblocks[k][i][j],
-                        blocks[k][i][j],
-                    );
+                let what = |s: &str| at(&format!("array DynLagrangian ∂L/∂{s}[{i}]"));
+                same(out, "array≠dyn", || what("x"), df[i], f[i]);
+                same(out, "array≠dyn", || what("v"), dq[i], q[i]);
+            }
+            for k in 0..3 {
+                for i in 0..D {
+                    for j in 0..D {
+                        same(
+                            out,
+                            "array≠dyn",
+                            || at(&format!("array DynLagrangian {}[({i}, {j})]", BLOCKS[k])),
+                            dblocks[k][i][j],
+                            blocks[k][i][j],
+                        );
+                    }
                 }
             }
-        }
-        if p.array_dyn.hessian_bandwidth() != p.array.hessian_bandwidth()
-            || p.array_dyn.hessian_dependence() != p.array.hessian_dependence()
-        {
-            out.mismatch(
-                "array≠dyn",
-                "the array model's DynLagrangian claims another bandwidth or dependence than its Lagrangian<N>".into(),
-            );
         }
 
         // The slice model.
         let mut sf = vec![0.0; D];
         let mut sq = vec![0.0; D];
-        p.slice.force(&x, &v, t, &mut sf);
-        p.slice.momentum(&x, &v, t, &mut sq);
-        let sblocks = dyn_blocks(p.slice, &x, &v, t);
+        (p.slice.force)(&x, &v, t, &mut sf);
+        (p.slice.momentum)(&x, &v, t, &mut sq);
+        let sblocks = dyn_blocks(&p.slice, &x, &v, t);
         against_oracle(out, &at("slice DynLagrangian"), &o, &sf, &sq, &sblocks);
-        band(out, &at("slice DynLagrangian"), p.slice.hessian_bandwidth(), &sblocks);
+        band(
+            out,
+            &at("slice DynLagrangian"),
+            p.slice.claims.bandwidth,
+            &sblocks,
+        );
 
         // The dependence claims.
         let array_eval = |x: &[f64], v: &[f64], t: f64| {
@@ -492,16 +667,19 @@ pub fn check<const D: usize>(out: &mut Report, p: &Program<'_, D>) {
                 Vector::<D>::from_column_slice(x),
                 Vector::<D>::from_column_slice(v),
             );
-            (p.array.value(&xs, &vs, t), const_blocks(&p.array.hessian(&xs, &vs, t)))
+            (
+                (p.array.value)(&xs, &vs, t),
+                const_blocks(&(p.array.fused)(&xs, &vs, t).2),
+            )
         };
-        let slice_eval =
-            |x: &[f64], v: &[f64], t: f64| (p.slice.value(x, v, t), dyn_blocks(p.slice, x, v, t));
+        let slice_eval = |x: &[f64], v: &[f64], t: f64| {
+            ((p.slice.value)(x, v, t), dyn_blocks(&p.slice, x, v, t))
+        };
         dependence_claims(
             out,
             &at("array Lagrangian<N>"),
             &array_eval,
-            claims(p.array.hessian_dependence()),
-            p.array.dependence(),
+            p.array.claims,
             &mut rng,
             &x,
             &v,
@@ -511,8 +689,7 @@ pub fn check<const D: usize>(out: &mut Report, p: &Program<'_, D>) {
             out,
             &at("slice DynLagrangian"),
             &slice_eval,
-            claims(p.slice.hessian_dependence()),
-            p.slice.dependence(),
+            p.slice.claims,
             &mut rng,
             &x,
             &v,
@@ -550,7 +727,10 @@ fn generated_lagrangians_match_num_dual() {
     }
     panic::set_hook(hook);
 
-    let failing: Vec<&Report> = reports.iter().filter(|r| !r.mismatches.is_empty()).collect();
+    let failing: Vec<&Report> = reports
+        .iter()
+        .filter(|r| !r.mismatches.is_empty())
+        .collect();
     let total: usize = failing.iter().map(|r| r.mismatches.len()).sum();
     let mut msg = String::new();
     let _ = writeln!(
@@ -589,8 +769,9 @@ fn generated_lagrangians_match_num_dual() {
         for r in &failing {
             let _ = writeln!(
                 msg,
-                "\n=== program {} [{}]: {} mismatches",
+                "\n=== program {} (N = {}) [{}]: {} mismatches",
                 r.id,
+                r.dimension,
                 r.forms.join(", "),
                 r.mismatches.len()
             );
