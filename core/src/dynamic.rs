@@ -14,6 +14,7 @@
 
 pub(crate) mod band;
 pub(crate) mod bvp;
+pub(crate) mod dense;
 pub(crate) mod ivp;
 pub(crate) mod problem;
 pub(crate) mod rows;

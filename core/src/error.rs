@@ -70,6 +70,18 @@ pub enum Error {
         /// Which input.
         what: String,
     },
+    /// A time asked of a solution's dense output ([`Solution::at`](crate::Solution::at),
+    /// [`DynSolution::at`](crate::DynSolution::at) and their Lagrangian forms) is NaN or lies
+    /// outside the interval `[a, b]` the solution was computed on.
+    #[error("the time t = {t} is outside the solution's interval [{a}, {b}]")]
+    TimeOutOfRange {
+        /// The time asked for.
+        t: f64,
+        /// The left end `a` of the grid.
+        a: f64,
+        /// The right end `b` of the grid.
+        b: f64,
+    },
     /// A discrete curve or vector has the wrong number of entries.
     #[error("wrong length for {what}: expected {expected}, found {found}")]
     WrongLength {

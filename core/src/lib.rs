@@ -26,12 +26,13 @@
 //!   [`lagrangian`](macro@lagrangian) attribute that derives an implementation from a function.
 //! - Models of run-time dimension with sparse second derivatives (chains, lattices, discretised
 //!   fields): [`DynLagrangian`], [`SparseHessian`], [`SparseBlock`]; solved by
-//!   [`DynProblem`] into a [`DynSolution`] or, node by node, an observer of [`DynNode`]s and a
-//!   [`DynRun`].
+//!   [`DynProblem`] into a [`DynSolution`] (its state between the nodes: [`DynState`]) or,
+//!   node by node, an observer of [`DynNode`]s and a [`DynRun`].
 //! - Solving: [`Solution`] and its [`Warning`]s, [`Start`], [`NewtonOptions`],
 //!   [`FractionalSolver`]; a solution's values at its nodes (times, positions, velocities,
 //!   momenta, energy; CSV export): [`NodeValues`], [`NodeState`], [`NodeRule`],
-//!   [`NodeFormula`].
+//!   [`NodeFormula`]; its values at any time between the nodes (dense output) are methods
+//!   of the solutions (`Solution::at`, `Solution::state_at`, `DynSolution::at`).
 //! - Comparing the two schemes: [`Comparison`], [`CompareOptions`], [`Reference`],
 //!   [`SchemeReport`], for a [`Problem`] and a [`DynProblem`] alike (generic over the
 //!   [`ComparedSolution`]); convergence over `N, 2N, 4N, …`: [`Convergence`], [`Level`], and the one
@@ -63,8 +64,8 @@
 // Imports go one way. From the bottom up, each module imports only modules before it:
 // lagrangian, error, side, weights, toeplitz, gauss_legendre, grid, linalg, regularity, options,
 // operator, fft_operator, embedding, step, ode, discretisation,
-// solve (krylov, newton, start, nodes, solution, guard, fractional, bvp, gauss, ivp),
-// dynamic (sparse, step, ivp, problem), compare, problem.
+// solve (krylov, newton, start, nodes, solution, dense, guard, fractional, bvp, gauss, ivp),
+// dynamic (sparse, step, ivp, problem, dense), compare, problem.
 mod compare;
 mod discretisation;
 mod dynamic;
@@ -94,6 +95,7 @@ pub use compare::convergence::{Convergence, Level};
 pub use compare::order::{OrderStatus, observed_order, observed_orders};
 pub use compare::{CompareOptions, Comparison, Reference, SchemeReport, max_error};
 pub use dynamic::DynLagrangian;
+pub use dynamic::dense::DynState;
 pub use dynamic::ivp::{DynNode, DynRun};
 pub use dynamic::problem::{DynProblem, DynSolution};
 pub use dynamic::sparse::{SparseBlock, SparseHessian};

@@ -6,7 +6,8 @@
 //!   else), the same models through `#[lagrangian]`, and the double pendulum differentiated by
 //!   num-dual.
 //! - [`rng`]: a seeded SplitMix64 generator, so that a failing case reproduces.
-//! - [`reference`](mod@reference): closed-form discrete solutions of the harmonic oscillator's schemes.
+//! - [`reference`](mod@reference): closed-form discrete solutions of the harmonic oscillator's
+//!   schemes, and the pendulum's exact solution.
 //! - [`curve`]: max-norms of discrete curves and of their differences.
 //! - [`bench`](mod@bench): the criterion configurations and the `bench_main!` entry point.
 //!

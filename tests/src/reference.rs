@@ -1,4 +1,6 @@
-//! Exact discrete solutions: what a scheme's run must equal node for node, not just converge to.
+//! Exact discrete solutions: what a scheme's run must equal node for node, not just converge to;
+//! and the pendulum's exact continuous solution ([`PendulumFromRest`]), for errors between the
+//! nodes.
 //!
 //! For the harmonic oscillator `L = ½v² − ½ω²x²` under Gauss-FDE± every scheme is a linear
 //! two-step recurrence with constant coefficients, so its run from `Q_0, Q_1` is
@@ -61,9 +63,72 @@ impl DiscreteOscillation {
     }
 }
 
+/// The pendulum `q̈ = −sin q` (`L = ½v² + cos x`) released from rest at `q(0) = q0`, in closed
+/// form: `q(t) = 2 arcsin(k sn(K − t | k²))`, `q̇(t) = −2k cn(K − t | k²)`, `k = sin(q0/2)`,
+/// `K = K(k²)` the quarter period.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PendulumFromRest {
+    /// `k = sin(q0/2)`.
+    pub k: f64,
+    /// `K(k²)`, the complete elliptic integral of the first kind.
+    pub quarter_period: f64,
+}
+
+impl PendulumFromRest {
+    /// Released from rest at `q0` (`|q0| < π`).
+    pub fn new(q0: f64) -> Self {
+        let k = (0.5 * q0).sin();
+        let (_, _, quarter_period) = jacobi(0.0, k * k);
+        PendulumFromRest { k, quarter_period }
+    }
+
+    /// `(q(t), q̇(t))`.
+    pub fn at(&self, t: f64) -> (f64, f64) {
+        let (sn, cn, _) = jacobi(self.quarter_period - t, self.k * self.k);
+        (2.0 * (self.k * sn).asin(), -2.0 * self.k * cn)
+    }
+}
+
+/// `(sn(u | m), cn(u | m), K(m))` by the arithmetic–geometric mean (Abramowitz–Stegun 16.4.3
+/// and 17.6).
+fn jacobi(u: f64, m: f64) -> (f64, f64, f64) {
+    let (mut a, mut b) = (1.0f64, (1.0 - m).sqrt());
+    let (mut a_n, mut c_n) = (vec![1.0], vec![m.sqrt()]);
+    while c_n.last().is_some_and(|c| c.abs() > 1e-17) && c_n.len() < 40 {
+        let c = 0.5 * (a - b);
+        (a, b) = (0.5 * (a + b), (a * b).sqrt());
+        a_n.push(a);
+        c_n.push(c);
+    }
+    let n = c_n.len() - 1;
+    let mut phi = 2f64.powi(n as i32) * a * u;
+    for j in (1..=n).rev() {
+        phi = 0.5 * (phi + (c_n[j] / a_n[j] * phi.sin()).asin());
+    }
+    (phi.sin(), phi.cos(), std::f64::consts::FRAC_PI_2 / a)
+}
+
 #[cfg(test)]
 mod tests {
-    use super::DiscreteOscillation;
+    use super::{DiscreteOscillation, PendulumFromRest};
+
+    /// The pendulum's closed form starts at rest at `q0`, conserves `½q̇² − cos q` and its
+    /// velocity is the derivative of its position (central difference).
+    #[test]
+    fn pendulum_closed_form_solves_the_pendulum() {
+        let q0 = 2.0;
+        let exact = PendulumFromRest::new(q0);
+        let (q, v) = exact.at(0.0);
+        assert!((q - q0).abs() < 1e-14 && v.abs() < 1e-14);
+        for i in 1..100 {
+            let t = 0.1 * i as f64;
+            let (q, v) = exact.at(t);
+            assert!((0.5 * v * v - q.cos() + q0.cos()).abs() < 1e-13);
+            let e = 1e-5;
+            let slope = (exact.at(t + e).0 - exact.at(t - e).0) / (2.0 * e);
+            assert!((slope - v).abs() < 1e-8, "{t}: {slope} vs {v}");
+        }
+    }
 
     /// Each closed form solves its recurrence, so the table in the module docs is right
     /// independently of the library.

@@ -180,7 +180,9 @@ pub(crate) fn rule(embedding: &Embedding, scheme: Scheme) -> Result<NodeRule> {
     }
 }
 
-/// One node of a solution: `(t_k, Q_k, v_k, p_k)` and the energy there.
+/// A solution's state at one time: at a node, `(t_k, Q_k, v_k, p_k)` and the energy there
+/// ([`NodeValues::get`], [`NodeValues::iter`]); or at any `t` of `[a, b]`, interpolated
+/// between the nodes ([`Solution::state_at`](crate::Solution::state_at)).
 ///
 /// # Example
 ///
@@ -203,16 +205,16 @@ pub(crate) fn rule(embedding: &Embedding, scheme: Scheme) -> Result<NodeRule> {
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct NodeState<const D: usize> {
-    /// The time `t_k = a + k h` (`t_N = b` exactly).
+    /// The time: `t_k = a + k h` at a node (`t_N = b` exactly), the time asked for otherwise.
     pub t: f64,
-    /// The position `Q_k`.
+    /// The position: `Q_k` at a node.
     pub q: Vector<D>,
-    /// The velocity at `t_k` (see [`NodeRule`]).
+    /// The velocity (at a node see [`NodeRule`]).
     pub v: Vector<D>,
-    /// The momentum at `t_k` (see [`NodeRule`]).
+    /// The momentum (at a node see [`NodeRule`]).
     pub p: Vector<D>,
-    /// `E_k = v_k·∂L/∂v(Q_k, v_k, t_k) − L(Q_k, v_k, t_k)` when the Lagrangian is autonomous
-    /// (does not depend on `t`), `None` otherwise.
+    /// `E = v·∂L/∂v(q, v, t) − L(q, v, t)` when the Lagrangian is autonomous (does not depend
+    /// on `t`), `None` otherwise.
     pub energy: Option<f64>,
 }
 
@@ -477,7 +479,7 @@ fn step_sum<const D: usize, L: Lagrangian<D> + ?Sized>(
 
 /// The velocity `v` with `∂L/∂v(x, v, t) = p`: Newton's method on `∂²L/∂v²` from `guess`,
 /// stopping at the default Newton tolerance relative to `1 + ‖p‖∞`.
-fn invert_momentum<const D: usize, L: Lagrangian<D> + ?Sized>(
+pub(crate) fn invert_momentum<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
     x: &Vector<D>,
     t: f64,

@@ -16,11 +16,11 @@
 #[allow(unused_imports)]
 use varembed::{
     CompareOptions, ComparedSolution, Comparison, Convergence, Dependence, DifferentialOperator,
-    DirectEmbedding, DynSolution, Embedding, EmbeddingKind, Error, FractionalSolver, Grid, Hessian,
-    HessianDependence, IntoVector, Lagrangian, Level, Location, Matrix, NewtonOptions, NodeFormula,
-    NodeRule, NodeState, NodeValues, OrderStatus, Problem, Reference, Result, Scheme, SchemeReport,
-    Side, Solution, Start, Vector, Warning, curve_from_flat, lagrangian, max_error, observed_order,
-    observed_orders,
+    DirectEmbedding, DynSolution, DynState, Embedding, EmbeddingKind, Error, FractionalSolver,
+    Grid, Hessian, HessianDependence, IntoVector, Lagrangian, Level, Location, Matrix,
+    NewtonOptions, NodeFormula, NodeRule, NodeState, NodeValues, OrderStatus, Problem, Reference,
+    Result, Scheme, SchemeReport, Side, Solution, Start, Vector, Warning, curve_from_flat,
+    lagrangian, max_error, observed_order, observed_orders,
 };
 
 /// Compiles only while the public types keep their auto traits.
@@ -30,6 +30,7 @@ fn auto_traits<L: Lagrangian<2> + Sync + 'static>() {
     shared::<Problem<'static, L, 2>>();
     shared::<Solution<2>>();
     shared::<NodeValues<2>>();
+    shared::<DynState>();
     shared::<Comparison<Solution<2>>>();
     shared::<Comparison<DynSolution>>();
     shared::<Convergence<Solution<2>>>();
@@ -58,6 +59,7 @@ const ROOT: &[&str] = &[
     "DynProblem",
     "DynRun",
     "DynSolution",
+    "DynState",
     "Embedding",
     "EmbeddingKind",
     "Error",
