@@ -4,6 +4,7 @@ mod banded_newton;
 mod blow_up;
 mod bvp_returns_ivp;
 mod coherence;
+mod dense_output;
 mod compare;
 mod errors;
 mod gauss_legendre;
