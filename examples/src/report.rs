@@ -10,7 +10,7 @@ use std::path::Path;
 pub const SUMMARY_START: &str = "<!-- tour-summary:start -->";
 /// See [`SUMMARY_START`].
 pub const SUMMARY_END: &str = "<!-- tour-summary:end -->";
-/// The markers of the cost table in `docs/choosing.md` ([`cost_table`]).
+/// The markers of the cost table in `core/docs/choosing.md` ([`cost_table`]).
 pub const COST_START: &str = "<!-- cost-per-step:start -->";
 /// See [`COST_START`].
 pub const COST_END: &str = "<!-- cost-per-step:end -->";
@@ -180,7 +180,7 @@ fn escape(text: &str) -> String {
 /// Rewrites the committed documents of the checkout at `root` from a full tour whose report
 /// [`write()`] has just written to `root/report`: the summary in `README.md` (the pendulum's
 /// work–precision figure, the summary `table` and the `header` saying how it was generated),
-/// and the cost table of `docs/choosing.md`, read off `report/README.md` by [`cost_table`].
+/// and the cost table of `core/docs/choosing.md`, read off `report/README.md` by [`cost_table`].
 pub fn update_docs(root: &Path, table: &str, header: &str) -> output::Result<()> {
     let section = format!(
         "![pendulum work–precision](report/pendulum-work-precision.svg)\n\n{table}\n{header}\n"
@@ -188,7 +188,7 @@ pub fn update_docs(root: &Path, table: &str, header: &str) -> output::Result<()>
     update_section(&root.join("README.md"), &section)?;
     let report = output::read_to_string(&root.join("report").join("README.md"))?;
     update_between(
-        &root.join("docs").join("choosing.md"),
+        &root.join("core/docs/choosing.md"),
         COST_START,
         COST_END,
         &cost_table(&report),
