@@ -34,7 +34,7 @@ pub fn header(repeats: usize) -> String {
     )
 }
 
-/// `text` broken at spaces into lines of at most [`WIDTH`] characters (a longer word stays
+/// `text` broken at spaces into lines of at most `WIDTH` (96) characters (a longer word stays
 /// whole), every line after the first starting with `indent`.
 pub fn wrap(text: &str, indent: &str) -> String {
     let lead = &text[..text.len() - text.trim_start().len()];
