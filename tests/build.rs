@@ -9,7 +9,7 @@
 //! to `L` to its caller, so the test can weigh a derivative against the size of what was
 //! added up to make it.
 //!
-//! The programs are drawn from the language of docs/macro.md, at one of two levels:
+//! The programs are drawn from the language of core/docs/macro.md, at one of two levels:
 //!
 //! - `legacy` (the default): what the macro accepts when a sum enters `L` linearly, products
 //!   of sums and a bound sum times itself included;

@@ -230,8 +230,9 @@ pub struct SchemeReport<S> {
 /// (max-norm over the nodes of the coarse grid), with its [`OrderStatus`]; it comes from more
 /// solves on `2N`, `4N` (and `8N`) when [`CompareOptions::order`] asks for them, or from the
 /// runs the comparison was built from. The energy is reported only where the flow conserves
-/// it. `Display` prints the table with its legend and the solutions' warnings;
-/// [`to_markdown`](Self::to_markdown) the same as markdown.
+/// it. `Display` prints the table with its legend and the solutions' warnings; the alternate
+/// form `{:#}` leaves the legend out, for a program that prints many tables and their
+/// [`legend`](Self::legend) once; [`to_markdown`](Self::to_markdown) the same as markdown.
 ///
 /// ```
 /// # use varembed::{CompareOptions, Embedding, Grid, Problem, Reference, Scheme, Side, Vector, lagrangian};
@@ -243,6 +244,10 @@ pub struct SchemeReport<S> {
 /// let comparison = problem.compare_ivp_with(1.0, 0.0, &options)?;
 /// assert_eq!(comparison.grid.n(), 20);
 /// assert!(comparison.to_string().contains("variational"));
+/// // The same table without its legend.
+/// let table = format!("{comparison:#}");
+/// assert!(table.contains("variational") && !table.contains("legend"));
+/// assert!(comparison.to_string().starts_with(&table));
 /// # Ok::<(), varembed::Error>(())
 /// ```
 #[derive(Clone, Debug)]

@@ -7,7 +7,8 @@
 //! and impossible for a chain of 10⁴ particles (one dense `D × D` block is 800 MB). A
 //! [`DynLagrangian`] reads its state as slices, writes its gradient into buffers the solver
 //! owns, and lists the entries of its second-derivative blocks that may be nonzero, so a step
-//! costs `O(d · b²)` for a Hessian of half-bandwidth `b` (docs/solvers.md, "Large models").
+//! costs `O(d · b²)` for a Hessian of half-bandwidth `b` ([solvers, "Large
+//! models"](crate::guide::solvers#large-models-run-time-dimension-and-sparse-newton)).
 //!
 //! The step equations are those of the const-generic path, entry for entry (the step module's
 //! tables); only the storage differs.

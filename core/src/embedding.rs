@@ -118,8 +118,9 @@ pub enum EmbeddingKind {
     /// built from the action, with a polynomial on each step and a quadrature rule at its
     /// stages, not from an operator on the nodes that could be substituted into the
     /// Euler–Lagrange equation, so it has no direct scheme in the paper's sense and asking for
-    /// one is [`Error::Unsupported`] (`docs/schemes.md` says why, and how Gauss collocation of
-    /// the equation relates to it). Only initial value problems (`docs/solvers.md`).
+    /// one is [`Error::Unsupported`] ([schemes](crate::guide::schemes) says why, and how Gauss
+    /// collocation of the equation relates to it). Only initial value problems
+    /// ([solvers](crate::guide::solvers)).
     GaussLegendre {
         /// The number of stages `1 ≤ s ≤ 4`.
         stages: usize,
@@ -129,13 +130,14 @@ pub enum EmbeddingKind {
     /// variational scheme is the implicit midpoint rule's variational integrator (on a linear
     /// system, the Cayley transform: A-stable); its direct scheme evaluates `∂L/∂x` at the node
     /// with the centred velocity. Not coherent: the two schemes differ by `O(h²)`
-    /// (docs/schemes.md).
+    /// ([schemes](crate::guide::schemes)).
     Midpoint,
     /// The trapezoidal embedding: the discrete Lagrangian
     /// `L_d(Q_k, Q_{k+1}) = h/2 [L(Q_k, V, t_k) + L(Q_{k+1}, V, t_{k+1})]`,
     /// `V = (Q_{k+1} − Q_k)/h`. Its variational scheme is Störmer–Verlet on `½|v|² − U(x)`
     /// (stable for `ωh < 2`); its direct scheme evaluates `∂L/∂x` at the node with the centred
-    /// velocity. Not coherent where `∂L/∂x` is not affine in `v` (docs/schemes.md).
+    /// velocity. Not coherent where `∂L/∂x` is not affine in `v`
+    /// ([schemes](crate::guide::schemes)).
     Trapezoidal,
 }
 
@@ -156,13 +158,13 @@ pub enum EmbeddingKind {
 /// <!-- tex: S_h(Q) = h \sum_{k \in I_\sigma} L(Q_k, V_k, t_k) -->
 /// <math display="block"><mrow><msub><mi>S</mi><mi>h</mi></msub><mo stretchy="false">&#x00028;</mo><mi>Q</mi><mo stretchy="false">&#x00029;</mo><mo>&#x0003D;</mo><mi>h</mi><munder><mo>&#x02211;</mo><mrow><mi>k</mi><mo>&#x02208;</mo><msub><mi>I</mi><mi>&#x003C3;</mi></msub></mrow></munder><mi>L</mi><mo stretchy="false">&#x00028;</mo><msub><mi>Q</mi><mi>k</mi></msub><mo>&#x0002C;</mo><msub><mi>V</mi><mi>k</mi></msub><mo>&#x0002C;</mo><msub><mi>t</mi><mi>k</mi></msub><mo stretchy="false">&#x00029;</mo></mrow></math>
 ///
-/// (index ranges and signs: the repository's `docs/conventions.md`).
+/// (index ranges and signs: [conventions](crate::guide::conventions)).
 ///
 /// The symmetric embeddings ([`Embedding::midpoint`], [`Embedding::trapezoidal`]) look at
 /// both neighbours of a node and have no side of their own: for them [`side`](Self::side) is
 /// [`Side::Backward`], which says only how their interval values are stored: the velocity
 /// `V_k = (Q_k − Q_{k−1})/h` of the interval `[t_{k−1}, t_k]` sits on row `k`, rows `1..=N`
-/// as for `Δ_−` (docs/conventions.md).
+/// as for `Δ_−` ([conventions](crate::guide::conventions)).
 ///
 /// # Example
 ///
@@ -309,9 +311,10 @@ impl Embedding {
     /// symplectic (energy error bounded, no drift), keeps the momentum maps of the
     /// Lagrangian's symmetries exactly (discrete Noether), has no stability limit on linear
     /// oscillations (A-stable: any `ωh`), and solves both initial and boundary value problems,
-    /// at the price of one Newton solve of `d` unknowns per step. `docs/choosing.md` says when
-    /// another scheme is better (Störmer–Verlet for `½vᵀMv − U` with a constant `M`,
-    /// Gauss–Legendre for high accuracy, the direct schemes for stiff damping).
+    /// at the price of one Newton solve of `d` unknowns per step. [Choosing a
+    /// scheme](crate::guide::choosing) says when another scheme is better (Störmer–Verlet for
+    /// `½vᵀMv − U` with a constant `M`, Gauss–Legendre for high accuracy, the direct schemes for
+    /// stiff damping).
     ///
     /// # Example
     ///
@@ -374,8 +377,9 @@ impl Embedding {
     /// Whether the embedding is coherent (direct = variational): proved by the paper for the
     /// asymmetric Gauss-FDEσ and Gauss-GLEσ. Gauss-FDEσ is not; neither are the midpoint and
     /// trapezoidal embeddings, whose direct scheme evaluates `∂L/∂x` once at the node where
-    /// the variational one averages it over the two neighbouring intervals (docs/schemes.md);
-    /// the Gauss–Legendre integrators have no direct scheme to be coherent with.
+    /// the variational one averages it over the two neighbouring intervals
+    /// ([schemes](crate::guide::schemes)); the Gauss–Legendre integrators have no direct scheme
+    /// to be coherent with.
     ///
     /// ```
     /// use varembed::{Embedding, EmbeddingKind, Side};
@@ -433,7 +437,7 @@ impl Embedding {
     ///   scheme, which it does not have).
     /// - Gauss-GLEσ: 1 at α = 1 (the Gauss-FDEσ operators); `None` for `α < 1`, where the
     ///   order depends on the data: the solution of a fractional problem is in general
-    ///   singular at the ends (docs/schemes.md).
+    ///   singular at the ends ([schemes](crate::guide::schemes)).
     ///
     /// # Example
     ///
@@ -526,9 +530,9 @@ impl Embedding {
         }
     }
 
-    /// The rows of the direct scheme (the table in `docs/schemes.md`): Gauss-FDE− `2..=N`,
-    /// Gauss-FDE+ `0..=N−2`, the coherent embeddings `1..=N−1`. Always `N − 1` rows (empty when
-    /// `N = 1`).
+    /// The rows of the direct scheme (the table in [schemes](crate::guide::schemes)):
+    /// Gauss-FDE− `2..=N`, Gauss-FDE+ `0..=N−2`, the coherent embeddings `1..=N−1`. Always
+    /// `N − 1` rows (empty when `N = 1`).
     ///
     /// ```
     /// use varembed::{Embedding, Side};

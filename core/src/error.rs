@@ -216,7 +216,7 @@ pub enum Error {
     /// of steps `from..=to`, far beyond what the early run shows: the step is too large for
     /// the motion (Störmer–Verlet at `ωh = 2` exactly, a pendulum passing near a singular
     /// point of its coordinates). The rule, and how to disable it
-    /// (`Problem::with_blow_up_guard(false)`), are in `docs/solvers.md`.
+    /// (`Problem::with_blow_up_guard(false)`), are in [solvers](crate::guide::solvers).
     #[error(
         "blow-up between step {from} and step {to}: the energy gained {growth:.3e} times its early gain; try a smaller step h"
     )]

@@ -1,8 +1,92 @@
 //! # varembed
 //!
-//! Direct discrete embeddings and variational integrators of classical and fractional
-//! Lagrangian systems, after L. Bourdin, *Variational integrators of fractional Lagrangian
-//! systems in the framework of discrete embeddings*.
+//! Write a Lagrangian as a Rust function and get its dynamics discretised both ways that
+//! L. Bourdin's *Variational integrators of fractional Lagrangian systems in the framework of
+//! discrete embeddings* compares: the **direct** scheme (a discrete embedding applied to the
+//! Euler–Lagrange equation) and the **variational** scheme (the critical points of the discrete
+//! action), classical and fractional (Grünwald–Letnikov), solved and compared side by side.
+//!
+//! # Quick start
+//!
+//! A pendulum, `L = ½v² + cos x`. The [`lagrangian`](macro@lagrangian) attribute turns the
+//! function into a model (a struct implementing [`Lagrangian`], its derivatives generated at
+//! compile time); a [`Problem`] puts the model on a [`Grid`] under an [`Embedding`]; a solve
+//! returns the nodes, and [`Solution::node_values`] the velocities, momenta and energy there.
+//!
+//! ```
+//! use varembed::{Grid, Problem, Scheme, lagrangian};
+//!
+//! /// A pendulum of unit mass and length under unit gravity.
+//! #[lagrangian]
+//! fn pendulum(x: f64, v: f64) -> f64 {
+//!     0.5 * v * v + x.cos()
+//! }
+//!
+//! fn main() -> varembed::Result<()> {
+//!     // 1000 steps over [0, 10] under the recommended embedding (midpoint).
+//!     let problem = Problem::recommended(&Pendulum, Grid::new(0.0, 10.0, 1000)?);
+//!     // The variational scheme from q(0) = 1, q̇(0) = 0.
+//!     let solution = problem.solve_ivp(Scheme::Variational, 1.0, 0.0)?;
+//!
+//!     // Time, position, velocity, momentum and energy at every node.
+//!     let nodes = solution.node_values(&Pendulum)?;
+//!     let end = nodes.get(1000).expect("N + 1 nodes");
+//!     println!("t = {}: q = {:.6}, v = {:.6}", end.t, end.q[0], end.v[0]);
+//!     // The scheme is symplectic: the energy error stays small and does not drift.
+//!     let energy = nodes.energy.expect("L does not depend on t");
+//!     let drift = energy.iter().map(|e| (e - energy[0]).abs()).fold(0.0, f64::max);
+//!     assert!(drift < 1e-4, "{drift}");
+//!
+//!     // Both schemes side by side: errors, energy, orders, cross residuals, time.
+//!     println!("{}", problem.compare_ivp(1.0, 0.0)?);
+//!     Ok(())
+//! }
+//! ```
+//!
+//! # The guide
+//!
+//! The conventions and derivations are the pages of [`guide`], each with compiled examples:
+//!
+//! - [choosing a scheme](guide::choosing): every embedding and scheme with its order, what it
+//!   conserves, its cost per step and its stability limit; the recommended scheme; when the
+//!   direct scheme is the right choice;
+//! - [conventions](guide::conventions): the grid, the side σ ([`Side`]), the operators `Δ_±`
+//!   and `Δ^α_±` with their exact index ranges, the quadrature rows `I_σ`, `f_k` and `p_k`;
+//! - [schemes](guide::schemes): the direct and the variational scheme of each [`Embedding`],
+//!   their rows, coherence, Störmer–Verlet, the Gauss–Legendre integrators, the general direct
+//!   embedding;
+//! - [solvers](guide::solvers): initial value problems (the starts, the step kernels, when a
+//!   step is explicit), boundary value problems (banded Newton; dense LU and FFT Newton–Krylov
+//!   for the fractional embeddings), large models, values at the nodes, the typed errors;
+//! - [the macro](guide::lagrangian_macro): what the [`lagrangian`](macro@lagrangian) attribute
+//!   accepts (loops, sums, helpers, run-time dimensions) and generates;
+//! - [architecture](guide::architecture): the workspace, the module graph, where the tests
+//!   live.
+//!
+//! The repository holds more: runnable programs to start from (`cargo run --example NAME` in
+//! its `examples/` package) and the tour of scenes (`cargo run --release -p
+//! varembed-examples`), which compares every scheme on ten problems and writes a report.
+//!
+//! # Which scheme
+//!
+//! In short ([choosing a scheme](guide::choosing) has the full table, the stability limits and
+//! where each number comes from):
+//!
+//! | the problem | embedding and scheme | order | keeps | a step |
+//! | --- | --- | --- | --- | --- |
+//! | any smooth `L`, nothing else known | [`Problem::recommended`] (midpoint), [`Scheme::Variational`] | 2 | symplectic; A-stable | Newton on `d` unknowns |
+//! | `L = ½vᵀMv − U(x, t)`, `M` constant, speed first | [`Embedding::finite_difference`] (Gauss-FDE−), variational, [`Start::SecondOrder`]: Störmer–Verlet | 2 | symplectic; stable for `ωh < 2` | explicit |
+//! | thousands of degrees of freedom | [`DynProblem`], the same choice | 2 | as above | explicit on `½v² − U` |
+//! | long, accurate runs | [`Embedding::gauss_legendre`] with `s` stages, variational; initial value problems | `2s` | symplectic; A-stable | Newton on `s·d` stage velocities |
+//! | stiff, only stability matters | Gauss-FDE−, [`Scheme::Direct`] | 1 | dissipative; stable at every `h` | implicit |
+//! | an equation, not a Lagrangian | [`DifferentialOperator`], [`DirectEmbedding`] | 1 | nothing | implicit |
+//! | a fractional boundary value problem | [`Embedding::grunwald_letnikov`], either scheme (coherent) | below 1, falling with α | nothing | a dense global system (FFT Newton–Krylov) |
+//!
+//! The paper's Gauss-FDEσ schemes are first order, and their direct schemes do not conserve
+//! energy (σ = − loses it, σ = + gains it): use them to reproduce the paper or in the cases
+//! above, not for long conservative runs.
+//!
+//! # The two roads
 //!
 //! The paper's diagram, in words: a Lagrangian `L(x, v, t)` gives a functional
 //! `∫ L(q, q̇, t) dt` and, by the variational principle, an Euler–Lagrange equation. A discrete
@@ -17,7 +101,7 @@
 //! # Public API
 //!
 //! Everything a user needs is re-exported here, at the crate root; the modules themselves are
-//! private. The whole public surface:
+//! private, apart from [`guide`], which holds documentation only. The whole public surface:
 //!
 //! - Setting up a problem: [`Problem`], [`Grid`], [`Embedding`], [`EmbeddingKind`], [`Side`],
 //!   [`Scheme`], [`curve_from_flat`].
@@ -42,24 +126,24 @@
 //! - Errors: [`Error`], [`Location`], [`Result`].
 //! - The direct embedding of a general differential operator (no Lagrangian):
 //!   [`DifferentialOperator`], [`DirectEmbedding`].
-//!
-//! # Conventions
-//!
-//! The conventions these docs use — index ranges, signs, the schemes, the solvers — are
-//! written out, with derivations and compiled examples, in the repository's `docs/` folder:
-//!
-//! - `docs/conventions.md`: the grid, the side σ ([`Side`]), the operators `Δ_±` and
-//!   `Δ^α_±` with their exact index ranges, the quadrature rows `I_σ`, `f_k` and `p_k`;
-//! - `docs/schemes.md`: the direct and the variational scheme of each [`Embedding`], their rows,
-//!   coherence, Störmer–Verlet, the general direct embedding;
-//! - `docs/solvers.md`: initial value problems (the starts, the step kernels, when a step is
-//!   explicit), boundary value problems (banded Newton; dense LU and FFT Newton–Krylov for the
-//!   fractional embeddings), the typed errors;
-//! - `docs/choosing.md`: which embedding and scheme for which problem — orders, what each
-//!   conserves, cost per step, stability limits, the recommended scheme;
-//! - `docs/macro.md`: what the [`lagrangian`](macro@lagrangian) attribute accepts and generates;
-//! - `docs/architecture.md`: the workspace, the module graph, where the tests live.
 #![deny(missing_docs)]
+
+// The guide's link labels as intra-doc links, put before each page (see guide.rs).
+macro_rules! guide_links {
+    () => {
+        "[conventions]: crate::guide::conventions\n\
+         [schemes]: crate::guide::schemes\n\
+         [solvers]: crate::guide::solvers\n\
+         [choosing]: crate::guide::choosing\n\
+         [macro]: crate::guide::lagrangian_macro\n\
+         [architecture]: crate::guide::architecture\n"
+    };
+}
+
+#[doc = guide_links!()]
+/// The guide: conventions, derivations and the choice of a scheme, one page per module.
+#[doc = include_str!("../docs/README.md")]
+pub mod guide;
 
 // Imports go one way. From the bottom up, each module imports only modules before it:
 // lagrangian, error, side, weights, toeplitz, gauss_legendre, grid, linalg, regularity, options,
@@ -160,38 +244,3 @@ pub mod __private {
 #[doc = include_str!("../../README.md")]
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
-
-/// The pages of `docs/`, their code blocks compiled and run as doctests.
-#[doc = include_str!("../../docs/README.md")]
-#[cfg(doctest)]
-pub struct DocsIndex;
-
-/// `docs/conventions.md`.
-#[doc = include_str!("../../docs/conventions.md")]
-#[cfg(doctest)]
-pub struct DocsConventions;
-
-/// `docs/schemes.md`.
-#[doc = include_str!("../../docs/schemes.md")]
-#[cfg(doctest)]
-pub struct DocsSchemes;
-
-/// `docs/solvers.md`.
-#[doc = include_str!("../../docs/solvers.md")]
-#[cfg(doctest)]
-pub struct DocsSolvers;
-
-/// `docs/choosing.md`.
-#[doc = include_str!("../../docs/choosing.md")]
-#[cfg(doctest)]
-pub struct DocsChoosing;
-
-/// `docs/macro.md`.
-#[doc = include_str!("../../docs/macro.md")]
-#[cfg(doctest)]
-pub struct DocsMacro;
-
-/// `docs/architecture.md`.
-#[doc = include_str!("../../docs/architecture.md")]
-#[cfg(doctest)]
-pub struct DocsArchitecture;

@@ -99,7 +99,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
     /// embedding](Embedding::recommended) (midpoint), to be solved with
     /// [`Scheme::Variational`]: second order on every smooth Lagrangian, symplectic, no
     /// stability limit on linear oscillations. What the other schemes are for is in
-    /// `docs/choosing.md`.
+    /// [choosing a scheme](crate::guide::choosing).
     ///
     /// # Example
     ///
@@ -192,8 +192,8 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
     /// or a spherical pendulum passing near its pole. Oscillation of the discrete energy (up to
     /// its full amplitude near `ωh = 2`) and the energy lost by the direct Gauss-FDE− scheme do
     /// not trigger it; a Lagrangian that depends on `t` is never guarded (its energy may grow
-    /// physically). The rule is in `docs/solvers.md`. Turn it off to get the nodes of a
-    /// growing run anyway.
+    /// physically). The rule is in [solvers](crate::guide::solvers). Turn it off to get the
+    /// nodes of a growing run anyway.
     ///
     /// # Example
     ///
@@ -316,8 +316,9 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
         &self.options.newton
     }
 
-    /// The nodes `k` of the equations of `scheme` (the table in `docs/schemes.md`); entry `i`
-    /// of [`residual`](Self::residual) is row `rows.start() + i`.
+    /// The nodes `k` of the equations of `scheme` (the table in
+    /// [schemes](crate::guide::schemes)); entry `i` of [`residual`](Self::residual) is row
+    /// `rows.start() + i`.
     ///
     /// # Example
     ///
@@ -391,7 +392,8 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
     }
 
     /// The discrete action `S_h(Q) = h Σ_{k∈I_σ} L(Q_k, V_k, t_k)`; for the midpoint and
-    /// trapezoidal embeddings `Σ_{k=1}^{N} L_d(Q_{k−1}, Q_k)` (docs/schemes.md).
+    /// trapezoidal embeddings `Σ_{k=1}^{N} L_d(Q_{k−1}, Q_k)`
+    /// ([schemes](crate::guide::schemes)).
     ///
     /// # Example
     ///

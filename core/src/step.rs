@@ -58,12 +58,12 @@
 //! | `MidpointVariational`, `TrapezoidalVariational` | `D₂L_d(a, b) = (P + h/2 F_w)[a, b]` | `−D₁L_d(b, y) = (P − h/2 F_u)[b, y]` |
 //! | `MidpointDirect`, `TrapezoidalDirect` | `P[a, b]` | `P[b, y] − h f(b, (y − a)/(2h), t_b)` |
 //!
-//! (the discrete Euler–Lagrange equation, and the direct row of docs/schemes.md, times `−h`).
-//! The direct equation reads the oldest node `a` as well, through the centred velocity: a
-//! [`Step`] carries it. Their Jacobians are `∂P/∂y − h/2 ∂F_u/∂y` and `∂P/∂y − L_xv/2` (the
-//! last block at the node with the centred velocity). These steps always run Newton's method
-//! (from the linear extrapolation `2b − a`); on `L = ½|v|² − U(x)` the trapezoidal ones are
-//! affine, and Newton stops after one iteration.
+//! (the discrete Euler–Lagrange equation, and the direct row of
+//! [schemes](crate::guide::schemes), times `−h`). The direct equation reads the oldest node
+//! `a` as well, through the centred velocity: a [`Step`] carries it. Their Jacobians are
+//! `∂P/∂y − h/2 ∂F_u/∂y` and `∂P/∂y − L_xv/2` (the last block at the node with the centred
+//! velocity). These steps always run Newton's method (from the linear extrapolation `2b − a`);
+//! on `L = ½|v|² − U(x)` the trapezoidal ones are affine, and Newton stops after one iteration.
 
 use crate::interval::{Interval, Rule, node_force};
 use crate::lagrangian::{Dependence, Hessian, HessianDependence, Lagrangian, Matrix, Vector};

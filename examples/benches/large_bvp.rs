@@ -10,7 +10,7 @@
 //! the same way, untimed by criterion.
 //!
 //! `nice -n -19 cargo bench -p varembed-examples --bench large_bvp -- --warm-up-time 1
-//! --measurement-time 3`; figures in docs/solvers.md.
+//! --measurement-time 3`; figures in core/docs/solvers.md.
 
 use std::hint::black_box;
 use std::time::Instant;

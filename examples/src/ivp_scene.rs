@@ -283,7 +283,8 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
             .iter()
             .map(|v| v.sizes(self.sweep).count)
             .sum();
-        cx.progress.inc_length((swept_runs + 2 * own_runs) as u64);
+        cx.progress
+            .inc_length((cx.repeats * (swept_runs + 2 * own_runs)) as u64);
         let sweep = self.sweep_runs(cx, reference)?;
         let table_grid = Grid::new(self.interval.0, self.interval.1, self.table_n)?;
         let mut tables = Vec::with_capacity(plan.len());
@@ -297,7 +298,8 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
             let run = |source: Source, scheme: Scheme| match source {
                 Source::Sweep(i) => Cow::Borrowed(&sweep[i]),
                 Source::Own => {
-                    let run = problem.convergence_ivp(scheme, self.q0, self.v0, &options, 2);
+                    let run =
+                        cx.timed(|| problem.convergence_ivp(scheme, self.q0, self.v0, &options, 2));
                     cx.record_run(self.name, &describe(embedding, scheme, start), &run);
                     Cow::Owned(run)
                 }
@@ -320,7 +322,7 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
             .tables
             .iter()
             .map(|(start, c)| match c {
-                Ok(c) => format!("{c}\n  ({})", start_name(*start)),
+                Ok(c) => format!("{c:#}\n  ({})", start_name(*start)),
                 Err(failed) => format!("{failed}\n  ({})", start_name(*start)),
             })
             .collect();
@@ -339,6 +341,7 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
             tables,
             reference: self.reference.name.clone(),
             sweep,
+            advice_target: Some(self.advice.target),
             figures,
         }
     }
@@ -383,13 +386,9 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
                     order: true,
                 };
                 let problem = Problem::new(self.lagrangian, grid, variant.embedding);
-                let run = problem.convergence_ivp(
-                    variant.scheme,
-                    self.q0,
-                    self.v0,
-                    &options,
-                    sizes.count,
-                );
+                let run = cx.timed(|| {
+                    problem.convergence_ivp(variant.scheme, self.q0, self.v0, &options, sizes.count)
+                });
                 let what = describe(variant.embedding, variant.scheme, variant.start);
                 cx.record_run(self.name, &what, &run);
                 Ok(run)

@@ -3,11 +3,15 @@
 //! library is what the tour's tests drive.
 //!
 //! One scene per file under [`scenes`]; [`ivp_scene`] is the shared run of an initial value
-//! scene; [`cost`] reads the cost of reaching an error off a sweep; [`reference`](mod@reference) computes the independent reference solutions; [`plot`]
-//! and [`report`] write the figures and the summary. Errors, wall times and observed orders are
-//! the library's ([`varembed::Comparison`], [`varembed::Convergence`]): the tour solves each grid once and formats them.
+//! scene; [`cost`] reads the cost of reaching an error off a sweep;
+//! [`reference`](mod@reference) computes the independent reference solutions; [`plot`] and
+//! [`report`] write the figures and the summary; [`console`] is what the tour prints. Errors,
+//! wall times and observed orders are the library's ([`varembed::Comparison`],
+//! [`varembed::Convergence`]): the tour solves each grid once for them, and times it again
+//! ([`scene::Context::timed`]) so that each time it reports is a median.
 #![deny(missing_docs)]
 
+pub mod console;
 pub mod cost;
 pub mod ivp_scene;
 pub mod output;

@@ -1,15 +1,18 @@
-//! The main job: `cargo run --release -p varembed-examples [-- --quick] [--out DIR] [--update-docs]`.
+//! The main job: `cargo run --release -p varembed-examples [-- --quick] [--verbose] [--out DIR]
+//! [--update-docs]`.
 //!
-//! Runs every scene, prints its comparison tables, and writes the report folder: `README.md`
-//! with the summary table and every scene's notes, tables and sweeps, and the SVG figures. The
-//! folder is decided when the tour runs: `--out DIR`, or by default `target/varembed-report/`
+//! Runs every scene, prints a few lines about each (what ran, the best line of its sweep, any
+//! warning; with `--verbose` also its comparison tables, whose legend is printed once, and the
+//! summary table at the end), and writes the report folder: `README.md` with the summary table
+//! and every scene's notes, tables and sweeps, and the SVG figures. The folder is decided when
+//! the tour runs: `--out DIR`, or by default `target/varembed-report/`
 //! (`target/varembed-report-quick/` with `--quick`) under the Cargo workspace containing the
 //! current directory — ignored by git, so the tour leaves a checkout clean. It is printed at
 //! the end.
 //!
 //! `--update-docs` is for refreshing the committed results on purpose: it writes the report to
-//! the checkout's `report/` and rewrites the summary in its `README.md` and the generated
-//! tables of its `docs/` pages (between their markers). It needs the full tour (not `--quick`)
+//! the checkout's `report/` and rewrites the summary in its `README.md` and the cost table of
+//! `core/docs/choosing.md` (between their markers). It needs the full tour (not `--quick`)
 //! and a checkout at or above the current directory.
 
 use indicatif::{ProgressBar, ProgressStyle};
@@ -18,13 +21,26 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 use std::time::Instant;
 use varembed_examples::scene::{Context, Mode};
-use varembed_examples::{output, report};
+use varembed_examples::{console, output, report};
 
-const USAGE: &str = "usage: varembed-tour [--quick] [--out DIR] [--update-docs]";
+const USAGE: &str = "usage: varembed-tour [--quick] [--verbose] [--out DIR] [--update-docs]";
+
+const HELP: &str = "\
+Runs every scene of varembed, prints a few lines about each and writes the report folder.
+
+  --quick        small grids and short sweeps: the whole tour in seconds
+  --verbose, -v  also print every comparison table (the legend of their columns once) and,
+                 at the end, the summary table of every sweep
+  --out DIR      write the report into DIR (default: target/varembed-report, or
+                 target/varembed-report-quick, under the workspace)
+  --update-docs  write the report into the checkout's report/ and rewrite README.md's summary
+                 and the cost table of core/docs/choosing.md (full tour only, no --out)
+  --help, -h     this text";
 
 /// What the command line asked for.
 struct Args {
     mode: Mode,
+    verbose: bool,
     out: Option<PathBuf>,
     update_docs: bool,
 }
@@ -32,6 +48,7 @@ struct Args {
 fn parse_args() -> Result<Option<Args>, String> {
     let mut parsed = Args {
         mode: Mode::Full,
+        verbose: false,
         out: None,
         update_docs: false,
     };
@@ -39,6 +56,7 @@ fn parse_args() -> Result<Option<Args>, String> {
     while let Some(arg) = args.next() {
         match arg.as_str() {
             "--quick" => parsed.mode = Mode::Quick,
+            "--verbose" | "-v" => parsed.verbose = true,
             "--out" => parsed.out = Some(PathBuf::from(args.next().ok_or(USAGE)?)),
             "--update-docs" => parsed.update_docs = true,
             "-h" | "--help" => return Ok(None),
@@ -58,7 +76,7 @@ fn main() -> ExitCode {
     let args = match parse_args() {
         Ok(Some(args)) => args,
         Ok(None) => {
-            println!("{USAGE}");
+            println!("{USAGE}\n\n{HELP}");
             return ExitCode::SUCCESS;
         }
         Err(message) => {
@@ -100,28 +118,39 @@ fn run(args: &Args) -> Result<(), Box<dyn Error>> {
         "{spinner} {msg:24} [{bar:40}] {pos}/{len} solves ({elapsed})",
     )?);
     let cx = Context::new(args.mode, progress);
+    // The legend once, before the scenes; then each scene as it finishes.
+    println!("{}\n", console::header(cx.repeats));
+    if args.verbose {
+        println!("{}\n", console::table_legend_text(cx.repeats));
+    }
     let started = Instant::now();
     let reports = varembed_examples::run_tour(&cx, |scene| {
         cx.progress.suspend(|| {
-            println!("== {}\n", scene.title);
-            for table in &scene.tables {
-                println!("{table}\n");
+            println!("{}\n", console::scene_summary(scene));
+            if args.verbose {
+                println!("{}\n", console::scene_tables(scene));
             }
         });
     })?;
     cx.progress.finish_and_clear();
     let elapsed = started.elapsed();
     let header = format!(
-        "Generated by `cargo run --release -p varembed-examples{}` in {:.1} s.",
+        "Generated by `cargo run --release -p varembed-examples{}` in {:.1} s{}.",
         match (args.mode, args.update_docs) {
             (Mode::Quick, _) => " -- --quick",
             (Mode::Full, true) => " -- --update-docs",
             (Mode::Full, false) => "",
         },
-        elapsed.as_secs_f64()
+        elapsed.as_secs_f64(),
+        match cx.repeats {
+            1 => String::new(),
+            r => format!("; each time is the median of {r} solves"),
+        }
     );
-    let table = report::write(&out, &reports, &header)?;
-    println!("{table}");
+    let table = report::write(&out, &reports, &header, cx.repeats)?;
+    if args.verbose {
+        println!("{table}");
+    }
     if let Some(root) = checkout {
         report::update_docs(&root, &table, &header)?;
         println!("README.md summary and docs tables updated.");

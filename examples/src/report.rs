@@ -1,5 +1,6 @@
 //! The report folder: one markdown summary (`README.md`) and the SVG figures of every scene.
 
+use crate::console;
 use crate::output::{self, OutputError};
 use crate::plot;
 use crate::scene::SceneReport;
@@ -10,10 +11,13 @@ use std::path::Path;
 pub const SUMMARY_START: &str = "<!-- tour-summary:start -->";
 /// See [`SUMMARY_START`].
 pub const SUMMARY_END: &str = "<!-- tour-summary:end -->";
-/// The markers of the cost table in `docs/choosing.md` ([`cost_table`]).
+/// The markers of the cost table in `core/docs/choosing.md` ([`cost_table`]).
 pub const COST_START: &str = "<!-- cost-per-step:start -->";
 /// See [`COST_START`].
 pub const COST_END: &str = "<!-- cost-per-step:end -->";
+
+/// The title of the report's section that explains the columns of every comparison table.
+pub const LEGEND_TITLE: &str = "Reading the comparison tables";
 
 /// The file name of a scene's work–precision figure.
 pub fn work_precision_file(scene: &SceneReport) -> String {
@@ -55,8 +59,13 @@ pub fn summary_table(scenes: &[SceneReport]) -> String {
 }
 
 /// Writes every figure and `README.md` into `dir` (created if needed); returns the summary
-/// table.
-pub fn write(dir: &Path, scenes: &[SceneReport], header: &str) -> output::Result<String> {
+/// table. `repeats` is how many solves each time is the median of.
+pub fn write(
+    dir: &Path,
+    scenes: &[SceneReport],
+    header: &str,
+    repeats: usize,
+) -> output::Result<String> {
     output::create_dir_all(dir)?;
     let table = summary_table(scenes);
     let mut html = Html::default();
@@ -65,11 +74,20 @@ pub fn write(dir: &Path, scenes: &[SceneReport], header: &str) -> output::Result
         md,
         "# varembed: the tour\n\n{header}\n\n## Summary\n\n{table}"
     );
+    // The comparison tables' legend, once for all of them.
+    let _ = writeln!(md, "## {LEGEND_TITLE}\n");
+    for (column, explanation) in console::table_legend(repeats) {
+        let _ = writeln!(md, "- **{column}**: {explanation}");
+    }
+    let _ = writeln!(md);
+    let time = match repeats {
+        1 => "the wall time of one solve".to_string(),
+        r => format!("the wall time of a solve (the median of {r})"),
+    };
     for scene in scenes {
         let wp = work_precision_file(scene);
         let wp_caption = format!(
-            "{}: work–precision, max error against the {} over the wall time of one solve, one \
-             marker per N",
+            "{}: work–precision, max error against the {} over {time}, one marker per N",
             scene.title, scene.reference
         );
         plot::work_precision(
@@ -100,8 +118,7 @@ pub fn write(dir: &Path, scenes: &[SceneReport], header: &str) -> output::Result
         }
         let _ = writeln!(
             md,
-            "Sweep (error, wall time of the one solve in s, and the observed order from the \
-             previous N):\n"
+            "Sweep (error, {time} in s, and the observed order from the previous N):\n"
         );
         let _ = writeln!(md, "| scheme | N | max error | time (s) | order |");
         let _ = writeln!(md, "| --- | ---: | ---: | ---: | ---: |");
@@ -125,7 +142,11 @@ pub fn write(dir: &Path, scenes: &[SceneReport], header: &str) -> output::Result
                 let _ = writeln!(md, "\n- {} failed at N = {n}: {e}", line.label);
             }
         }
-        let _ = writeln!(md, "\nComparison tables:\n\n```text");
+        let _ = writeln!(
+            md,
+            "\nComparison tables (their columns: [{LEGEND_TITLE}](#{})):\n\n```text",
+            LEGEND_TITLE.to_lowercase().replace(' ', "-")
+        );
         for t in &scene.tables {
             let _ = writeln!(md, "{t}\n");
         }
@@ -180,7 +201,7 @@ fn escape(text: &str) -> String {
 /// Rewrites the committed documents of the checkout at `root` from a full tour whose report
 /// [`write()`] has just written to `root/report`: the summary in `README.md` (the pendulum's
 /// work–precision figure, the summary `table` and the `header` saying how it was generated),
-/// and the cost table of `docs/choosing.md`, read off `report/README.md` by [`cost_table`].
+/// and the cost table of `core/docs/choosing.md`, read off `report/README.md` by [`cost_table`].
 pub fn update_docs(root: &Path, table: &str, header: &str) -> output::Result<()> {
     let section = format!(
         "![pendulum work–precision](report/pendulum-work-precision.svg)\n\n{table}\n{header}\n"
@@ -188,7 +209,7 @@ pub fn update_docs(root: &Path, table: &str, header: &str) -> output::Result<()>
     update_section(&root.join("README.md"), &section)?;
     let report = output::read_to_string(&root.join("report").join("README.md"))?;
     update_between(
-        &root.join("docs").join("choosing.md"),
+        &root.join("core/docs/choosing.md"),
         COST_START,
         COST_END,
         &cost_table(&report),
@@ -204,7 +225,7 @@ pub fn cost_table(report: &str) -> String {
     let mut scene = None;
     for line in report.lines() {
         if let Some(title) = line.strip_prefix("## ") {
-            scene = (title != "Summary").then(|| title.to_string());
+            scene = (title != "Summary" && title != LEGEND_TITLE).then(|| title.to_string());
             continue;
         }
         let Some(scene) = &scene else { continue };

@@ -3,7 +3,15 @@
 
 use indicatif::ProgressBar;
 use std::sync::{Mutex, PoisonError};
-use varembed::{Convergence, Embedding, OrderStatus, Solution, observed_orders};
+use std::time::Duration;
+use varembed::{ComparedSolution, Convergence, Embedding, OrderStatus, Solution, observed_orders};
+
+/// How many times the full tour solves each grid it times; the time it reports is the median.
+/// One measurement on a shared machine can be several times too slow (a scheduler pause, a
+/// cache flushed by another process), which puts kinks into a work–precision line; the median
+/// of five ignores two such outliers, and keeps the full tour at a few times its single-solve
+/// cost (a minute or less in release).
+pub const TIMING_REPEATS: usize = 5;
 
 /// How much of the tour to run.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -27,23 +35,38 @@ pub struct Solve {
 }
 
 /// The run-wide settings, the progress bar, and the ledger of every solve (so that the tour's
-/// test can check that each grid is solved once: tables are read off the sweeps).
+/// test can check that each grid is solved once: tables are read off the sweeps; the repeated
+/// solves of a timing are not in the ledger).
 pub struct Context {
     /// Full or quick.
     pub mode: Mode,
-    /// One tick per solve.
+    /// One tick per solve, repeats included.
     pub progress: ProgressBar,
+    /// How many times each timed grid is solved ([`timed`](Self::timed)):
+    /// [`TIMING_REPEATS`] in full mode, 1 in quick mode (its times are not what it is for).
+    pub repeats: usize,
     solves: Mutex<Vec<Solve>>,
 }
 
 impl Context {
     /// A context drawing on `progress`.
     pub fn new(mode: Mode, progress: ProgressBar) -> Self {
+        let repeats = match mode {
+            Mode::Full => TIMING_REPEATS,
+            Mode::Quick => 1,
+        };
         Context {
             mode,
             progress,
+            repeats,
             solves: Mutex::new(Vec::new()),
         }
+    }
+
+    /// The same context timing each grid `repeats` times (at least once).
+    pub fn with_repeats(mut self, repeats: usize) -> Self {
+        self.repeats = repeats.max(1);
+        self
     }
 
     /// A context whose progress bar draws nothing (tests).
@@ -86,12 +109,72 @@ impl Context {
         }
     }
 
+    /// Runs `run` [`repeats`](Self::repeats) times and returns the first run with the wall
+    /// time of each level replaced by the median of that level's times over the runs, matched
+    /// by `N` (the solutions, errors and failures are the first run's: the runs are
+    /// deterministic, only their times differ). The runs after the first only tick the
+    /// progress bar: the caller records the returned run in the ledger, once.
+    pub fn timed<S: ComparedSolution>(
+        &self,
+        mut run: impl FnMut() -> Convergence<S>,
+    ) -> Convergence<S> {
+        let mut first = run();
+        let mut times: Vec<Vec<Duration>> =
+            first.levels.iter().map(|l| vec![l.wall_time]).collect();
+        for _ in 1..self.repeats {
+            // Only the times are kept: the solutions of a repeat are dropped at once.
+            let again = run();
+            self.progress
+                .inc((again.levels.len() + again.failures.len()) as u64);
+            for (level, times) in first.levels.iter().zip(&mut times) {
+                if let Some(repeated) = again.level(level.n()) {
+                    times.push(repeated.wall_time);
+                }
+            }
+        }
+        for (level, times) in first.levels.iter_mut().zip(times) {
+            level.wall_time = median(times);
+        }
+        first
+    }
+
+    /// Calls `solve` [`repeats`](Self::repeats) times, timing each call, and returns the first
+    /// call's result with the median time in seconds; the repeats only tick the progress bar.
+    /// Stops at the first error.
+    pub fn median_time<T, E>(
+        &self,
+        mut solve: impl FnMut() -> Result<T, E>,
+    ) -> Result<(T, f64), E> {
+        let mut times = Vec::with_capacity(self.repeats);
+        let started = std::time::Instant::now();
+        let first = solve()?;
+        times.push(started.elapsed());
+        for _ in 1..self.repeats {
+            let started = std::time::Instant::now();
+            solve()?;
+            times.push(started.elapsed());
+            self.progress.inc(1);
+        }
+        Ok((first, median(times).as_secs_f64()))
+    }
+
     /// Every solve recorded so far, in order.
     pub fn solves(&self) -> Vec<Solve> {
         self.solves
             .lock()
             .unwrap_or_else(PoisonError::into_inner)
             .clone()
+    }
+}
+
+/// The median of `times` (the mean of the two middle ones for an even count; zero for none).
+pub fn median(mut times: Vec<Duration>) -> Duration {
+    times.sort();
+    let k = times.len();
+    match k {
+        0 => Duration::ZERO,
+        _ if k % 2 == 1 => times[k / 2],
+        _ => (times[k / 2 - 1] + times[k / 2]) / 2,
     }
 }
 
@@ -132,7 +215,7 @@ pub fn doubling(n0: usize, count: usize) -> Doubling {
 pub struct SweepPoint {
     /// Steps.
     pub n: usize,
-    /// Wall time of the solve (one solve per grid), seconds.
+    /// Wall time of the solve, seconds: the median of [`Context::repeats`] solves of the grid.
     pub seconds: f64,
     /// Max over the nodes of `|Q_k − q(t_k)|∞` against the scene's reference.
     pub error: f64,
@@ -269,12 +352,17 @@ pub struct SceneReport {
     pub title: String,
     /// What the scene shows and how to read it (markdown).
     pub notes: Vec<String>,
-    /// The comparison tables (`Comparison`'s `Display`), printed and copied into the report.
+    /// The comparison tables (`Comparison`'s `{:#}`: without the legend, which the tour
+    /// prints once, [`console::table_legend`](crate::console::table_legend)), printed with
+    /// `--verbose` and copied into the report.
     pub tables: Vec<String>,
     /// What the sweep's errors are measured against.
     pub reference: String,
     /// The work–precision sweep, one line per scheme.
     pub sweep: Vec<SweepLine>,
+    /// The max error at which the scene's advice compares the lines (the cheapest line to
+    /// reach it is the scene's best), if it gives advice.
+    pub advice_target: Option<f64>,
     /// Trajectories and energy error over time.
     pub figures: Vec<Figure>,
 }

@@ -1,4 +1,4 @@
-//! `docs/choosing.md` cites the committed report: its cost table is the one
+//! `core/docs/choosing.md` cites the committed report: its cost table is the one
 //! [`report::cost_table`] reads off `report/README.md`, so the page and the report cannot
 //! disagree (`cargo run --release -p varembed-examples -- --update-docs` rewrites both).
 
@@ -6,7 +6,7 @@ use varembed_examples::report;
 
 #[test]
 fn the_cost_table_of_choosing_md_is_read_off_the_committed_report() {
-    let page = include_str!("../../docs/choosing.md");
+    let page = include_str!("../../core/docs/choosing.md");
     let committed = include_str!("../../report/README.md");
     let start = page.find(report::COST_START).expect("start marker") + report::COST_START.len() + 1;
     let end = page.find(report::COST_END).expect("end marker");
@@ -14,7 +14,7 @@ fn the_cost_table_of_choosing_md_is_read_off_the_committed_report() {
     assert_eq!(
         &page[start..end],
         expected,
-        "docs/choosing.md's cost table differs from report/README.md's sweeps; expected:\n{expected}"
+        "core/docs/choosing.md's cost table differs from report/README.md's sweeps; expected:\n{expected}"
     );
     // Every scene of the report is in it, with a positive cost per step.
     let rows: Vec<&str> = expected.lines().skip(2).collect();
@@ -50,14 +50,14 @@ fn the_cost_table_keeps_the_finest_grid_of_each_line() {
 fn update_docs_rewrites_both_sections_from_the_written_report() {
     let root = std::env::temp_dir().join(format!("varembed-update-docs-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&root);
-    for dir in ["report", "docs"] {
+    for dir in ["report", "core/docs"] {
         std::fs::create_dir_all(root.join(dir)).expect("temp dir");
     }
     let section = |start: &str, end: &str| format!("head\n{start}\nold\n{end}\ntail\n");
     let readme = section(report::SUMMARY_START, report::SUMMARY_END);
     let page = section(report::COST_START, report::COST_END);
     std::fs::write(root.join("README.md"), &readme).expect("write");
-    std::fs::write(root.join("docs/choosing.md"), &page).expect("write");
+    std::fs::write(root.join("core/docs/choosing.md"), &page).expect("write");
     let written = "## Scene\n\n| direct | 100 | 1e-2 | 1.0e-4 |  |\n";
     std::fs::write(root.join("report/README.md"), written).expect("write");
 
@@ -66,7 +66,7 @@ fn update_docs_rewrites_both_sections_from_the_written_report() {
     assert!(readme.starts_with(&format!("head\n{}\n![pendulum", report::SUMMARY_START)));
     assert!(readme.contains("the summary\n\ngenerated\n"));
     assert!(readme.ends_with(&format!("{}\ntail\n", report::SUMMARY_END)));
-    let page = std::fs::read_to_string(root.join("docs/choosing.md")).expect("read");
+    let page = std::fs::read_to_string(root.join("core/docs/choosing.md")).expect("read");
     assert_eq!(
         page,
         format!(
@@ -78,7 +78,7 @@ fn update_docs_rewrites_both_sections_from_the_written_report() {
     );
     assert!(page.contains("| Scene | direct | 100 | 1.00e-4 | 1000 |"));
     // A page without its markers is an error naming the file, and is left as it was.
-    std::fs::write(root.join("docs/choosing.md"), "no markers\n").expect("write");
+    std::fs::write(root.join("core/docs/choosing.md"), "no markers\n").expect("write");
     let error = report::update_docs(&root, "x", "y")
         .unwrap_err()
         .to_string();

@@ -5,9 +5,9 @@
 use std::collections::HashMap;
 use std::fs;
 use varembed::{Comparison, Start};
-use varembed_examples::report;
 use varembed_examples::scene::{Context, Mode};
 use varembed_examples::scenes::{ALL, harmonic, large_chain};
+use varembed_examples::{console, report};
 
 #[test]
 fn quick_tour_writes_a_complete_finite_report() {
@@ -91,6 +91,19 @@ fn quick_tour_writes_a_complete_finite_report() {
 
     for scene in &reports {
         assert!(!scene.tables.is_empty(), "{}: no table", scene.name);
+        // A few lines per scene by default; its tables only with --verbose.
+        let summary = console::scene_summary(scene);
+        assert!(summary.starts_with(&format!("== {}\n  ran: ", scene.title)));
+        assert!(summary.contains("\n  best: "), "{summary}");
+        assert!(summary.contains("\n        at N = "), "{summary}");
+        let warnings = console::warnings(scene).len();
+        assert!(summary.lines().count() <= 7 + 2 * warnings, "{summary}");
+        assert!(!summary.contains("other's resid."), "{summary}");
+        let verbose = console::scene_tables(scene);
+        for table in &scene.tables {
+            assert!(verbose.contains(table.as_str()));
+            assert!(!table.contains("legend:"), "{}: {table}", scene.name);
+        }
         for table in &scene.tables {
             let lower = table.to_lowercase();
             assert!(
@@ -149,7 +162,7 @@ fn quick_tour_writes_a_complete_finite_report() {
 
     let dir = std::env::temp_dir().join(format!("varembed-tour-test-{}", std::process::id()));
     let _ = fs::remove_dir_all(&dir);
-    let table = report::write(&dir, &reports, "test run").expect("the report is written");
+    let table = report::write(&dir, &reports, "test run", 1).expect("the report is written");
     let lower = table.to_lowercase();
     assert!(!lower.contains("nan") && !lower.contains("inf"), "{table}");
     let mut files = vec!["README.md".to_string()];
@@ -174,6 +187,14 @@ fn quick_tour_writes_a_complete_finite_report() {
         }
     }
     let summary = fs::read_to_string(dir.join("README.md")).expect("summary");
+    // The columns of the comparison tables are explained once, not under every table.
+    assert_eq!(
+        summary
+            .matches(&format!("## {}", report::LEGEND_TITLE))
+            .count(),
+        1
+    );
+    assert!(!summary.contains("legend:"), "a table kept its legend");
     for file in &files[1..] {
         assert!(
             summary.contains(file.as_str()),

@@ -69,7 +69,7 @@ use proc_macro::TokenStream;
 /// A model with loops also implements `varembed::DynLagrangian` (slices, sparse second
 /// derivatives). With `x: &[f64]`, `v: &[f64]` and one `usize` model constant, the dimension is
 /// that run-time value and only `DynLagrangian` is implemented, its index checks made by
-/// `invalid_dimension()` (`docs/macro.md`, "Run-time dimension and sparse second derivatives"):
+/// `invalid_dimension()` (`core/docs/macro.md`, "Run-time dimension and sparse second derivatives"):
 ///
 /// ```ignore
 /// #[lagrangian]
@@ -97,7 +97,7 @@ use proc_macro::TokenStream;
 /// compared or read in another loop, and is differentiated exactly through the chain rule (a
 /// sum inside a function is computed first and differentiated through in reverse mode; its
 /// Hessian part is dense, and such a model claims no band). Anything else is a compile error on the
-/// offending tokens; all of them are reported at once. `docs/macro.md` has the details.
+/// offending tokens; all of them are reported at once. `core/docs/macro.md` has the details.
 ///
 /// Derivative conventions: `if` is differentiated branch by branch (the condition is not),
 /// and a branch whose condition keeps an index in range (`if i > 0 { x[i - 1] } else { 0.0 }`)

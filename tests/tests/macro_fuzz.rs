@@ -8,7 +8,7 @@
 //! `n: usize`, and a generic fn over num-dual numbers that evaluates the same formula
 //! straightforwardly (the oracle: its sums are loops adding to a local, its helpers are
 //! rewritten by hand, nothing of the macro's transformation is in it). The bodies use the
-//! language of docs/macro.md: `for` loops and iterator sums, nested and triangular loops,
+//! language of core/docs/macro.md: `for` loops and iterator sums, nested and triangular loops,
 //! accumulators declared outside and inside loops, sums bound to locals and used again
 //! (squared, multiplied, divided, as a centre of mass read in a second loop), branches on
 //! real and index conditions, helper fns, neighbour `x[i + 1]`, periodic `x[(i + 1) % N]`
@@ -23,7 +23,7 @@
 //!   model's `Lagrangian<N>` and of the slice model's `DynLagrangian`, against num-dual's
 //!   hyper-dual numbers (every entry from its own evaluation, exact up to rounding);
 //! - the array model's `DynLagrangian` against its `Lagrangian<N>` (bit for bit, as
-//!   docs/macro.md states), and its fused methods (`gradient_and_hessian`,
+//!   core/docs/macro.md states), and its fused methods (`gradient_and_hessian`,
 //!   `value_and_gradient`) against the separate ones (bit for bit);
 //! - the claimed sparsity: with `hessian_bandwidth() = Some(b)` every entry `|i − j| > b` of
 //!   every block is exactly 0.0; a block that `hessian_dependence()` says does not depend on

@@ -1,6 +1,6 @@
 //! How a [`Comparison`] prints: the table, the solutions' warnings and a legend of every
-//! column, as text (`Display`) and as markdown ([`Comparison::to_markdown`]), from one set of
-//! cells.
+//! column, as text (`Display`; `{:#}` without the legend) and as markdown
+//! ([`Comparison::to_markdown`]), from one set of cells.
 
 use super::compared::ComparedSolution;
 use super::{Comparison, OrderStatus, SchemeReport};
@@ -204,6 +204,7 @@ impl<S: ComparedSolution> Comparison<S> {
     }
 }
 
+/// The table, its legend last; `{:#}` without the legend.
 impl<S: ComparedSolution> fmt::Display for Comparison<S> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         writeln!(f, "{}", self.heading())?;
@@ -217,15 +218,18 @@ impl<S: ComparedSolution> fmt::Display for Comparison<S> {
         line(f, &COLUMNS.map(str::to_string))?;
         line(f, &cells("direct", &self.direct))?;
         line(f, &cells("variational", &self.variational))?;
-        writeln!(
+        write!(
             f,
             "  max |Q_direct − Q_variational| = {:.3e}",
             self.max_distance
         )?;
         for w in self.warnings() {
-            writeln!(f, "  warning: {w}")?;
+            write!(f, "\n  warning: {w}")?;
         }
-        write!(f, "  legend:")?;
+        if f.alternate() {
+            return Ok(());
+        }
+        write!(f, "\n  legend:")?;
         for (column, text) in self.legend() {
             write!(f, "\n    {column}: {text}")?;
         }

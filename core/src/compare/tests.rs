@@ -146,6 +146,8 @@ fn a_comparison_is_the_runs_at_its_grid_with_their_orders() {
     let lines: Vec<&str> = table.lines().collect();
     assert_eq!(lines.len(), 5 + 1 + 8, "{table}");
     assert_eq!(lines[5], "  legend:");
+    // `{:#}`: the same table without the legend, no trailing newline.
+    assert_eq!(format!("{from_runs:#}"), lines[..5].join("\n"));
     // Built from runs: no solve of its own, the order read off 400, where the runs end, so
     // it cannot be checked against the next one.
     assert_eq!(

@@ -3,7 +3,7 @@
 //!
 //! With `P_k`, `F_{u,k}`, `F_{w,k}` the momentum and forces of the interval `[t_{k−1}, t_k]`
 //! and `f_k` the force at node `k` with the centred velocity `(Q_{k+1} − Q_{k−1})/(2h)`, the rows
-//! `k = 1..=N−1` are (docs/schemes.md)
+//! `k = 1..=N−1` are ([schemes](crate::guide::schemes))
 //!
 //! ```text
 //! variational:  ½ (F_{w,k} + F_{u,k+1}) − (P_{k+1} − P_k)/h     = (1/h) ∂S_h/∂Q_k

@@ -1,7 +1,7 @@
 //! Boundary value problems of a run-time-dimension model: `Q_0`, `Q_N` given, Newton's method
 //! on the whole system for `Q_1..Q_{N−1}`, its Jacobian assembled as a sparse matrix and
-//! factorised by sparse LU after a fill-reducing ordering (docs/solvers.md, "Boundary value
-//! problems of large models").
+//! factorised by sparse LU after a fill-reducing ordering ([solvers, "Boundary value problems
+//! of large models"](crate::guide::solvers#boundary-value-problems-of-large-models)).
 //!
 //! The rows, the stopping rule, the line search and the errors are those of the const-generic
 //! [`Problem::solve_bvp`](crate::Problem::solve_bvp): on a model that implements both traits

@@ -4,7 +4,8 @@
 //!
 //! Only two nodes are kept (three while a step is solved), so a run of `N` steps at dimension
 //! `d` needs `O(d · b)` memory beyond what the observer keeps, `b` the band of the step
-//! Jacobian (docs/solvers.md, "Large models").
+//! Jacobian ([solvers, "Large
+//! models"](crate::guide::solvers#large-models-run-time-dimension-and-sparse-newton)).
 
 use crate::embedding::{Embedding, EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};

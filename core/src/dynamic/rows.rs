@@ -8,7 +8,7 @@
 //! `r_k = f_k + Σ_m B[k, m] p_m` with `B = σ Δ_σ` (direct Gauss-FDEσ), `−σ Δ_{−σ}` (direct
 //! asymmetric) or `Dᵀ` (variational); its Jacobian with respect to the interior nodes is
 //! `∂r_k/∂Q_j = δ_kj L_xx + L_xv D[k, j] + Σ_m B[k, m] (δ_mj L_vx + L_vv D[m, j])`
-//! (docs/schemes.md).
+//! ([schemes](crate::guide::schemes)).
 
 use crate::embedding::{Embedding, EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};

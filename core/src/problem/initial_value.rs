@@ -103,7 +103,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// one-step Gauss–Legendre map of `(q_k, p_k)` from `p_0 = ∂L/∂v(q(a), q̇(a), a)` (no start;
     /// the momenta are in [`Solution::momenta`]), each step a Newton solve of its stage
     /// velocities; it has no eigenvalue check (A-stable on the oscillator, see
-    /// `docs/solvers.md`), the rest applies.
+    /// [solvers](crate::guide::solvers)), the rest applies.
     ///
     /// Errors: [`Error::Unsupported`](crate::Error::Unsupported) for Gauss-GLEσ and for the
     /// direct scheme of Gauss–Legendre; at step `n`,

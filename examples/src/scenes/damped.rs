@@ -14,7 +14,6 @@
 use crate::ivp_scene::{Advice, HigherOrderSweeps, IvpScene, Trajectory, Units, all_variants};
 use crate::reference::ReferenceCurve;
 use crate::scene::{Context, Doubling, SceneReport, SweepLine, SweepPoint, doubling};
-use std::time::Instant;
 use varembed::{
     DifferentialOperator, Embedding, Grid, Problem, Side, Vector, lagrangian, max_error,
 };
@@ -60,16 +59,14 @@ pub fn general_embedding_sweep(
         Side::Backward => "general direct embedding FDE− of q̈ + q̇ + q",
         Side::Forward => "general direct embedding FDE+ of q̈ + q̇ + q",
     };
-    cx.progress.inc_length(sizes.count as u64);
+    cx.progress.inc_length((cx.repeats * sizes.count) as u64);
     let mut points = Vec::new();
     for n in sizes.sizes() {
         let grid = Grid::new(INTERVAL.0, INTERVAL.1, n)?;
         let q1 = Problem::new(&Damped, grid, Embedding::finite_difference(Side::Backward))
             .legendre_start(1.0, 0.0)?;
         let embedding = operator.embed(side, grid);
-        let start = Instant::now();
-        let q = embedding.solve_ivp(&[Vector::<1>::new(1.0), q1])?;
-        let seconds = start.elapsed().as_secs_f64();
+        let (q, seconds) = cx.median_time(|| embedding.solve_ivp(&[Vector::<1>::new(1.0), q1]))?;
         cx.record(NAME, label, n);
         let error = max_error(&grid, &q, |t| reference.q(t));
         points.push(SweepPoint { n, seconds, error });

@@ -110,9 +110,9 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
         Embedding::finite_difference(Side::Backward),
     ));
     // Per embedding: the reference's three solves, the sweep, and the direct scheme on the
-    // table's `N` and `2N` (the variational one is read off the sweep).
+    // table's `N` and `2N` (the variational one is read off the sweep); the timed ones repeated.
     cx.progress
-        .inc_length((embeddings.len() * (3 + sizes.count + 2)) as u64);
+        .inc_length((embeddings.len() * (3 + cx.repeats * (sizes.count + 2))) as u64);
     let mut tables = Vec::new();
     let mut sweep = Vec::new();
     let mut trajectories = Vec::new();
@@ -140,8 +140,8 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
             ..CompareOptions::default()
         };
         let swept = Problem::new(&Pendulum, Grid::new(0.0, 1.0, sizes.n0)?, *embedding);
-        let variational =
-            swept.convergence_bvp(Scheme::Variational, 0.0, 1.0, &options, sizes.count);
+        let variational = cx
+            .timed(|| swept.convergence_bvp(Scheme::Variational, 0.0, 1.0, &options, sizes.count));
         cx.record_run(
             NAME,
             &describe(*embedding, Scheme::Variational),
@@ -149,7 +149,7 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
         );
         let grid = Grid::new(0.0, 1.0, table_n)?;
         let table = Problem::new(&Pendulum, grid, *embedding);
-        let direct = table.convergence_bvp(Scheme::Direct, 0.0, 1.0, &options, 2);
+        let direct = cx.timed(|| table.convergence_bvp(Scheme::Direct, 0.0, 1.0, &options, 2));
         cx.record_run(NAME, &describe(*embedding, Scheme::Direct), &direct);
         let comparison = match table.compare_runs(&direct, &variational) {
             Ok(comparison) => comparison,
@@ -159,7 +159,7 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
                 continue;
             }
         };
-        tables.push(comparison.to_string());
+        tables.push(format!("{comparison:#}"));
         trajectories.push(Series::new(
             label.clone(),
             comparison
@@ -203,6 +203,7 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
         tables,
         reference: format!("Richardson extrapolation on M = {m}"),
         sweep,
+        advice_target: None,
         figures: vec![Figure {
             file: "fractional-trajectory.svg".to_string(),
             title: format!("Fractional pendulum BVP, q(0) = 0, q(1) = 1, N = {table_n}"),

@@ -1,5 +1,5 @@
 //! Dense output against exact solutions between the nodes: `q`, `v` (and `p` with the
-//! Lagrangian) at the midpoint of every step converge at the orders docs/solvers.md documents,
+//! Lagrangian) at the midpoint of every step converge at the orders core/docs/solvers.md documents,
 //! for every embedding and scheme with node values, on the harmonic oscillator and on the
 //! pendulum (closed form by Jacobi elliptic functions); at a node the value is the node; the
 //! const-generic and the run-time-dimension paths agree on a model that implements both
@@ -42,7 +42,7 @@ enum Run {
 }
 
 /// One embedding and scheme, how it is solved, on which grids, and the orders of `q` and `v`
-/// between the nodes that docs/solvers.md documents for it.
+/// between the nodes that core/docs/solvers.md documents for it.
 #[derive(Clone, Copy, Debug)]
 struct Case {
     embedding: Embedding,

@@ -1,4 +1,4 @@
-//! The stability limits on the harmonic oscillator `q̈ = −ω²q` that `docs/choosing.md` states,
+//! The stability limits on the harmonic oscillator `q̈ = −ω²q` that `core/docs/choosing.md` states,
 //! from the characteristic polynomial of each recurrence (`z = ωh`), checked just below and
 //! just above each limit through the library's own checks.
 //!

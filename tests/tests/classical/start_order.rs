@@ -1,4 +1,4 @@
-//! The two starts of an initial value run (`docs/solvers.md`), against an independent RK4
+//! The two starts of an initial value run (`core/docs/solvers.md`), against an independent RK4
 //! reference: on the pendulum the variational positions are first order from the discrete
 //! Legendre start and second order from the second-order start, with the error figures at
 //! t = 10 stated below to 15 %.

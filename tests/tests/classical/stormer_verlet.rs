@@ -1,6 +1,6 @@
 //! For `L = ½v² − U(x)` the variational scheme is Störmer–Verlet for both σ, and the direct
 //! schemes are the textbook two-step formulas (implicit for σ = −, explicit for σ = +; see
-//! `docs/schemes.md`).
+//! `core/docs/schemes.md`).
 
 use varembed::{Embedding, Grid, Problem, Scheme, Side, Vector};
 use varembed_tests::models::hand::Anharmonic;

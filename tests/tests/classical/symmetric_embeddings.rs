@@ -2,7 +2,7 @@
 //! midpoint variational map is the Cayley transform (`tan(θ/2) = ωh/2`, A-stable), the
 //! trapezoidal one and both direct schemes are Störmer–Verlet (`cos θ = 1 − (ωh)²/2`, stable
 //! for `ωh < 2` and stopped past it); neither embedding is coherent, and the rows by which they
-//! differ are the ones docs/schemes.md derives; the initial value runs zero the global residual
+//! differ are the ones core/docs/schemes.md derives; the initial value runs zero the global residual
 //! rows that the boundary value solver uses.
 
 use varembed::{Embedding, Error, Grid, Problem, Scheme, Vector, lagrangian};

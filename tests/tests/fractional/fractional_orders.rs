@@ -1,5 +1,5 @@
 //! The order of the variational Gauss-GLE− boundary value scheme depends on the data, as
-//! `docs/schemes.md` states: second order on smooth compatible data, first order when the
+//! `core/docs/schemes.md` states: second order on smooth compatible data, first order when the
 //! momentum vanishes identically, about `2α − 1` on generic Dirichlet data. One test per regime,
 //! each with the library's `observed_order` over doubling `N`.
 //!

@@ -317,10 +317,10 @@ fn no_source_file_is_longer_than_the_limit() {
     assert!(long.is_empty(), "files over {MAX_LINES} lines: {long:?}");
 }
 
-/// The formulas of the core crate's rustdoc are pre-rendered MathML (`docs/math/render.py`,
-/// described in `docs/architecture.md`): every LaTeX source line `<!-- tex: … -->` is followed
-/// by its rendered `<math display="block">` line, well formed, so that no formula is shown as
-/// raw source or breaks the page.
+/// The formulas of the core crate's rustdoc are pre-rendered MathML
+/// (`core/docs/math/render.py`, described in `core/docs/architecture.md`): every LaTeX source
+/// line `<!-- tex: … -->` is followed by its rendered `<math display="block">` line, well
+/// formed, so that no formula is shown as raw source or breaks the page.
 #[test]
 fn every_formula_is_rendered_as_mathml() {
     let src = Path::new(env!("CARGO_MANIFEST_DIR")).join("../core/src");
@@ -339,7 +339,7 @@ fn every_formula_is_rendered_as_mathml() {
             let where_ = format!("{}:{}", file.display(), i + 2);
             assert!(
                 next.contains("<math display=\"block\">") && next.trim_end().ends_with("</math>"),
-                "{where_}: the formula is not rendered; run python3 docs/math/render.py"
+                "{where_}: the formula is not rendered; run python3 core/docs/math/render.py"
             );
             assert!(
                 !next.contains("<merror"),

@@ -91,6 +91,7 @@ const ROOT: &[&str] = &[
     "Vector",
     "Warning",
     "curve_from_flat",
+    "guide",
     "lagrangian",
     "max_error",
     "observed_order",

@@ -12,7 +12,7 @@ and the line after it is the rendered MathML, which this script writes (or rewri
 Browsers render MathML natively, so the docs show the formulas with no script, no font
 download and no network, under `cargo doc` and on docs.rs alike. Run after editing a formula:
 
-    pip install latex2mathml && python3 docs/math/render.py
+    pip install latex2mathml && python3 core/docs/math/render.py
 
 `tests/tests/module_graph.rs` checks that every formula has its rendered line.
 """
@@ -22,7 +22,7 @@ import sys
 
 from latex2mathml.converter import convert
 
-ROOT = pathlib.Path(__file__).resolve().parents[2]
+ROOT = pathlib.Path(__file__).resolve().parents[3]
 TEX = re.compile(r"^(\s*)(///|//!) <!-- tex: (.*) -->$")
 
 
