@@ -329,9 +329,14 @@ impl Parser {
     }
 
     /// `let pattern = init;` when `init` calls a helper not known while checking one on its
-    /// own: every name is bound to [`Binding::Unknown`].
+    /// own: every name is bound to [`Binding::Unknown`] (a `let mut` to a number, which only
+    /// an `f64` can be).
     pub(super) fn bind_unknown(&mut self, pat: &Pat, env: &mut Env) {
         match pat {
+            Pat::Ident(pi) if pi.mutability.is_some() => {
+                let zero = self.graph.num(0.0);
+                self.bind(pat, zero, env);
+            }
             Pat::Ident(pi) => {
                 env.insert(pi.ident.to_string(), Binding::Unknown);
             }

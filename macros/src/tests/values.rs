@@ -66,10 +66,12 @@ fn unrolled_loops_read_as_straight_line_code() {
 fn a_helper_calling_a_helper_returning_values_checks_on_its_own() {
     let f: syn::ItemFn = syn::parse2(quote! {
         fn radius(r: f64, t: f64) -> [f64; 2] {
+            let mut s = spring(r);
+            s += spring(t) * 2.0;
             let p = polar(r, t);
             let (a, b) = polar(r, t);
             let [c, d] = cross(r, t);
-            [p.0 * p.1 + a * b, c * d + cross(t, r)[1]]
+            [p.0 * p.1 + a * b + s, c * d + cross(t, r)[1]]
         }
     })
     .expect("a fn");
