@@ -29,6 +29,10 @@ fn main() -> varembed::Result<()> {
     let csv = nodes.to_csv(); // header t,q0,v0,p0,E
     assert_eq!(csv.lines().count(), 1 + 1001);
 
+    // Position and velocity at any t of [a, b], between the nodes too (dense output).
+    let (q, v) = variational.at(std::f64::consts::PI)?;
+    println!("q(π) = {:.4}, q̇(π) = {:.4}", q[0], v[0]);
+
     // Gauss-FDE− is not coherent: the direct solution does not solve the variational scheme.
     let cross = problem.residual(Scheme::Variational, &direct.q)?;
     assert!(cross.iter().any(|r| r.amax() > 1e-6));
