@@ -14,6 +14,7 @@
 
 pub(crate) mod band;
 pub(crate) mod bvp;
+mod ensembles;
 pub(crate) mod ivp;
 pub(crate) mod problem;
 pub(crate) mod rows;

@@ -38,6 +38,12 @@
 //!   definition of the observed order, [`observed_order`] ([`observed_orders`] along a run)
 //!   and how far it can be trusted, [`OrderStatus`],
 //!   with [`max_error`] against a reference curve.
+//! - Many runs at once: [`Ensemble`], which maps the members of an ensemble (initial
+//!   conditions: `Problem::solve_ivp_ensemble`; parameter sets: `Problem::solve_ivp_models`;
+//!   the same on a `DynProblem`) over rayon's work-stealing pool with the `parallel` feature
+//!   (on by default), serially without it, the results in input order and bit for bit the
+//!   serial ones, with an optional progress callback. Untimed convergence studies and
+//!   comparisons (`CompareOptions::timing` off) solve their grids the same way.
 //! - Errors: [`Error`], [`Location`], [`Result`].
 //! - The direct embedding of a general differential operator (no Lagrangian):
 //!   [`DifferentialOperator`], [`DirectEmbedding`].
@@ -61,7 +67,7 @@
 #![deny(missing_docs)]
 
 // Imports go one way. From the bottom up, each module imports only modules before it:
-// lagrangian, error, side, weights, toeplitz, gauss_legendre, grid, linalg, regularity, options,
+// ensemble, lagrangian, error, side, weights, toeplitz, gauss_legendre, grid, linalg, regularity, options,
 // operator, fft_operator, embedding, step, ode, discretisation,
 // solve (krylov, newton, start, nodes, solution, guard, fractional, bvp, gauss, ivp),
 // dynamic (sparse, step, ivp, problem), compare, problem.
@@ -69,6 +75,7 @@ mod compare;
 mod discretisation;
 mod dynamic;
 mod embedding;
+mod ensemble;
 mod error;
 mod fft_operator;
 mod gauss_legendre;
@@ -98,6 +105,7 @@ pub use dynamic::ivp::{DynNode, DynRun};
 pub use dynamic::problem::{DynProblem, DynSolution};
 pub use dynamic::sparse::{SparseBlock, SparseHessian};
 pub use embedding::{Embedding, EmbeddingKind, Scheme};
+pub use ensemble::Ensemble;
 pub use error::{Error, Location, Result};
 pub use grid::Grid;
 pub use lagrangian::{

@@ -167,7 +167,8 @@ impl SweepLine {
             .filter_map(|level| {
                 Some(SweepPoint {
                     n: level.n(),
-                    seconds: level.wall_time.as_secs_f64(),
+                    // A work–precision point needs the time: an untimed level has none.
+                    seconds: level.wall_time?.as_secs_f64(),
                     error: level.error?,
                 })
             })

@@ -16,11 +16,11 @@
 #[allow(unused_imports)]
 use varembed::{
     CompareOptions, ComparedSolution, Comparison, Convergence, Dependence, DifferentialOperator,
-    DirectEmbedding, DynSolution, Embedding, EmbeddingKind, Error, FractionalSolver, Grid, Hessian,
-    HessianDependence, IntoVector, Lagrangian, Level, Location, Matrix, NewtonOptions, NodeFormula,
-    NodeRule, NodeState, NodeValues, OrderStatus, Problem, Reference, Result, Scheme, SchemeReport,
-    Side, Solution, Start, Vector, Warning, curve_from_flat, lagrangian, max_error, observed_order,
-    observed_orders,
+    DirectEmbedding, DynSolution, Embedding, EmbeddingKind, Ensemble, Error, FractionalSolver,
+    Grid, Hessian, HessianDependence, IntoVector, Lagrangian, Level, Location, Matrix,
+    NewtonOptions, NodeFormula, NodeRule, NodeState, NodeValues, OrderStatus, Problem, Reference,
+    Result, Scheme, SchemeReport, Side, Solution, Start, Vector, Warning, curve_from_flat,
+    lagrangian, max_error, observed_order, observed_orders,
 };
 
 /// Compiles only while the public types keep their auto traits.
@@ -38,6 +38,9 @@ fn auto_traits<L: Lagrangian<2> + Sync + 'static>() {
     shared::<Error>();
     shared::<Embedding>();
     shared::<Grid>();
+    // One ensemble hands its progress callback to every worker thread.
+    fn synced<T: Sync>() {}
+    synced::<Ensemble<'static>>();
 }
 
 use std::collections::BTreeSet;
@@ -60,6 +63,7 @@ const ROOT: &[&str] = &[
     "DynSolution",
     "Embedding",
     "EmbeddingKind",
+    "Ensemble",
     "Error",
     "FractionalSolver",
     "Grid",
