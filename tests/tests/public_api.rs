@@ -38,6 +38,10 @@ fn auto_traits<L: Lagrangian<2> + Sync + 'static>() {
     shared::<Error>();
     shared::<Embedding>();
     shared::<Grid>();
+    // Shared by the threads of an ensemble: the general direct embedding's closures are
+    // `Send + Sync`.
+    shared::<DifferentialOperator<'static, 2>>();
+    shared::<DirectEmbedding<'static, 'static, 2>>();
     // One ensemble hands its progress callback to every worker thread.
     fn synced<T: Sync>() {}
     synced::<Ensemble<'static>>();
