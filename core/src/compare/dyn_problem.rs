@@ -280,7 +280,9 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
     /// `N, 2N, …, 2^{levels−1} N` steps (`N` this problem's), storing every node, timing each
     /// solve and measuring its error against `options.reference`. A size that fails is
     /// recorded in [`Convergence::failures`] and the run goes on. The run-time-dimension
-    /// [`Problem::convergence_ivp`](crate::Problem::convergence_ivp).
+    /// [`Problem::convergence_ivp`](crate::Problem::convergence_ivp): timed, its grids are
+    /// solved one after the other, untimed in parallel ([`CompareOptions::timing`]), hence
+    /// `L: Sync`.
     ///
     /// # Example
     ///

@@ -205,6 +205,11 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// solve and measuring its error against `options.reference`. A size that fails is recorded
     /// in [`Convergence::failures`] and the run goes on.
     ///
+    /// Timed ([`CompareOptions::timing`], the default), the grids are solved one after the
+    /// other; untimed, in parallel, with the same solutions bit for bit and no wall times. The
+    /// solves may share the Lagrangian between threads, hence `L: Sync`; so do the
+    /// comparisons'.
+    ///
     /// # Example
     ///
     /// ```
