@@ -100,7 +100,7 @@ impl<'a> Ensemble<'a> {
     /// let seen = Mutex::new(Vec::new());
     /// varembed::Ensemble::serial()
     ///     .with_progress(|done, total| seen.lock().unwrap().push((done, total)))
-    ///     .map(&[0.5, 1.5], |x| x.sqrt());
+    ///     .map(&[0.5, 1.5], |x: &f64| x.sqrt());
     /// assert_eq!(*seen.lock().unwrap(), [(1, 2), (2, 2)]);
     /// ```
     pub fn with_progress(mut self, progress: impl Fn(usize, usize) + Sync + 'a) -> Self {
