@@ -42,7 +42,9 @@ pub fn exact() -> ReferenceCurve<1> {
 
 /// The general direct embedding of `q̈ + q̇ + q` under FDEσ, swept over `sizes`, from the
 /// initial data `q(0) = 1`, `q̇(0) = 0` of the Lagrangian schemes: its start nodes are their
-/// Taylor polynomial (`Q_0 = 1`, `Q_1 = 1 + h·0`), as the operator's `solve_ivp` builds them.
+/// Taylor polynomial (`Q_0 = 1`, `Q_1 = 1 + h·0`), as the operator's `solve_ivp` builds them;
+/// from rest this `Q_1` is also the discrete Legendre start of `L` (`eᵗ¹ (Q_1 − Q_0)/h = 0`), so
+/// the line compares with the Lagrangian schemes from the same two nodes.
 /// The error and the orders are the library's definitions ([`max_error`],
 /// [`SweepLine::orders`]).
 pub fn general_embedding_sweep(
