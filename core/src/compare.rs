@@ -32,6 +32,7 @@
 //! computed and printed by the same code.
 
 use crate::embedding::{Embedding, Scheme};
+use crate::ensemble::{Ensemble, map_costliest_first};
 use crate::error::{Error, Result};
 use crate::grid::Grid;
 use crate::lagrangian::Vector;
@@ -155,6 +156,15 @@ pub struct CompareOptions<'a, Q> {
     /// ([`Comparison::extra_solves`]). Convergence runs ignore it: their number of grids is an
     /// argument.
     pub order: bool,
+    /// Whether each solve's wall time is measured (the table's `time` column; on by default).
+    /// Timed, the solves run one at a time on the calling thread, since solves running side
+    /// by side slow each other down and their times would measure the machine's load. Off,
+    /// the solves of the grids (and of both schemes, in a comparison) run in parallel on
+    /// rayon's pool when the `parallel` feature is on, with the serial run's numbers bit for
+    /// bit, and the wall times are `None` (`—` in the table). A convergence study's levels cost
+    /// about `1 : 2 : 4 : 8`, so the finest grid bounds its speed-up: near `15/8` for one
+    /// scheme on four grids, however many cores.
+    pub timing: bool,
 }
 
 // By hand, as for `Reference`: no bound on `Q`.
@@ -172,6 +182,7 @@ impl<Q> Default for CompareOptions<'_, Q> {
             reference: Reference::None,
             start: Start::Legendre,
             order: true,
+            timing: true,
         }
     }
 }
@@ -213,8 +224,9 @@ pub struct SchemeReport<S> {
     /// The scheme's order on a smooth solution of a general Lagrangian,
     /// [`Embedding::order`](crate::Embedding::order), shown next to the observed one.
     pub theoretical_order: Option<u32>,
-    /// Wall time of the solve on `N` steps.
-    pub wall_time: Duration,
+    /// Wall time of the solve on `N` steps; `None` when it was not measured
+    /// ([`CompareOptions::timing`] off).
+    pub wall_time: Option<Duration>,
 }
 
 /// The direct and variational schemes of one problem, side by side; `Display` prints a table.
@@ -403,88 +415,164 @@ pub(crate) fn compare_runs<C: Compares>(
     })
 }
 
-/// Both schemes of `problem` on `N` (and `2N`, `4N`, `8N` for the order), `run(scheme,
-/// levels)` solving one scheme on `levels` grids; the first failure is the answer.
+/// Both schemes of `problem` on `N` (and `2N`, `4N`, `8N` for the order), `solve(scheme, grid)`
+/// solving one scheme on one grid; the first failure is the answer. Untimed, the solves of
+/// both schemes share one parallel map ([`convergences`]).
 pub(crate) fn compare<C: Compares>(
     problem: &C,
-    run: impl Fn(Scheme, usize) -> Convergence<C::Solution>,
+    kind: &'static str,
     options: &CompareOptions<'_, ValueOf<C::Solution>>,
-) -> Result<Comparison<C::Solution>> {
+    solve: impl Fn(Scheme, Grid) -> Result<C::Solution> + Sync,
+) -> Result<Comparison<C::Solution>>
+where
+    C::Solution: Send,
+{
     let levels = match (options.order, options.reference.curve()) {
         (false, _) => 1,
         (true, Some(_)) => 3,
         (true, None) => 4,
     };
-    let solved = |scheme| {
-        let run = run(scheme, levels);
-        match run.failures.first() {
-            Some((_, e)) => Err(e.clone()),
-            None => Ok(run),
-        }
+    let schemes = [Scheme::Direct, Scheme::Variational];
+    let study = Study {
+        kind,
+        grid: problem.grid(),
+        levels,
+        timing: options.timing,
     };
-    let mut comparison = compare_runs(
-        problem,
-        &solved(Scheme::Direct)?,
-        &solved(Scheme::Variational)?,
-    )?;
+    let runs = convergences(&study, &schemes, &options.reference, solve);
+    let solved = |run: &Convergence<C::Solution>| match run.failures.first() {
+        Some((_, e)) => Err(e.clone()),
+        None => Ok(()),
+    };
+    let [direct, variational] = &runs[..] else {
+        unreachable!("one run per scheme")
+    };
+    solved(direct)?;
+    solved(variational)?;
+    let mut comparison = compare_runs(problem, direct, variational)?;
     comparison.extra_solves = levels - 1;
     Ok(comparison)
 }
 
-/// `scheme` solved by `solve(grid)` on the grids of `N, 2N, …, 2^{levels−1} N` steps over
-/// `grid`'s interval (`N` its own), timing each solve and measuring its error against
+/// What a convergence study solves: the grids of `N, 2N, …, 2^{levels−1} N` steps over
+/// `grid`'s interval (`N` its own), of which problem, and whether each solve is timed.
+pub(crate) struct Study {
+    /// "initial value problem" or "boundary value problem".
+    pub(crate) kind: &'static str,
+    /// The coarsest grid.
+    pub(crate) grid: Grid,
+    /// How many grids.
+    pub(crate) levels: usize,
+    /// Whether each solve's wall time is measured ([`CompareOptions::timing`]).
+    pub(crate) timing: bool,
+}
+
+impl Study {
+    /// The sizes `N·2^j`, stopping with a failure at the first that does not fit in `usize`.
+    fn sizes(&self) -> (Vec<usize>, Option<Error>) {
+        let (a, b, n0) = (self.grid.a(), self.grid.b(), self.grid.n());
+        let mut sizes = Vec::with_capacity(self.levels);
+        for j in 0..self.levels {
+            let n = u32::try_from(j)
+                .ok()
+                .and_then(|j| 1usize.checked_shl(j))
+                .and_then(|factor| n0.checked_mul(factor));
+            match n {
+                Some(n) => sizes.push(n),
+                None => {
+                    let reason = "N·2^j steps do not fit in usize";
+                    return (
+                        sizes,
+                        Some(Error::InvalidGrid {
+                            a,
+                            b,
+                            n: n0,
+                            reason,
+                        }),
+                    );
+                }
+            }
+        }
+        (sizes, None)
+    }
+}
+
+/// `scheme` solved by `solve(grid)` on the grids of `study`, its error measured against
 /// `reference`. A size that fails is recorded in [`Convergence::failures`] and the run goes
 /// on.
-pub(crate) fn convergence<S: ComparedSolution>(
-    kind: &'static str,
+pub(crate) fn convergence<S: ComparedSolution + Send>(
+    study: &Study,
     scheme: Scheme,
-    grid: Grid,
     reference: &Reference<'_, S::Value>,
-    levels: usize,
-    solve: impl Fn(Grid) -> Result<S>,
+    solve: impl Fn(Grid) -> Result<S> + Sync,
 ) -> Convergence<S> {
-    let mut run = Convergence {
-        kind,
-        scheme,
-        reference: reference.name().to_string(),
-        levels: Vec::with_capacity(levels),
-        failures: Vec::new(),
-    };
-    let (a, b, n0) = (grid.a(), grid.b(), grid.n());
-    for j in 0..levels {
-        let n = u32::try_from(j)
-            .ok()
-            .and_then(|j| 1usize.checked_shl(j))
-            .and_then(|factor| n0.checked_mul(factor));
-        let Some(n) = n else {
-            let reason = "N·2^j steps do not fit in usize";
-            let failure = Error::InvalidGrid {
-                a,
-                b,
-                n: n0,
-                reason,
-            };
-            run.failures.push((usize::MAX, failure));
-            break;
-        };
-        let solved = Grid::new(a, b, n).and_then(|grid| {
+    let mut runs = convergences(study, &[scheme], reference, |_, grid| solve(grid));
+    runs.pop().expect("one run per scheme")
+}
+
+/// The [`convergence`] runs of several schemes. Timed, every solve runs alone on the calling
+/// thread, scheme after scheme and grid after grid (concurrent solves would spoil each
+/// other's wall time); untimed, all the solves are mapped in parallel by an [`Ensemble`], the
+/// finest grids first, and the runs read the same solutions in the same order. The errors
+/// against the reference are measured afterwards on the calling thread, which keeps the
+/// reference curve free of any `Sync` bound.
+fn convergences<S: ComparedSolution + Send>(
+    study: &Study,
+    schemes: &[Scheme],
+    reference: &Reference<'_, S::Value>,
+    solve: impl Fn(Scheme, Grid) -> Result<S> + Sync,
+) -> Vec<Convergence<S>> {
+    let (sizes, overflow) = study.sizes();
+    let (a, b) = (study.grid.a(), study.grid.b());
+    let solve_one = |&(scheme, n): &(Scheme, usize)| -> Result<(S, Option<Duration>)> {
+        let grid = Grid::new(a, b, n)?;
+        if study.timing {
             let start = Instant::now();
-            let solution = solve(grid)?;
-            Ok((solution, start.elapsed()))
-        });
-        match solved {
-            Ok((solution, wall_time)) => {
-                let error = reference.curve().map(|q| solution.max_error(q));
-                run.levels.push(Level {
-                    solution,
-                    wall_time,
-                    error,
-                });
-            }
-            Err(e) => run.failures.push((n, e)),
+            let solution = solve(scheme, grid)?;
+            Ok((solution, Some(start.elapsed())))
+        } else {
+            Ok((solve(scheme, grid)?, None))
         }
-    }
-    run
+    };
+    let tasks: Vec<(Scheme, usize)> = schemes
+        .iter()
+        .flat_map(|&scheme| sizes.iter().map(move |&n| (scheme, n)))
+        .collect();
+    let solved = if study.timing {
+        tasks.iter().map(solve_one).collect()
+    } else {
+        map_costliest_first(&Ensemble::new(), &tasks, |&(_, n)| n, solve_one)
+    };
+    let mut solved = tasks.iter().zip(solved);
+    schemes
+        .iter()
+        .map(|&scheme| {
+            let mut run = Convergence {
+                kind: study.kind,
+                scheme,
+                reference: reference.name().to_string(),
+                levels: Vec::with_capacity(sizes.len()),
+                failures: Vec::new(),
+            };
+            for (&(_, n), result) in solved.by_ref().take(sizes.len()) {
+                match result {
+                    Ok((solution, wall_time)) => {
+                        let error = reference.curve().map(|q| solution.max_error(q));
+                        run.levels.push(Level {
+                            solution,
+                            wall_time,
+                            error,
+                        });
+                    }
+                    Err(e) => run.failures.push((n, e)),
+                }
+            }
+            if let Some(e) = &overflow {
+                run.failures.push((usize::MAX, e.clone()));
+            }
+            run
+        })
+        .collect()
 }
 
 #[cfg(test)]

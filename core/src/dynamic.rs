@@ -16,6 +16,7 @@
 pub(crate) mod band;
 pub(crate) mod bvp;
 pub(crate) mod dense;
+mod ensembles;
 pub(crate) mod ivp;
 pub(crate) mod problem;
 pub(crate) mod rows;

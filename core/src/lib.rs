@@ -123,6 +123,12 @@
 //!   definition of the observed order, [`observed_order`] ([`observed_orders`] along a run)
 //!   and how far it can be trusted, [`OrderStatus`],
 //!   with [`max_error`] against a reference curve.
+//! - Many runs at once: [`Ensemble`], which maps the members of an ensemble (initial
+//!   conditions: `Problem::solve_ivp_ensemble`; parameter sets: `Problem::solve_ivp_models`;
+//!   the same on a `DynProblem`) over rayon's work-stealing pool with the `parallel` feature
+//!   (on by default), serially without it, the results in input order and bit for bit the
+//!   serial ones, with an optional progress callback. Untimed convergence studies and
+//!   comparisons (`CompareOptions::timing` off) solve their grids the same way.
 //! - Errors: [`Error`], [`Location`], [`Result`].
 //! - The direct embedding of a general differential operator (no Lagrangian):
 //!   [`DifferentialOperator`], [`DirectEmbedding`].
@@ -146,7 +152,7 @@ macro_rules! guide_links {
 pub mod guide;
 
 // Imports go one way. From the bottom up, each module imports only modules before it:
-// lagrangian, error, side, weights, toeplitz, gauss_legendre, grid, linalg, regularity, options,
+// ensemble, lagrangian, error, side, weights, toeplitz, gauss_legendre, grid, linalg, regularity, options,
 // operator, fft_operator, embedding, step, ode, discretisation,
 // solve (krylov, newton, start, nodes, solution, dense, guard, fractional, bvp, gauss, ivp),
 // dynamic (sparse, step, ivp, problem, dense), compare, problem.
@@ -154,6 +160,7 @@ mod compare;
 mod discretisation;
 mod dynamic;
 mod embedding;
+mod ensemble;
 mod error;
 mod fft_operator;
 mod gauss_legendre;
@@ -184,6 +191,7 @@ pub use dynamic::ivp::{DynNode, DynRun};
 pub use dynamic::problem::{DynProblem, DynSolution};
 pub use dynamic::sparse::{SparseBlock, SparseHessian};
 pub use embedding::{Embedding, EmbeddingKind, Scheme};
+pub use ensemble::Ensemble;
 pub use error::{Error, Location, Result};
 pub use grid::Grid;
 pub use lagrangian::{

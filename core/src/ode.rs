@@ -18,8 +18,10 @@ use crate::options::NewtonOptions;
 use crate::side::Side;
 use std::ops::RangeInclusive;
 
-type Coefficient<'a, const D: usize> = Box<dyn Fn(&Vector<D>, f64) -> f64 + 'a>;
-type Inner<'a, const D: usize> = Box<dyn Fn(&Vector<D>, f64) -> Vector<D> + 'a>;
+// `Send + Sync`: an operator and its embeddings are shared by threads (an ensemble of initial
+// conditions solves one embedding from many threads at once).
+type Coefficient<'a, const D: usize> = Box<dyn Fn(&Vector<D>, f64) -> f64 + Send + Sync + 'a>;
+type Inner<'a, const D: usize> = Box<dyn Fn(&Vector<D>, f64) -> Vector<D> + Send + Sync + 'a>;
 
 /// One term `f(q, t) · (d/dt)^order [g(q, t)]`.
 struct Term<'a, const D: usize> {
@@ -33,7 +35,8 @@ struct Term<'a, const D: usize> {
 /// # Example
 ///
 /// The paper's `q̈ + q̇ + q = 0` under FDE−:
-/// `(Q_k − 2Q_{k−1} + Q_{k−2})/h² + (Q_k − Q_{k−1})/h + Q_k = 0`, `k = 2..=N`.
+/// `(Q_k − 2Q_{k−1} + Q_{k−2})/h² + (Q_k − Q_{k−1})/h + Q_k = 0`, `k = 2..=N`, from
+/// `q(0) = 1`, `q̇(0) = 0`.
 ///
 /// ```
 /// use varembed::{DifferentialOperator, Grid, Side, Vector};
@@ -42,7 +45,7 @@ struct Term<'a, const D: usize> {
 /// let grid = Grid::new(0.0, 1.0, 10)?;
 /// let scheme = op.embed(Side::Backward, grid);
 /// assert_eq!(scheme.rows(), 2..=10);
-/// let q = scheme.solve_ivp(&[Vector::<1>::new(1.0), Vector::<1>::new(0.99)])?;
+/// let q = scheme.solve_ivp(&[Vector::<1>::new(1.0), Vector::<1>::new(0.0)])?;
 /// let h = grid.h();
 /// let row = (q[10][0] - 2.0 * q[9][0] + q[8][0]) / (h * h) + (q[10][0] - q[9][0]) / h + q[10][0];
 /// assert!(row.abs() < 1e-9);
@@ -65,6 +68,12 @@ impl<'a, const D: usize> DifferentialOperator<'a, D> {
 
     /// Adds the term `f(q, t) · (d/dt)^order [g(q, t)]`.
     ///
+    /// Both closures are `Send + Sync`, so that an operator and its embeddings can be shared
+    /// between threads (solved from many initial conditions by an
+    /// [`Ensemble`](crate::Ensemble), say). This bound is a breaking change from earlier
+    /// versions, which took any closure: one that captures a `Cell`, a `RefCell` or an `Rc`
+    /// is now refused; capture an atomic, a `Mutex` or an `Arc` instead, or copy the value in.
+    ///
     /// ```
     /// use varembed::{DifferentialOperator, Grid, Side, Vector};
     /// // d/dt [sin q], embedded as (sin Q_k − sin Q_{k−1})/h.
@@ -77,8 +86,8 @@ impl<'a, const D: usize> DifferentialOperator<'a, D> {
     pub fn term(
         mut self,
         order: usize,
-        f: impl Fn(&Vector<D>, f64) -> f64 + 'a,
-        g: impl Fn(&Vector<D>, f64) -> Vector<D> + 'a,
+        f: impl Fn(&Vector<D>, f64) -> f64 + Send + Sync + 'a,
+        g: impl Fn(&Vector<D>, f64) -> Vector<D> + Send + Sync + 'a,
     ) -> Self {
         self.terms.push(Term {
             order,
@@ -132,7 +141,7 @@ impl<'a, const D: usize> DifferentialOperator<'a, D> {
 /// use varembed::{DifferentialOperator, Grid, Side, Vector};
 /// let op = DifferentialOperator::<1>::new().linear(2, 1.0).linear(0, 1.0); // q̈ + q
 /// let scheme = op.embed(Side::Backward, Grid::new(0.0, 1.0, 100)?);
-/// let q = scheme.solve_ivp(&[Vector::<1>::new(1.0), Vector::<1>::new(0.01f64.cos())])?;
+/// let q = scheme.solve_ivp(&[Vector::<1>::new(1.0), Vector::<1>::new(0.0)])?; // q(0), q̇(0)
 /// assert!((q[100][0] - 1f64.cos()).abs() < 0.05); // q = cos t, first order
 /// # Ok::<(), varembed::Error>(())
 /// ```
@@ -144,14 +153,15 @@ pub struct DirectEmbedding<'o, 'a, const D: usize> {
 }
 
 impl<const D: usize> DirectEmbedding<'_, '_, D> {
-    /// The same embedding with other Newton options for [`solve_ivp`](Self::solve_ivp).
+    /// The same embedding with other Newton options for [`solve_ivp`](Self::solve_ivp) and
+    /// [`solve_ivp_from_nodes`](Self::solve_ivp_from_nodes).
     ///
     /// ```
     /// use varembed::{DifferentialOperator, Grid, Side, Vector};
     /// let op = DifferentialOperator::<1>::new().linear(2, 1.0).linear(0, 1.0); // q̈ + q
     /// let strict = varembed::NewtonOptions { tolerance: 1e-14, max_iterations: 10 };
     /// let scheme = op.embed(Side::Backward, Grid::new(0.0, 1.0, 10)?).with_newton(strict);
-    /// assert_eq!(scheme.solve_ivp(&[Vector::<1>::new(1.0); 2])?.len(), 11);
+    /// assert_eq!(scheme.solve_ivp(&[Vector::<1>::new(1.0), Vector::<1>::new(0.0)])?.len(), 11);
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn with_newton(mut self, newton: NewtonOptions) -> Self {
@@ -243,9 +253,69 @@ impl<const D: usize> DirectEmbedding<'_, '_, D> {
             .collect()
     }
 
-    /// Solves `O^h(Q) = 0` forward in time from the first `m` nodes `Q_0..Q_{m−1}`, one
-    /// `d`-dimensional Newton solve per row for its newest node (σ = −: `Q_k` in row `k`;
-    /// σ = +: `Q_{k+m}` in row `k`).
+    /// Solves the initial value problem `O(q) = 0` with `q(a), q'(a), …, q^{(m−1)}(a)` given
+    /// (`derivatives`, `m` the operator's [`order`](DifferentialOperator::order)), like every
+    /// other initial value problem of the crate: the start nodes `Q_0, …, Q_{m−1}` are the
+    /// Taylor polynomial of the derivatives, `Q_j = Σ_{i<m} (jh)^i / i! · q^{(i)}(a)`, then
+    /// [`solve_ivp_from_nodes`](Self::solve_ivp_from_nodes) runs the recurrence from them.
+    ///
+    /// The Taylor polynomial misses `q(t_j)` by `O(h^m)` at each start node (`Q_0 = q(a)`
+    /// exactly). The recurrence divides its rows by `h^m`, so a start error `δ` perturbs the
+    /// run by about `δ / h^{m−1}`: `O(h)`, the scheme's own order. The solution is first order
+    /// from this start, as from exact start nodes.
+    ///
+    /// Errors: [`Error::WrongLength`] naming the expected count `m` when `derivatives` does
+    /// not hold `m` vectors (an operator of order 0 takes none);
+    /// [`Error::NonFiniteInput`] for a derivative that is NaN or infinite; then those of
+    /// [`solve_ivp_from_nodes`](Self::solve_ivp_from_nodes).
+    ///
+    /// ```
+    /// use varembed::{DifferentialOperator, Error, Grid, Side, Vector};
+    /// // q⃛ + q̈ + q̇ + q = 0 from q(0) = 2, q̇(0) = −1, q̈(0) = 0: q = cos t + e^{−t}.
+    /// let op = DifferentialOperator::<1>::new().linear(3, 1.0).linear(2, 1.0).linear(1, 1.0).linear(0, 1.0);
+    /// let scheme = op.embed(Side::Backward, Grid::new(0.0, 1.0, 1000)?);
+    /// let q = scheme.solve_ivp(&[2.0, -1.0, 0.0].map(Vector::<1>::new))?;
+    /// assert!((q[1000][0] - (1f64.cos() + (-1f64).exp())).abs() < 2e-3);
+    ///
+    /// let err = scheme.solve_ivp(&[2.0, -1.0].map(Vector::<1>::new)).unwrap_err();
+    /// assert!(matches!(err, Error::WrongLength { expected: 3, found: 2, .. }), "{err}");
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn solve_ivp(&self, derivatives: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
+        let (n, m) = (self.grid.n(), self.operator.order());
+        check_len(
+            "initial derivatives q(a), q'(a), …, q^(m−1)(a), m the operator's order",
+            m,
+            derivatives.len(),
+        )?;
+        if let Some(i) = derivatives
+            .iter()
+            .position(|x| !x.iter().all(|c| c.is_finite()))
+        {
+            return Err(Error::NonFiniteInput {
+                what: format!("initial derivative q^({i})(a)"),
+            });
+        }
+        let h = self.grid.h();
+        let start: Vec<Vector<D>> = (0..m.min(n + 1))
+            .map(|j| {
+                // Σ_i (jh)^i / i! q^(i)(a), its powers accumulated term by term.
+                let (mut node, mut power) = (Vector::<D>::zeros(), 1.0);
+                for (i, derivative) in derivatives.iter().enumerate() {
+                    node += derivative * power;
+                    power *= j as f64 * h / (i + 1) as f64;
+                }
+                node
+            })
+            .collect();
+        self.solve_ivp_from_nodes(&start)
+    }
+
+    /// Solves `O^h(Q) = 0` forward in time from given first nodes `Q_0..Q_{m−1}` (all `N + 1`
+    /// nodes when `m > N`), one `d`-dimensional Newton solve per row for its newest node
+    /// (σ = −: `Q_k` in row `k`; σ = +: `Q_{k+m}` in row `k`). This is the paper's setting, for
+    /// a caller who has the start nodes (from an exact solution, or another scheme's run);
+    /// [`solve_ivp`](Self::solve_ivp) builds them from the initial derivatives.
     ///
     /// The Jacobian of a row with respect to its newest node is taken by central differences
     /// (step `10⁻⁶ (1 + |y_j|)`), since the terms are arbitrary closures; Newton then converges
@@ -256,12 +326,12 @@ impl<const D: usize> DirectEmbedding<'_, '_, D> {
     /// use varembed::{DifferentialOperator, Grid, Side, Vector};
     /// let op = DifferentialOperator::<1>::new().linear(2, 1.0).linear(0, 1.0); // q̈ + q
     /// let scheme = op.embed(Side::Forward, Grid::new(0.0, 1.0, 10)?);
-    /// let q = scheme.solve_ivp(&[Vector::<1>::new(1.0); 2])?;
+    /// let q = scheme.solve_ivp_from_nodes(&[Vector::<1>::new(1.0); 2])?;
     /// assert!(scheme.residual(&q)?.iter().all(|r| r[0].abs() < 1e-6));
-    /// assert!(scheme.solve_ivp(&[Vector::<1>::new(1.0)]).is_err()); // needs m = 2 nodes
+    /// assert!(scheme.solve_ivp_from_nodes(&[Vector::<1>::new(1.0)]).is_err()); // needs m = 2 nodes
     /// # Ok::<(), varembed::Error>(())
     /// ```
-    pub fn solve_ivp(&self, initial: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
+    pub fn solve_ivp_from_nodes(&self, initial: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
         let (n, m) = (self.grid.n(), self.operator.order());
         check_len("initial nodes Q_0..Q_{m−1}", m.min(n + 1), initial.len())?;
         if let Some(k) = initial

@@ -13,6 +13,7 @@ use crate::solve::solution::Solution;
 use std::ops::RangeInclusive;
 
 mod comparisons;
+mod ensembles;
 mod initial_value;
 
 /// A discrete curve from a flat array `[Q_0[0], …, Q_0[D−1], Q_1[0], …]`.

@@ -234,7 +234,8 @@ enum Source {
     Own,
 }
 
-impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
+// `Sync`: the comparisons share the model with their solves, which may run on other threads.
+impl<L: Lagrangian<D> + Sync, const D: usize> IvpScene<'_, L, D> {
     /// Runs the sweep and the tables, and builds the report.
     pub fn run(&self, cx: &Context) -> varembed::Result<SceneReport> {
         Ok(self.report(&self.solve(cx)?))
@@ -294,6 +295,7 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
                 reference,
                 start,
                 order: true,
+                timing: true,
             };
             let run = |source: Source, scheme: Scheme| match source {
                 Source::Sweep(i) => Cow::Borrowed(&sweep[i]),
@@ -384,6 +386,8 @@ impl<L: Lagrangian<D>, const D: usize> IvpScene<'_, L, D> {
                     reference,
                     start: variant.start,
                     order: true,
+                    // The sweeps' wall times are the work–precision plots' x axis.
+                    timing: true,
                 };
                 let problem = Problem::new(self.lagrangian, grid, variant.embedding);
                 let run = cx.timed(|| {

@@ -120,7 +120,7 @@ impl Context {
     ) -> Convergence<S> {
         let mut first = run();
         let mut times: Vec<Vec<Duration>> =
-            first.levels.iter().map(|l| vec![l.wall_time]).collect();
+            first.levels.iter().map(|l| l.wall_time.into_iter().collect()).collect();
         for _ in 1..self.repeats {
             // Only the times are kept: the solutions of a repeat are dropped at once.
             let again = run();
@@ -128,12 +128,13 @@ impl Context {
                 .inc((again.levels.len() + again.failures.len()) as u64);
             for (level, times) in first.levels.iter().zip(&mut times) {
                 if let Some(repeated) = again.level(level.n()) {
-                    times.push(repeated.wall_time);
+                    times.extend(repeated.wall_time);
                 }
             }
         }
         for (level, times) in first.levels.iter_mut().zip(times) {
-            level.wall_time = median(times);
+            // An untimed study (`CompareOptions::timing` off) has no times to take a median of.
+            level.wall_time = (!times.is_empty()).then(|| median(times));
         }
         first
     }
@@ -250,7 +251,8 @@ impl SweepLine {
             .filter_map(|level| {
                 Some(SweepPoint {
                     n: level.n(),
-                    seconds: level.wall_time.as_secs_f64(),
+                    // A work–precision point needs the time: an untimed level has none.
+                    seconds: level.wall_time?.as_secs_f64(),
                     error: level.error?,
                 })
             })

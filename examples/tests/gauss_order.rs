@@ -34,7 +34,7 @@ fn pendulum_exact(q0: f64) -> impl Fn(f64) -> Vector<1> {
 }
 
 /// The errors and observed orders of Gauss–Legendre `s` on `sizes` (doubling).
-fn orders<L: Lagrangian<D>, const D: usize>(
+fn orders<L: Lagrangian<D> + Sync, const D: usize>(
     model: &L,
     (b, sizes): (f64, &[usize]),
     (q0, v0): (Vector<D>, Vector<D>),

@@ -18,7 +18,7 @@ use varembed_examples::scenes::{damped, double_pendulum, fractional, harmonic, k
 use varembed_examples::scenes::{parametric, pendulum};
 
 /// The sweep of `scene` over `n0, 2n0, 4n0, 8n0`.
-fn sweep<L: Lagrangian<D>, const D: usize>(
+fn sweep<L: Lagrangian<D> + Sync, const D: usize>(
     mut scene: IvpScene<'_, L, D>,
     n0: usize,
 ) -> Vec<SweepLine> {

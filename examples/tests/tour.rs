@@ -259,7 +259,8 @@ fn report_orders_are_the_comparisons_orders_and_each_grid_is_solved_once() {
         let order = line.orders()[i];
         assert_eq!(scheme.order, Some(order), "{label}");
         assert_eq!(scheme.error, Some(line.points[i].error), "{label}");
-        assert_eq!(scheme.wall_time.as_secs_f64(), line.points[i].seconds);
+        let seconds = scheme.wall_time.map(|t| t.as_secs_f64());
+        assert_eq!(seconds, Some(line.points[i].seconds), "{label}");
         // The order, with the mark of its status (the sweep's next order decides it).
         let variant = scene.variants.iter().position(|v| v.label == label);
         let status = runs.sweep[variant.expect("a swept variant")].order_status_at(scene.table_n);

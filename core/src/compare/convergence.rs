@@ -17,7 +17,7 @@ use std::time::Duration;
 /// let options = CompareOptions { reference: Reference::Exact(&exact), ..Default::default() };
 /// let run = problem.convergence_ivp(Scheme::Direct, 1.0, 0.0, &options, 3); // N = 20, 40, 80
 /// let level = run.level(40).expect("solved");
-/// assert!(level.error.unwrap() < 0.05 && level.wall_time.as_secs() < 1);
+/// assert!(level.error.unwrap() < 0.05 && level.wall_time.unwrap().as_secs() < 1);
 /// # Ok::<(), varembed::Error>(())
 /// ```
 #[derive(Clone, Debug)]
@@ -25,8 +25,10 @@ pub struct Level<S> {
     /// The solution ([`Solution<D>`](crate::Solution) or [`DynSolution`](crate::DynSolution));
     /// its grid has the level's `N`.
     pub solution: S,
-    /// Wall time of the solve (measured once: each grid is solved once).
-    pub wall_time: Duration,
+    /// Wall time of the solve (measured once: each grid is solved once); `None` when the run
+    /// was not timed ([`CompareOptions::timing`](crate::CompareOptions::timing) off, the grids
+    /// solved in parallel).
+    pub wall_time: Option<Duration>,
     /// `max_k |Q_k − q(t_k)|∞` against the reference, if there is one.
     pub error: Option<f64>,
 }

@@ -6,7 +6,9 @@
 //! They live here rather than in `dynamic/` because the comparison is the layer above the
 //! run-time-dimension solver: it reads the solver, never the other way round.
 
-use super::{CompareOptions, Compares, Comparison, Reference, compare, compare_runs, convergence};
+use super::{
+    CompareOptions, Compares, Comparison, Reference, Study, compare, compare_runs, convergence,
+};
 use crate::dynamic::DynLagrangian;
 use crate::dynamic::problem::{DynProblem, DynSolution};
 use crate::dynamic::rows::{CurveValues, DynRows};
@@ -14,6 +16,11 @@ use crate::dynamic::step::max_norm;
 use crate::embedding::{Embedding, Scheme};
 use crate::error::{Result, check_len};
 use crate::grid::Grid;
+use crate::solve::start::Start;
+
+/// The kinds of problem a comparison names.
+const IVP: &str = "initial value problem";
+const BVP: &str = "boundary value problem";
 
 use super::convergence::Convergence;
 
@@ -79,6 +86,40 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
         }
     }
 
+    /// Solves the initial value problem `(q0, v0)` from `start` with a scheme on a grid.
+    fn ivp_solver<'s>(
+        &'s self,
+        q0: &'s [f64],
+        v0: &'s [f64],
+        start: Start,
+    ) -> impl Fn(Scheme, Grid) -> Result<DynSolution> + 's {
+        move |scheme, grid| self.on(grid).with_start(start).solve_ivp(scheme, q0, v0)
+    }
+
+    /// Solves the boundary value problem `(qa, qb)` with a scheme on a grid.
+    fn bvp_solver<'s>(
+        &'s self,
+        qa: &'s [f64],
+        qb: &'s [f64],
+    ) -> impl Fn(Scheme, Grid) -> Result<DynSolution> + 's {
+        move |scheme, grid| self.on(grid).solve_bvp(scheme, qa, qb)
+    }
+
+    /// The study of `levels` grids from this problem's, as `options` time it.
+    fn study(
+        &self,
+        kind: &'static str,
+        options: &CompareOptions<'_, Vec<f64>>,
+        levels: usize,
+    ) -> Study {
+        Study {
+            kind,
+            grid: self.grid,
+            levels,
+            timing: options.timing,
+        }
+    }
+
     /// [`Error::WrongLength`](crate::Error::WrongLength) when the reference's value at `a` is not of length `d`: the
     /// error column compares node by node.
     fn check_reference(&self, reference: &Reference<'_, Vec<f64>>) -> Result<()> {
@@ -124,7 +165,10 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
     /// assert_eq!(comparison.direct.solution.len(), 21);
     /// # Ok::<(), varembed::Error>(())
     /// ```
-    pub fn compare_ivp(&self, q0: &[f64], v0: &[f64]) -> Result<Comparison<DynSolution>> {
+    pub fn compare_ivp(&self, q0: &[f64], v0: &[f64]) -> Result<Comparison<DynSolution>>
+    where
+        L: Sync,
+    {
         self.compare_ivp_with(q0, v0, &CompareOptions::default())
     }
 
@@ -158,12 +202,13 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
         q0: &[f64],
         v0: &[f64],
         options: &CompareOptions<'_, Vec<f64>>,
-    ) -> Result<Comparison<DynSolution>> {
-        compare(
-            &Comparer(self),
-            |scheme, levels| self.convergence_ivp(scheme, q0, v0, options, levels),
-            options,
-        )
+    ) -> Result<Comparison<DynSolution>>
+    where
+        L: Sync,
+    {
+        self.check_reference(&options.reference)?;
+        let solve = self.ivp_solver(q0, v0, options.start);
+        compare(&Comparer(self), IVP, options, solve)
     }
 
     /// Compares both schemes on the boundary value problem `Q_0 = qa`, `Q_N = qb`
@@ -188,7 +233,10 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
     /// assert!(comparison.direct.residual_of_other > 0.0);
     /// # Ok::<(), varembed::Error>(())
     /// ```
-    pub fn compare_bvp(&self, qa: &[f64], qb: &[f64]) -> Result<Comparison<DynSolution>> {
+    pub fn compare_bvp(&self, qa: &[f64], qb: &[f64]) -> Result<Comparison<DynSolution>>
+    where
+        L: Sync,
+    {
         self.compare_bvp_with(qa, qb, &CompareOptions::default())
     }
 
@@ -219,19 +267,22 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
         qa: &[f64],
         qb: &[f64],
         options: &CompareOptions<'_, Vec<f64>>,
-    ) -> Result<Comparison<DynSolution>> {
-        compare(
-            &Comparer(self),
-            |scheme, levels| self.convergence_bvp(scheme, qa, qb, options, levels),
-            options,
-        )
+    ) -> Result<Comparison<DynSolution>>
+    where
+        L: Sync,
+    {
+        self.check_reference(&options.reference)?;
+        let solve = self.bvp_solver(qa, qb);
+        compare(&Comparer(self), BVP, options, solve)
     }
 
     /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` with `scheme` on
     /// `N, 2N, …, 2^{levels−1} N` steps (`N` this problem's), storing every node, timing each
     /// solve and measuring its error against `options.reference`. A size that fails is
     /// recorded in [`Convergence::failures`] and the run goes on. The run-time-dimension
-    /// [`Problem::convergence_ivp`](crate::Problem::convergence_ivp).
+    /// [`Problem::convergence_ivp`](crate::Problem::convergence_ivp): timed, its grids are
+    /// solved one after the other, untimed in parallel ([`CompareOptions::timing`]), hence
+    /// `L: Sync`.
     ///
     /// # Example
     ///
@@ -261,15 +312,18 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
         v0: &[f64],
         options: &CompareOptions<'_, Vec<f64>>,
         levels: usize,
-    ) -> Convergence<DynSolution> {
-        let solve = |grid| {
-            self.check_reference(&options.reference)?;
-            self.on(grid)
-                .with_start(options.start)
-                .solve_ivp(scheme, q0, v0)
-        };
-        let kind = "initial value problem";
-        convergence(kind, scheme, self.grid, &options.reference, levels, solve)
+    ) -> Convergence<DynSolution>
+    where
+        L: Sync,
+    {
+        // Checked once, here, where the reference is: the solves may run on other threads.
+        let checked = self.check_reference(&options.reference);
+        let solve = self.ivp_solver(q0, v0, options.start);
+        let study = self.study(IVP, options, levels);
+        convergence(&study, scheme, &options.reference, |grid| {
+            checked.clone()?;
+            solve(scheme, grid)
+        })
     }
 
     /// [`convergence_ivp`](Self::convergence_ivp) for the boundary value problem `Q_0 = qa`,
@@ -301,13 +355,17 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
         qb: &[f64],
         options: &CompareOptions<'_, Vec<f64>>,
         levels: usize,
-    ) -> Convergence<DynSolution> {
-        let solve = |grid| {
-            self.check_reference(&options.reference)?;
-            self.on(grid).solve_bvp(scheme, qa, qb)
-        };
-        let kind = "boundary value problem";
-        convergence(kind, scheme, self.grid, &options.reference, levels, solve)
+    ) -> Convergence<DynSolution>
+    where
+        L: Sync,
+    {
+        let checked = self.check_reference(&options.reference);
+        let solve = self.bvp_solver(qa, qb);
+        let study = self.study(BVP, options, levels);
+        convergence(&study, scheme, &options.reference, |grid| {
+            checked.clone()?;
+            solve(scheme, grid)
+        })
     }
 
     /// The comparison at this problem's grid from a run of each scheme that solved it (same

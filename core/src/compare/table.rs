@@ -35,7 +35,7 @@ fn cells<S: ComparedSolution>(name: &str, r: &SchemeReport<S>) -> [String; 8] {
         r.energy_deviation.map_or_else(dash, |e| format!("{e:.3e}")),
         format!("{:.3e}", r.residual_of_other),
         r.solution.newton_iterations().to_string(),
-        format!("{:.3?}", r.wall_time),
+        r.wall_time.map_or_else(dash, |t| format!("{t:.3?}")),
     ]
 }
 
@@ -149,7 +149,15 @@ impl<S: ComparedSolution> Comparison<S> {
                  global system (boundary value problem)"
                     .to_string(),
             ),
-            (COLUMNS[7], format!("wall time of the solve on N = {n}")),
+            (
+                COLUMNS[7],
+                match self.direct.wall_time {
+                    Some(_) => format!("wall time of the solve on N = {n}"),
+                    None => "— : not measured (CompareOptions::timing off: the solves ran in \
+                             parallel, where each one's time would measure the others too)"
+                        .to_string(),
+                },
+            ),
         ]
     }
 

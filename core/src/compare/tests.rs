@@ -47,6 +47,7 @@ fn exact_options() -> CompareOptions<'static, Vector<1>> {
         reference: Reference::Exact(&cosine),
         start: Start::SecondOrder,
         order: true,
+        timing: true,
     }
 }
 

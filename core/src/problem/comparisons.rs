@@ -3,7 +3,7 @@
 
 use super::Problem;
 use crate::compare::convergence::Convergence;
-use crate::compare::{self, CompareOptions, Compares, Comparison};
+use crate::compare::{self, CompareOptions, Compares, Comparison, Study};
 use crate::discretisation::Discretisation;
 use crate::embedding::{Embedding, Scheme};
 use crate::error::Result;
@@ -13,6 +13,11 @@ use crate::linalg::max_norm;
 use crate::solve::bvp;
 use crate::solve::ivp::Ivp;
 use crate::solve::solution::Solution;
+use crate::solve::start::Start;
+
+/// The kinds of problem a comparison names.
+const IVP: &str = "initial value problem";
+const BVP: &str = "boundary value problem";
 
 /// A problem as the comparison sees it (a private type, so that what the comparison needs is
 /// no part of `Problem`'s public interface).
@@ -45,14 +50,49 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Compares for Comparer<'_, '_, L,
 }
 
 impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
-    /// `solve` on each grid of a run: this problem's Lagrangian and embedding on `grid`.
-    fn on_grid(
+    /// This problem's Lagrangian, embedding and options on `grid`.
+    fn on_grid(&self, grid: Grid) -> Discretisation<'_, L, D> {
+        let d = &self.discretisation;
+        Discretisation::new(d.lagrangian(), grid, *d.embedding())
+    }
+
+    /// Solves the initial value problem `(q0, v0)` from `start` with a scheme on a grid.
+    fn ivp_solver(
         &self,
-        solve: impl Fn(&Discretisation<'_, L, D>) -> Result<Solution<D>>,
-    ) -> impl Fn(Grid) -> Result<Solution<D>> {
-        move |grid| {
-            let d = &self.discretisation;
-            solve(&Discretisation::new(d.lagrangian(), grid, *d.embedding()))
+        q0: Vector<D>,
+        v0: Vector<D>,
+        start: Start,
+    ) -> impl Fn(Scheme, Grid) -> Result<Solution<D>> {
+        move |scheme, grid| {
+            Ivp::new(&self.on_grid(grid), &self.options).solve(scheme, q0, v0, start)
+        }
+    }
+
+    /// Solves the boundary value problem `(qa, qb)` from the straight line with a scheme on a
+    /// grid.
+    fn bvp_solver(
+        &self,
+        qa: Vector<D>,
+        qb: Vector<D>,
+    ) -> impl Fn(Scheme, Grid) -> Result<Solution<D>> {
+        move |scheme, grid| {
+            let guess = bvp::straight_line(qa, qb, grid.n());
+            bvp::solve(&self.on_grid(grid), &self.options, scheme, &guess)
+        }
+    }
+
+    /// The study of `levels` grids from this problem's, as `options` time it.
+    fn study(
+        &self,
+        kind: &'static str,
+        options: &CompareOptions<'_, Vector<D>>,
+        levels: usize,
+    ) -> Study {
+        Study {
+            kind,
+            grid: *self.discretisation.grid(),
+            levels,
+            timing: options.timing,
         }
     }
 
@@ -74,7 +114,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         &self,
         q0: impl IntoVector<D>,
         v0: impl IntoVector<D>,
-    ) -> Result<Comparison<Solution<D>>> {
+    ) -> Result<Comparison<Solution<D>>>
+    where
+        L: Sync,
+    {
         self.compare_ivp_with(q0, v0, &CompareOptions::default())
     }
 
@@ -98,13 +141,12 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         q0: impl IntoVector<D>,
         v0: impl IntoVector<D>,
         options: &CompareOptions<'_, Vector<D>>,
-    ) -> Result<Comparison<Solution<D>>> {
-        let (q0, v0) = (q0.into_vector(), v0.into_vector());
-        compare::compare(
-            &Comparer(self),
-            |scheme, levels| self.convergence_ivp(scheme, q0, v0, options, levels),
-            options,
-        )
+    ) -> Result<Comparison<Solution<D>>>
+    where
+        L: Sync,
+    {
+        let solve = self.ivp_solver(q0.into_vector(), v0.into_vector(), options.start);
+        compare::compare(&Comparer(self), IVP, options, solve)
     }
 
     /// Compares both schemes on the boundary value problem `Q_0 = qa`, `Q_N = qb`.
@@ -124,7 +166,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         &self,
         qa: impl IntoVector<D>,
         qb: impl IntoVector<D>,
-    ) -> Result<Comparison<Solution<D>>> {
+    ) -> Result<Comparison<Solution<D>>>
+    where
+        L: Sync,
+    {
         self.compare_bvp_with(qa, qb, &CompareOptions::default())
     }
 
@@ -147,19 +192,23 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         qa: impl IntoVector<D>,
         qb: impl IntoVector<D>,
         options: &CompareOptions<'_, Vector<D>>,
-    ) -> Result<Comparison<Solution<D>>> {
-        let (qa, qb) = (qa.into_vector(), qb.into_vector());
-        compare::compare(
-            &Comparer(self),
-            |scheme, levels| self.convergence_bvp(scheme, qa, qb, options, levels),
-            options,
-        )
+    ) -> Result<Comparison<Solution<D>>>
+    where
+        L: Sync,
+    {
+        let solve = self.bvp_solver(qa.into_vector(), qb.into_vector());
+        compare::compare(&Comparer(self), BVP, options, solve)
     }
 
     /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` with `scheme` on
     /// `N, 2N, …, 2^{levels−1} N` steps (`N` this problem's), with `options.start`, timing each
     /// solve and measuring its error against `options.reference`. A size that fails is recorded
     /// in [`Convergence::failures`] and the run goes on.
+    ///
+    /// Timed ([`CompareOptions::timing`], the default), the grids are solved one after the
+    /// other; untimed, in parallel, with the same solutions bit for bit and no wall times. The
+    /// solves may share the Lagrangian between threads, hence `L: Sync`; so do the
+    /// comparisons'.
     ///
     /// # Example
     ///
@@ -182,19 +231,15 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         v0: impl IntoVector<D>,
         options: &CompareOptions<'_, Vector<D>>,
         levels: usize,
-    ) -> Convergence<Solution<D>> {
-        let (q0, v0) = (q0.into_vector(), v0.into_vector());
-        let solve =
-            self.on_grid(|d| Ivp::new(d, &self.options).solve(scheme, q0, v0, options.start));
-        let grid = *self.discretisation.grid();
-        compare::convergence(
-            "initial value problem",
-            scheme,
-            grid,
-            &options.reference,
-            levels,
-            solve,
-        )
+    ) -> Convergence<Solution<D>>
+    where
+        L: Sync,
+    {
+        let solve = self.ivp_solver(q0.into_vector(), v0.into_vector(), options.start);
+        let study = self.study(IVP, options, levels);
+        compare::convergence(&study, scheme, &options.reference, |grid| {
+            solve(scheme, grid)
+        })
     }
 
     /// [`convergence_ivp`](Self::convergence_ivp) for the boundary value problem `Q_0 = qa`,
@@ -219,21 +264,15 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         qb: impl IntoVector<D>,
         options: &CompareOptions<'_, Vector<D>>,
         levels: usize,
-    ) -> Convergence<Solution<D>> {
-        let (qa, qb) = (qa.into_vector(), qb.into_vector());
-        let solve = self.on_grid(|d| {
-            let guess = bvp::straight_line(qa, qb, d.grid().n());
-            bvp::solve(d, &self.options, scheme, &guess)
-        });
-        let grid = *self.discretisation.grid();
-        compare::convergence(
-            "boundary value problem",
-            scheme,
-            grid,
-            &options.reference,
-            levels,
-            solve,
-        )
+    ) -> Convergence<Solution<D>>
+    where
+        L: Sync,
+    {
+        let solve = self.bvp_solver(qa.into_vector(), qb.into_vector());
+        let study = self.study(BVP, options, levels);
+        compare::convergence(&study, scheme, &options.reference, |grid| {
+            solve(scheme, grid)
+        })
     }
 
     /// The comparison at this problem's grid from a run of each scheme that solved it (same

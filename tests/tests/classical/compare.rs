@@ -32,6 +32,7 @@ fn ivp_comparison_reports_errors_orders_energy_and_coherence() {
             reference: Reference::Exact(&exact_oscillator),
             start,
             order: true,
+            timing: true,
         };
         let cmp = problem.compare_ivp_with(1.0, 0.0, &options).unwrap();
         // Errors: recomputed independently from the returned solutions.

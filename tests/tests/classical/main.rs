@@ -13,6 +13,7 @@ mod hard_input;
 mod hard_long_runs;
 mod harmonic_exact;
 mod node_values;
+mod parallel;
 mod regularity;
 mod residual_floor;
 mod stability_limits;

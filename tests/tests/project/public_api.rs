@@ -16,7 +16,8 @@
 #[allow(unused_imports)]
 use varembed::{
     CompareOptions, ComparedSolution, Comparison, Convergence, Dependence, DifferentialOperator,
-    DirectEmbedding, DynSolution, DynState, Embedding, EmbeddingKind, Error, FractionalSolver,
+    DirectEmbedding, DynSolution, DynState, Embedding, EmbeddingKind, Ensemble, Error,
+    FractionalSolver,
     Grid, Hessian, HessianDependence, IntoVector, Lagrangian, Level, Location, Matrix,
     NewtonOptions, NodeFormula, NodeRule, NodeState, NodeValues, OrderStatus, Problem, Reference,
     Result, Scheme, SchemeReport, Side, Solution, Start, Vector, Warning, curve_from_flat,
@@ -39,6 +40,13 @@ fn auto_traits<L: Lagrangian<2> + Sync + 'static>() {
     shared::<Error>();
     shared::<Embedding>();
     shared::<Grid>();
+    // Shared by the threads of an ensemble: the general direct embedding's closures are
+    // `Send + Sync`.
+    shared::<DifferentialOperator<'static, 2>>();
+    shared::<DirectEmbedding<'static, 'static, 2>>();
+    // One ensemble hands its progress callback to every worker thread.
+    fn synced<T: Sync>() {}
+    synced::<Ensemble<'static>>();
 }
 
 use std::collections::BTreeSet;
@@ -62,6 +70,7 @@ const ROOT: &[&str] = &[
     "DynState",
     "Embedding",
     "EmbeddingKind",
+    "Ensemble",
     "Error",
     "FractionalSolver",
     "Grid",
