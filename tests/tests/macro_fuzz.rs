@@ -51,6 +51,12 @@
 //! quotient of sums and a bound sum inside another loop's function; `VAREMBED_FUZZ_LEVEL=legacy`
 //! keeps to sums that enter `L` polynomially (the language the macro accepted before sums were
 //! values). At the default seed both levels find 0 mismatches in 500 programs.
+//!
+//! **What it finds.** Run at the legacy level against the macro as it was before sums became
+//! values (the `macros/` of commit `b5fb080`, with this file and `tests/build.rs` unchanged),
+//! it found 40 444 mismatches in 150 of the 500 programs: every program with an accumulator
+//! declared inside a loop (63 of 63), 49 of the 56 that square a sum, 46 of the 52 with a
+//! centre of mass, and a wrong value of `L` itself in 149 of the 150.
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
