@@ -38,7 +38,11 @@ impl std::fmt::Display for Location {
 /// let error = Embedding::grunwald_letnikov(Side::Backward, 1.5).unwrap_err();
 /// assert!(matches!(error, Error::AlphaOutOfRange { alpha } if alpha == 1.5));
 /// ```
+///
+/// New variants may be added (the enum is `#[non_exhaustive]`): match with a wildcard arm, and
+/// on a variant's fields with `..`, since a variant may gain a field.
 #[derive(Clone, Debug, Error, PartialEq)]
+#[non_exhaustive]
 pub enum Error {
     /// The grid `[a, b]` with `N` steps is not usable.
     #[error("invalid grid [{a}, {b}] with N = {n}: {reason}")]
@@ -155,8 +159,26 @@ pub enum Error {
     /// Jacobians: its runs would return a meaningless curve). A Lagrangian degenerate only at
     /// isolated points, such as the spherical pendulum at the pole, is reported here when a
     /// checked node lands on one, and otherwise shows through the steps near it.
+    ///
+    /// `directions` names where `∂²L/∂v²` degenerates: a basis of its numerical null space
+    /// (the eigenvectors whose eigenvalue is at most `10⁻¹⁰` of the largest in modulus, or the
+    /// one of the smallest), each as its largest components `(index, value)` of a unit vector.
+    /// A velocity along one of them changes `∂L/∂v` by nothing: a coordinate whose velocity
+    /// does not enter `L` (a missing kinetic term, a gauge freedom), or one that enters only
+    /// linearly. Computed up to `d = 1024` (empty above).
+    ///
+    /// ```
+    /// use varembed::{Error, Location};
+    /// let e = Error::DegenerateLagrangian {
+    ///     at: Location::Step(0),
+    ///     measure: 0.0,
+    ///     directions: vec![vec![(0, 0.7071), (1, -0.7071)]],
+    /// };
+    /// assert!(e.to_string().contains("along (v₀ 0.707, v₁ -0.707)"));
+    /// ```
     #[error(
-        "the Lagrangian is degenerate at {at}: ∂²L/∂v² has the pivot ratio {measure:.3e} (below 1e-12)"
+        "the Lagrangian is degenerate at {at}: ∂²L/∂v² has the pivot ratio {measure:.3e} (below 1e-12){}; give every coordinate a kinetic term (regularise L), or remove the coordinates it does not govern",
+        null_directions(.directions)
     )]
     DegenerateLagrangian {
         /// The node where `∂²L/∂v²` was found degenerate: `Step(k)` for node `Q_k` of an
@@ -165,6 +187,8 @@ pub enum Error {
         at: Location,
         /// The pivot ratio that failed (see above).
         measure: f64,
+        /// The degenerate directions (see above).
+        directions: Vec<Vec<(usize, f64)>>,
     },
     /// A Jacobian is singular: a step's or the global Newton system's (see
     /// [`DegenerateLagrangian`](Error::DegenerateLagrangian) for a degenerate `∂²L/∂v²`).
@@ -188,7 +212,26 @@ pub enum Error {
     /// The recurrence is numerically unstable at this step size: its linearisation has an
     /// eigenvalue `λ` that is real and below `−1` (the sawtooth mode of an under-resolved step)
     /// or of modulus at least 2 (see `Problem::solve_ivp`).
-    #[error("the scheme is unstable at {at}: its step map has the eigenvalue {re:.4} {im:+.4}i")]
+    ///
+    /// `largest_stable_step` is the remedy: the largest step at which this scheme is stable on
+    /// the linearisation at the node where the check ran, `h_c / ω`, with `ω` the fastest
+    /// frequency of the linearised equation there (the square root of the largest eigenvalue of
+    /// `(∂²L/∂v²)⁻¹(−∂²L/∂x²)`) and `h_c` the scheme's limit of `hω` on the harmonic oscillator
+    /// (2 for Störmer–Verlet and the other explicit variational steps). `None` when it could not
+    /// be measured (no positive frequency). The limits `h_c` on the oscillator: 2 for the
+    /// variational Gauss-FDE, trapezoidal and direct midpoint steps, `√3` for the direct
+    /// Gauss-FDE+ step; the midpoint variational integrator and the Gauss–Legendre integrators
+    /// are A-stable (no limit), and the direct Gauss-FDE− step, implicit, has none either.
+    ///
+    /// ```
+    /// use varembed::{Error, Location};
+    /// let e = Error::Unstable { at: Location::Step(2), re: -3.0, im: 0.0, largest_stable_step: Some(0.5) };
+    /// assert!(e.to_string().contains("use a step h ≤ 5.000e-1"));
+    /// ```
+    #[error(
+        "the scheme is unstable at {at}: its step map has the eigenvalue {re:.4} {im:+.4}i{}",
+        stable_step_remedy(.largest_stable_step)
+    )]
     Unstable {
         /// Where the check ran.
         at: Location,
@@ -196,6 +239,8 @@ pub enum Error {
         re: f64,
         /// Imaginary part of the offending eigenvalue.
         im: f64,
+        /// The largest stable step of this scheme on the measured linearisation (see above).
+        largest_stable_step: Option<f64>,
     },
     /// The Krylov solver of the fractional fast path (conjugate gradients, then GMRES) did not
     /// solve a Newton system `J δ = r` to the forcing tolerance: the Jacobian is (nearly)
@@ -248,6 +293,45 @@ pub enum Error {
 /// # Ok::<(), varembed::Error>(())
 /// ```
 pub type Result<T> = std::result::Result<T, Error>;
+
+/// The remedy of [`Error::Unstable`]: the largest stable step, and the schemes without one.
+fn stable_step_remedy(step: &Option<f64>) -> String {
+    let unlimited =
+        "the midpoint variational integrator and the Gauss–Legendre integrators have no step limit";
+    match step {
+        Some(h) => format!(
+            "; use a step h ≤ {h:.3e} (the limit of this scheme on the linearisation there), or a scheme without a limit: {unlimited}"
+        ),
+        None => format!("; use a smaller step, or a scheme without a limit: {unlimited}"),
+    }
+}
+
+/// The degenerate directions of [`Error::DegenerateLagrangian`], as ` along (v₀ 0.707, v₁ −0.707)`.
+fn null_directions(directions: &[Vec<(usize, f64)>]) -> String {
+    const SUBSCRIPTS: [char; 10] = ['₀', '₁', '₂', '₃', '₄', '₅', '₆', '₇', '₈', '₉'];
+    let name = |i: usize| -> String {
+        let digits: String = i
+            .to_string()
+            .chars()
+            .map(|c| SUBSCRIPTS[c.to_digit(10).unwrap_or(0) as usize])
+            .collect();
+        format!("v{digits}")
+    };
+    if directions.is_empty() {
+        return String::new();
+    }
+    let each: Vec<String> = directions
+        .iter()
+        .map(|d| {
+            let parts: Vec<String> = d
+                .iter()
+                .map(|&(i, c)| format!("{} {c:.3}", name(i)))
+                .collect();
+            format!("({})", parts.join(", "))
+        })
+        .collect();
+    format!(", and vanishes along {}", each.join(" and "))
+}
 
 /// [`Error::WrongLength`] unless `found == expected`.
 pub(crate) fn check_len(what: &'static str, expected: usize, found: usize) -> Result<()> {

@@ -116,6 +116,9 @@ pub(crate) struct SolverOptions {
     pub krylov: KrylovBudget,
     /// Whether the initial value problems run the blow-up guard (default on).
     pub blow_up_guard: bool,
+    /// Whether implicit initial value runs check their step against the fastest linearised
+    /// motion at the initial data (default on; `Warning::UnderResolved`).
+    pub resolution_check: bool,
 }
 
 impl Default for SolverOptions {
@@ -125,6 +128,7 @@ impl Default for SolverOptions {
             fractional: FractionalSolver::default(),
             krylov: KrylovBudget::default(),
             blow_up_guard: true,
+            resolution_check: true,
         }
     }
 }

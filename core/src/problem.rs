@@ -222,6 +222,38 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
         self
     }
 
+    /// Turns the resolution check of implicit initial value runs on or off (on by default).
+    ///
+    /// An implicit run (the midpoint rule, the direct Gauss-FDE− step, Gauss–Legendre, and
+    /// every step of a model that is not explicit) whose `h ω` at the initial data exceeds 2
+    /// per stage carries [`Warning::UnderResolved`](crate::Warning::UnderResolved): it is
+    /// stable, but does not follow the fastest motion's phase. A stiff run made on purpose
+    /// turns it off.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Scheme, Warning, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn oscillator(x: f64, v: f64) -> f64 {
+    ///     0.5 * v * v - 0.5 * x * x
+    /// }
+    ///
+    /// // ω = 1, h = 10: the midpoint rule is stable, and meaningless.
+    /// let grid = Grid::new(0.0, 100.0, 10)?;
+    /// let problem = Problem::new(&Oscillator, grid, Embedding::midpoint());
+    /// let run = problem.solve_ivp(Scheme::Variational, 1.0, 0.0)?;
+    /// assert!(matches!(run.warnings[..], [Warning::UnderResolved { h_omega, .. }] if (h_omega - 10.0).abs() < 1e-6));
+    /// let quiet = problem.with_resolution_check(false).solve_ivp(Scheme::Variational, 1.0, 0.0)?;
+    /// assert!(quiet.warnings.is_empty());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn with_resolution_check(mut self, on: bool) -> Self {
+        self.options.resolution_check = on;
+        self
+    }
+
     /// Whether the initial value problems run the blow-up guard.
     ///
     /// # Example

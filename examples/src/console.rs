@@ -24,11 +24,10 @@ pub fn header(repeats: usize) -> String {
              sweep) and compared in tables. Per scene: what ran; the best line of the sweep \
              (the cheapest to reach the scene's target max error, else the smallest error) \
              with, at its finest N, the max error against the reference, the last observed \
-             order log₂(e_N / e_2N) and {times}; then any warning or failure. An order marked \
-             * is pre-asymptotic (the next one differs by more than {}), ε at round-off, ? \
-             unchecked (no next one). Every table: --verbose here, and the report (its folder \
-             is printed at the end).",
-            OrderStatus::TOLERANCE
+             order log₂(e_N / e_2N) and {times}; then any warning or failure. The marks after \
+             an order: {}. Every table: --verbose here, and the report (its folder is printed \
+             at the end).",
+            OrderStatus::legend()
         ),
         "",
     )
@@ -81,9 +80,8 @@ pub fn table_legend(repeats: usize) -> Vec<(&'static str, String)> {
             "order",
             format!(
                 "observed order log₂(e_N / e_2N) from the table's N to 2N, read off the runs the \
-                 table is built from; * pre-asymptotic (the order at 2N differs by more than \
-                 {}), ε at round-off, ? not checked (no order at 2N)",
-                OrderStatus::TOLERANCE
+                 table is built from; {}",
+                OrderStatus::legend()
             ),
         ),
         (

@@ -53,7 +53,9 @@ pub fn summary_table(scenes: &[SceneReport]) -> String {
     }
     s.push_str(
         "\nAn order marked `*` is pre-asymptotic (the next order differs from it by more than \
-         0.1), `ε` at round-off, `?` unchecked (no next order): `varembed::OrderStatus`.\n",
+         0.1), `~` drifting (the orders' extrapolated limit is further than 0.1 from it), `!` \
+         not converging (order at most 0.1), `ε` at round-off, `?` unchecked (no next order): \
+         `varembed::OrderStatus`.\n",
     );
     s
 }

@@ -119,8 +119,11 @@ impl Context {
         mut run: impl FnMut() -> Convergence<S>,
     ) -> Convergence<S> {
         let mut first = run();
-        let mut times: Vec<Vec<Duration>> =
-            first.levels.iter().map(|l| l.wall_time.into_iter().collect()).collect();
+        let mut times: Vec<Vec<Duration>> = first
+            .levels
+            .iter()
+            .map(|l| l.wall_time.into_iter().collect())
+            .collect();
         for _ in 1..self.repeats {
             // Only the times are kept: the solutions of a repeat are dropped at once.
             let again = run();

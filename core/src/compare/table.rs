@@ -104,10 +104,10 @@ impl<S: ComparedSolution> Comparison<S> {
         };
         let order = format!(
             "observed order log₂(e_N / e_2N) from N = {n} to 2N, {estimate}; {source}. \
-             Unmarked: agrees with the order at 2N within {tol}; * pre-asymptotic: differs from \
-             it by more than {tol}; ε: an error is at round-off (≤ 100 ε max|Q|), the ratio \
-             measures rounding; ?: not checked, no order at 2N to compare with",
-            tol = OrderStatus::TOLERANCE
+             Unmarked: agrees with the order at 2N and with the limit the orders extrapolate \
+             to within {tol}; {legend}",
+            tol = OrderStatus::TOLERANCE,
+            legend = OrderStatus::legend()
         );
         let energy = match self.energy_not_conserved {
             None => "max_k |E_k − E_first| of the discrete energy E_k = V_k·∂L/∂v − L on the \

@@ -211,6 +211,10 @@ fn successive_orders_that_disagree_are_pre_asymptotic() {
     let errors = errors_with_orders(&[-0.29, 3.18], 1.0);
     let orders = observed_orders(&errors.iter().map(|&(n, e, _)| (n, e)).collect::<Vec<_>>());
     assert!((orders[0] + 0.29).abs() < 1e-12 && (orders[1] - 3.18).abs() < 1e-12);
+    // A growing error is not converging at all; a first order of 0.5 before 3.18 is
+    // pre-asymptotic.
+    assert_eq!(order_statuses(&errors), [NotConverging, Unchecked]);
+    let errors = errors_with_orders(&[0.5, 3.18], 1.0);
     assert_eq!(order_statuses(&errors), [PreAsymptotic, Unchecked]);
     // A power law within the tolerance; the last order has nothing to be checked against.
     let settled = errors_with_orders(&[2.04, 1.98, 2.0], 1.0);
@@ -221,6 +225,50 @@ fn successive_orders_that_disagree_are_pre_asymptotic() {
     // Just past the tolerance.
     let errors = errors_with_orders(&[2.0, 2.0 + 1.01 * OrderStatus::TOLERANCE], 1.0);
     assert_eq!(order_statuses(&errors)[0], PreAsymptotic);
+}
+
+#[test]
+fn a_steady_drift_is_marked_and_a_settling_run_is_not() {
+    use OrderStatus::*;
+    // Each step below the tolerance, but the orders keep rising: no limit to trust.
+    let drift = errors_with_orders(&[0.27, 0.33, 0.38, 0.41, 0.44], 1.0);
+    assert_eq!(
+        order_statuses(&drift),
+        [Drifting, Drifting, Drifting, Drifting, Unchecked]
+    );
+    // Aitken on 0.27, 0.33, 0.38 alone extrapolates to 0.63: the first order is 0.36 away.
+    let short = errors_with_orders(&[0.27, 0.33, 0.38], 1.0);
+    assert_eq!(order_statuses(&short), [Drifting, Drifting, Unchecked]);
+    // Settling towards 2: the limit 1.995 is within the tolerance of every order.
+    let healthy = errors_with_orders(&[1.95, 1.98, 1.99], 1.0);
+    assert_eq!(
+        order_statuses(&healthy),
+        [Asymptotic, Asymptotic, Unchecked]
+    );
+    // Alternating noise around 2 contracts: asymptotic.
+    let noisy = errors_with_orders(&[2.03, 1.97, 2.01, 1.99], 1.0);
+    assert_eq!(
+        order_statuses(&noisy),
+        [Asymptotic, Asymptotic, Asymptotic, Unchecked]
+    );
+    // Settling from far: the early order is further than the tolerance from the limit 1.0.
+    let settling = order_statuses(&errors_with_orders(&[0.6, 0.8, 0.88, 0.94, 0.97], 1.0));
+    assert_eq!(settling[0], PreAsymptotic);
+    assert_eq!(settling[1], Drifting);
+    assert_eq!(settling[3], Asymptotic);
+}
+
+#[test]
+fn errors_that_do_not_fall_are_not_converging() {
+    use OrderStatus::*;
+    // Error estimates that stay near 0.105 from N = 50 to 800: orders 0.001–0.003.
+    let stalled = errors_with_orders(&[0.001, 0.002, 0.003, 0.002], 1.0);
+    assert_eq!(order_statuses(&stalled), [NotConverging; 4]);
+    // Below the threshold, and a growing error.
+    let at = errors_with_orders(&[0.09, -0.5], 1.0);
+    assert_eq!(order_statuses(&at), [NotConverging, NotConverging]);
+    let above = errors_with_orders(&[0.11, 0.11, 0.11], 1.0);
+    assert_eq!(order_statuses(&above), [Asymptotic, Asymptotic, Unchecked]);
 }
 
 #[test]

@@ -259,9 +259,15 @@ fn check_nodes<L: DynLagrangian + ?Sized>(
         let scale = hi.max(reference);
         let measure = if scale > 0.0 { lo / scale } else { 0.0 };
         if measure < DEGENERACY_THRESHOLD {
+            // The error's path only: the block again, at the degenerate node, for its
+            // directions.
+            rows.velocity_at(q, k, &mut v);
+            hessian.clear();
+            l.hessian(&q[k * d..(k + 1) * d], &v, grid.t(k), &mut hessian);
             return Err(Error::DegenerateLagrangian {
                 at: Location::Node(k),
                 measure,
+                directions: hessian.vv.degenerate_directions(),
             });
         }
     }

@@ -141,10 +141,14 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         // The Störmer–Verlet recurrence's linear stability at the initial data (the implicit
         // steps have no such bound; the guard watches every run).
         if let (true, Some(re)) = (verlet, sawtooth) {
+            // The mode's `h²κ = 2 − λ − 1/λ` (the recurrence's characteristic equation), and
+            // Störmer–Verlet's limit `h √κ = 2`.
+            let kappa = (2.0 - re - 1.0 / re) / (h * h);
             return Err(Error::Unstable {
                 at: Location::Step(0),
                 re,
                 im: 0.0,
+                largest_stable_step: (kappa > 0.0).then(|| 2.0 / kappa.sqrt()),
             });
         }
         for n in 2..=grid.n() {
@@ -301,6 +305,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             _ => Err(Error::DegenerateLagrangian {
                 at: Location::Step(0),
                 measure,
+                directions: hessian.vv.degenerate_directions(),
             }),
         }
     }

@@ -1,5 +1,7 @@
 //! The sparse second-derivative blocks a [`DynLagrangian`](super::DynLagrangian) writes.
 
+use crate::regularity::{DIRECTIONS_UP_TO, degenerate_directions};
+
 /// One `d × d` second-derivative block as a list of entries `(i, j, value)`; an entry listed
 /// twice holds the sum of its values, an entry never listed is zero.
 ///
@@ -82,6 +84,29 @@ impl SparseBlock {
     /// mode, only those outside its band).
     pub fn entries(&self) -> &[(usize, usize, f64)] {
         &self.entries
+    }
+
+    /// The degenerate directions of this (symmetric) block, for
+    /// [`Error::DegenerateLagrangian`](crate::Error::DegenerateLagrangian): empty above
+    /// `d = 1024`.
+    pub(crate) fn degenerate_directions(&self) -> Vec<Vec<(usize, f64)>> {
+        let d = self.dimension;
+        if d > DIRECTIONS_UP_TO {
+            return Vec::new();
+        }
+        let mut dense = vec![0.0; d * d];
+        for &(i, j, value) in &self.entries {
+            dense[i * d + j] += value;
+        }
+        if let Some(band) = &self.band {
+            let b = band.half_width;
+            for i in 0..d {
+                for j in i.saturating_sub(b)..(i + b + 1).min(d) {
+                    dense[i * d + j] += band.values[i * (2 * b + 1) + j + b - i];
+                }
+            }
+        }
+        degenerate_directions(d, |i, j| dense[i * d + j])
     }
 
     /// Entry `(i, j)`: the sum of its values (`O(entries)`; for tests and small blocks).

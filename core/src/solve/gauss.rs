@@ -43,6 +43,7 @@ use crate::options::NewtonOptions;
 use crate::regularity::{check_initial_data, check_vv, pivot_range};
 use crate::solve::guard::BlowUpGuard;
 use crate::solve::newton::at_round_off;
+use crate::solve::resolution::resolution_warning;
 use crate::solve::solution::Solution;
 
 /// Steps between two checks of `∂²L/∂v²` along a run (at the first stage of the step).
@@ -56,6 +57,8 @@ pub(crate) struct GaussIvp<'l, L: ?Sized, const D: usize> {
     pub(crate) stages: usize,
     pub(crate) newton: NewtonOptions,
     pub(crate) blow_up_guard: bool,
+    /// Whether the run's step is checked against its fastest motion.
+    pub(crate) resolution_check: bool,
 }
 
 impl<L: Lagrangian<D> + ?Sized, const D: usize> GaussIvp<'_, L, D> {
@@ -110,6 +113,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GaussIvp<'_, L, D> {
             stages.extrapolate_guess();
         }
         guard.finish()?;
+        let warnings = match self.resolution_check {
+            true => resolution_warning(l, (&q0, &v0, t0), grid.h(), self.stages),
+            false => None,
+        };
         Ok(Solution {
             scheme,
             embedding: self.embedding,
@@ -118,7 +125,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GaussIvp<'_, L, D> {
             momenta: p,
             newton_iterations: iterations,
             explicit_steps,
-            warnings: Vec::new(),
+            warnings: warnings.into_iter().collect(),
         })
     }
 }

@@ -19,8 +19,9 @@ use crate::side::Side;
 use crate::solve::gauss::GaussIvp;
 use crate::solve::guard::BlowUpGuard;
 use crate::solve::newton::newton_step;
+use crate::solve::resolution::resolution_warning;
 use crate::solve::solution::Solution;
-use crate::solve::stability::{Verdict, step_map_verdict};
+use crate::solve::stability::{Verdict, largest_stable_step, step_map_verdict};
 use crate::solve::start::Start;
 use crate::step::{Step, StepKind, StepTimes, Update, momentum_and_energy_terms};
 
@@ -33,6 +34,9 @@ pub(crate) struct Ivp<'l, L: ?Sized, const D: usize> {
     pub(crate) newton: NewtonOptions,
     /// Whether the run is watched for blow-up (see the guard module).
     pub(crate) blow_up_guard: bool,
+    /// Whether the run's step is checked against its fastest motion (see the resolution
+    /// module).
+    pub(crate) resolution_check: bool,
 }
 
 impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
@@ -44,6 +48,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
             embedding: *discretisation.embedding(),
             newton: options.newton,
             blow_up_guard: options.blow_up_guard,
+            resolution_check: options.resolution_check,
         }
     }
 
@@ -146,6 +151,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
                 stages,
                 newton,
                 blow_up_guard,
+                resolution_check: self.resolution_check,
             };
             return gauss.solve(scheme, q0, v0);
         }
@@ -155,7 +161,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
             Start::Legendre => self.legendre_start(q0, v0)?,
             Start::SecondOrder => self.second_order_start(q0, v0)?,
         };
-        self.solve_from_nodes(scheme, q0, q1)
+        self.solve_checked(scheme, q0, q1, v0)
     }
 
     /// The run of `scheme` from given first nodes `Q_0`, `Q_1`.
@@ -165,6 +171,32 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
         q0: Vector<D>,
         q1: Vector<D>,
     ) -> Result<Solution<D>> {
+        self.solve_checked(scheme, q0, q1, (q1 - q0) / self.grid.h())
+    }
+
+    /// The run from `Q_0`, `Q_1`, with the initial velocity `v0` its resolution is checked at:
+    /// a run that returns has passed the stability checks, so a step too large for the fastest
+    /// motion is left only to a scheme without a limit there, and gets
+    /// [`Warning::UnderResolved`](crate::Warning::UnderResolved).
+    fn solve_checked(
+        &self,
+        scheme: Scheme,
+        q0: Vector<D>,
+        q1: Vector<D>,
+        v0: Vector<D>,
+    ) -> Result<Solution<D>> {
+        let mut solution = self.solve_unchecked(scheme, q0, q1)?;
+        if self.resolution_check {
+            let data = (&q0, &v0, self.grid.t(0));
+            solution
+                .warnings
+                .extend(resolution_warning(self.lagrangian, data, self.grid.h(), 1));
+        }
+        Ok(solution)
+    }
+
+    /// The run of [`solve_from_nodes`](Self::solve_from_nodes) without the resolution check.
+    fn solve_unchecked(&self, scheme: Scheme, q0: Vector<D>, q1: Vector<D>) -> Result<Solution<D>> {
         let kind = self.step_kind(scheme)?;
         let reference = self.check_first_nodes(q0, q1)?;
         let solution = self.run(scheme, kind, q0, q1)?;
@@ -513,6 +545,13 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
                 at: Location::Step(n),
                 re: lambda.re,
                 im: lambda.im,
+                largest_stable_step: largest_stable_step(
+                    self.lagrangian,
+                    kind,
+                    &b,
+                    &((b - a) * times.inv_h),
+                    times.t_b,
+                ),
             }),
         }
     }

@@ -11,6 +11,7 @@ pub mod ivp;
 pub mod krylov;
 pub mod newton;
 pub mod nodes;
+pub(crate) mod resolution;
 pub mod solution;
 pub(crate) mod stability;
 pub mod start;

@@ -38,6 +38,22 @@ pub enum Warning {
         /// The order α of the Grünwald–Letnikov embedding.
         alpha: f64,
     },
+    /// An implicit initial value run whose step does not resolve the fastest motion of the
+    /// equation linearised at the initial data: `h ω` above `limit` (2 per stage: 2 for the
+    /// three-point recurrences, `2s` for Gauss–Legendre with `s` stages), where `ω = √|μ|`,
+    /// `μ` the eigenvalue of largest modulus of `(∂²L/∂v²)⁻¹(−∂²L/∂x²)` (by power iteration).
+    /// An implicit scheme stays stable there (the midpoint rule at any step), so the run
+    /// returns `Ok`, but it samples that motion at fewer than `π` points a period: its phase
+    /// means nothing (the midpoint rule at `ωh = 10` advances the oscillator's phase by
+    /// `2 atan(5) ≈ 2.75` a step, not 10). Take a smaller step, or, for a stiff run made on purpose (a fast mode whose
+    /// phase does not matter), turn the check off with `Problem::with_resolution_check(false)`.
+    /// Explicit runs are not checked: their stability check stops them first.
+    UnderResolved {
+        /// The step times the fastest rate, at the initial data.
+        h_omega: f64,
+        /// The largest accepted `h ω` for this scheme.
+        limit: f64,
+    },
 }
 
 impl fmt::Display for Warning {
@@ -48,6 +64,13 @@ impl fmt::Display for Warning {
                 "ill-posed: a fractional boundary value problem of order α = {alpha} ≤ 1/2 with \
                  both end values imposed has no continuous solution for generic data; the \
                  discrete solutions need not converge as N grows"
+            ),
+            Warning::UnderResolved { h_omega, limit } => write!(
+                f,
+                "under-resolved: h·ω = {h_omega:.3} at the initial data (above {limit}): the step \
+                 samples the fastest linearised motion at fewer than π points a period, so the \
+                 run's phase means nothing; take a smaller step, or turn this check off with \
+                 Problem::with_resolution_check(false) for a stiff run made on purpose"
             ),
         }
     }

@@ -6,7 +6,9 @@ use nalgebra::allocator::Allocator;
 use nalgebra::linalg::Schur;
 use nalgebra::{Complex, DefaultAllocator, DimDiff, DimSub, OMatrix, U1};
 
-use crate::lagrangian::Matrix;
+use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
+use crate::solve::resolution::fastest_frequency;
+use crate::step::{Step, StepKind, StepTimes, residual};
 
 /// The verdict on the step-map Jacobian `[[0, I], [A, B]]` (`A = ∂Q_n/∂Q_{n−2}`,
 /// `B = ∂Q_n/∂Q_{n−1}`) of a step of size `h`: cleared without the Schur form when
@@ -85,8 +87,116 @@ where
     unstable.map_or(Verdict::Stable, Verdict::Unstable)
 }
 
+/// `L = ½v² − ½x²`: the harmonic oscillator of frequency 1, on which a step kind's limit of
+/// `hω` is measured.
+struct UnitOscillator;
+
+impl Lagrangian<1> for UnitOscillator {
+    fn value(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
+        0.5 * (v[0] * v[0] - x[0] * x[0])
+    }
+    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
+        (-x, *v)
+    }
+    fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
+        Hessian {
+            xx: Matrix::<1>::new(-1.0),
+            xv: Matrix::<1>::zeros(),
+            vv: Matrix::<1>::identity(),
+        }
+    }
+}
+
+/// The step map `Q_n = A Q_{n−2} + B Q_{n−1}` of `kind` on [`UnitOscillator`] with step `h`,
+/// from the step's own residual: it is affine in the newest node, so one Newton step from zero
+/// solves it exactly. `None` when the step's Jacobian vanishes.
+fn oscillator_step_map(kind: StepKind, h: f64) -> Option<(f64, f64)> {
+    let times = StepTimes::new(h, 0.0, h, 2.0 * h);
+    let solve = |a: f64, b: f64| {
+        let (a, b) = (Vector::<1>::new(a), Vector::<1>::new(b));
+        let step = Step::new(&UnitOscillator, kind, &a, &b, &times);
+        let (r, j) = residual(&UnitOscillator, &step, &Vector::<1>::zeros());
+        (j[(0, 0)] != 0.0).then(|| -r[0] / j[(0, 0)])
+    };
+    Some((solve(1.0, 0.0)?, solve(0.0, 1.0)?))
+}
+
+/// The largest `hω` at which `kind` passes [`step_map_verdict`] on the harmonic oscillator
+/// (2 for Störmer–Verlet, whose step map has a real eigenvalue below −1 beyond it); `None`
+/// when it passes up to `hω = 10³` (no step limit). The first failure on a geometric scan of
+/// `hω` from `10⁻³`, then bisection to 12 digits.
+pub(crate) fn oscillator_limit(kind: StepKind) -> Option<f64> {
+    let unstable = |z: f64| match oscillator_step_map(kind, z) {
+        Some((a, b)) => matches!(
+            step_map_verdict(&Matrix::<1>::new(a), &Matrix::<1>::new(b), z),
+            Verdict::Unstable(_)
+        ),
+        None => true,
+    };
+    let scan: Vec<f64> = (0..=120)
+        .map(|i| 1e-3 * 10f64.powf(i as f64 / 20.0))
+        .collect();
+    let first = scan.iter().position(|&z| unstable(z))?;
+    if first == 0 {
+        return Some(0.0);
+    }
+    let (mut lo, mut hi) = (scan[first - 1], scan[first]);
+    while hi - lo > 1e-12 * hi {
+        let mid = 0.5 * (lo + hi);
+        if unstable(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    Some(lo)
+}
+
+/// The largest step at which `kind` is stable on the linearisation at `(x, v, t)`:
+/// [`oscillator_limit`] over [`fastest_frequency`] (see [`Error::Unstable`](crate::Error)).
+pub(crate) fn largest_stable_step<const D: usize, L: Lagrangian<D> + ?Sized>(
+    lagrangian: &L,
+    kind: StepKind,
+    x: &Vector<D>,
+    v: &Vector<D>,
+    t: f64,
+) -> Option<f64> {
+    Some(oscillator_limit(kind)? / fastest_frequency(lagrangian, x, v, t)?)
+}
+
 #[cfg(test)]
 mod tests {
+    use crate::step::StepKind;
+
+    #[test]
+    fn each_step_kind_has_its_oscillator_limit() {
+        use StepKind::*;
+        // On q̈ = −ω²q: Störmer–Verlet (the variational Gauss-FDE steps, and the trapezoidal
+        // ones, which are the same recurrence there) and the direct midpoint recurrence
+        // leave the unit circle at hω = 2; the direct σ = + step fails the verdict from
+        // hω = √3; the direct σ = − step, implicit in the newest node, and the midpoint
+        // variational rule (A-stable) never do. The bisection stops within 2.5e-9 of the
+        // exact limit: 1e-8 relative.
+        let expected = [
+            (VariationalBackward, Some(2.0)),
+            (VariationalForward, Some(2.0)),
+            (DirectBackward, None),
+            (DirectForward, Some(3f64.sqrt())),
+            (MidpointVariational, None),
+            (MidpointDirect, Some(2.0)),
+            (TrapezoidalVariational, Some(2.0)),
+            (TrapezoidalDirect, Some(2.0)),
+        ];
+        for (kind, limit) in expected {
+            match (super::oscillator_limit(kind), limit) {
+                (Some(found), Some(exact)) => {
+                    assert!((found - exact).abs() < 1e-8 * exact, "{kind:?}: {found}")
+                }
+                (found, exact) => assert_eq!(found, exact, "{kind:?}"),
+            }
+        }
+    }
+
     use super::*;
     use rand::rngs::StdRng;
     use rand::{Rng, SeedableRng};

@@ -65,9 +65,8 @@ pub fn general_embedding_sweep(
     for n in sizes.sizes() {
         let grid = Grid::new(INTERVAL.0, INTERVAL.1, n)?;
         let embedding = operator.embed(side, grid);
-        let (q, seconds) = cx.median_time(|| {
-            embedding.solve_ivp(&[Vector::<1>::new(1.0), Vector::<1>::new(0.0)])
-        })?;
+        let (q, seconds) = cx
+            .median_time(|| embedding.solve_ivp(&[Vector::<1>::new(1.0), Vector::<1>::new(0.0)]))?;
         cx.record(NAME, label, n);
         let error = max_error(&grid, &q, |t| reference.q(t));
         points.push(SweepPoint { n, seconds, error });

@@ -141,7 +141,12 @@ impl Lagrangian<1> for Degenerate {
 #[test]
 fn degenerate_lagrangians_are_located_before_any_step() {
     let grid = Grid::new(0.0, 1.0, 10).unwrap();
-    let degenerate = |at| Error::DegenerateLagrangian { at, measure: 0.0 };
+    // L_vv ≡ 0: the one direction of its null space is v₀ itself.
+    let degenerate = |at| Error::DegenerateLagrangian {
+        at,
+        measure: 0.0,
+        directions: vec![vec![(0, 1.0)]],
+    };
     for side in [Side::Backward, Side::Forward] {
         let problem = Problem::new(&Degenerate, grid, Embedding::finite_difference(side));
         // At the initial data, before the start.
@@ -252,15 +257,24 @@ fn unstable_explicit_scheme_is_reported_not_returned() {
         for side in [Side::Backward, Side::Forward] {
             let problem = Problem::new(&oscillator, grid, Embedding::finite_difference(side));
             match problem.solve_ivp(Scheme::Variational, 1.0, 0.0) {
-                Err(Error::Unstable {
-                    at: Location::Step(2),
-                    re,
-                    im,
-                }) => {
+                Err(
+                    error @ Error::Unstable {
+                        at: Location::Step(2),
+                        re,
+                        im,
+                        largest_stable_step,
+                    },
+                ) => {
                     assert!(
                         (re - expected).abs() < 1e-6 && im == 0.0,
                         "λ = {re} + {im}i, expected {expected}"
                     );
+                    // The remedy: Störmer–Verlet's exact limit h = 2/ω, named in the message.
+                    let h = largest_stable_step.expect("a measured limit");
+                    assert!((h - 2.0 / omega).abs() < 1e-8 * h, "{h}");
+                    let text = error.to_string();
+                    assert!(text.contains("use a step h ≤ 2.000e0"), "{text}");
+                    assert!(text.contains("midpoint variational integrator"), "{text}");
                 }
                 other => panic!("expected Unstable, got {other:?}"),
             }
@@ -346,5 +360,41 @@ fn lagrangian_blowing_up_is_located_at_its_node() {
         Err(Error::NotFinite {
             at: Location::Node(3)
         })
+    );
+}
+
+/// `L = ½(v₀ + v₁)² − ½(x₀² + x₁²)`: only the sum of the velocities has inertia.
+#[varembed::lagrangian]
+fn shared_inertia(x: [f64; 2], v: [f64; 2]) -> f64 {
+    0.5 * (v[0] + v[1]) * (v[0] + v[1]) - 0.5 * (x[0] * x[0] + x[1] * x[1])
+}
+
+#[test]
+fn a_degenerate_lagrangian_names_the_direction_without_inertia() {
+    // ∂²L/∂v² = [[1, 1], [1, 1]]: it vanishes along (1, −1)/√2, and the error says so.
+    let grid = Grid::new(0.0, 1.0, 10).unwrap();
+    let problem = Problem::new(
+        &SharedInertia,
+        grid,
+        Embedding::finite_difference(Side::Backward),
+    );
+    let error = problem
+        .solve_ivp(Scheme::Variational, [0.1, 0.2], [0.0, 0.0])
+        .unwrap_err();
+    let Error::DegenerateLagrangian { directions, .. } = &error else {
+        panic!("expected DegenerateLagrangian, got {error}");
+    };
+    let s = std::f64::consts::FRAC_1_SQRT_2;
+    assert_eq!(directions.len(), 1, "{directions:?}");
+    let [(i, a), (j, b)] = directions[0][..] else {
+        panic!("{directions:?}");
+    };
+    assert_eq!((i, j), (0, 1));
+    assert!((a - s).abs() < 1e-12 && (b + s).abs() < 1e-12, "{a}, {b}");
+    assert!(
+        error
+            .to_string()
+            .contains("vanishes along (v₀ 0.707, v₁ -0.707)"),
+        "{error}"
     );
 }

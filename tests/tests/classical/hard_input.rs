@@ -24,13 +24,15 @@ fn degenerate_lagrangian_is_reported_at_the_initial_data() {
     for side in [Side::Backward, Side::Forward] {
         let problem = Problem::new(&Constrained, grid, Embedding::finite_difference(side));
         for scheme in [Scheme::Direct, Scheme::Variational] {
-            // L_vv = diag(1, 0): pivots 1 and 0, the ratio 0, before the start is attempted.
+            // L_vv = diag(1, 0): pivots 1 and 0, the ratio 0, before the start is attempted;
+            // the degenerate direction is v₁.
             let err = problem.solve_ivp(scheme, q0, v0).unwrap_err();
             assert_eq!(
                 err,
                 Error::DegenerateLagrangian {
                     at: Location::Step(0),
-                    measure: 0.0
+                    measure: 0.0,
+                    directions: vec![vec![(1, 1.0)]],
                 },
                 "{side:?} {scheme}"
             );
@@ -42,7 +44,8 @@ fn degenerate_lagrangian_is_reported_at_the_initial_data() {
                 err,
                 Error::DegenerateLagrangian {
                     at: Location::Step(1),
-                    measure: 0.0
+                    measure: 0.0,
+                    directions: vec![vec![(1, 1.0)]],
                 },
                 "{side:?} {scheme}"
             );

@@ -16,6 +16,7 @@ mod node_values;
 mod parallel;
 mod regularity;
 mod residual_floor;
+mod resolution;
 mod stability_limits;
 mod start_order;
 mod stormer_verlet;

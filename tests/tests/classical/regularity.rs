@@ -28,8 +28,14 @@ fn relativistic(x: f64, v: f64, m: f64, c: f64, k: f64) -> f64 {
     -m * c * c * (1.0 - v * v / (c * c)).sqrt() - 0.5 * k * x * x
 }
 
+/// The error of a one-dimensional Lagrangian whose `∂²L/∂v²` vanishes: its one degenerate
+/// direction is `v₀`.
 fn degenerate(at: Location) -> Error {
-    Error::DegenerateLagrangian { at, measure: 0.0 }
+    Error::DegenerateLagrangian {
+        at,
+        measure: 0.0,
+        directions: vec![vec![(0, 1.0)]],
+    }
 }
 
 /// The first node at which the Lagrangian is evaluated (`I_−` starts at 1, `I_+` at 0).
@@ -63,7 +69,9 @@ fn first_order_lagrangian_fails_every_solver_at_its_first_node() {
                 err.to_string(),
                 format!(
                     "the Lagrangian is degenerate at node Q_{}: ∂²L/∂v² has the pivot ratio \
-                     0.000e0 (below 1e-12)",
+                     0.000e0 (below 1e-12), and vanishes along (v₀ 1.000); give every \
+                     coordinate a kinetic term (regularise L), or remove the coordinates it \
+                     does not govern",
                     first_quadrature_node(side)
                 )
             );

@@ -246,6 +246,7 @@ fn an_unstable_explicit_run_is_an_error_with_its_step_never_ok() {
         at: Location::Step(0),
         re,
         im,
+        largest_stable_step,
     } = error
     else {
         panic!("expected the instability at the initial data, got {error}");
@@ -264,9 +265,29 @@ fn an_unstable_explicit_run_is_an_error_with_its_step_never_ok() {
         Vector::<64>::zeros(),
     )
     .unwrap_err();
-    let Error::Unstable { re: exact, .. } = oracle else {
+    let Error::Unstable {
+        re: exact,
+        largest_stable_step: exact_step,
+        ..
+    } = oracle
+    else {
         panic!("the const-generic check: {oracle}");
     };
+    // The remedy: the largest stable step 2/ω of the chain's fastest mode. The const-generic
+    // check has it from the eigenvalues of the linearisation; this one from its bound of the
+    // sawtooth eigenvalue, within 1 %. The chain's exact fastest mode, of the fixed-end
+    // springs `κ = 2 − 2cos(64π/65)` (α's term is of the order of the displacement, 1e-3):
+    let (step, exact_step) = (largest_stable_step.unwrap(), exact_step.unwrap());
+    let kappa = 2.0 - 2.0 * (64.0 * std::f64::consts::PI / 65.0).cos();
+    assert!(
+        (exact_step - 2.0 / kappa.sqrt()).abs() < 1e-2 * exact_step,
+        "{exact_step} against 2/√κ = {}",
+        2.0 / kappa.sqrt()
+    );
+    assert!(
+        step >= exact_step && step < 1.01 * exact_step,
+        "{step} against {exact_step}"
+    );
     assert_eq!(im, 0.0);
     assert!(
         exact <= re && re < -1.0 && re - exact < 0.01 * exact.abs(),

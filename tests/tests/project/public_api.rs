@@ -17,11 +17,10 @@
 use varembed::{
     CompareOptions, ComparedSolution, Comparison, Convergence, Dependence, DifferentialOperator,
     DirectEmbedding, DynSolution, DynState, Embedding, EmbeddingKind, Ensemble, Error,
-    FractionalSolver,
-    Grid, Hessian, HessianDependence, IntoVector, Lagrangian, Level, Location, Matrix,
-    NewtonOptions, NodeFormula, NodeRule, NodeState, NodeValues, OrderStatus, Problem, Reference,
-    Result, Scheme, SchemeReport, Side, Solution, Start, Vector, Warning, curve_from_flat,
-    lagrangian, max_error, observed_order, observed_orders,
+    FractionalSolver, Grid, Hessian, HessianDependence, IntoVector, Lagrangian, Level, Location,
+    Matrix, NewtonOptions, NodeFormula, NodeRule, NodeState, NodeValues, OrderStatus, Problem,
+    Reference, Result, Scheme, SchemeReport, Side, Solution, Start, Vector, Warning,
+    curve_from_flat, lagrangian, max_error, observed_order, observed_orders,
 };
 
 /// Compiles only while the public types keep their auto traits.
