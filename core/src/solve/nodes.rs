@@ -16,8 +16,8 @@ use crate::grid::Grid;
 use crate::lagrangian::{Lagrangian, Vector};
 use crate::linalg::solve_small;
 use crate::options::NewtonOptions;
-use crate::solve::newton::at_round_off;
 use crate::side::Side;
+use crate::solve::newton::at_round_off;
 use std::fmt;
 
 /// How a solution's velocities and momenta at the nodes are computed, and their order.

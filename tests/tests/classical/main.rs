@@ -15,6 +15,7 @@ mod harmonic_exact;
 mod node_values;
 mod regularity;
 mod residual_floor;
+mod scale_invariance;
 mod stability_limits;
 mod start_order;
 mod stormer_verlet;
