@@ -259,6 +259,31 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
         Ok(pw)
     }
 
+    /// The scale of the rows of `scheme` at the values `pw`, which Newton's tolerance is
+    /// measured against: the largest force a row reads plus `h^{−α}` times the largest
+    /// momentum (each row is a force plus momenta weighted by `h^{−α}`). Values no row reads
+    /// — the force at the end node outside the rows, `∂L/∂x` at `t = a` or `t = b` — play no
+    /// part. It scales with `L`: `c L` has `c` times the scale, so its solve stops where `L`'s
+    /// does.
+    pub(crate) fn row_scale(&self, scheme: Scheme, pw: &Pointwise<D>) -> f64 {
+        let h_alpha = self.grid.h().powf(-self.embedding.alpha());
+        let rows = self.rows(scheme);
+        let forces = if self.embedding.is_symmetric() {
+            rows.fold(0.0f64, |m, k| match scheme {
+                Scheme::Variational => m
+                    .max(0.5 * pw.f[k].amax())
+                    .max(0.5 * pw.f_left[k + 1].amax()),
+                Scheme::Direct => m.max(pw.f_node[k].amax()),
+            })
+        } else {
+            rows.fold(0.0f64, |m, k| m.max(pw.f[k].amax()))
+        };
+        // Every momentum stored is read by a row (the node outside `I_σ`, or the symmetric
+        // embeddings' entry 0, holds zeros).
+        let momenta = pw.p.iter().fold(0.0f64, |m, p| m.max(p.amax()));
+        forces + h_alpha * momenta
+    }
+
     /// The direct path: the embedding's operators applied to `p` row by row.
     fn direct_residual(&self, pw: &Pointwise<D>) -> Vec<Vector<D>> {
         let sigma = self.embedding.side().sign();

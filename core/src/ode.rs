@@ -361,7 +361,9 @@ impl<const D: usize> DirectEmbedding<'_, '_, D> {
                     return Err(Error::NotFinite { at });
                 }
                 residual = r.amax();
-                if residual <= self.newton.tolerance * (1.0 + scale) {
+                // Against the terms the row sums (no absolute part): the round-off of the
+                // residual is a few ε of them, far below the tolerance.
+                if residual <= self.newton.tolerance * scale {
                     converged = true;
                     break;
                 }

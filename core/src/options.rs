@@ -3,16 +3,24 @@
 
 /// Stopping rule of Newton's method.
 ///
+/// Every rule is relative to the scale of the equations it solves, the size of the terms
+/// their rows balance, with no absolute part: `c L` (`c > 0`) has the Euler–Lagrange equations
+/// of `L`, and every solve gives it the same nodes.
+///
 /// A step of an initial value problem has converged when the max-norm of its residual
-/// `G(y) − π` (in momentum units) is at most `tolerance · (1 + ‖π‖∞)`. The global system of a
-/// boundary value problem has converged when its max-norm residual is at most
-/// `tolerance · (1 + ‖f‖∞ + h^{−α} ‖p‖∞)`, the size of the terms each row balances.
+/// `G(y) − π` (in momentum units) is at most `tolerance · max(‖π‖∞, ‖p‖∞, h ‖f‖∞)`, with
+/// `p = ∂L/∂v` and `f = ∂L/∂x` the terms of `G` at the iterate `y` (`h f` only where `G` has
+/// it). The global system of a boundary value problem has converged when its max-norm residual
+/// is at most `tolerance · (‖f‖∞ + h^{−α} ‖p‖∞)`, the size of the terms each row balances:
+/// `f` at the nodes of the rows, `p` at the quadrature nodes. A value no row reads (`∂L/∂x` at
+/// the end node `t = a` or `t = b` outside the rows) plays no part.
 ///
 /// Either has also converged when the residual is down to the round-off it cannot go below,
 /// [`ROUND_OFF_FLOOR`](Self::ROUND_OFF_FLOOR)` · ε · ‖J‖∞ · ‖y‖∞` (with `J` the Jacobian and
 /// `y` the unknowns): the velocity `(y − b)/h` loses `ε|y|/h` to cancellation, which
 /// `J ∼ L_vv/h` carries into the residual, so with small `h` and large coordinates no tolerance
-/// below that is reachable.
+/// below that is reachable. A state where every term is exactly zero (a body at rest at an
+/// equilibrium) has an exactly zero residual, which meets the tolerance.
 ///
 /// ```
 /// let options = varembed::NewtonOptions { tolerance: 1e-10, ..Default::default() };

@@ -347,6 +347,20 @@ pub fn residual<const D: usize, L: Lagrangian<D> + ?Sized>(
     step: &Step<D>,
     y: &Vector<D>,
 ) -> (Vector<D>, Matrix<D>) {
+    let (r, j, _) = residual_and_terms(lagrangian, step, y);
+    (r, j)
+}
+
+/// [`residual`] and the size of the terms `G(y)` sums at `y`: the max-norms of the momentum
+/// `p` (or `P`) and of the force times its step weight (`h f`, `h/2 F_u`), the largest of them.
+/// With `‖π‖∞` it is the scale of the step's equation, against which Newton's tolerance is
+/// measured (it scales with `L`, so the stopping rule does not depend on `L`'s scale).
+#[inline]
+pub(crate) fn residual_and_terms<const D: usize, L: Lagrangian<D> + ?Sized>(
+    lagrangian: &L,
+    step: &Step<D>,
+    y: &Vector<D>,
+) -> (Vector<D>, Matrix<D>, f64) {
     use StepKind::*;
     let with = |kind| Step { kind, ..*step };
     match step.kind {
@@ -367,7 +381,7 @@ fn residual_of<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
     step: &Step<D>,
     y: &Vector<D>,
-) -> (Vector<D>, Matrix<D>) {
+) -> (Vector<D>, Matrix<D>, f64) {
     if let Some((rule, variational)) = step.kind.symmetric() {
         return symmetric_residual(lagrangian, step, y, rule, variational);
     }
@@ -375,9 +389,14 @@ fn residual_of<const D: usize, L: Lagrangian<D> + ?Sized>(
     let v = (y - step.b) * inv_h;
     let (x, t) = step.equation_point(y);
     let (f, p, hs) = lagrangian.gradient_and_hessian(x, &v, t);
+    let terms = match step.kind {
+        StepKind::VariationalBackward | StepKind::DirectForward => p.amax(),
+        _ => p.amax().max(h * f.amax()),
+    };
     (
         equation(step.kind, f, p, h) - step.momentum,
         scaled_jacobian(step.kind, &hs, h) * inv_h,
+        terms,
     )
 }
 
@@ -390,7 +409,7 @@ fn symmetric_residual<const D: usize, L: Lagrangian<D> + ?Sized>(
     y: &Vector<D>,
     rule: Rule,
     variational: bool,
-) -> (Vector<D>, Matrix<D>) {
+) -> (Vector<D>, Matrix<D>, f64) {
     let StepTimes { h, t_b, t_y, .. } = step.times;
     let interval = Interval {
         u: step.b,
@@ -404,12 +423,14 @@ fn symmetric_residual<const D: usize, L: Lagrangian<D> + ?Sized>(
         (
             g.momentum - g.force_left * (0.5 * h) - step.momentum,
             jac.momentum[1] - jac.force_left[1] * (0.5 * h),
+            g.momentum.amax().max(0.5 * h * g.force_left.amax()),
         )
     } else {
         let (f, hs) = node_force(lagrangian, &step.a, &step.b, y, t_b, h);
         (
             g.momentum - f * h - step.momentum,
             jac.momentum[1] - hs.xv * 0.5,
+            g.momentum.amax().max(h * f.amax()),
         )
     }
 }

@@ -13,6 +13,8 @@
 //!   models.
 //! - [`dense`]: a wrapper that hides a model's Hessian bandwidth, so that its implicit steps
 //!   take the dense step solve (the reference for the banded one).
+//! - [`scaled`]: `c L`, a model times a constant, whose nodes must be the model's (the
+//!   scale-invariance tests).
 //!
 //! Models used by one test only stay in that test, next to what it checks.
 
@@ -22,3 +24,4 @@ pub mod dual_chains;
 pub mod generated;
 pub mod hand;
 pub mod num_dual;
+pub mod scaled;

@@ -381,7 +381,6 @@ fn newton<L: DynLagrangian + ?Sized>(
     if unknowns == 0 {
         return Ok((q, 0, 0));
     }
-    let h_alpha = grid.h().powf(-rows.embedding.alpha());
     let (mut current, mut trial_values) = (CurveValues::zeros(n, d), CurveValues::zeros(n, d));
     let mut res = evaluate(rows, &q, &mut current, 0)?;
     let mut previous = f64::INFINITY;
@@ -391,7 +390,7 @@ fn newton<L: DynLagrangian + ?Sized>(
     let mut trial = q.clone();
     for iteration in 0..=options.max_iterations {
         let at = Location::Newton(iteration);
-        let scale = 1.0 + max_norm(&current.f) + h_alpha * max_norm(&current.p);
+        let scale = rows.scale(&current);
         hessians.invalidate();
         let (matrix, lu) = assemble(rows, &q, &current, &mut hessians, &mut system)
             .map_err(|_| Error::SingularJacobian { at })?;

@@ -143,6 +143,19 @@ impl<'a, L: DynLagrangian + ?Sized> DynRows<'a, L> {
         Ok(())
     }
 
+    /// The scale of the rows at `values`, as the const-generic discretisation's `row_scale`:
+    /// the largest force a row reads plus `h^{−α}` times the largest momentum. The force at the
+    /// end node outside the rows plays no part.
+    pub(crate) fn scale(&self, values: &CurveValues) -> f64 {
+        let d = self.d;
+        let largest = |x: &[f64]| x.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        let forces = self
+            .rows()
+            .fold(0.0f64, |m, k| m.max(largest(&values.f[k * d..(k + 1) * d])));
+        let h_alpha = self.grid.h().powf(-self.embedding.alpha());
+        forces + h_alpha * largest(&values.p)
+    }
+
     /// The residual rows from `f` and `p`, as the const-generic discretisation sums them.
     fn residual(&self, values: &mut CurveValues) {
         let d = self.d;

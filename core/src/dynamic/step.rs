@@ -304,7 +304,7 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         n: usize,
     ) -> Result<usize> {
         let at = Location::Step(n);
-        let scale = 1.0 + max_norm(pi);
+        let momentum_size = max_norm(pi);
         let mut residual = f64::INFINITY;
         let options = self.newton;
         let diverged = |iterations, residual| Error::NewtonDidNotConverge {
@@ -317,6 +317,9 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
             let previous = residual;
             // NaN when an entry is: one pass both measures and checks.
             residual = max_norm(&self.r);
+            // The scale of the equation: the terms it balances, `π` and those of `G(y)` (as
+            // the const-generic path; no absolute part, so `c L` stops where `L` does).
+            let scale = momentum_size.max(self.terms());
             if residual.is_finite() && iteration > 0 && residual <= options.tolerance * scale {
                 // Converged after a step from an iterate whose Jacobian was factorised (and
                 // regular): the converged iterate is `O(|δ|)` from it, so its Jacobian is not
@@ -388,6 +391,17 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
             for (((r, p), f), pi) in self.r.iter_mut().zip(&self.p).zip(&self.f).zip(pi) {
                 *r = p - h * f - pi;
             }
+        }
+    }
+
+    /// The size of the terms of `G(y)` after [`residual`](Self::residual): `‖p‖∞`, and
+    /// `h ‖f‖∞` when `G` has the force.
+    fn terms(&self) -> f64 {
+        let p = max_norm(&self.p);
+        if momentum_has_force(self.kind) {
+            p
+        } else {
+            p.max(self.h * max_norm(&self.f))
         }
     }
 

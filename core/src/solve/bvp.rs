@@ -186,13 +186,12 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
         }
     }
     let newton = options.newton;
-    let h_alpha = grid.h().powf(-embedding.alpha());
     let (mut r, mut pw) = residual_and_pointwise(disc, scheme, &q, 0)?;
     let mut res = max_norm(&r);
     let mut previous = f64::INFINITY;
     for iteration in 0..=newton.max_iterations {
         let at = Location::Newton(iteration);
-        let scale = 1.0 + max_norm(&pw.f) + h_alpha * max_norm(&pw.p);
+        let scale = disc.row_scale(scheme, &pw);
         // Factorise before testing convergence: a solution where the Jacobian is singular
         // is not isolated, and is reported rather than returned.
         let mut rhs: Vec<f64> = r.iter().flat_map(|x| x.iter().copied()).collect();

@@ -250,7 +250,7 @@ impl<const D: usize> StageSystem<D> {
     /// Newton's method on the stage equations of the step from `(q_k, p_k)` at `t_k` (step `n`,
     /// for the errors), from the stage velocities in `v`; returns the iterations (0 when the
     /// guess already solves them). The stopping rule is that of [`NewtonOptions`]: a residual
-    /// at most `tolerance · (1 + ‖p_k‖∞ + max ‖P_i‖∞)`, or at the round-off floor
+    /// at most `tolerance · (‖p_k‖∞ + max ‖P_i‖∞ + h max ‖Ṗ_i‖∞)`, or at the round-off floor
     /// `64 ε (‖p_k‖∞ + max ‖P_i‖∞ + h max ‖Ṗ_i‖∞ + ‖J‖∞ max ‖V_i‖∞)` and no longer halving.
     fn solve<L: Lagrangian<D> + ?Sized>(
         &mut self,
@@ -282,9 +282,10 @@ impl<const D: usize> StageSystem<D> {
             }
             let j_norm = self.assemble_jacobian();
             let largest = |x: &[Vector<D>]| x.iter().fold(0.0f64, |m, y| m.max(y.amax()));
-            let momenta = pk.amax() + largest(&self.p);
-            let terms = momenta + self.h * largest(&self.f) + j_norm * largest(&self.v);
-            let converged = residual <= options.tolerance * (1.0 + momenta)
+            // The terms the rows balance (no absolute part: `c L` stops where `L` does).
+            let rows = pk.amax() + largest(&self.p) + self.h * largest(&self.f);
+            let terms = rows + j_norm * largest(&self.v);
+            let converged = residual <= options.tolerance * rows
                 || at_round_off(residual, previous, 1.0, terms);
             // As for the classical steps: a singular Jacobian at the solution means the step is
             // not well defined there, an error even at a zero residual.

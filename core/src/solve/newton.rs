@@ -5,7 +5,7 @@ use crate::error::{Error, Location, Result};
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::linalg::{BandedMatrix, solve_small};
 use crate::options::NewtonOptions;
-use crate::step::{Step, residual as step_residual};
+use crate::step::{Step, residual_and_terms};
 
 /// Whether Newton has stagnated at round-off: `residual` is within the round-off level of a
 /// system with Jacobian max-norm `jacobian` at unknowns of max-norm `unknowns`, *and* the last
@@ -79,7 +79,7 @@ pub(crate) fn newton_step<const D: usize, L: Lagrangian<D> + ?Sized>(
     if !momentum.iter().all(|c| c.is_finite()) {
         return Err(Error::NotFinite { at });
     }
-    let scale = 1.0 + momentum.amax();
+    let momentum_size = momentum.amax();
     let mut y = guess;
     let mut residual = f64::INFINITY;
     let band = step_band(lagrangian);
@@ -91,7 +91,7 @@ pub(crate) fn newton_step<const D: usize, L: Lagrangian<D> + ?Sized>(
         residual,
     };
     for iteration in 0..=options.max_iterations {
-        let (r, j) = step_residual(lagrangian, step, &y);
+        let (r, j, terms) = residual_and_terms(lagrangian, step, &y);
         if !r.iter().chain(j.iter()).all(|c| c.is_finite()) {
             return Err(if iteration == 0 {
                 Error::NotFinite { at }
@@ -105,6 +105,9 @@ pub(crate) fn newton_step<const D: usize, L: Lagrangian<D> + ?Sized>(
             .row_iter()
             .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
             .fold(0.0, f64::max);
+        // The scale of the equation: the terms it balances, `π` and those of `G(y)`. No
+        // absolute part, so that `c L` stops where `L` does.
+        let scale = momentum_size.max(terms);
         let converged = residual <= options.tolerance * scale
             || at_round_off(residual, previous, j_norm, y.amax());
         // The step is well defined only where its Jacobian is invertible (implicit function

@@ -17,6 +17,7 @@ use crate::lagrangian::{Lagrangian, Vector};
 use crate::linalg::solve_small;
 use crate::options::NewtonOptions;
 use crate::side::Side;
+use crate::solve::newton::at_round_off;
 use std::fmt;
 
 /// How a solution's velocities and momenta at the nodes are computed, and their order.
@@ -478,7 +479,9 @@ fn step_sum<const D: usize, L: Lagrangian<D> + ?Sized>(
 }
 
 /// The velocity `v` with `∂L/∂v(x, v, t) = p`: Newton's method on `∂²L/∂v²` from `guess`,
-/// stopping at the default Newton tolerance relative to `1 + ‖p‖∞`.
+/// stopping at the default Newton tolerance relative to the terms of the equation,
+/// `max(‖p‖∞, ‖∂L/∂v(x, v, t)‖∞)` (no absolute part: `c L` gives the velocity `L` gives), or
+/// at round-off (`at_round_off`, with `‖∂²L/∂v²‖∞` and `‖v‖∞`).
 pub(crate) fn invert_momentum<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
     x: &Vector<D>,
@@ -489,20 +492,27 @@ pub(crate) fn invert_momentum<const D: usize, L: Lagrangian<D> + ?Sized>(
 ) -> Result<Vector<D>> {
     let options = NewtonOptions::default();
     let at = Location::Node(k);
-    let scale = 1.0 + p.amax();
     let mut v = guess;
     let mut residual = f64::INFINITY;
     for iteration in 0..=options.max_iterations {
         let (_, pv) = lagrangian.gradient(x, &v, t);
         let r = pv - p;
+        let previous = residual;
         residual = r.amax();
         if !residual.is_finite() {
             return Err(Error::NotFinite { at });
         }
-        if residual <= options.tolerance * scale {
+        if residual <= options.tolerance * p.amax().max(pv.amax()) {
             return Ok(v);
         }
         let vv = lagrangian.hessian(x, &v, t).vv;
+        let vv_norm = vv
+            .row_iter()
+            .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
+            .fold(0.0, f64::max);
+        if at_round_off(residual, previous, vv_norm, v.amax()) {
+            return Ok(v);
+        }
         let Some(delta) = solve_small(&vv, &r) else {
             return Err(Error::SingularJacobian { at });
         };

@@ -92,6 +92,34 @@ impl Lagrangian<1> for Oscillator {
     }
 }
 
+/// The Caldirola–Kanai oscillator `L = e^{γt}(½v² − ½ω²x²)`: a damped oscillator, `L` depends
+/// on `t` through a factor that grows along the run.
+#[derive(Clone, Copy, Debug)]
+pub struct CaldirolaKanai {
+    /// The damping rate `γ`.
+    pub gamma: f64,
+    /// The angular frequency `ω`.
+    pub omega: f64,
+}
+
+impl Lagrangian<1> for CaldirolaKanai {
+    fn value(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> f64 {
+        (self.gamma * t).exp() * (0.5 * v[0] * v[0] - 0.5 * self.omega.powi(2) * x[0] * x[0])
+    }
+    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> (Vector<1>, Vector<1>) {
+        let e = (self.gamma * t).exp();
+        (v1(-e * self.omega.powi(2) * x[0]), v1(e * v[0]))
+    }
+    fn hessian(&self, _x: &Vector<1>, _v: &Vector<1>, t: f64) -> Hessian<1> {
+        let e = (self.gamma * t).exp();
+        Hessian {
+            xx: Matrix::<1>::new(-e * self.omega.powi(2)),
+            xv: Matrix::<1>::zeros(),
+            vv: Matrix::<1>::new(e),
+        }
+    }
+}
+
 /// Pendulum `L = ½ l² v² + g l cos x` (the same model as
 /// [`generated::Pendulum`](crate::models::generated::Pendulum)).
 pub struct Pendulum {

@@ -114,7 +114,9 @@ fn spherical_pendulum_near_the_pole_is_a_blow_up() {
     let grid = Grid::new(0.0, 10.0, 10_000).unwrap();
     let problem = Problem::new(&model, grid, fde(Side::Backward));
     let (q0, v0) = ([0.3, 0.0], [-1.0, 0.02]);
-    // Unguarded, the run is Ok with its energy from −8.87 to over 10³.
+    // Unguarded, the run is Ok with its energy from −8.87 to far above 0 (about 48; how far
+    // depends on the rounding of each unresolved passage: over 10³ with the stopping rule's
+    // old absolute floor).
     let run = Problem::new(&model, grid, fde(Side::Backward))
         .with_blow_up_guard(false)
         .solve_ivp(Scheme::Variational, q0, v0)
@@ -124,7 +126,7 @@ fn spherical_pendulum_near_the_pole_is_a_blow_up() {
         .map(|(_, e)| e)
         .collect();
     let e_max = e.iter().copied().fold(f64::MIN, f64::max);
-    assert!(e[0] < -8.0 && e_max > 1e3, "E from {} to {e_max}", e[0]);
+    assert!(e[0] < -8.0 && e_max > 10.0, "E from {} to {e_max}", e[0]);
     match problem.solve_ivp(Scheme::Variational, q0, v0) {
         Err(Error::BlowUp { from, to, .. }) => {
             // Reported at the first passage near the pole: the window holds it, and the

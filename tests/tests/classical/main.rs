@@ -17,6 +17,7 @@ mod parallel;
 mod regularity;
 mod residual_floor;
 mod resolution;
+mod scale_invariance;
 mod stability_limits;
 mod start_order;
 mod stormer_verlet;

@@ -3,3 +3,4 @@
 mod bvp;
 mod compare;
 mod ivp;
+mod scale_invariance;

@@ -104,7 +104,8 @@ const SCHEMES: [Scheme; 2] = [Scheme::Direct, Scheme::Variational];
 const ALPHAS: [f64; 4] = [0.3, 0.7, 0.95, 1.0];
 
 /// Whether `q` meets Newton's stopping rule for `scheme` (see `NewtonOptions`), recomputed on
-/// the dense residual path: `max|r| ≤ tolerance·(1 + max|f| + h^{−α} max|p|)`, or `max|r|` at
+/// the dense residual path: `max|r| ≤ tolerance·(max|f| + h^{−α} max|p|)` (`f` on the rows,
+/// the interior nodes; `p` on the quadrature nodes), or `max|r|` at
 /// the round-off floor `64 ε ‖J‖∞ ‖Q‖∞`. `‖J‖∞` is bounded from the Hessian blocks with
 /// `‖D‖ ≤ 2h^{−α}` (the Grünwald–Letnikov weights have `Σ|α_r| ≤ 2`):
 /// `‖J‖∞ ≤ max‖L_xx‖ + 4h^{−α} max‖L_xv‖ + 4h^{−2α} max‖L_vv‖`. Returns the relative residual
@@ -128,7 +129,9 @@ fn newton_criterion<L: Lagrangian<D>, const D: usize>(
         let t = problem.grid().t(k);
         let (f, p) = problem.lagrangian().gradient(&q[k], vk, t);
         let hs = problem.lagrangian().hessian(&q[k], vk, t);
-        f_max = f_max.max(f.amax());
+        if (1..problem.grid().n()).contains(&k) {
+            f_max = f_max.max(f.amax());
+        }
         p_max = p_max.max(p.amax());
         (xx, xv, vv) = (
             xx.max(norm(&hs.xx)),
@@ -138,7 +141,7 @@ fn newton_criterion<L: Lagrangian<D>, const D: usize>(
     }
     let h_alpha = problem.grid().h().powf(-problem.embedding().alpha());
     let residual = max_norm(&r);
-    let relative = residual / (1.0 + f_max + h_alpha * p_max);
+    let relative = residual / (f_max + h_alpha * p_max);
     let jacobian = xx + 4.0 * h_alpha * xv + 4.0 * h_alpha * h_alpha * vv;
     let floor = 64.0 * f64::EPSILON * jacobian * max_norm(q);
     let tolerance = problem.newton_options().tolerance;

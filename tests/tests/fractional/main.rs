@@ -1,6 +1,7 @@
 //! Fractional (Grünwald–Letnikov) boundary value problems: the dense and fast solvers, orders, hard and ill-posed cases. One test binary for the group.
 
 mod alpha_one;
+mod end_forcing;
 mod fractional_fast;
 mod fractional_orders;
 mod hard_fractional;

@@ -25,7 +25,8 @@
 //! [`Error::KrylovDidNotConverge`]; with [`FractionalSolver::Auto`] a small system then falls back
 //! to dense LU.
 //!
-//! **Stopping rule.** The same as the dense path: `max|r| ≤ tol · (1 + max|f| + h^{−α} max|p|)`,
+//! **Stopping rule.** The same as the dense path: `max|r| ≤ tol · (max|f| + h^{−α} max|p|)`
+//! over the values the rows read (`f` on the interior nodes, `p` on the quadrature nodes),
 //! or a residual that has stopped falling at round-off ([`NewtonOptions`]). The residual is
 //! computed by FFT, with `V = D Q` taken through the differences of the curve
 //! (`FftOperator`, "the difference form"), so that its own error stays below the floor of

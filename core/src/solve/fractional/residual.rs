@@ -13,7 +13,8 @@ pub(super) struct Evaluation<const D: usize> {
     pub(super) r: Vec<Vector<D>>,
     /// `V` on the rows.
     pub(super) v: Vec<Vector<D>>,
-    /// `1 + max|f| + h^{−α} max|p|`.
+    /// `max|f| + h^{−α} max|p|` over what the rows read: `f` on the interior nodes, `p` on
+    /// the quadrature nodes (the scale of the rows, as the dense path's).
     pub(super) scale: f64,
 }
 
@@ -50,8 +51,9 @@ pub(super) fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
             system.rows_b = p;
             return Err(not_finite);
         }
-        f_max = f_max.max(fk.amax());
+        // The end node's force is read by no row: it plays no part in the scale.
         if (1..n).contains(&k) {
+            f_max = f_max.max(fk.amax());
             r[k - 1] = fk;
         }
         p[i] = pk;
@@ -61,7 +63,7 @@ pub(super) fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
     for (j, rj) in r.iter_mut().enumerate() {
         *rj += dt_p[j + 1] * minus_sigma;
     }
-    let scale = 1.0 + f_max + system.scale * max_norm(&p);
+    let scale = f_max + system.scale * max_norm(&p);
     system.rows_b = p;
     system.nodes = dt_p;
     applied?;
