@@ -17,7 +17,9 @@
 //!   `1.0 / (2.0 + s * s)`, `s.sin()`, …), a sum in an `if` condition, a quotient of sums, and a
 //!   bound sum read inside another loop's nonlinear function.
 //!
-//! Environment: `VAREMBED_FUZZ_COUNT` (programs, default 500), `VAREMBED_FUZZ_SEED` (decimal
+//! Environment: `VAREMBED_FUZZ_COUNT` (programs; by default 100, and 500 where `CI` is set,
+//! as `.ci/run` sets it: the 500 cost about 4 CPU-minutes to compile, which the quick test
+//! loop does not pay), `VAREMBED_FUZZ_SEED` (decimal
 //! or `0x…` hex), `VAREMBED_FUZZ_LEVEL` (`legacy` or `full`). The generator has its own
 //! SplitMix64, so that the build script needs no dependency.
 
@@ -28,7 +30,10 @@ use std::path::PathBuf;
 
 /// The default seed: the programs a plain `cargo test` checks.
 const DEFAULT_SEED: u64 = 0x5EED_F0A2_2024_0001;
-const DEFAULT_COUNT: usize = 500;
+/// Programs by default: a quick `cargo test` compiles these.
+const QUICK_COUNT: usize = 100;
+/// Programs by default where the environment variable `CI` is set (`.ci/run` sets it).
+const CI_COUNT: usize = 500;
 
 fn main() {
     println!("cargo:rerun-if-changed=build.rs");
@@ -36,6 +41,7 @@ fn main() {
         "VAREMBED_FUZZ_COUNT",
         "VAREMBED_FUZZ_SEED",
         "VAREMBED_FUZZ_LEVEL",
+        "CI",
     ] {
         println!("cargo:rerun-if-env-changed={var}");
     }
@@ -46,7 +52,10 @@ fn main() {
                 .parse::<usize>()
                 .expect("VAREMBED_FUZZ_COUNT: a number of programs")
         })
-        .unwrap_or(DEFAULT_COUNT);
+        .unwrap_or(match env::var("CI") {
+            Ok(ci) if !ci.is_empty() && ci != "false" => CI_COUNT,
+            _ => QUICK_COUNT,
+        });
     let seed = env::var("VAREMBED_FUZZ_SEED")
         .ok()
         .map(|s| parse_seed(&s))

@@ -10,7 +10,7 @@ use crate::ivp_scene::{
 use crate::reference::ReferenceCurve;
 use crate::scene::{Context, SceneReport, SweepLine, doubling};
 use std::f64::consts::FRAC_PI_2;
-use varembed::{Embedding, Side, Vector, lagrangian};
+use varembed::{Embedding, Ensemble, Grid, Problem, Scheme, Side, Vector, lagrangian};
 
 /// The double pendulum: `T = v₀² + ½v₁² + v₀v₁ cos(x₀ − x₁)`, `U = −2g cos x₀ − g cos x₁`.
 #[lagrangian]
@@ -135,13 +135,74 @@ pub fn speed_up(fde: &[SweepLine], higher_order: &[SweepLine]) -> String {
     }
 }
 
-/// The scene, with the cost comparison at [`TARGET`] in its notes.
+/// Members of the sensitivity ensemble.
+pub const ENSEMBLE: usize = 16;
+
+/// The initial spread of the sensitivity ensemble: member `k` starts with its upper angle
+/// raised by `k · SPACING` rad.
+pub const SPACING: f64 = 1e-9;
+
+/// The sensitivity ensemble's interval: four times the scene's, long enough for the
+/// separation of nearby runs to dominate.
+pub const ENSEMBLE_INTERVAL: (f64, f64) = (0.0, 40.0);
+
+/// The chaos, measured: Gauss–Legendre with two stages (order 4) from [`ENSEMBLE`] initial
+/// conditions [`SPACING`] apart, solved as one [`Ensemble`] (in parallel, each finished member
+/// recorded and ticked on the tour's progress bar by the ensemble's callback). Returns the
+/// final upper angles, in member order.
+pub fn sensitivity(cx: &Context) -> varembed::Result<(usize, Vec<f64>)> {
+    let n = cx.pick(16000, 4000);
+    let grid = Grid::new(ENSEMBLE_INTERVAL.0, ENSEMBLE_INTERVAL.1, n)?;
+    let problem = Problem::new(&MODEL, grid, Embedding::gauss_legendre(2)?);
+    let (q0, v0) = initial_data();
+    let members: Vec<(Vector<2>, Vector<2>)> = (0..ENSEMBLE)
+        .map(|k| (q0 + Vector::<2>::new(k as f64 * SPACING, 0.0), v0))
+        .collect();
+    cx.progress.inc_length(ENSEMBLE as u64);
+    let ensemble = Ensemble::new().with_progress(|done, _| {
+        cx.record(
+            "double-pendulum",
+            &format!("sensitivity ensemble, member {done} to finish"),
+            n,
+        )
+    });
+    let finals = problem
+        .solve_ivp_ensemble(Scheme::Variational, &members, &ensemble)
+        .into_iter()
+        .map(|run| run.map(|solution| solution.last()[0]))
+        .collect::<varembed::Result<Vec<f64>>>()?;
+    Ok((n, finals))
+}
+
+/// The note of [`sensitivity`]: how far the final angles of runs that start `SPACING` apart
+/// spread.
+pub fn sensitivity_note(n: usize, finals: &[f64]) -> String {
+    let (lo, hi) = finals
+        .iter()
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+            (lo.min(x), hi.max(x))
+        });
+    let start = (ENSEMBLE - 1) as f64 * SPACING;
+    format!(
+        "Sensitivity: {ENSEMBLE} runs of Gauss–Legendre s = 2 (N = {n}) whose upper angles start \
+         {SPACING:.0e} rad apart ({start:.1e} rad in all), solved as one `Ensemble` in parallel: \
+         at t = {} their upper angles spread over {:.2e} rad, {:.1e} times the initial spread: \
+         a perturbation of the data, or a rounding error, grows by about as much over the run.",
+        ENSEMBLE_INTERVAL.1,
+        hi - lo,
+        (hi - lo) / start
+    )
+}
+
+/// The scene, with the cost comparison at [`TARGET`] and the sensitivity ensemble in its notes.
 pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
     let mut report = scene(cx, &reference()).run(cx)?;
     let (fde, higher_order) = report.sweep.split_at(standard_variants().len());
     let note = speed_up(fde, higher_order);
+    let (n, finals) = sensitivity(cx)?;
     // Before the advice, which closes the notes.
     let at = report.notes.len().saturating_sub(1);
     report.notes.insert(at, note);
+    report.notes.insert(at + 1, sensitivity_note(n, &finals));
     Ok(report)
 }
