@@ -347,19 +347,32 @@ pub fn solve_dense(
     a: nalgebra::DMatrix<f64>,
     b: &nalgebra::DVector<f64>,
 ) -> Option<nalgebra::DVector<f64>> {
+    solve_factored(&factor_dense(a)?, b)
+}
+
+/// The LU factorisation with partial pivoting of `a` (nalgebra); `None` when `a` is not finite
+/// or a pivot is numerically zero relative to its largest entry.
+pub fn factor_dense(
+    a: nalgebra::DMatrix<f64>,
+) -> Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>> {
     let norm = a.amax();
     if !norm.is_finite() {
         return None;
     }
     let lu = a.lu();
-    if lu
+    let singular = lu
         .u()
         .diagonal()
         .iter()
-        .any(|d| d.abs() <= SINGULAR_RATIO * norm)
-    {
-        return None;
-    }
+        .any(|d| d.abs() <= SINGULAR_RATIO * norm);
+    (!singular).then_some(lu)
+}
+
+/// `A⁻¹ b` from the factorisation of [`factor_dense`]; `None` when not finite.
+pub fn solve_factored(
+    lu: &nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
+    b: &nalgebra::DVector<f64>,
+) -> Option<nalgebra::DVector<f64>> {
     lu.solve(b).filter(|x| x.iter().all(|v| v.is_finite()))
 }
 

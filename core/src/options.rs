@@ -127,6 +127,9 @@ pub(crate) struct SolverOptions {
     /// Whether implicit initial value runs check their step against the fastest linearised
     /// motion at the initial data (default on; `Warning::UnderResolved`).
     pub resolution_check: bool,
+    /// Whether boundary value problems measure how close their linearisation is to singular
+    /// (default on; `Warning::IllPosed`).
+    pub posedness_check: bool,
 }
 
 impl Default for SolverOptions {
@@ -137,6 +140,7 @@ impl Default for SolverOptions {
             krylov: KrylovBudget::default(),
             blow_up_guard: true,
             resolution_check: true,
+            posedness_check: true,
         }
     }
 }

@@ -254,6 +254,37 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
         self
     }
 
+    /// Turns the ill-posedness check of boundary value problems on or off (on by default).
+    ///
+    /// A solve that converges measures, from its last factorisation, how close the linearised
+    /// problem is to singular (a resonance), and flags it with
+    /// [`Warning::IllPosed`](crate::Warning::IllPosed); the check costs a few back-substitutions.
+    /// Turn it off to time a solve without it, or for a problem known to sit at a resonance.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use std::f64::consts::PI;
+    /// use varembed::{Embedding, Grid, Problem, Scheme, Warning, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn oscillator(x: f64, v: f64) -> f64 {
+    ///     0.5 * v * v - 0.5 * x * x
+    /// }
+    ///
+    /// // q̈ = −q, q(0) = 0, q(π) = 1: no solution. The discrete one exists, and is flagged.
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, PI, 100)?, Embedding::midpoint());
+    /// let run = problem.solve_bvp(Scheme::Variational, 0.0, 1.0)?;
+    /// assert!(matches!(run.warnings[..], [Warning::IllPosed { .. }]));
+    /// let quiet = problem.with_posedness_check(false).solve_bvp(Scheme::Variational, 0.0, 1.0)?;
+    /// assert!(quiet.warnings.is_empty());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn with_posedness_check(mut self, on: bool) -> Self {
+        self.options.posedness_check = on;
+        self
+    }
+
     /// Whether the initial value problems run the blow-up guard.
     ///
     /// # Example

@@ -9,9 +9,12 @@ use crate::discretisation::{Discretisation, Pointwise};
 use crate::embedding::Scheme;
 use crate::error::{Error, Location, Result, check_len};
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
-use crate::linalg::{BandedMatrix, max_norm, solve_dense};
+use crate::linalg::{BandedMatrix, factor_dense, max_norm, solve_factored};
 use crate::options::{FractionalSolver, SolverOptions};
 use crate::regularity::{check_constants, check_vv, hessian_in_domain, pivot_range};
+use crate::solve::conditioning::{
+    ILL_POSED_BELOW, ill_posedness, neighbour_coupling, smallest_eigenvalue,
+};
 use crate::solve::fractional;
 use crate::solve::newton::{at_round_off, backtrack};
 use crate::solve::solution::{Solution, Warning};
@@ -139,7 +142,9 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
     let mut solution = solve_unchecked(disc, options, scheme, guess)?;
     check_nodes(disc, &solution.q, false)?;
     let embedding = disc.embedding();
-    solution.warnings = warnings(embedding.alpha(), embedding.is_fractional());
+    solution
+        .warnings
+        .extend(warnings(embedding.alpha(), embedding.is_fractional()));
     Ok(solution)
 }
 
@@ -195,33 +200,64 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
         // Factorise before testing convergence: a solution where the Jacobian is singular
         // is not isolated, and is reported rather than returned.
         let mut rhs: Vec<f64> = r.iter().flat_map(|x| x.iter().copied()).collect();
-        let j_norm;
-        if embedding.is_fractional() {
+        let converged = |j_norm: f64| {
+            res <= newton.tolerance * scale || at_round_off(res, previous, j_norm, max_norm(&q))
+        };
+        // On convergence, the ill-posedness measure from the factorisation at hand (see the
+        // conditioning module).
+        let measure = |sigma: Option<f64>, coupling: f64| {
+            let length = grid.b() - grid.a();
+            sigma.map(|s| ill_posedness(s, coupling, grid.h(), length, embedding.alpha()))
+        };
+        let (done, conditioning) = if embedding.is_fractional() {
             let mut jac = DMatrix::<f64>::zeros(unknowns, unknowns);
             disc.assemble_jacobian(scheme, &q, &pw, |i, j, b| jac.add_block(i, j, b));
             if !jac.iter().all(|c| c.is_finite()) {
                 return Err(Error::NotFinite { at });
             }
-            j_norm = jac
+            let j_norm = jac
                 .row_iter()
                 .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
                 .fold(0.0, f64::max);
-            let x =
-                solve_dense(jac, &DVector::from_vec(rhs)).ok_or(Error::SingularJacobian { at })?;
+            let coupling = neighbour_coupling(unknowns, D, |i, j| jac[(i, j)]);
+            let lu = factor_dense(jac).ok_or(Error::SingularJacobian { at })?;
+            let x = solve_factored(&lu, &DVector::from_vec(rhs))
+                .ok_or(Error::SingularJacobian { at })?;
             rhs = x.as_slice().to_vec();
+            let done = converged(j_norm);
+            let sigma = (done && options.posedness_check).then(|| {
+                smallest_eigenvalue(unknowns, |v| {
+                    let y = lu.solve(&DVector::from_column_slice(v));
+                    match y {
+                        Some(y) => v.copy_from_slice(y.as_slice()),
+                        None => v.fill(f64::NAN),
+                    }
+                })
+            });
+            (done, measure(sigma.flatten(), coupling))
         } else {
             let mut jac = BandedMatrix::zeros(unknowns, 2 * D - 1, 2 * D - 1);
             disc.assemble_jacobian(scheme, &q, &pw, |i, j, b| jac.add_block(i, j, b));
             if !jac.is_finite() {
                 return Err(Error::NotFinite { at });
             }
-            j_norm = jac.norm_inf();
+            let j_norm = jac.norm_inf();
+            let coupling = neighbour_coupling(unknowns, D, |i, j| jac.get(i, j));
             jac.factorize()
                 .map_err(|_| Error::SingularJacobian { at })?;
             jac.solve_inplace(&mut rhs);
-        }
-        if res <= newton.tolerance * scale || at_round_off(res, previous, j_norm, max_norm(&q)) {
-            return Ok(finish(q, iteration));
+            let done = converged(j_norm);
+            let sigma = (done && options.posedness_check)
+                .then(|| smallest_eigenvalue(unknowns, |v| jac.solve_inplace(v)));
+            (done, measure(sigma.flatten(), coupling))
+        };
+        if done {
+            let mut solution = finish(q, iteration);
+            let ill_posed = conditioning.filter(|&m| m < ILL_POSED_BELOW);
+            solution
+                .warnings
+                .extend(ill_posed.map(|measure| Warning::IllPosed { measure }));
+            return Ok(solution);
         }
         if iteration == newton.max_iterations {
             break;

@@ -3,6 +3,7 @@
 //! FFT Newton–Krylov path of the fractional embeddings), and what they return.
 
 pub mod bvp;
+pub(crate) mod conditioning;
 pub(crate) mod dense;
 pub mod fractional;
 pub(crate) mod gauss;

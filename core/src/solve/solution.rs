@@ -54,6 +54,20 @@ pub enum Warning {
         /// The largest accepted `h ω` for this scheme.
         limit: f64,
     },
+    /// A boundary value problem whose linearisation at the solution is (nearly) singular: a
+    /// resonance, where the continuous problem has no solution or many, and the discrete
+    /// nodes grow with `N` or depend on the guess. `measure` is the smallest eigenvalue of the
+    /// converged Newton system over the lowest eigenvalue of its kinetic part, `a (πh/T)^{2α}`
+    /// (`a` the largest coupling between neighbouring nodes, `T = b − a`): it converges with
+    /// the grid (`min_j |(jπ/T)² m − k| / ((π/T)² m)` on `L = ½mv² − ½kx²`), unlike a
+    /// condition number, and is flagged below `10⁻²`. `q̈ = −q` on `[0, π]` with `q(0) = 0`,
+    /// `q(π) = 1` has none, and is flagged; over `[0, π/2]` it reads ¾. Computed by inverse
+    /// iteration on the banded and dense solves' last factorisation; not yet on the fractional
+    /// fast path and for run-time-dimension models.
+    IllPosed {
+        /// The measure above.
+        measure: f64,
+    },
 }
 
 impl fmt::Display for Warning {
@@ -64,6 +78,13 @@ impl fmt::Display for Warning {
                 "ill-posed: a fractional boundary value problem of order α = {alpha} ≤ 1/2 with \
                  both end values imposed has no continuous solution for generic data; the \
                  discrete solutions need not converge as N grows"
+            ),
+            Warning::IllPosed { measure } => write!(
+                f,
+                "ill-posed: the linearised boundary value problem is nearly singular (smallest \
+                 eigenvalue {measure:.2e} of its kinetic part's lowest, below 1e-2): a \
+                 resonance, with no solution or many; the nodes may grow with N or depend on \
+                 the guess. Change the interval or the end values, or check the model"
             ),
             Warning::UnderResolved { h_omega, limit } => write!(
                 f,

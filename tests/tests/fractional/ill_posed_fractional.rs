@@ -87,3 +87,57 @@ fn every_solver_and_scheme_flags_the_ill_posed_problem() {
     assert!(classical.warnings.is_empty());
     assert!(solve(1.0, 32, FractionalSolver::Auto).warnings.is_empty());
 }
+
+/// `Q(1/2)` of `L = ½v² − ½k x²` under Gauss-GLE− at `α = 0.74` on `[0, 1]`, `Q_0 = 0`,
+/// `Q_N = 1`, dense solver, with its warnings. Exactly at a resonance of the discrete problem the
+/// solve fails with `SingularJacobian`.
+fn fractional_oscillator(k: f64, n: usize) -> varembed::Result<(f64, Vec<Warning>)> {
+    let grid = Grid::new(0.0, 1.0, n).unwrap();
+    let gle = Embedding::grunwald_letnikov(Side::Backward, 0.74).unwrap();
+    let model = varembed_tests::models::hand::Oscillator { omega: k.sqrt() };
+    let run = Problem::new(&model, grid, gle)
+        .with_fractional_solver(FractionalSolver::Dense)
+        .solve_bvp(Scheme::Variational, 0.0, 1.0)?;
+    Ok((run.q[n / 2][0], run.warnings))
+}
+
+#[test]
+fn a_fractional_problem_next_to_a_resonance_is_flagged_and_a_far_one_is_not() {
+    for n in [50, 100, 200] {
+        // The first resonance k*: Q(1/2) grows without bound as k → k* from below and
+        // changes sign across it (a singular system counts as past it). Found by a scan, then
+        // bisection on the sign.
+        let below = |k: f64| fractional_oscillator(k, n).is_ok_and(|(q, _)| q > 0.0);
+        let mut lo = 0.0;
+        let mut hi = lo;
+        while below(hi) {
+            lo = hi;
+            hi += 0.5;
+            assert!(hi < 100.0, "no resonance below k = 100 at N = {n}");
+        }
+        for _ in 0..60 {
+            let mid = 0.5 * (lo + hi);
+            if below(mid) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let resonance = 0.5 * (lo + hi);
+        // Within 0.1 % of it: Q(1/2) is in the hundreds, and the solution is flagged.
+        let (q_near, near) = fractional_oscillator(resonance * 0.999, n).unwrap();
+        let measure = near.iter().find_map(|w| match *w {
+            Warning::IllPosed { measure } => Some(measure),
+            _ => None,
+        });
+        assert!(
+            q_near.abs() > 100.0 && measure.is_some_and(|m| m < 1e-2),
+            "N = {n}, k* = {resonance}: Q(1/2) = {q_near}, {near:?}"
+        );
+        // Half-way to it, and with no stiffness at all: no warning.
+        for k in [0.0, 0.5 * resonance] {
+            let (_, far) = fractional_oscillator(k, n).unwrap();
+            assert!(far.is_empty(), "N = {n}, k = {k}: {far:?}");
+        }
+    }
+}
