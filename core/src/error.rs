@@ -242,6 +242,14 @@ pub enum Error {
         /// The largest stable step of this scheme on the measured linearisation (see above).
         largest_stable_step: Option<f64>,
     },
+    /// A problem too large for this machine or this solver, reported before any work: `what`
+    /// names what would not fit and what to do instead (a grid whose nodes cannot be stored,
+    /// a dense fractional solve of hours).
+    #[error("too large: {what}")]
+    TooLarge {
+        /// What would not fit, and the remedy.
+        what: String,
+    },
     /// The Krylov solver of the fractional fast path (conjugate gradients, then GMRES) did not
     /// solve a Newton system `J δ = r` to the forcing tolerance: the Jacobian is (nearly)
     /// singular or so indefinite that the preconditioner cannot tame it. Solve with

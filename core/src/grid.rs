@@ -21,6 +21,18 @@ pub struct Grid {
 }
 
 impl Grid {
+    /// The most steps a grid may have: a count whose nodes (at least 8 bytes each, times the
+    /// dimension) could still be indexed. A grid this fine is refused long before, by its step
+    /// (`h` must move both ends); storing its nodes may still not fit in memory, which the
+    /// solvers report as [`Error::TooLarge`].
+    ///
+    /// ```
+    /// use varembed::Grid;
+    /// assert!(Grid::new(0.0, 1.0, usize::MAX).is_err());
+    /// assert!(Grid::MAX_STEPS >= 1 << 40);
+    /// ```
+    pub const MAX_STEPS: usize = (isize::MAX as usize) / 64;
+
     /// The grid of `[a, b]` with `n` steps. Errors unless `a`, `b` are finite, `a < b`, `n ≥ 1`
     /// and `h = (b − a)/n` is a positive normal number.
     ///
@@ -41,8 +53,12 @@ impl Grid {
         if a >= b {
             return invalid("a must be smaller than b");
         }
+        if n > Self::MAX_STEPS {
+            return invalid("N is too large to index its nodes");
+        }
         let h = (b - a) / n as f64;
-        if !h.is_normal() || a + h == a {
+        // Both ends must move by h in floating point, or the nodes near them coincide.
+        if !h.is_normal() || a + h == a || b - h == b {
             return invalid("the step h = (b − a)/N is too small to resolve");
         }
         Ok(Grid { a, b, n, h })

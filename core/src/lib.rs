@@ -168,6 +168,7 @@ mod grid;
 mod interval;
 mod lagrangian;
 mod linalg;
+mod memory;
 mod ode;
 mod operator;
 mod options;

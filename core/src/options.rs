@@ -91,6 +91,27 @@ impl FractionalSolver {
     /// assert!(varembed::FractionalSolver::DENSE_FALLBACK_LIMIT > 0);
     /// ```
     pub const DENSE_FALLBACK_LIMIT: usize = 1500;
+    /// Unknowns above which [`FractionalSolver::Dense`] refuses, up front, with
+    /// [`Error::TooLarge`](crate::Error::TooLarge): its LU of `(N d)³/3` flops a Newton
+    /// iteration would take minutes to hours (at `N = 10⁴`, 3·10¹¹ flops and 800 MB per
+    /// iteration), where the fast path takes seconds.
+    ///
+    /// ```
+    /// use varembed::{Embedding, Error, FractionalSolver, Grid, Problem, Scheme, Side, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn free(x: f64, v: f64) -> f64 {
+    ///     0.5 * v * v
+    /// }
+    ///
+    /// let gle = Embedding::grunwald_letnikov(Side::Backward, 0.7)?;
+    /// let problem = Problem::new(&Free, Grid::new(0.0, 1.0, 10_000)?, gle)
+    ///     .with_fractional_solver(FractionalSolver::Dense);
+    /// let error = problem.solve_bvp(Scheme::Variational, 0.0, 1.0).unwrap_err();
+    /// assert!(matches!(&error, Error::TooLarge { what } if what.contains("FractionalSolver::Fast")));
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub const DENSE_MAX: usize = 5000;
 }
 
 /// Grids with more steps than this apply the dense fractional operators by FFT in the

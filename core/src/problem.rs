@@ -529,7 +529,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
         qa: impl IntoVector<D>,
         qb: impl IntoVector<D>,
     ) -> Result<Solution<D>> {
-        let guess = bvp::straight_line(qa.into_vector(), qb.into_vector(), self.grid().n());
+        let guess = bvp::straight_line(qa.into_vector(), qb.into_vector(), self.grid().n())?;
         self.solve_bvp_from(scheme, &guess)
     }
 

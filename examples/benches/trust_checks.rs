@@ -4,7 +4,7 @@
 //! - the resolution check of an implicit initial value run (a `d × d` factorisation and 30
 //!   products at the initial data): the pendulum by the midpoint rule, `N = 2000`
 //!   (`d = 1`), and the 16-particle FPUT chain by the midpoint rule, `N = 2000` (`d = 16`);
-//! - the ill-posedness measure of a boundary value problem (8 back-substitutions on the last
+//! - the ill-posedness measure of a boundary value problem (2 back-substitutions on the last
 //!   factorisation): the pendulum's banded solve (midpoint, `N = 2000`) and a fractional
 //!   dense solve (Gauss-GLE−, `α = 0.7`, `N = 200`).
 //!

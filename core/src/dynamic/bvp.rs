@@ -9,6 +9,7 @@
 
 use crate::embedding::Scheme;
 use crate::error::{Error, Location, Result, check_len};
+use crate::memory::reserve;
 use crate::options::NewtonOptions;
 use crate::regularity::DEGENERACY_THRESHOLD;
 use crate::solve::newton::at_round_off;
@@ -90,7 +91,10 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
         check_len("qb", d, qb.len())?;
         let n = self.grid.n();
         // The ends exactly, so that a non-finite end is reported as that end.
-        let mut guess = Vec::with_capacity((n + 1) * d);
+        let mut guess = reserve(
+            (n + 1).saturating_mul(d),
+            "the nodes Q_0..=Q_N of the initial guess",
+        )?;
         for k in 0..=n {
             match k {
                 0 => guess.extend_from_slice(qa),

@@ -4,6 +4,7 @@
 use crate::embedding::{Embedding, Scheme};
 use crate::error::{Error, Result};
 use crate::grid::Grid;
+use crate::memory::reserve;
 use crate::options::NewtonOptions;
 use crate::solve::start::Start;
 
@@ -232,7 +233,12 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
             });
         }
         let n = self.grid.n();
-        let (mut indices, mut q) = (Vec::new(), Vec::new());
+        let stored = n / stride + 2;
+        let mut indices = reserve(stored, "the indices of the stored nodes")?;
+        let mut q = reserve(
+            stored.saturating_mul(q0.len()),
+            "the stored nodes of the run",
+        )?;
         let run = self.run_ivp(scheme, q0, v0, |node| {
             if node.index % stride == 0 || node.index == n {
                 indices.push(node.index);

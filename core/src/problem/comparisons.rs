@@ -76,7 +76,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         qb: Vector<D>,
     ) -> impl Fn(Scheme, Grid) -> Result<Solution<D>> {
         move |scheme, grid| {
-            let guess = bvp::straight_line(qa, qb, grid.n());
+            let guess = bvp::straight_line(qa, qb, grid.n())?;
             bvp::solve(&self.on_grid(grid), &self.options, scheme, &guess)
         }
     }

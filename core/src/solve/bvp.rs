@@ -10,6 +10,7 @@ use crate::embedding::Scheme;
 use crate::error::{Error, Location, Result, check_len};
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::linalg::{BandedMatrix, factor_dense, max_norm, solve_factored};
+use crate::memory::reserve;
 use crate::options::{FractionalSolver, SolverOptions};
 use crate::regularity::{check_constants, check_vv, hessian_in_domain, pivot_range};
 use crate::solve::conditioning::{
@@ -50,16 +51,16 @@ pub(crate) fn straight_line<const D: usize>(
     qa: Vector<D>,
     qb: Vector<D>,
     n: usize,
-) -> Vec<Vector<D>> {
+) -> Result<Vec<Vector<D>>> {
+    let mut line = reserve(n + 1, "the nodes Q_0..=Q_N of the initial guess")?;
     // The ends exactly (`qa + (qb − qa)·1` need not round to `qb`), so that a non-finite end
     // stays where it was given and is reported as that end.
-    (0..=n)
-        .map(|k| match k {
-            0 => qa,
-            k if k == n => qb,
-            k => qa + (qb - qa) * (k as f64 / n as f64),
-        })
-        .collect()
+    line.extend((0..=n).map(|k| match k {
+        0 => qa,
+        k if k == n => qb,
+        k => qa + (qb - qa) * (k as f64 / n as f64),
+    }));
+    Ok(line)
 }
 
 /// The checks before a boundary value problem is solved: finite constants, finite ends (each
@@ -181,6 +182,19 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
             FractionalSolver::Fast => true,
             FractionalSolver::Auto => unknowns > FractionalSolver::DENSE_LIMIT,
         };
+        if !fast && unknowns > FractionalSolver::DENSE_MAX {
+            let m = unknowns as f64;
+            return Err(Error::TooLarge {
+                what: format!(
+                    "the dense fractional solver at {unknowns} unknowns factorises a \
+                     {unknowns} × {unknowns} matrix at every Newton iteration ({:.1e} flops, \
+                     {:.1e} bytes each), minutes to hours; use FractionalSolver::Fast or Auto, \
+                     whose Newton–Krylov iterations cost O(N log N)",
+                    m * m * m / 3.0,
+                    8.0 * m * m
+                ),
+            });
+        }
         if fast {
             match fractional::solve(disc, options, scheme, guess) {
                 Err(Error::KrylovDidNotConverge { .. })

@@ -39,6 +39,7 @@ use crate::gauss_legendre::GaussTableau;
 use crate::grid::Grid;
 use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
 use crate::linalg::solve_dense_in_place;
+use crate::memory::reserve;
 use crate::options::NewtonOptions;
 use crate::regularity::{check_initial_data, check_vv, pivot_range};
 use crate::solve::guard::BlowUpGuard;
@@ -84,8 +85,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GaussIvp<'_, L, D> {
         let mut guard = BlowUpGuard::new(l, false, n_steps, self.blow_up_guard);
         let stride = guard.stride();
         let (mut q, mut p) = (
-            Vec::with_capacity(n_steps + 1),
-            Vec::with_capacity(n_steps + 1),
+            reserve(n_steps + 1, "the nodes q_0..=q_N")?,
+            reserve(n_steps + 1, "the momenta p_0..=p_N")?,
         );
         q.push(q0);
         p.push(p0);

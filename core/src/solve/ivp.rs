@@ -11,6 +11,7 @@ use crate::error::{Error, Location, Result};
 use crate::grid::Grid;
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::linalg::solve_small;
+use crate::memory::reserve;
 use crate::options::{NewtonOptions, SolverOptions};
 use crate::regularity::{
     check_constants, check_finite, check_initial_data, check_vv, hessian_in_domain, pivot_range,
@@ -223,7 +224,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
     ) -> Result<Solution<D>> {
         let grid = self.grid;
         let n_steps = grid.n();
-        let mut q = Vec::with_capacity(n_steps + 1);
+        let mut q = reserve(n_steps + 1, "the nodes Q_0..=Q_N")?;
         q.push(q0);
         if n_steps >= 1 {
             q.push(q1);

@@ -19,6 +19,7 @@ mod regularity;
 mod residual_floor;
 mod resolution;
 mod scale_invariance;
+mod sizes;
 mod stability_limits;
 mod start_order;
 mod stormer_verlet;
