@@ -402,7 +402,11 @@ fn residual_of<const D: usize, L: Lagrangian<D> + ?Sized>(
 
 /// [`residual`] for the symmetric kinds (the table "The symmetric embeddings" of the module
 /// docs).
-#[inline]
+///
+/// Forced inline: called out of line, Newton's loop evaluated every derivative the generated
+/// code computes, where inlined it drops those the step does not read (the direct midpoint
+/// step of the double pendulum ran 1.8× slower out of line, BENCHMARKS.md).
+#[inline(always)]
 fn symmetric_residual<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
     step: &Step<D>,
