@@ -410,6 +410,8 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
 }
 
 mod symmetric;
+mod term_sizes;
+pub(crate) use term_sizes::relative;
 
 #[cfg(test)]
 mod tests {

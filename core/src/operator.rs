@@ -120,6 +120,15 @@ impl Operator {
         })
     }
 
+    /// The same operator with every weight replaced by its modulus: its product with the
+    /// moduli of a curve's values bounds the size of every term a row sums.
+    pub(crate) fn absolute(&self) -> Operator {
+        Operator {
+            weights: self.weights.iter().map(|w| w.abs()).collect(),
+            ..self.clone()
+        }
+    }
+
     /// `(Δ Q)_k` for one row `k` (the same cut-off as [`row_entries`](Self::row_entries));
     /// `q` holds the `N + 1` nodes.
     pub(crate) fn apply_row<const D: usize>(&self, q: &[Vector<D>], k: usize) -> Vector<D> {

@@ -98,8 +98,9 @@ pub fn table_legend(repeats: usize) -> Vec<(&'static str, String)> {
         ),
         (
             "other's resid.",
-            "max-norm of the other scheme's residual on this scheme's solution: zero to \
-             round-off exactly when the embedding is coherent"
+            "the other scheme's residual on this scheme's solution, each row against the size of \
+             the terms it sums (force plus weighted momenta): zero to round-off exactly when the \
+             embedding is coherent"
                 .to_string(),
         ),
         (

@@ -12,7 +12,6 @@ use super::{
 use crate::dynamic::DynLagrangian;
 use crate::dynamic::problem::{DynProblem, DynSolution};
 use crate::dynamic::rows::{CurveValues, DynRows};
-use crate::dynamic::step::max_norm;
 use crate::embedding::{Embedding, Scheme};
 use crate::error::{Result, check_len};
 use crate::grid::Grid;
@@ -69,7 +68,7 @@ impl<L: DynLagrangian + ?Sized> Compares for Comparer<'_, '_, L> {
                 lagrangian.energy(x, v, grid.t(k))
             })
             .collect();
-        Ok((energy, max_norm(&values.r)))
+        Ok((energy, rows.relative_residual(&values)))
     }
 }
 

@@ -10,6 +10,7 @@
 //! `∂r_k/∂Q_j = δ_kj L_xx + L_xv D[k, j] + Σ_m B[k, m] (δ_mj L_vx + L_vv D[m, j])`
 //! ([schemes](crate::guide::schemes)).
 
+use crate::discretisation::relative;
 use crate::embedding::{Embedding, EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::grid::Grid;
@@ -154,6 +155,28 @@ impl<'a, L: DynLagrangian + ?Sized> DynRows<'a, L> {
             .fold(0.0f64, |m, k| m.max(largest(&values.f[k * d..(k + 1) * d])));
         let h_alpha = self.grid.h().powf(-self.embedding.alpha());
         forces + h_alpha * largest(&values.p)
+    }
+
+    /// The residual relative to the size of each row's terms, as the const-generic
+    /// discretisation's `relative_residual`: `max_k |r_k|∞ / s_k`, `s_k = |f_k|∞ +
+    /// Σ_m |B[k, m]| |p_m|∞`, at `values` (already evaluated).
+    pub(crate) fn relative_residual(&self, values: &CurveValues) -> f64 {
+        let d = self.d;
+        let largest = |x: &[f64]| x.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        let operators = (&self.velocity, &self.adjoint);
+        self.rows()
+            .enumerate()
+            .map(|(i, k)| {
+                let momenta: f64 = self
+                    .embedding
+                    .momentum_row(self.scheme, operators, k)
+                    .into_iter()
+                    .map(|(m, c)| c.abs() * largest(&values.p[m * d..(m + 1) * d]))
+                    .sum();
+                let size = largest(&values.f[k * d..(k + 1) * d]) + momenta;
+                relative(largest(&values.r[i * d..(i + 1) * d]), size)
+            })
+            .fold(0.0, f64::max)
     }
 
     /// The residual rows from `f` and `p`, as the const-generic discretisation sums them.

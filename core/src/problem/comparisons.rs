@@ -9,7 +9,6 @@ use crate::embedding::{Embedding, Scheme};
 use crate::error::Result;
 use crate::grid::Grid;
 use crate::lagrangian::{IntoVector, Lagrangian, Vector};
-use crate::linalg::max_norm;
 use crate::solve::bvp;
 use crate::solve::ivp::Ivp;
 use crate::solve::solution::Solution;
@@ -44,8 +43,11 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Compares for Comparer<'_, '_, L,
         solution: &Solution<D>,
     ) -> Result<(Vec<f64>, f64)> {
         let energy = self.0.discretisation.energy(&solution.q)?;
-        let residual = self.0.discretisation.residual(scheme, &solution.q)?;
-        Ok((energy, max_norm(&residual)))
+        let residual = self
+            .0
+            .discretisation
+            .relative_residual(scheme, &solution.q)?;
+        Ok((energy, residual))
     }
 }
 

@@ -218,10 +218,19 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
             res <= newton.tolerance * scale || at_round_off(res, previous, j_norm, max_norm(&q))
         };
         // On convergence, the ill-posedness measure from the factorisation at hand (see the
-        // conditioning module).
-        let measure = |sigma: Option<f64>, coupling: f64| {
+        // conditioning module); the coupling it needs is read from the Jacobian before the
+        // factorisation overwrites it, and only then.
+        let check = |done: bool| done && options.posedness_check;
+        let measure = |sigma: Option<f64>, coupling: Option<f64>| {
             let length = grid.b() - grid.a();
-            sigma.map(|s| ill_posedness(s, coupling, grid.h(), length, embedding.alpha()))
+            let (sigma, coupling) = (sigma?, coupling?);
+            Some(ill_posedness(
+                sigma,
+                coupling,
+                grid.h(),
+                length,
+                embedding.alpha(),
+            ))
         };
         let (done, conditioning) = if embedding.is_fractional() {
             let mut jac = DMatrix::<f64>::zeros(unknowns, unknowns);
@@ -233,13 +242,13 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
                 .row_iter()
                 .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
                 .fold(0.0, f64::max);
-            let coupling = neighbour_coupling(unknowns, D, |i, j| jac[(i, j)]);
+            let done = converged(j_norm);
+            let coupling = check(done).then(|| neighbour_coupling(unknowns, D, |i, j| jac[(i, j)]));
             let lu = factor_dense(jac).ok_or(Error::SingularJacobian { at })?;
             let x = solve_factored(&lu, &DVector::from_vec(rhs))
                 .ok_or(Error::SingularJacobian { at })?;
             rhs = x.as_slice().to_vec();
-            let done = converged(j_norm);
-            let sigma = (done && options.posedness_check).then(|| {
+            let sigma = check(done).then(|| {
                 smallest_eigenvalue(unknowns, |v| {
                     let y = lu.solve(&DVector::from_column_slice(v));
                     match y {
@@ -256,13 +265,14 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
                 return Err(Error::NotFinite { at });
             }
             let j_norm = jac.norm_inf();
-            let coupling = neighbour_coupling(unknowns, D, |i, j| jac.get(i, j));
+            let done = converged(j_norm);
+            let coupling =
+                check(done).then(|| neighbour_coupling(unknowns, D, |i, j| jac.get(i, j)));
             jac.factorize()
                 .map_err(|_| Error::SingularJacobian { at })?;
             jac.solve_inplace(&mut rhs);
-            let done = converged(j_norm);
-            let sigma = (done && options.posedness_check)
-                .then(|| smallest_eigenvalue(unknowns, |v| jac.solve_inplace(v)));
+            let sigma =
+                check(done).then(|| smallest_eigenvalue(unknowns, |v| jac.solve_inplace(v)));
             (done, measure(sigma.flatten(), coupling))
         };
         if done {

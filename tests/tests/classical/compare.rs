@@ -52,8 +52,13 @@ fn ivp_comparison_reports_errors_orders_energy_and_coherence() {
             (var_order - variational_order).abs() < 0.1,
             "{start:?}: variational order {var_order}"
         );
-        // Gauss-FDE− is not coherent: each solution leaves the other scheme a residual of order h·q⃛.
-        assert!(cmp.direct.residual_of_other > 1e-4 && cmp.variational.residual_of_other > 1e-4);
+        // Gauss-FDE− is not coherent: each solution leaves the other scheme a residual of order
+        // h·q⃛, against rows whose momentum terms are of size |p|/h: relative, of order h²
+        // (h² = 2.5e-5 here).
+        for report in [&cmp.direct, &cmp.variational] {
+            let r = report.residual_of_other;
+            assert!(r > 2e-6 && r < 2.5e-4, "{r:e}");
+        }
         // The direct σ = − scheme dissipates: energy falls by about 1 − r^{2N} ≈ 1 − e^{−hT}.
         let drift = |r: &varembed::SchemeReport<varembed::Solution<1>>| r.energy_deviation.unwrap();
         assert!(drift(&cmp.direct) > 10.0 * drift(&cmp.variational));

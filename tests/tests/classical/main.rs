@@ -17,6 +17,7 @@ mod node_values;
 mod parallel;
 mod regularity;
 mod residual_floor;
+mod residual_in_context;
 mod resolution;
 mod scale_invariance;
 mod sizes;
