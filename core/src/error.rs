@@ -197,6 +197,25 @@ pub enum Error {
         /// Where.
         at: Location,
     },
+    /// Newton's method met its tolerance at a point where the system it solves is singular to
+    /// working precision (condition number at least `1/ε ≈ 4.5e15`): the nodes it would return
+    /// are round-off, however small their residual. A boundary value problem at a resonance
+    /// (see [`Warning::IllPosed`](crate::Warning::IllPosed)), or scales that double precision
+    /// cannot hold in one system (masses or stiffnesses more than about `1e8` apart, whose
+    /// Jacobian entries differ by that squared over the step), end here.
+    #[error(
+        "the Newton system is singular to working precision at {at}: its condition number is at \
+         least {condition:.1e} (1/ε = 4.5e15), so the nodes would be round-off; check that the \
+         problem has a solution (no resonance between the boundary data), nondimensionalise a \
+         model whose masses or stiffnesses are many orders of magnitude apart, or remove a \
+         degree of freedom too light or too stiff to matter"
+    )]
+    IllConditioned {
+        /// Where (the converged Newton iteration).
+        at: Location,
+        /// A lower bound of the 2-norm condition number of the Newton system there.
+        condition: f64,
+    },
     /// Newton's method did not reach the tolerance.
     #[error(
         "Newton did not converge at {at} after {iterations} iterations: residual {residual:.3e}"

@@ -14,7 +14,8 @@ use crate::memory::reserve;
 use crate::options::{FractionalSolver, SolverOptions};
 use crate::regularity::{check_constants, check_vv, hessian_in_domain, pivot_range};
 use crate::solve::conditioning::{
-    ILL_POSED_BELOW, ill_posedness, neighbour_coupling, smallest_eigenvalue,
+    ILL_POSED_BELOW, NUMERICALLY_SINGULAR, condition_bound, ill_posedness, neighbour_coupling,
+    smallest_eigenvalue,
 };
 use crate::solve::fractional;
 use crate::solve::newton::{at_round_off, backtrack};
@@ -217,9 +218,10 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
         let converged = |j_norm: f64| {
             res <= newton.tolerance * scale || at_round_off(res, previous, j_norm, max_norm(&q))
         };
-        // On convergence, the ill-posedness measure from the factorisation at hand (see the
-        // conditioning module); the coupling it needs is read from the Jacobian before the
-        // factorisation overwrites it, and only then.
+        // On convergence, the smallest eigenvalue by inverse iteration on the factorisation at
+        // hand, for the condition bound and the ill-posedness measure (see the conditioning
+        // module); the coupling the measure needs is read from the Jacobian before the
+        // factorisation overwrites it, and only when the check is on.
         let check = |done: bool| done && options.posedness_check;
         let measure = |sigma: Option<f64>, coupling: Option<f64>| {
             let length = grid.b() - grid.a();
@@ -232,7 +234,7 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
                 embedding.alpha(),
             ))
         };
-        let (done, conditioning) = if embedding.is_fractional() {
+        let (done, j_norm, sigma, coupling) = if embedding.is_fractional() {
             let mut jac = DMatrix::<f64>::zeros(unknowns, unknowns);
             disc.assemble_jacobian(scheme, &q, &pw, |i, j, b| jac.add_block(i, j, b));
             if !jac.iter().all(|c| c.is_finite()) {
@@ -248,7 +250,7 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
             let x = solve_factored(&lu, &DVector::from_vec(rhs))
                 .ok_or(Error::SingularJacobian { at })?;
             rhs = x.as_slice().to_vec();
-            let sigma = check(done).then(|| {
+            let sigma = done.then(|| {
                 smallest_eigenvalue(unknowns, |v| {
                     let y = lu.solve(&DVector::from_column_slice(v));
                     match y {
@@ -257,7 +259,7 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
                     }
                 })
             });
-            (done, measure(sigma.flatten(), coupling))
+            (done, j_norm, sigma.flatten(), coupling)
         } else {
             let mut jac = BandedMatrix::zeros(unknowns, 2 * D - 1, 2 * D - 1);
             disc.assemble_jacobian(scheme, &q, &pw, |i, j, b| jac.add_block(i, j, b));
@@ -271,13 +273,23 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
             jac.factorize()
                 .map_err(|_| Error::SingularJacobian { at })?;
             jac.solve_inplace(&mut rhs);
-            let sigma =
-                check(done).then(|| smallest_eigenvalue(unknowns, |v| jac.solve_inplace(v)));
-            (done, measure(sigma.flatten(), coupling))
+            let sigma = done.then(|| smallest_eigenvalue(unknowns, |v| jac.solve_inplace(v)));
+            (done, j_norm, sigma.flatten(), coupling)
         };
         if done {
+            // A solution whose Newton system is singular to working precision is round-off,
+            // however small its residual: an error, not an answer. The last correction
+            // `δ = J⁻¹ r` (not applied) bounds `‖J⁻¹‖` from below as well: on a recurrence
+            // amplifying a parasitic mode, far from normal, it exceeds the inverse iteration's
+            // `1/σ` by many orders.
+            let step = rhs.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let correction = if res > 0.0 { step / res } else { 0.0 };
+            let condition = condition_bound(j_norm, sigma, unknowns, correction);
+            if condition >= NUMERICALLY_SINGULAR {
+                return Err(Error::IllConditioned { at, condition });
+            }
             let mut solution = finish(q, iteration);
-            let ill_posed = conditioning.filter(|&m| m < ILL_POSED_BELOW);
+            let ill_posed = measure(sigma, coupling).filter(|&m| m < ILL_POSED_BELOW);
             solution
                 .warnings
                 .extend(ill_posed.map(|measure| Warning::IllPosed { measure }));

@@ -55,6 +55,24 @@ pub(crate) fn smallest_eigenvalue(n: usize, mut solve: impl FnMut(&mut [f64])) -
     (growth > 0.0).then(|| 1.0 / growth)
 }
 
+/// A condition number at or above `1/ε`: the Newton system is singular to working precision,
+/// and its solution is round-off ([`Error::IllConditioned`](crate::Error::IllConditioned)).
+pub(crate) const NUMERICALLY_SINGULAR: f64 = 1.0 / f64::EPSILON;
+
+/// A lower bound of the ∞-norm condition number of a matrix `J` of order `n` with row-sum norm
+/// `norm_inf`, from two lower bounds of `‖J⁻¹‖∞`: `correction = ‖J⁻¹ r‖∞ / ‖r‖∞` for some `r`,
+/// and the smallest eigenvalue estimate `sigma` (`‖J⁻¹‖∞ ≥ ‖J⁻¹‖₂/√n ≥ 1/(σ√n)`, since inverse
+/// iteration's `σ` is `‖x‖₂ / ‖J⁻¹ x‖₂` for a unit `x`; `None`: it met a non-finite vector, so
+/// `J` is singular to working precision, `∞`). Being a lower bound, it never calls a
+/// well-conditioned system singular.
+pub(crate) fn condition_bound(norm_inf: f64, sigma: Option<f64>, n: usize, correction: f64) -> f64 {
+    let Some(sigma) = sigma else {
+        return f64::INFINITY;
+    };
+    let inverse = (1.0 / (sigma * (n as f64).sqrt())).max(correction);
+    norm_inf * inverse
+}
+
 /// The largest coupling between neighbouring nodes of a Jacobian of `unknowns` rows in blocks of
 /// `d` (node `k`'s unknowns at `k d .. (k + 1) d`), read by `entry(i, j)`.
 pub(crate) fn neighbour_coupling(

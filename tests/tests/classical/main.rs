@@ -12,6 +12,7 @@ mod general_embedding;
 mod hard_input;
 mod hard_long_runs;
 mod harmonic_exact;
+mod ill_conditioned;
 mod ill_posed;
 mod node_values;
 mod parallel;
