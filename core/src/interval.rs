@@ -170,7 +170,11 @@ impl<const D: usize> Interval<D> {
     /// `L_vx = L_xvᵀ`, `L_vv` at the evaluation point, the chain rule gives for a value
     /// `g(x, V)` evaluated at `x = c_u u + c_w w`: `∂g/∂u = c_u g_x − g_v/h`,
     /// `∂g/∂w = c_w g_x + g_v/h` (`c = ½, ½` at the midpoint; `1, 0` at `u`; `0, 1` at `w`).
-    #[inline]
+    ///
+    /// Forced inline, as is [`node_force`]: the symmetric steps call it inside Newton's loop,
+    /// and out of line the derivatives the step does not read are computed anyway (the
+    /// trapezoidal steps, which evaluate `L` at both ends, ran about 1.6× slower,
+    /// BENCHMARKS.md).
     pub fn gradient_and_jacobian<L: Lagrangian<D> + ?Sized>(
         &self,
         lagrangian: &L,
@@ -230,7 +234,7 @@ impl<const D: usize> Interval<D> {
 /// The force of the direct schemes at node `x = Q_k` (time `t`), with the centred velocity
 /// `c = (next − previous)/(2h)`. Its derivatives with respect to `Q_{k−1}`, `Q_k`, `Q_{k+1}`,
 /// `−L_xv/(2h)`, `L_xx`, `L_xv/(2h)`, are [`node_force_jacobian`]'s.
-#[inline]
+#[inline(always)]
 pub fn node_force<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
     previous: &Vector<D>,
