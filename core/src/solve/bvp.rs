@@ -17,7 +17,7 @@ use crate::solve::conditioning::{
     ILL_POSED_BELOW, ill_posedness, neighbour_coupling, smallest_eigenvalue,
 };
 use crate::solve::fractional;
-use crate::solve::newton::{at_round_off, backtrack};
+use crate::solve::newton::{LineSearch, at_round_off, two_norm};
 use crate::solve::solution::{Solution, Warning};
 use nalgebra::{DMatrix, DVector};
 
@@ -150,8 +150,8 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
 }
 
 /// Solves the boundary value problem of `scheme` from `guess` (all `N + 1` nodes; the first and
-/// last are the boundary values): Newton's method on the residual rows, with a backtracking line
-/// search on their max-norm. The fractional embeddings go to the fast path when `options` say
+/// last are the boundary values): Newton's method on the residual rows, globalised by
+/// [`LineSearch`]. The fractional embeddings go to the fast path when `options` say
 /// so (falling back to dense LU as [`FractionalSolver::Auto`] describes).
 fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
@@ -207,6 +207,8 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
     let newton = options.newton;
     let (mut r, mut pw) = residual_and_pointwise(disc, scheme, &q, 0)?;
     let mut res = max_norm(&r);
+    let mut merit = two_norm(&r);
+    let mut line_search = LineSearch::new(&q, merit);
     let mut previous = f64::INFINITY;
     for iteration in 0..=newton.max_iterations {
         let at = Location::Newton(iteration);
@@ -276,12 +278,12 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
         if iteration == newton.max_iterations {
             break;
         }
-        let (trial, (rt, pt), rest) = backtrack(&q, &rhs, res, |trial| {
+        let (trial, (rt, pt), rest, mt) = line_search.step(&q, merit, &rhs, |trial| {
             let (rt, pt) = residual_and_pointwise(disc, scheme, trial, iteration + 1)?;
-            let res = max_norm(&rt);
-            Ok(((rt, pt), res))
+            let (res, merit) = (max_norm(&rt), two_norm(&rt));
+            Ok(((rt, pt), res, merit))
         })?;
-        (q, r, pw, previous, res) = (trial, rt, pt, res, rest);
+        (q, r, pw, previous, res, merit) = (trial, rt, pt, res, rest, mt);
     }
     Err(Error::NewtonDidNotConverge {
         at: Location::Newton(newton.max_iterations),
