@@ -65,9 +65,15 @@ pub fn minres(
             relative_residual: 0.0,
         });
     }
+    // The system is solved as (A/s) x = b/s with the preconditioner s M, for the power of two
+    // s of ‖b‖: exact, and it makes every recurrence coefficient (γ = √(v·Mv) among them)
+    // independent of a power-of-two scale of A, b and M⁻¹, so that `c L` (c = 2^k) gives the
+    // iterates of `L` bit for bit.
+    let scale = power_of_two(b_norm);
+    let b_norm = b_norm / scale;
     let images = system.image_len();
-    let mut r = b.to_vec();
-    let mut v = b.to_vec();
+    let mut r: Vec<f64> = b.iter().map(|x| x / scale).collect();
+    let mut v = r.clone();
     let mut v_old = vec![0.0; n];
     let (mut z, mut z_next) = (vec![0.0; n], vec![0.0; n]);
     let (mut z_image, mut z_next_image) = (vec![0.0; images], vec![0.0; images]);
@@ -75,6 +81,9 @@ pub fn minres(
     let (mut w, mut w_old) = (vec![0.0; n], vec![0.0; n]);
     let (mut aw, mut aw_old) = (vec![0.0; n], vec![0.0; n]);
     system.precondition_with_image(&v, &mut z, &mut z_image);
+    z.iter_mut()
+        .chain(z_image.iter_mut())
+        .for_each(|x| *x *= scale);
     let gamma_sq = dot(&z, &v);
     if !(gamma_sq > 0.0 && gamma_sq.is_finite()) {
         return Err(KrylovFailure::Breakdown {
@@ -95,6 +104,7 @@ pub fn minres(
         z.iter_mut().for_each(|zi| *zi *= inverse);
         z_image.iter_mut().for_each(|zi| *zi *= inverse);
         system.apply_with_image(&z, &z_image, &mut az);
+        az.iter_mut().for_each(|x| *x /= scale);
         let delta = dot(&az, &z);
         // v_{j+1} into v_old's storage, then the two swap places.
         let (a, b_coef) = (delta / gamma, gamma / gamma_old);
@@ -103,6 +113,10 @@ pub fn minres(
         }
         std::mem::swap(&mut v, &mut v_old);
         system.precondition_with_image(&v, &mut z_next, &mut z_next_image);
+        z_next
+            .iter_mut()
+            .chain(z_next_image.iter_mut())
+            .for_each(|x| *x *= scale);
         let gamma_next_sq = dot(&z_next, &v);
         if !(gamma_next_sq >= 0.0 && gamma_next_sq.is_finite() && delta.is_finite()) {
             return Err(breakdown(relative));
@@ -159,6 +173,16 @@ pub fn minres(
         iterations: options.max_iterations,
         relative_residual: relative,
     })
+}
+
+/// The power of two `2^e` with `2^e ≤ x < 2^{e+1}` (1 for zero, subnormal or non-finite `x`).
+fn power_of_two(x: f64) -> f64 {
+    let exponent = ((x.to_bits() >> 52) & 0x7ff) as i32;
+    if exponent == 0 || exponent == 0x7ff {
+        1.0
+    } else {
+        f64::from_bits((exponent as u64) << 52)
+    }
 }
 
 /// The Ritz values of a Lanczos tridiagonal matrix `T_k` (its eigenvalues), each with the
