@@ -269,12 +269,22 @@ pub enum Error {
         /// What would not fit, and the remedy.
         what: String,
     },
-    /// The Krylov solver of the fractional fast path (conjugate gradients, then GMRES) did not
-    /// solve a Newton system `J δ = r` to the forcing tolerance: the Jacobian is (nearly)
-    /// singular or so indefinite that the preconditioner cannot tame it. Solve with
-    /// `FractionalSolver::Dense` for small `N`, or from a better initial guess.
+    /// The Krylov solver of the fractional fast path (MINRES, or GMRES where some `∂²L/∂v²` is
+    /// not positive definite) did not solve a Newton system `J δ = r` to the forcing tolerance
+    /// (nor below 0.1, which still makes an inexact Newton step): the Jacobian is (nearly)
+    /// singular, or so indefinite that the preconditioner cannot tame it. The message names the
+    /// remedies: the dense solver, `FractionalSolver::Dense`, up to
+    /// [`FractionalSolver::DENSE_MAX`](crate::FractionalSolver::DENSE_MAX) unknowns (LU does not
+    /// care about indefiniteness), or an initial guess nearer the solution
+    /// (`Problem::solve_bvp_from`), where the Jacobian is the one of the solution.
+    ///
+    /// ```
+    /// use varembed::{Error, Location};
+    /// let e = Error::KrylovDidNotConverge { at: Location::Newton(2), iterations: 1000, residual: 0.8 };
+    /// assert!(e.to_string().contains("FractionalSolver::Dense"));
+    /// ```
     #[error(
-        "the Krylov solver did not converge at {at} after {iterations} iterations: relative linear residual {residual:.3e}"
+        "the Krylov solver did not converge at {at} after {iterations} iterations: relative linear residual {residual:.3e}; the Newton system is (nearly) singular or strongly indefinite: solve with FractionalSolver::Dense (up to FractionalSolver::DENSE_MAX unknowns), or from an initial guess nearer the solution (Problem::solve_bvp_from)"
     )]
     KrylovDidNotConverge {
         /// Where (the global Newton iteration).

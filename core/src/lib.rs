@@ -154,7 +154,7 @@ pub mod guide;
 // Imports go one way. From the bottom up, each module imports only modules before it:
 // ensemble, lagrangian, error, side, weights, toeplitz, gauss_legendre, grid, linalg, regularity, options,
 // operator, fft_operator, embedding, step, ode, discretisation,
-// solve (krylov, newton, start, nodes, solution, dense, guard, fractional, bvp, gauss, ivp),
+// solve (krylov, minres, newton, start, nodes, solution, dense, guard, fractional, bvp, gauss, ivp),
 // dynamic (sparse, step, ivp, problem, dense), compare, problem.
 mod compare;
 mod discretisation;
@@ -243,9 +243,10 @@ pub mod __private {
     pub mod weights {
         pub use crate::weights::*;
     }
-    /// Conjugate gradients and GMRES on systems known through products.
+    /// Conjugate gradients, GMRES and MINRES on systems known through products.
     pub mod krylov {
         pub use crate::solve::krylov::*;
+        pub use crate::solve::minres::*;
     }
 }
 

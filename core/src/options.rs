@@ -122,7 +122,7 @@ pub(crate) const FFT_OPERATOR_THRESHOLD: usize = 256;
 /// Iteration budgets of the Krylov solvers (per Newton system of the fractional fast path).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct KrylovBudget {
-    pub cg_iterations: usize,
+    pub minres_iterations: usize,
     pub gmres_iterations: usize,
     pub restart: usize,
 }
@@ -130,7 +130,7 @@ pub(crate) struct KrylovBudget {
 impl Default for KrylovBudget {
     fn default() -> Self {
         KrylovBudget {
-            cg_iterations: 300,
+            minres_iterations: 1000,
             gmres_iterations: 300,
             restart: 30,
         }

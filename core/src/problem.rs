@@ -505,8 +505,9 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
     /// Solves the boundary value problem `Q_0 = qa`, `Q_N = qb` for `scheme`, from the straight
     /// line between them. Works for every embedding.
     ///
-    /// Newton's method on the rows of [`residual`](Self::residual), with a backtracking line
-    /// search on the max-norm of the residual. Errors: [`Error::SingularJacobian`],
+    /// Newton's method on the rows of [`residual`](Self::residual), full steps first, damped by
+    /// a line search on the residual's 2-norm with a watchdog (see
+    /// [solvers](crate::guide::solvers)). Errors: [`Error::SingularJacobian`],
     /// [`Error::NewtonDidNotConverge`] (iterations, last residual) and [`Error::NotFinite`],
     /// located at the global Newton iteration; on the fractional fast path (see
     /// [`FractionalSolver`]) also [`Error::KrylovDidNotConverge`].

@@ -6,7 +6,8 @@
 //!   (`d = 1`), and the 16-particle FPUT chain by the midpoint rule, `N = 2000` (`d = 16`);
 //! - the ill-posedness measure of a boundary value problem (2 back-substitutions on the last
 //!   factorisation): the pendulum's banded solve (midpoint, `N = 2000`) and a fractional
-//!   dense solve (Gauss-GLE−, `α = 0.7`, `N = 200`).
+//!   dense solve (Gauss-GLE−, `α = 0.7`, `N = 200`); on the fractional fast path (6 Lanczos
+//!   steps at the converged iterate), the pendulum under Gauss-GLE−, `α = 0.7`, `N = 10⁵`.
 //!
 //! `cargo bench -p varembed-examples --bench trust_checks`; figures in BENCHMARKS.md.
 
@@ -64,6 +65,18 @@ fn trust_checks(c: &mut Criterion) {
     ] {
         let problem = Problem::new(&pendulum, fine, gle)
             .with_fractional_solver(FractionalSolver::Dense)
+            .with_posedness_check(on);
+        group.bench_function(BenchmarkId::from_parameter(name), |b| {
+            b.iter(|| problem.solve_bvp(Scheme::Variational, black_box(0.0), 1.0))
+        });
+    }
+    let large = Grid::new(0.0, 1.0, 100_000).unwrap();
+    for (name, on) in [
+        ("fast fractional N=1e5, check on", true),
+        ("fast fractional N=1e5, check off", false),
+    ] {
+        let problem = Problem::new(&pendulum, large, gle)
+            .with_fractional_solver(FractionalSolver::Fast)
             .with_posedness_check(on);
         group.bench_function(BenchmarkId::from_parameter(name), |b| {
             b.iter(|| problem.solve_bvp(Scheme::Variational, black_box(0.0), 1.0))

@@ -15,10 +15,10 @@ use crate::options::{FractionalSolver, SolverOptions};
 use crate::regularity::{check_constants, check_vv, hessian_in_domain, pivot_range};
 use crate::solve::conditioning::{
     ILL_POSED_BELOW, NUMERICALLY_SINGULAR, condition_bound, ill_posedness, neighbour_coupling,
-    smallest_eigenvalue,
+    smallest_eigenvalue, smallest_pencil_eigenvalue,
 };
 use crate::solve::fractional;
-use crate::solve::newton::{at_round_off, backtrack};
+use crate::solve::newton::{LineSearch, at_round_off, two_norm};
 use crate::solve::solution::{Solution, Warning};
 use nalgebra::{DMatrix, DVector};
 
@@ -151,8 +151,8 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
 }
 
 /// Solves the boundary value problem of `scheme` from `guess` (all `N + 1` nodes; the first and
-/// last are the boundary values): Newton's method on the residual rows, with a backtracking line
-/// search on their max-norm. The fractional embeddings go to the fast path when `options` say
+/// last are the boundary values): Newton's method on the residual rows, globalised by
+/// [`LineSearch`]. The fractional embeddings go to the fast path when `options` say
 /// so (falling back to dense LU as [`FractionalSolver::Auto`] describes).
 fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
@@ -208,6 +208,8 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
     let newton = options.newton;
     let (mut r, mut pw) = residual_and_pointwise(disc, scheme, &q, 0)?;
     let mut res = max_norm(&r);
+    let mut merit = two_norm(&r);
+    let mut line_search = LineSearch::new(&q, merit);
     let mut previous = f64::INFINITY;
     for iteration in 0..=newton.max_iterations {
         let at = Location::Newton(iteration);
@@ -219,9 +221,9 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
             res <= newton.tolerance * scale || at_round_off(res, previous, j_norm, max_norm(&q))
         };
         // On convergence, the smallest eigenvalue by inverse iteration on the factorisation at
-        // hand, for the condition bound and the ill-posedness measure (see the conditioning
-        // module); the coupling the measure needs is read from the Jacobian before the
-        // factorisation overwrites it, and only when the check is on.
+        // hand, for the condition bound and (banded) the ill-posedness measure (see the
+        // conditioning module); the coupling the banded measure needs is read from the Jacobian
+        // before the factorisation overwrites it, and only when the check is on.
         let check = |done: bool| done && options.posedness_check;
         let measure = |sigma: Option<f64>, coupling: Option<f64>| {
             let length = grid.b() - grid.a();
@@ -234,7 +236,7 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
                 embedding.alpha(),
             ))
         };
-        let (done, j_norm, sigma, coupling) = if embedding.is_fractional() {
+        let (done, j_norm, sigma, ill_posedness_measure) = if embedding.is_fractional() {
             let mut jac = DMatrix::<f64>::zeros(unknowns, unknowns);
             disc.assemble_jacobian(scheme, &q, &pw, |i, j, b| jac.add_block(i, j, b));
             if !jac.iter().all(|c| c.is_finite()) {
@@ -244,22 +246,23 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
                 .row_iter()
                 .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
                 .fold(0.0, f64::max);
-            let done = converged(j_norm);
-            let coupling = check(done).then(|| neighbour_coupling(unknowns, D, |i, j| jac[(i, j)]));
             let lu = factor_dense(jac).ok_or(Error::SingularJacobian { at })?;
             let x = solve_factored(&lu, &DVector::from_vec(rhs))
                 .ok_or(Error::SingularJacobian { at })?;
             rhs = x.as_slice().to_vec();
-            let sigma = done.then(|| {
-                smallest_eigenvalue(unknowns, |v| {
-                    let y = lu.solve(&DVector::from_column_slice(v));
-                    match y {
-                        Some(y) => v.copy_from_slice(y.as_slice()),
-                        None => v.fill(f64::NAN),
-                    }
-                })
+            let done = converged(j_norm);
+            let solve = |v: &mut [f64]| match lu.solve(&DVector::from_column_slice(v)) {
+                Some(y) => v.copy_from_slice(y.as_slice()),
+                None => v.fill(f64::NAN),
+            };
+            let sigma = done.then(|| smallest_eigenvalue(unknowns, solve));
+            // The ill-posedness measure against the kinetic part itself (see the conditioning
+            // module).
+            let measure = check(done).then(|| {
+                let vv = kinetic_blocks(disc, &q, &pw.v);
+                smallest_pencil_eigenvalue(unknowns, |x, y| kinetic_product(disc, &vv, x, y), solve)
             });
-            (done, j_norm, sigma.flatten(), coupling)
+            (done, j_norm, sigma.flatten(), measure.flatten())
         } else {
             let mut jac = BandedMatrix::zeros(unknowns, 2 * D - 1, 2 * D - 1);
             disc.assemble_jacobian(scheme, &q, &pw, |i, j, b| jac.add_block(i, j, b));
@@ -273,8 +276,10 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
             jac.factorize()
                 .map_err(|_| Error::SingularJacobian { at })?;
             jac.solve_inplace(&mut rhs);
-            let sigma = done.then(|| smallest_eigenvalue(unknowns, |v| jac.solve_inplace(v)));
-            (done, j_norm, sigma.flatten(), coupling)
+            let sigma = done
+                .then(|| smallest_eigenvalue(unknowns, |v| jac.solve_inplace(v)))
+                .flatten();
+            (done, j_norm, sigma, measure(sigma, coupling))
         };
         if done {
             // A solution whose Newton system is singular to working precision is round-off,
@@ -289,7 +294,7 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
                 return Err(Error::IllConditioned { at, condition });
             }
             let mut solution = finish(q, iteration);
-            let ill_posed = measure(sigma, coupling).filter(|&m| m < ILL_POSED_BELOW);
+            let ill_posed = ill_posedness_measure.filter(|&m| m < ILL_POSED_BELOW);
             solution
                 .warnings
                 .extend(ill_posed.map(|measure| Warning::IllPosed { measure }));
@@ -298,12 +303,12 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
         if iteration == newton.max_iterations {
             break;
         }
-        let (trial, (rt, pt), rest) = backtrack(&q, &rhs, res, |trial| {
+        let (trial, (rt, pt), rest, mt) = line_search.step(&q, merit, &rhs, |trial| {
             let (rt, pt) = residual_and_pointwise(disc, scheme, trial, iteration + 1)?;
-            let res = max_norm(&rt);
-            Ok(((rt, pt), res))
+            let (res, merit) = (max_norm(&rt), two_norm(&rt));
+            Ok(((rt, pt), res, merit))
         })?;
-        (q, r, pw, previous, res) = (trial, rt, pt, res, rest);
+        (q, r, pw, previous, res, merit) = (trial, rt, pt, res, rest, mt);
     }
     Err(Error::NewtonDidNotConverge {
         at: Location::Newton(newton.max_iterations),
@@ -320,6 +325,49 @@ fn warnings(alpha: f64, fractional: bool) -> Vec<Warning> {
         vec![Warning::IllPosedFractional { alpha }]
     } else {
         Vec::new()
+    }
+}
+
+/// `∂²L/∂v²` on the quadrature rows of `q`, `v` the velocities stored by node index (as
+/// [`Pointwise`] stores them).
+fn kinetic_blocks<L: Lagrangian<D> + ?Sized, const D: usize>(
+    disc: &Discretisation<'_, L, D>,
+    q: &[Vector<D>],
+    v: &[Vector<D>],
+) -> Vec<Matrix<D>> {
+    let grid = disc.grid();
+    disc.embedding()
+        .quadrature_rows(grid.n())
+        .map(|k| disc.lagrangian().hessian(&q[k], &v[k], grid.t(k)).vv)
+        .collect()
+}
+
+/// `y = P' x` for the kinetic part `P' = Dᵀ L_vv D` of a fractional Jacobian on the interior
+/// unknowns, with the dense operator (`vv` from [`kinetic_blocks`]); NaN if it cannot be
+/// applied.
+fn kinetic_product<L: Lagrangian<D> + ?Sized, const D: usize>(
+    disc: &Discretisation<'_, L, D>,
+    vv: &[Matrix<D>],
+    x: &[f64],
+    y: &mut [f64],
+) {
+    let op = disc.velocity_operator();
+    let n = disc.grid().n();
+    let nodes: Vec<Vector<D>> = (0..=n)
+        .map(|k| match k {
+            0 => Vector::<D>::zeros(),
+            k if k == n => Vector::<D>::zeros(),
+            k => Vector::<D>::from_column_slice(&x[(k - 1) * D..k * D]),
+        })
+        .collect();
+    // D = −σ Δ^α_σ; the two signs cancel in Dᵀ L_vv D.
+    let product = op.apply(&nodes).and_then(|a| {
+        let b: Vec<Vector<D>> = a.iter().zip(vv).map(|(a, m)| m * a).collect();
+        op.apply_transpose(&b)
+    });
+    match product {
+        Ok(p) => (1..n).for_each(|k| y[(k - 1) * D..k * D].copy_from_slice(p[k].as_slice())),
+        Err(_) => y.fill(f64::NAN),
     }
 }
 

@@ -10,6 +10,7 @@ pub(crate) mod gauss;
 pub(crate) mod guard;
 pub mod ivp;
 pub mod krylov;
+pub mod minres;
 pub mod newton;
 pub mod nodes;
 pub(crate) mod resolution;

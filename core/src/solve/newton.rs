@@ -134,34 +134,136 @@ pub(crate) fn newton_step<const D: usize, L: Lagrangian<D> + ?Sized>(
     Err(diverged(options.max_iterations, residual))
 }
 
-/// The line search of the global (boundary value) Newton iterations: tries `q − λ δ` on the
-/// interior nodes (`δ` flattened, node `k` at `δ[(k−1)d..kd]`) for `λ = 1, ½, ¼, …` and accepts
-/// the first trial whose max-norm residual is below `residual`. Below `λ = 1/32` it takes the
-/// shortest step anyway and lets the iteration count decide (an error evaluating that last trial
-/// is returned). `evaluate` gives a trial's evaluation and its residual max-norm.
-pub(crate) fn backtrack<const D: usize, E>(
-    q: &[Vector<D>],
-    delta: &[f64],
-    residual: f64,
-    mut evaluate: impl FnMut(&[Vector<D>]) -> Result<(E, f64)>,
-) -> Result<(Vec<Vector<D>>, E, f64)> {
-    let n = q.len() - 1;
-    let mut lambda = 1.0;
-    loop {
-        let trial: Vec<Vector<D>> = (0..=n)
-            .map(|k| {
-                if k == 0 || k == n {
-                    q[k]
-                } else {
-                    q[k] - Vector::<D>::from_column_slice(&delta[(k - 1) * D..k * D]) * lambda
-                }
-            })
-            .collect();
-        let last = lambda < 1.0 / 32.0;
-        match evaluate(&trial) {
-            Ok((eval, res)) if res < residual || last => return Ok((trial, eval, res)),
-            Err(e) if last => return Err(e),
-            _ => lambda *= 0.5,
+/// Sufficient decrease of a damped step: `‖r(q − λδ)‖₂ ≤ (1 − ARMIJO λ) ‖r(q)‖₂`.
+const ARMIJO: f64 = 1e-4;
+
+/// Full Newton steps taken in a row without improving on the best residual before the line
+/// search returns to the best iterate and damps from there.
+const WATCHDOG: usize = 8;
+
+/// A full step is never taken when its residual exceeds the best one by more than this
+/// factor: far outside the region where Newton converges, damping is the better bet.
+const GROWTH: f64 = 1e8;
+
+/// The shortest damped step: below it the line search takes the best trial it saw.
+const SHORTEST: f64 = 1.0 / 64.0;
+
+/// The globalisation of the boundary value Newton iterations: a line search in the 2-norm of
+/// the residual with a watchdog (Chamberlain, Powell, Lemaréchal and Pedersen, 1982).
+///
+/// Each iteration first tries the full Newton step `q − δ` (`δ` flattened over the interior
+/// nodes, node `k` at `δ[(k−1)d..kd]`) and takes it when it decreases the residual's 2-norm
+/// sufficiently. It also takes it when it does not, up to [`WATCHDOG`] times in a row and
+/// within [`GROWTH`] of the best residual so far: Newton's full steps often pass through a
+/// larger residual on their way into the region of quadratic convergence, and a line search
+/// that insists on decrease at every step stalls there, in a valley of the merit function,
+/// with steps of `1/32` that lead nowhere. When the watchdog runs out, the iteration returns
+/// to the best iterate and damps from there: `λ = ½, ¼, …` until `‖r‖₂` decreases by the
+/// Armijo factor, or, below `λ = 1/64`, the best trial seen. The merit is the 2-norm, not the
+/// max-norm of the stopping rule: the Newton direction (exact, or inexact within a forcing
+/// term `η < 1` in the 2-norm) is a descent direction of `‖r‖₂²`, of no other norm.
+pub(crate) struct LineSearch<const D: usize> {
+    best: Vec<Vector<D>>,
+    best_merit: f64,
+    /// Full steps taken since the best iterate improved.
+    free: usize,
+}
+
+/// An accepted iterate: nodes, evaluation, residual max-norm and 2-norm.
+pub(crate) type Accepted<const D: usize, E> = (Vec<Vector<D>>, E, f64, f64);
+
+impl<const D: usize> LineSearch<D> {
+    /// From the initial iterate `q` with residual 2-norm `merit`.
+    pub(crate) fn new(q: &[Vector<D>], merit: f64) -> Self {
+        LineSearch {
+            best: q.to_vec(),
+            best_merit: merit,
+            free: 0,
         }
     }
+
+    fn accept<E>(&mut self, accepted: Accepted<D, E>) -> Accepted<D, E> {
+        if accepted.3 < self.best_merit {
+            self.best.clone_from(&accepted.0);
+            self.best_merit = accepted.3;
+            self.free = 0;
+        }
+        accepted
+    }
+
+    /// The next iterate from `q` (residual 2-norm `merit`) along the Newton direction `delta`;
+    /// `evaluate` gives a trial's evaluation, its residual max-norm and 2-norm. An error
+    /// evaluating a trial rejects it; an error at the last trial, with none better, is returned.
+    pub(crate) fn step<E>(
+        &mut self,
+        q: &[Vector<D>],
+        merit: f64,
+        delta: &[f64],
+        mut evaluate: impl FnMut(&[Vector<D>]) -> Result<(E, f64, f64)>,
+    ) -> Result<Accepted<D, E>> {
+        let n = q.len() - 1;
+        let trial = |lambda: f64| -> Vec<Vector<D>> {
+            (0..=n)
+                .map(|k| {
+                    if k == 0 || k == n {
+                        q[k]
+                    } else {
+                        q[k] - Vector::<D>::from_column_slice(&delta[(k - 1) * D..k * D]) * lambda
+                    }
+                })
+                .collect()
+        };
+        let full = trial(1.0);
+        let mut best_trial = None;
+        if let Ok((e, max, m)) = evaluate(&full) {
+            let decrease = m <= (1.0 - ARMIJO) * merit;
+            let free = self.free < WATCHDOG && m <= GROWTH * self.best_merit;
+            if decrease || free {
+                if !decrease {
+                    self.free += 1;
+                }
+                return Ok(self.accept((full, e, max, m)));
+            }
+            best_trial = Some((full, e, max, m));
+        }
+        // Damping from an iterate worse than the best would follow a valley away from it:
+        // return to the best, damp from there next time.
+        if merit > self.best_merit {
+            self.free = WATCHDOG;
+            let best = self.best.clone();
+            let (e, max, m) = evaluate(&best)?;
+            return Ok((best, e, max, m));
+        }
+        let mut lambda = 0.5;
+        loop {
+            let q_lambda = trial(lambda);
+            match evaluate(&q_lambda) {
+                Ok((e, max, m)) => {
+                    if m <= (1.0 - ARMIJO * lambda) * merit {
+                        return Ok(self.accept((q_lambda, e, max, m)));
+                    }
+                    if best_trial.as_ref().is_none_or(|b| m < b.3) {
+                        best_trial = Some((q_lambda, e, max, m));
+                    }
+                }
+                Err(error) if lambda < SHORTEST => {
+                    return match best_trial {
+                        Some(b) => Ok(self.accept(b)),
+                        None => Err(error),
+                    };
+                }
+                Err(_) => {}
+            }
+            if lambda < SHORTEST {
+                let b = best_trial.expect("the last trial was evaluated");
+                return Ok(self.accept(b));
+            }
+            lambda *= 0.5;
+        }
+    }
+}
+
+/// The 2-norm of a residual of nodes.
+pub(crate) fn two_norm<const D: usize>(r: &[Vector<D>]) -> f64 {
+    r.iter().map(|x| x.norm_squared()).sum::<f64>().sqrt()
 }

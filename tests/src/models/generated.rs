@@ -17,6 +17,25 @@ pub fn unit_pendulum(x: f64, v: f64) -> f64 {
     0.5 * v * v + x.cos()
 }
 
+/// A forced, inverted spring, `L = ½v² − ½k x² + c x`: for `k` above the lowest kinetic
+/// eigenvalue of a boundary value problem its Jacobian `DᵀD − k` is indefinite.
+#[lagrangian]
+pub fn forced_spring(x: f64, v: f64, k: f64, c: f64) -> f64 {
+    0.5 * v * v - 0.5 * k * x * x + c * x
+}
+
+/// `L = ½v² + c cos x`: a pendulum of strength `c` (the nonlinear fractional cases).
+#[lagrangian]
+pub fn strong_pendulum(x: f64, v: f64, c: f64) -> f64 {
+    0.5 * v * v + c * x.cos()
+}
+
+/// `L = ½v² − ¼x⁴ − ½b x² + c x`: a quartic potential well with a quadratic part and a force.
+#[lagrangian]
+pub fn quartic(x: f64, v: f64, b: f64, c: f64) -> f64 {
+    0.5 * v * v - 0.25 * x * x * x * x - 0.5 * b * x * x + c * x
+}
+
 /// Kepler, `μ = 1`: `L = ½|v|² + 1/|x|`, singular at the origin.
 #[lagrangian]
 pub fn kepler(x: [f64; 2], v: [f64; 2]) -> f64 {

@@ -6,3 +6,5 @@ mod fractional_fast;
 mod fractional_orders;
 mod hard_fractional;
 mod ill_posed_fractional;
+mod indefinite;
+mod line_search;

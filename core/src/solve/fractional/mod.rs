@@ -17,13 +17,27 @@
 //! reason the iteration counts stay flat as `N` grows), `residual` (the evaluation at an
 //! iterate), and here the inexact Newton driver.
 //!
-//! **Linear solves.** Conjugate gradients first (`J` is symmetric); when `J` is indefinite
-//! (a potential whose `L_xx` outweighs the kinetic term), CG breaks down and GMRES(m) takes
-//! over. Each Newton system is solved to the Eisenstat–Walker forcing tolerance `η_k`, never
-//! below what the Newton tolerance needs. When neither solver gets below `η_k` — and not even
-//! below `0.1`, which still gives a usable inexact Newton step — the solve fails with
-//! [`Error::KrylovDidNotConverge`]; with [`FractionalSolver::Auto`] a small system then falls back
-//! to dense LU.
+//! **Linear solves.** `J` is symmetric (the Hessian of the discrete action) and the
+//! preconditioner `P'` is symmetric positive definite wherever every `L_vv` is, so the Newton
+//! systems go to preconditioned MINRES ([`minres`]), which needs no definite `J`. A potential
+//! whose `L_xx` outweighs the kinetic term makes `J` indefinite: on `L = ½v² − 12.5x² + x` at
+//! α = 0.3, `P'⁻¹J = I − 25 P'⁻¹` has about 70 negative eigenvalues at every `N` (the kinetic
+//! eigenvalues grow like `j^{2α}`, so many lie below 25). Conjugate gradients break down there,
+//! and restarted GMRES(30), which took over before, stagnated at a relative residual of 0.83:
+//! each restart discards the Krylov space that held those directions. MINRES keeps a
+//! three-term recurrence instead of a basis, so it never restarts; it converged on the same
+//! systems at `N = 200 … 4000` (both sides), at the cost per iteration of CG (one product with
+//! `J`, one with `P'⁻¹`, the preconditioner's `D_a z` by-product used as CG used it). Where
+//! MINRES breaks down (some `L_vv` not positive definite, so `P'` is not) GMRES(m) with right
+//! preconditioning takes over. Each Newton system is solved to the Eisenstat–Walker forcing
+//! tolerance `η_k`, never below what the Newton tolerance needs. When the Krylov solver gets
+//! neither below `η_k` nor below `0.1` (which still gives a usable inexact Newton step), the
+//! solve fails with [`Error::KrylovDidNotConverge`], whose message names the remedies; with
+//! [`FractionalSolver::Auto`] a small system then falls back to dense LU.
+//!
+//! **Globalisation.** The line search of [`LineSearch`]: full steps first, in the 2-norm of
+//! the residual (the norm in which the forcing term makes an inexact step a descent
+//! direction), with a watchdog.
 //!
 //! **Stopping rule.** The same as the dense path: `max|r| ≤ tol · (max|f| + h^{−α} max|p|)`
 //! over the values the rows read (`f` on the interior nodes, `p` on the quadrature nodes),
@@ -56,9 +70,11 @@ use crate::error::{Error, Location, Result};
 use crate::lagrangian::{Lagrangian, Vector};
 use crate::linalg::{max_norm, set_block};
 use crate::options::{KrylovBudget, SolverOptions};
-use crate::solve::krylov::{KrylovFailure, KrylovOptions, conjugate_gradient, gmres};
-use crate::solve::newton::{at_round_off, backtrack};
-use crate::solve::solution::Solution;
+use crate::solve::conditioning::{ILL_POSED_BELOW, start};
+use crate::solve::krylov::{KrylovFailure, KrylovOptions, gmres};
+use crate::solve::minres::{Tridiagonal, minres, ritz_values};
+use crate::solve::newton::{LineSearch, at_round_off, two_norm};
+use crate::solve::solution::{Solution, Warning};
 use residual::evaluate;
 use system::FastSystem;
 
@@ -66,8 +82,9 @@ use system::FastSystem;
 /// nonlinear one is still a descent step of an inexact Newton method.
 const ETA_MAX: f64 = 0.1;
 
-/// Solves `J δ = rhs` to the relative tolerance `eta`: CG, then GMRES when CG breaks down or
-/// runs out of iterations. Accepts a GMRES iterate below [`ETA_MAX`] as an inexact step.
+/// Solves `J δ = rhs` to the relative tolerance `eta`: MINRES, then GMRES when MINRES breaks
+/// down (a preconditioner that is not positive definite: some `L_vv` is not). Accepts an
+/// iterate below [`ETA_MAX`] as an inexact step.
 fn solve_newton_system<const D: usize>(
     system: &mut FastSystem<D>,
     rhs: &[f64],
@@ -78,37 +95,60 @@ fn solve_newton_system<const D: usize>(
 ) -> Result<usize> {
     let mut options = KrylovOptions {
         tolerance: eta,
-        max_iterations: budget.cg_iterations,
+        max_iterations: budget.minres_iterations,
         restart: budget.restart,
     };
-    let cg_failure = match conjugate_gradient(system, rhs, delta, &options) {
+    let failure = match minres(system, rhs, delta, &options, None) {
         Ok(stats) => return Ok(stats.iterations),
-        Err(failure) => failure,
+        Err(failure @ KrylovFailure::MaxIterations { .. }) => failure,
+        Err(breakdown) => {
+            options.max_iterations = budget.gmres_iterations;
+            match gmres(system, rhs, delta, &options) {
+                Ok(stats) => return Ok(breakdown.iterations() + stats.iterations),
+                Err(failure) => failure,
+            }
+        }
     };
-    options.max_iterations = budget.gmres_iterations;
-    match gmres(system, rhs, delta, &options) {
-        Ok(stats) => Ok(cg_failure.iterations() + stats.iterations),
-        Err(failure) if failure.relative_residual() <= ETA_MAX => {
-            Ok(cg_failure.iterations() + failure.iterations())
-        }
-        Err(failure) => {
-            let (iterations, residual) = match failure {
-                KrylovFailure::Breakdown {
-                    iterations,
-                    relative_residual,
-                }
-                | KrylovFailure::MaxIterations {
-                    iterations,
-                    relative_residual,
-                } => (iterations, relative_residual),
-            };
-            Err(Error::KrylovDidNotConverge {
-                at,
-                iterations,
-                residual,
-            })
-        }
+    if failure.relative_residual() <= ETA_MAX {
+        return Ok(failure.iterations());
     }
+    Err(Error::KrylovDidNotConverge {
+        at,
+        iterations: failure.iterations(),
+        residual: failure.relative_residual(),
+    })
+}
+
+/// Lanczos steps of the ill-posedness check at the converged iterate.
+const LANCZOS_STEPS: usize = 4;
+
+/// The ill-posedness measure of the linearisation in `system` (see the conditioning module):
+/// the smallest Ritz value in modulus of `P'⁻¹J` after [`LANCZOS_STEPS`] MINRES iterations
+/// from the start of the dense path's inverse iteration, among those whose bound places an
+/// eigenvalue of `P'⁻¹J` below [`ILL_POSED_BELOW`]; `None` when none does.
+///
+/// The lowest eigenvalue of `P'⁻¹J` is an extreme one next to a resonance of the lowest mode,
+/// and its Ritz value converges at the rate of the gap to the next one: on the oscillator at
+/// α = 0.74, 0.1 % below its first resonance (`N = 50 … 1000`), four steps give it within
+/// 0.2 % with a bound of 1.3e-3, three within 14 % with a bound of 1e-2 (dense eigenvalues of
+/// the same Lanczos process). Four steps cost 0.2 of the benchmark's solve (BENCHMARKS.md). An interior eigenvalue near zero (a resonance of a higher mode) needs more
+/// steps to be resolved, and is then not flagged: the bound keeps an unconverged Ritz value
+/// from flagging a well-posed problem, never the other way round.
+fn ill_posedness<const D: usize>(system: &mut FastSystem<D>) -> Option<f64> {
+    let b = start((system.n - 1) * D);
+    let mut x = vec![0.0; b.len()];
+    let mut lanczos = Tridiagonal::default();
+    let options = KrylovOptions {
+        tolerance: 0.0,
+        max_iterations: LANCZOS_STEPS,
+        restart: 0,
+    };
+    let _ = minres(system, &b, &mut x, &options, Some(&mut lanczos));
+    ritz_values(&lanczos)
+        .into_iter()
+        .filter(|(theta, bound)| theta.abs() + bound < ILL_POSED_BELOW)
+        .map(|(theta, _)| theta.abs())
+        .min_by(f64::total_cmp)
 }
 
 /// Newton–Krylov on the interior nodes of a Gauss-GLEσ boundary value problem, from `guess`
@@ -130,6 +170,8 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
     let mut eta = ETA_MAX;
     let mut previous_norm: Option<f64> = None;
     let mut previous_res = f64::INFINITY;
+    let mut merit = two_norm(&eval.r);
+    let mut line_search = LineSearch::new(&q, merit);
     for iteration in 0..=opts.max_iterations {
         let at = Location::Newton(iteration);
         let res = max_norm(&eval.r);
@@ -138,6 +180,17 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
         let floor = at_round_off(res, previous_res, system.jacobian_bound(), max_norm(&q));
         previous_res = res;
         if res <= opts.tolerance * eval.scale || floor {
+            let mut warnings = Vec::new();
+            if options.posedness_check {
+                // The last Newton step's Jacobian, at an iterate within that step of this one
+                // (its eigenvalues move by the step times ∂³L, far below the threshold), or a
+                // first linearisation when the guess already converged.
+                if iteration == 0 {
+                    system.linearize(disc, &q, &eval.v, at)?;
+                }
+                let measure = ill_posedness(&mut system);
+                warnings.extend(measure.map(|measure| Warning::IllPosed { measure }));
+            }
             return Ok(Solution {
                 scheme,
                 embedding: *disc.embedding(),
@@ -146,7 +199,7 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
                 newton_iterations: iteration,
                 explicit_steps: 0,
                 momenta: Vec::new(),
-                warnings: Vec::new(),
+                warnings,
             });
         }
         if iteration == opts.max_iterations {
@@ -170,12 +223,12 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
         previous_norm = Some(norm);
         system.linearize(disc, &q, &eval.v, at)?;
         solve_newton_system(&mut system, &rhs, &mut delta, eta, &options.krylov, at)?;
-        let (trial, next, _) = backtrack(&q, &delta, res, |trial| {
+        let (trial, next, _, next_merit) = line_search.step(&q, merit, &delta, |trial| {
             let e = evaluate(disc, &mut system, trial, iteration + 1)?;
-            let res = max_norm(&e.r);
-            Ok((e, res))
+            let (res, merit) = (max_norm(&e.r), two_norm(&e.r));
+            Ok((e, res, merit))
         })?;
-        (q, eval) = (trial, next);
+        (q, eval, merit) = (trial, next, next_merit);
     }
     Err(Error::NewtonDidNotConverge {
         at: Location::Newton(opts.max_iterations),

@@ -5,7 +5,7 @@ use crate::grid::Grid;
 use crate::lagrangian::{Hessian, Matrix};
 use crate::linalg::block;
 use crate::side::Side;
-use crate::solve::krylov::KrylovSystem;
+use crate::solve::krylov::{KrylovSystem, conjugate_gradient};
 use crate::test_models::Mixed;
 use nalgebra::DMatrix;
 
@@ -228,13 +228,19 @@ fn an_exhausted_krylov_budget_is_a_typed_error() {
         .collect();
     let options = SolverOptions {
         krylov: KrylovBudget {
-            cg_iterations: 1,
+            minres_iterations: 1,
             gmres_iterations: 1,
             restart: 1,
         },
         ..SolverOptions::default()
     };
     let err = solve(&disc, &options, Scheme::Variational, &guess).unwrap_err();
+    // The message names the remedies.
+    let message = err.to_string();
+    assert!(
+        message.contains("FractionalSolver::Dense") && message.contains("solve_bvp_from"),
+        "{message}"
+    );
     assert!(
         matches!(
             err,
@@ -248,9 +254,9 @@ fn an_exhausted_krylov_budget_is_a_typed_error() {
 }
 
 /// `L = ½v² − 72x²`: `J = DᵀD − 144` is indefinite. CG must report the breakdown, and the
-/// Newton system is still solved (by GMRES) to the asked tolerance.
+/// Newton system is still solved (by MINRES) to the asked tolerance.
 #[test]
-fn cg_breaks_down_on_an_indefinite_jacobian_and_gmres_takes_over() {
+fn cg_breaks_down_on_an_indefinite_jacobian_and_minres_solves_it() {
     struct Oscillator;
     impl Lagrangian<1> for Oscillator {
         fn value(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {

@@ -1,0 +1,336 @@
+//! Preconditioned MINRES for symmetric, possibly indefinite `A` with a symmetric positive
+//! definite preconditioner `M ≈ A⁻¹`, and the Lanczos tridiagonal matrix it builds on the way.
+//!
+//! MINRES runs the Lanczos process on `M A` in the `M⁻¹` inner product (`z_j = M v_j / γ_j`,
+//! `δ_j = z_j·A z_j`, `v_{j+1} = A z_j − (δ_j/γ_j) v_j − (γ_j/γ_{j−1}) v_{j−1}`,
+//! `γ_{j+1} = √(v_{j+1}·M v_{j+1})`), solves the small least-squares problem of its
+//! tridiagonal matrix with Givens rotations, and updates `x` along directions `w_j` with a
+//! three-term recurrence. Unlike conjugate gradients it needs no definite `A`: the Krylov
+//! iterate minimises the residual in the `M` norm over the Krylov space, so an eigenvalue of
+//! `M A` on either side of zero costs iterations, never a breakdown. Unlike GMRES it keeps
+//! three vectors, not a basis, so it never restarts: GMRES(m) with a restart shorter than the
+//! number of negative eigenvalues of `M A` forgets the directions it had found and stagnates.
+//!
+//! Each iteration costs one product with `A` and one with `M`, as a CG iteration does, and
+//! the same [`KrylovSystem::image_len`] by-product applies: `A` is only ever applied to the
+//! preconditioned vectors `z_j`. The residual `b − A x` is carried along in the 2-norm
+//! (`A w_{j+1} = (A z_j − α₃ A w_{j−1} − α₂ A w_j)/α₁`), so the stopping rule is that of the
+//! other solvers, `‖b − A x‖₂ ≤ tolerance · ‖b‖₂`, at a few more vector operations.
+//!
+//! The tridiagonal matrix `T_k` (diagonal `δ_j`, off-diagonal `γ_{j+1}`) is that of
+//! `M^{1/2} A M^{1/2}`, so its eigenvalues (the Ritz values) approximate those of `M A`, and
+//! each comes with a bound: some eigenvalue of `M A` lies within `|γ_{k+1} s_k|` of a Ritz
+//! value whose unit eigenvector of `T_k` ends in `s_k` ([`ritz_values`]).
+//!
+//! ## Reference
+//!
+//! C. C. Paige and M. A. Saunders, *Solution of sparse indefinite systems of linear
+//! equations*, SIAM J. Numer. Anal. 12 (1975); the preconditioned form as in H. C. Elman,
+//! D. J. Silvester and A. J. Wathen, *Finite Elements and Fast Iterative Solvers*, 2nd ed.,
+//! Algorithm 4.1. The Ritz bound: B. N. Parlett, *The Symmetric Eigenvalue Problem*, §13.1.
+
+use crate::solve::krylov::{KrylovFailure, KrylovOptions, KrylovStats, KrylovSystem};
+use nalgebra::{DMatrix, SymmetricEigen};
+
+/// The Lanczos tridiagonal matrix of `M A` built by [`minres`]: `diagonal[j] = δ_{j+1}` and
+/// `off_diagonal[j] = γ_{j+2}` (the last entry couples `T_k` to the next, unbuilt, vector).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Tridiagonal {
+    /// `δ_1, …, δ_k`.
+    pub diagonal: Vec<f64>,
+    /// `γ_2, …, γ_{k+1}`.
+    pub off_diagonal: Vec<f64>,
+}
+
+fn dot(a: &[f64], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Preconditioned MINRES for symmetric `A` and symmetric positive definite `M`, from `x = 0`;
+/// `x` is overwritten. With `record`, the Lanczos coefficients of every iteration are appended
+/// to it. A non-positive `v·M v` (an indefinite `M`) is [`KrylovFailure::Breakdown`].
+pub fn minres(
+    system: &mut impl KrylovSystem,
+    b: &[f64],
+    x: &mut [f64],
+    options: &KrylovOptions,
+    mut record: Option<&mut Tridiagonal>,
+) -> Result<KrylovStats, KrylovFailure> {
+    let n = system.len();
+    x.fill(0.0);
+    let b_norm = dot(b, b).sqrt();
+    if b_norm == 0.0 {
+        return Ok(KrylovStats {
+            iterations: 0,
+            relative_residual: 0.0,
+        });
+    }
+    // The system is solved as (A/s) x = b/s with the preconditioner s M, for the power of two
+    // s of ‖b‖: exact, and it makes every recurrence coefficient (γ = √(v·Mv) among them)
+    // independent of a power-of-two scale of A, b and M⁻¹, so that `c L` (c = 2^k) gives the
+    // iterates of `L` bit for bit.
+    let scale = power_of_two(b_norm);
+    let b_norm = b_norm / scale;
+    let images = system.image_len();
+    let mut r: Vec<f64> = b.iter().map(|x| x / scale).collect();
+    let mut v = r.clone();
+    let mut v_old = vec![0.0; n];
+    let (mut z, mut z_next) = (vec![0.0; n], vec![0.0; n]);
+    let (mut z_image, mut z_next_image) = (vec![0.0; images], vec![0.0; images]);
+    let mut az = vec![0.0; n];
+    let (mut w, mut w_old) = (vec![0.0; n], vec![0.0; n]);
+    let (mut aw, mut aw_old) = (vec![0.0; n], vec![0.0; n]);
+    system.precondition_with_image(&v, &mut z, &mut z_image);
+    z.iter_mut()
+        .chain(z_image.iter_mut())
+        .for_each(|x| *x *= scale);
+    let gamma_sq = dot(&z, &v);
+    if !(gamma_sq > 0.0 && gamma_sq.is_finite()) {
+        return Err(KrylovFailure::Breakdown {
+            iterations: 0,
+            relative_residual: 1.0,
+        });
+    }
+    let (mut gamma, mut gamma_old) = (gamma_sq.sqrt(), 1.0);
+    let mut eta = gamma;
+    let (mut s_old, mut s, mut c_old, mut c) = (0.0, 0.0, 1.0, 1.0);
+    let mut relative = 1.0;
+    for iteration in 1..=options.max_iterations {
+        let breakdown = |relative_residual| KrylovFailure::Breakdown {
+            iterations: iteration,
+            relative_residual,
+        };
+        let inverse = 1.0 / gamma;
+        z.iter_mut().for_each(|zi| *zi *= inverse);
+        z_image.iter_mut().for_each(|zi| *zi *= inverse);
+        system.apply_with_image(&z, &z_image, &mut az);
+        az.iter_mut().for_each(|x| *x /= scale);
+        let delta = dot(&az, &z);
+        // v_{j+1} into v_old's storage, then the two swap places.
+        let (a, b_coef) = (delta / gamma, gamma / gamma_old);
+        for i in 0..n {
+            v_old[i] = az[i] - a * v[i] - b_coef * v_old[i];
+        }
+        std::mem::swap(&mut v, &mut v_old);
+        system.precondition_with_image(&v, &mut z_next, &mut z_next_image);
+        z_next
+            .iter_mut()
+            .chain(z_next_image.iter_mut())
+            .for_each(|x| *x *= scale);
+        let gamma_next_sq = dot(&z_next, &v);
+        if !(gamma_next_sq >= 0.0 && gamma_next_sq.is_finite() && delta.is_finite()) {
+            return Err(breakdown(relative));
+        }
+        let gamma_next = gamma_next_sq.sqrt();
+        if let Some(t) = record.as_deref_mut() {
+            t.diagonal.push(delta);
+            t.off_diagonal.push(gamma_next);
+        }
+        // The new column of T_k rotated by the previous two Givens rotations, then its own.
+        let alpha0 = c * delta - c_old * s * gamma;
+        let alpha1 = alpha0.hypot(gamma_next);
+        let alpha2 = s * delta + c_old * c * gamma;
+        let alpha3 = s_old * gamma;
+        if alpha1 == 0.0 {
+            return Err(breakdown(relative));
+        }
+        let (c_new, s_new) = (alpha0 / alpha1, gamma_next / alpha1);
+        // w_{j+1} = (z_j − α₃ w_{j−1} − α₂ w_j)/α₁ into w_old's storage, A w_{j+1} alike.
+        let step = c_new * eta;
+        for i in 0..n {
+            w_old[i] = (z[i] - alpha3 * w_old[i] - alpha2 * w[i]) / alpha1;
+            aw_old[i] = (az[i] - alpha3 * aw_old[i] - alpha2 * aw[i]) / alpha1;
+            x[i] += step * w_old[i];
+            r[i] -= step * aw_old[i];
+        }
+        std::mem::swap(&mut w, &mut w_old);
+        std::mem::swap(&mut aw, &mut aw_old);
+        std::mem::swap(&mut z, &mut z_next);
+        std::mem::swap(&mut z_image, &mut z_next_image);
+        eta *= -s_new;
+        (c_old, c, s_old, s) = (c, c_new, s, s_new);
+        (gamma_old, gamma) = (gamma, gamma_next);
+        relative = dot(&r, &r).sqrt() / b_norm;
+        if !relative.is_finite() {
+            return Err(breakdown(relative));
+        }
+        if relative <= options.tolerance {
+            return Ok(KrylovStats {
+                iterations: iteration,
+                relative_residual: relative,
+            });
+        }
+        // An invariant subspace: the Krylov space holds the solution, and more iterations
+        // add nothing.
+        if gamma_next == 0.0 {
+            return Err(KrylovFailure::MaxIterations {
+                iterations: iteration,
+                relative_residual: relative,
+            });
+        }
+    }
+    Err(KrylovFailure::MaxIterations {
+        iterations: options.max_iterations,
+        relative_residual: relative,
+    })
+}
+
+/// The power of two `2^e` with `2^e ≤ x < 2^{e+1}` (1 for zero, subnormal or non-finite `x`).
+fn power_of_two(x: f64) -> f64 {
+    let exponent = ((x.to_bits() >> 52) & 0x7ff) as i32;
+    if exponent == 0 || exponent == 0x7ff {
+        1.0
+    } else {
+        f64::from_bits((exponent as u64) << 52)
+    }
+}
+
+/// The Ritz values of a Lanczos tridiagonal matrix `T_k` (its eigenvalues), each with the
+/// bound `|γ_{k+1} s_k|` on its distance to the nearest eigenvalue of the operator (module
+/// docs), in increasing order. Empty for an empty `T`.
+pub fn ritz_values(t: &Tridiagonal) -> Vec<(f64, f64)> {
+    let k = t.diagonal.len();
+    if k == 0 {
+        return Vec::new();
+    }
+    let tk = DMatrix::from_fn(k, k, |i, j| match i.abs_diff(j) {
+        0 => t.diagonal[i],
+        1 => t.off_diagonal[i.min(j)],
+        _ => 0.0,
+    });
+    let eigen = SymmetricEigen::new(tk);
+    let beta = t.off_diagonal[k - 1];
+    let mut pairs: Vec<(f64, f64)> = (0..k)
+        .map(|i| {
+            (
+                eigen.eigenvalues[i],
+                (beta * eigen.eigenvectors[(k - 1, i)]).abs(),
+            )
+        })
+        .collect();
+    pairs.sort_by(|a, b| a.0.total_cmp(&b.0));
+    pairs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `tridiag(−1, 2, −1) − shift` of order `n`, with the SPD preconditioner
+    /// `tridiag(−1, 2, −1)⁻¹` applied by the Thomas algorithm (or none).
+    struct Shifted {
+        n: usize,
+        shift: f64,
+        precondition: bool,
+    }
+
+    impl KrylovSystem for Shifted {
+        fn len(&self) -> usize {
+            self.n
+        }
+        fn apply(&mut self, x: &[f64], y: &mut [f64]) {
+            for i in 0..self.n {
+                let left = if i > 0 { x[i - 1] } else { 0.0 };
+                let right = if i + 1 < self.n { x[i + 1] } else { 0.0 };
+                y[i] = (2.0 - self.shift) * x[i] - left - right;
+            }
+        }
+        fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
+            if !self.precondition {
+                z.copy_from_slice(r);
+                return;
+            }
+            // Thomas algorithm for tridiag(−1, 2, −1).
+            let n = self.n;
+            let mut c = vec![0.0; n];
+            let mut d = vec![0.0; n];
+            for i in 0..n {
+                let pivot = 2.0 + if i > 0 { c[i - 1] } else { 0.0 };
+                c[i] = -1.0 / pivot;
+                d[i] = (r[i] + if i > 0 { d[i - 1] } else { 0.0 }) / pivot;
+            }
+            z[n - 1] = d[n - 1];
+            for i in (0..n - 1).rev() {
+                z[i] = d[i] - c[i] * z[i + 1];
+            }
+        }
+    }
+
+    fn true_residual(system: &mut Shifted, b: &[f64], x: &[f64]) -> f64 {
+        let mut y = vec![0.0; b.len()];
+        system.apply(x, &mut y);
+        let r: f64 = b.iter().zip(&y).map(|(b, y)| (b - y) * (b - y)).sum();
+        (r / dot(b, b)).sqrt()
+    }
+
+    const OPTIONS: KrylovOptions = KrylovOptions {
+        tolerance: 1e-10,
+        max_iterations: 500,
+        restart: 0,
+    };
+
+    /// The Laplacian shifted past its ten lowest eigenvalues: indefinite, ten negative
+    /// eigenvalues. MINRES reaches the tolerance on the true residual, with and without the
+    /// (SPD) preconditioner.
+    #[test]
+    fn minres_solves_an_indefinite_system() {
+        let n = 200;
+        let shift = 2.0 - 2.0 * (10.5 * std::f64::consts::PI / (n + 1) as f64).cos();
+        let b: Vec<f64> = (0..n).map(|i| ((i * 7) as f64).sin() + 0.2).collect();
+        for precondition in [true, false] {
+            let mut system = Shifted {
+                n,
+                shift,
+                precondition,
+            };
+            let mut x = vec![0.0; n];
+            let stats = minres(&mut system, &b, &mut x, &OPTIONS, None).unwrap();
+            let r = true_residual(&mut system, &b, &x);
+            assert!(r <= 2e-10, "{precondition}: {stats:?}, true residual {r:e}");
+        }
+    }
+
+    /// With the unshifted Laplacian as preconditioner, `M A = I − shift·L⁻¹`, whose eigenvalues
+    /// are `1 − shift/λ_j` with `λ_j = 2 − 2cos(jπ/(n+1))`: the Ritz values of the recorded
+    /// tridiagonal matrix approach them, and each Ritz bound holds.
+    #[test]
+    fn ritz_values_bound_the_eigenvalues_of_the_preconditioned_operator() {
+        let n = 100;
+        let lambda =
+            |j: usize| 2.0 - 2.0 * (j as f64 * std::f64::consts::PI / (n + 1) as f64).cos();
+        let shift = 0.5 * (lambda(1) + lambda(2));
+        let exact: Vec<f64> = (1..=n).map(|j| 1.0 - shift / lambda(j)).collect();
+        let mut system = Shifted {
+            n,
+            shift,
+            precondition: true,
+        };
+        let b: Vec<f64> = (0..n).map(|i| 1.0 + i as f64 / n as f64).collect();
+        let mut x = vec![0.0; n];
+        let mut t = Tridiagonal::default();
+        let options = KrylovOptions {
+            max_iterations: 8,
+            tolerance: 0.0,
+            ..OPTIONS
+        };
+        let _ = minres(&mut system, &b, &mut x, &options, Some(&mut t));
+        assert_eq!(t.diagonal.len(), 8);
+        let ritz = ritz_values(&t);
+        for &(theta, bound) in &ritz {
+            let nearest = exact
+                .iter()
+                .map(|e| (e - theta).abs())
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                nearest <= bound * (1.0 + 1e-8) + 1e-12,
+                "{theta}: {nearest:e} > {bound:e}"
+            );
+        }
+        // The lowest eigenvalue, 1 − shift/λ₁ < 0, is found to many digits.
+        let (lowest, bound) = ritz[0];
+        assert!(
+            (lowest - exact[0]).abs() <= 1e-8 && bound <= 1e-6,
+            "{lowest} {bound:e}"
+        );
+    }
+}
