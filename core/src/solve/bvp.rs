@@ -14,8 +14,8 @@ use crate::memory::reserve;
 use crate::options::{FractionalSolver, SolverOptions};
 use crate::regularity::{check_constants, check_vv, hessian_in_domain, pivot_range};
 use crate::solve::conditioning::{
-    ILL_POSED_BELOW, NUMERICALLY_SINGULAR, condition_bound, ill_posedness, neighbour_coupling,
-    smallest_eigenvalue, smallest_pencil_eigenvalue,
+    ILL_POSED_BELOW, NUMERICALLY_SINGULAR, condition_bound, ill_posedness, inverse_iteration,
+    neighbour_coupling, smallest_pencil_eigenvalue,
 };
 use crate::solve::fractional;
 use crate::solve::newton::{LineSearch, at_round_off, two_norm};
@@ -236,7 +236,7 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
                 embedding.alpha(),
             ))
         };
-        let (done, j_norm, sigma, ill_posedness_measure) = if embedding.is_fractional() {
+        let (done, j_norm, inverse, ill_posedness_measure) = if embedding.is_fractional() {
             let mut jac = DMatrix::<f64>::zeros(unknowns, unknowns);
             disc.assemble_jacobian(scheme, &q, &pw, |i, j, b| jac.add_block(i, j, b));
             if !jac.iter().all(|c| c.is_finite()) {
@@ -255,14 +255,14 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
                 Some(y) => v.copy_from_slice(y.as_slice()),
                 None => v.fill(f64::NAN),
             };
-            let sigma = done.then(|| smallest_eigenvalue(unknowns, solve));
+            let inverse = done.then(|| inverse_iteration(unknowns, solve)).flatten();
             // The ill-posedness measure against the kinetic part itself (see the conditioning
             // module).
             let measure = check(done).then(|| {
                 let vv = kinetic_blocks(disc, &q, &pw.v);
                 smallest_pencil_eigenvalue(unknowns, |x, y| kinetic_product(disc, &vv, x, y), solve)
             });
-            (done, j_norm, sigma.flatten(), measure.flatten())
+            (done, j_norm, inverse, measure.flatten())
         } else {
             let mut jac = BandedMatrix::zeros(unknowns, 2 * D - 1, 2 * D - 1);
             disc.assemble_jacobian(scheme, &q, &pw, |i, j, b| jac.add_block(i, j, b));
@@ -276,10 +276,11 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
             jac.factorize()
                 .map_err(|_| Error::SingularJacobian { at })?;
             jac.solve_inplace(&mut rhs);
-            let sigma = done
-                .then(|| smallest_eigenvalue(unknowns, |v| jac.solve_inplace(v)))
+            let inverse = done
+                .then(|| inverse_iteration(unknowns, |v| jac.solve_inplace(v)))
                 .flatten();
-            (done, j_norm, sigma, measure(sigma, coupling))
+            let sigma = inverse.map(|run| run.sigma);
+            (done, j_norm, inverse, measure(sigma, coupling))
         };
         if done {
             // A solution whose Newton system is singular to working precision is round-off,
@@ -289,7 +290,7 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
             // `1/σ` by many orders.
             let step = rhs.iter().fold(0.0f64, |m, x| m.max(x.abs()));
             let correction = if res > 0.0 { step / res } else { 0.0 };
-            let condition = condition_bound(j_norm, sigma, unknowns, correction);
+            let condition = condition_bound(j_norm, inverse, unknowns, correction);
             if condition >= NUMERICALLY_SINGULAR {
                 return Err(Error::IllConditioned { at, condition });
             }

@@ -44,14 +44,29 @@ pub(crate) const ILL_POSED_BELOW: f64 = 1e-2;
 /// solve (BENCHMARKS.md).
 const ITERATIONS: usize = 2;
 
-/// The smallest eigenvalue in modulus of a matrix of order `n`, by inverse iteration with
-/// `solve` (which overwrites its argument `x` with `J⁻¹ x`); `None` when a solve gave a
-/// non-finite vector. Starts from a vector with a component along every mode.
-pub(crate) fn smallest_eigenvalue(n: usize, mut solve: impl FnMut(&mut [f64])) -> Option<f64> {
+/// What [`inverse_iteration`] finds.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct InverseIteration {
+    /// The estimate of the smallest eigenvalue in modulus, `1/‖J⁻¹ x‖₂` for the last unit `x`.
+    pub(crate) sigma: f64,
+    /// The largest `‖J⁻¹ x‖₂` over the unit vectors `x` of the iteration: a lower bound of
+    /// `‖J⁻¹‖₂`. On a matrix far from normal (a recurrence amplifying a parasitic mode) the
+    /// first step's can exceed the last one's by many orders of magnitude.
+    pub(crate) largest_growth: f64,
+}
+
+/// The smallest eigenvalue in modulus of a matrix of order `n`, by [`ITERATIONS`] steps of
+/// inverse iteration with `solve` (which overwrites its argument `x` with `J⁻¹ x`), and the
+/// largest growth on the way; `None` when a solve gave a non-finite vector. Starts from a
+/// vector with a component along every mode.
+pub(crate) fn inverse_iteration(
+    n: usize,
+    mut solve: impl FnMut(&mut [f64]),
+) -> Option<InverseIteration> {
     let norm = |x: &[f64]| x.iter().map(|c| c * c).sum::<f64>().sqrt();
     let mut x = start(n);
     let mut size = norm(&x);
-    let mut growth = 0.0;
+    let (mut growth, mut largest_growth) = (0.0, 0.0f64);
     for _ in 0..ITERATIONS {
         let inverse = 1.0 / size;
         x.iter_mut().for_each(|c| *c *= inverse);
@@ -61,8 +76,12 @@ pub(crate) fn smallest_eigenvalue(n: usize, mut solve: impl FnMut(&mut [f64])) -
         if !growth.is_finite() {
             return None;
         }
+        largest_growth = largest_growth.max(growth);
     }
-    (growth > 0.0).then(|| 1.0 / growth)
+    (growth > 0.0).then(|| InverseIteration {
+        sigma: 1.0 / growth,
+        largest_growth,
+    })
 }
 
 /// A condition number at or above `1/ε`: the Newton system is singular to working precision,
@@ -70,16 +89,20 @@ pub(crate) fn smallest_eigenvalue(n: usize, mut solve: impl FnMut(&mut [f64])) -
 pub(crate) const NUMERICALLY_SINGULAR: f64 = 1.0 / f64::EPSILON;
 
 /// A lower bound of the ∞-norm condition number of a matrix `J` of order `n` with row-sum norm
-/// `norm_inf`, from two lower bounds of `‖J⁻¹‖∞`: `correction = ‖J⁻¹ r‖∞ / ‖r‖∞` for some `r`,
-/// and the smallest eigenvalue estimate `sigma` (`‖J⁻¹‖∞ ≥ ‖J⁻¹‖₂/√n ≥ 1/(σ√n)`, since inverse
-/// iteration's `σ` is `‖x‖₂ / ‖J⁻¹ x‖₂` for a unit `x`; `None`: it met a non-finite vector, so
-/// `J` is singular to working precision, `∞`). Being a lower bound, it never calls a
-/// well-conditioned system singular.
-pub(crate) fn condition_bound(norm_inf: f64, sigma: Option<f64>, n: usize, correction: f64) -> f64 {
-    let Some(sigma) = sigma else {
+/// `norm_inf`, from lower bounds of `‖J⁻¹‖∞`: `correction = ‖J⁻¹ r‖∞ / ‖r‖∞` for some `r`, and
+/// the inverse iteration's largest growth `g` (`‖J⁻¹‖∞ ≥ ‖J⁻¹‖₂/√n ≥ g/√n`; `None`: the
+/// iteration met a non-finite vector, so `J` is singular to working precision, `∞`). Being a
+/// lower bound, it never calls a well-conditioned system singular.
+pub(crate) fn condition_bound(
+    norm_inf: f64,
+    iteration: Option<InverseIteration>,
+    n: usize,
+    correction: f64,
+) -> f64 {
+    let Some(run) = iteration else {
         return f64::INFINITY;
     };
-    let inverse = (1.0 / (sigma * (n as f64).sqrt())).max(correction);
+    let inverse = (run.largest_growth / (n as f64).sqrt()).max(correction);
     norm_inf * inverse
 }
 
@@ -87,7 +110,7 @@ pub(crate) fn condition_bound(norm_inf: f64, sigma: Option<f64>, n: usize, corre
 /// symmetric positive definite, by inverse iteration in the `P` norm: `kinetic` writes `P x`
 /// into its second argument, `solve` overwrites its argument with `J⁻¹` of it. `None` when a
 /// product or a solve was not finite. The start and the number of steps are those of
-/// [`smallest_eigenvalue`].
+/// [`inverse_iteration`].
 pub(crate) fn smallest_pencil_eigenvalue(
     n: usize,
     mut kinetic: impl FnMut(&[f64], &mut [f64]),

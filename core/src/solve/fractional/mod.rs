@@ -131,7 +131,8 @@ const LANCZOS_STEPS: usize = 4;
 /// and its Ritz value converges at the rate of the gap to the next one: on the oscillator at
 /// α = 0.74, 0.1 % below its first resonance (`N = 50 … 1000`), four steps give it within
 /// 0.2 % with a bound of 1.3e-3, three within 14 % with a bound of 1e-2 (dense eigenvalues of
-/// the same Lanczos process). Four steps cost 0.2 of the benchmark's solve (BENCHMARKS.md). An interior eigenvalue near zero (a resonance of a higher mode) needs more
+/// the same Lanczos process). Four steps cost 0.09–0.2 of the benchmark's solve
+/// (BENCHMARKS.md). An interior eigenvalue near zero (a resonance of a higher mode) needs more
 /// steps to be resolved, and is then not flagged: the bound keeps an unconverged Ritz value
 /// from flagging a well-posed problem, never the other way round.
 fn ill_posedness<const D: usize>(system: &mut FastSystem<D>) -> Option<f64> {
