@@ -12,7 +12,11 @@ use crate::error::{Error, Location, Result, check_len};
 use crate::memory::reserve;
 use crate::options::NewtonOptions;
 use crate::regularity::DEGENERACY_THRESHOLD;
+use crate::solve::conditioning::{
+    ILL_POSED_BELOW, ill_posedness, neighbour_coupling_of, smallest_eigenvalue,
+};
 use crate::solve::newton::at_round_off;
+use crate::solve::solution::Warning;
 
 use super::DynLagrangian;
 use super::band::BandSystem;
@@ -142,9 +146,19 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
     pub fn solve_bvp_from(&self, scheme: Scheme, guess: &[f64]) -> Result<DynSolution> {
         let rows = DynRows::new(self.lagrangian, self.grid, self.embedding, scheme)?;
         check_input(&rows, guess)?;
-        let (q, newton_iterations, band) = newton(&rows, &self.newton, guess)?;
+        let Converged {
+            q,
+            iterations: newton_iterations,
+            band,
+            measure,
+        } = newton(&rows, &self.newton, guess, self.posedness_check)?;
         check_nodes(&rows, &q, false)?;
         let (n, d) = (self.grid.n(), rows.d);
+        let ill_posed = measure.filter(|&m| m < ILL_POSED_BELOW);
+        let warnings: Vec<Warning> = ill_posed
+            .map(|measure| Warning::IllPosed { measure })
+            .into_iter()
+            .collect();
         Ok(DynSolution {
             run: DynRun {
                 scheme,
@@ -155,10 +169,12 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
                 explicit_steps: 0,
                 band,
                 reordered: true,
+                warnings: warnings.clone(),
             },
             dimension: d,
             indices: (0..=n).collect(),
             q,
+            warnings,
         })
     }
 }
@@ -369,21 +385,38 @@ fn assemble<'s, L: DynLagrangian + ?Sized>(
     Ok(system.as_mut().expect("planned above"))
 }
 
+/// What Newton's method returns: the nodes, the iterations, the Jacobian's time-major band and,
+/// when asked for, the ill-posedness measure at the converged iterate.
+struct Converged {
+    q: Vec<f64>,
+    iterations: usize,
+    band: usize,
+    measure: Option<f64>,
+}
+
 /// Newton's method on the rows from `guess`, as the const-generic boundary value solve runs it:
 /// factorise before testing convergence (a solution where the Jacobian is singular is not
 /// isolated, and is reported), stop at the tolerance or at round-off, backtrack on the
-/// residual's max-norm. Returns the nodes, the iterations and the Jacobian's time-major band.
+/// residual's max-norm. With `posedness_check`, the converged iterate's Jacobian and its
+/// factorisation give the ill-posedness measure (see [`measure`]).
 fn newton<L: DynLagrangian + ?Sized>(
     rows: &DynRows<'_, L>,
     options: &NewtonOptions,
     guess: &[f64],
-) -> Result<(Vec<f64>, usize, usize)> {
+    posedness_check: bool,
+) -> Result<Converged> {
     let (grid, d) = (rows.grid, rows.d);
     let n = grid.n();
     let mut q = guess.to_vec();
     let unknowns = (n - 1) * d;
     if unknowns == 0 {
-        return Ok((q, 0, 0));
+        let (iterations, band, measure) = (0, 0, None);
+        return Ok(Converged {
+            q,
+            iterations,
+            band,
+            measure,
+        });
     }
     let (mut current, mut trial_values) = (CurveValues::zeros(n, d), CurveValues::zeros(n, d));
     let mut res = evaluate(rows, &q, &mut current, 0)?;
@@ -410,8 +443,14 @@ fn newton<L: DynLagrangian + ?Sized>(
             return Err(Error::SingularJacobian { at });
         }
         if res <= options.tolerance * scale || at_round_off(res, previous, j_norm, max_norm(&q)) {
-            let band = system.as_ref().map_or(0, |(m, _)| m.bandwidth());
-            return Ok((q, iteration, band));
+            let measure = posedness_check.then(|| measure(rows, matrix, lu)).flatten();
+            let band = matrix.bandwidth();
+            return Ok(Converged {
+                q,
+                iterations: iteration,
+                band,
+                measure,
+            });
         }
         if iteration == options.max_iterations {
             break;
@@ -441,4 +480,26 @@ fn newton<L: DynLagrangian + ?Sized>(
         iterations: options.max_iterations,
         residual: res,
     })
+}
+
+/// The ill-posedness measure of the conditioning module at the converged iterate: the largest
+/// coupling between neighbouring nodes read off `matrix` (one pass over its entries), the
+/// smallest eigenvalue by inverse iteration on `lu`, its factorisation. `None` when a solve is
+/// not finite.
+fn measure<L: DynLagrangian + ?Sized>(
+    rows: &DynRows<'_, L>,
+    matrix: &SparseRows,
+    lu: &mut SparseLu,
+) -> Option<f64> {
+    let (grid, d) = (rows.grid, rows.d);
+    let coupling = neighbour_coupling_of(d, matrix.entries());
+    let sigma = smallest_eigenvalue(matrix.order(), |v| lu.solve_in_place(v))?;
+    let (h, length) = (grid.h(), grid.b() - grid.a());
+    Some(ill_posedness(
+        sigma,
+        coupling,
+        h,
+        length,
+        rows.embedding.alpha(),
+    ))
 }

@@ -16,7 +16,13 @@
 //!
 //! The check reports only what it proves: between the two bounds, after its iterations, it
 //! gives no verdict, and the blow-up guard watches the run as before.
+//!
+//! The same linearisation at the initial data gives the resolution check's fastest rate
+//! ([`fastest_rate`]), by the const-generic path's power iteration on the sparse blocks.
 
+use crate::solve::resolution::dominant_rate;
+
+use super::band::BandSystem;
 use super::sparse::SparseBlock;
 
 /// Power iterations before the check gives no verdict.
@@ -154,4 +160,21 @@ mod tests {
             "{reported} against {exact}"
         );
     }
+}
+
+/// The fastest rate `ω = √|μ|` of the equation linearised at a state, `μ` the eigenvalue of
+/// largest modulus of `(∂²L/∂v²)⁻¹(−∂²L/∂x²)`, from `xx = ∂²L/∂x²` there (its entries listed)
+/// and `vv`, `∂²L/∂v²` there factorised: the const-generic path's power iteration, each product
+/// a pass over the entries of `xx` and a band solve (`O(d b)`). `None` when a product is not
+/// finite.
+pub(crate) fn fastest_rate(xx: &SparseBlock, vv: &mut BandSystem) -> Option<f64> {
+    let entries = xx.entries();
+    dominant_rate(xx.dimension(), |y, out| {
+        out.fill(0.0);
+        for &(i, j, c) in entries {
+            out[i] -= c * y[j];
+        }
+        vv.solve_in_place(out);
+        Some(())
+    })
 }
