@@ -14,15 +14,14 @@ use crate::options::NewtonOptions;
 use crate::regularity::DEGENERACY_THRESHOLD;
 use crate::side::Side;
 use crate::solve::guard::BlowUpGuard;
-use crate::solve::resolution::under_resolved;
 use crate::solve::solution::Warning;
 use crate::solve::start::Start;
 use crate::step::StepKind;
 
 use super::DynLagrangian;
 use super::band::BandSystem;
-use super::sparse::{SparseBlock, SparseHessian};
-use super::stability::{fastest_rate, verlet_unstable};
+use super::sparse::SparseHessian;
+use super::stability::{resolution_warning, verlet_unstable};
 use super::step::{StepSolver, max_norm};
 
 /// A node handed to the observer of a run: `Q_k` at `t_k`, with the node before it
@@ -109,15 +108,15 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         mut observe: impl FnMut(DynNode<'_>),
     ) -> Result<DynRun> {
         let kind = self.step_kind(scheme)?;
-        let (mut vv, xx, sawtooth) = self.check_initial_data(q0, v0)?;
+        let (mut vv, hessian, sawtooth) = self.check_initial_data(q0, v0)?;
         let (grid, h) = (self.grid, self.grid.h());
-        // The fastest rate at the initial data, while `∂²L/∂v²` there is factorised; the
+        // The resolution at the initial data, while `∂²L/∂v²` there is factorised; the
         // warning is attached to a run that returns.
-        let rate = self
+        let warning = self
             .resolution_check
-            .then(|| fastest_rate(&xx, &mut vv))
+            .then(|| resolution_warning(&hessian, &mut vv, h))
             .flatten();
-        drop(xx);
+        drop(hessian);
         let d = q0.len();
         let t0 = grid.t(0);
         let mut pi = vec![0.0; d];
@@ -208,10 +207,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             explicit_steps,
             band,
             reordered,
-            warnings: rate
-                .and_then(|omega| under_resolved(omega, h, 1))
-                .into_iter()
-                .collect(),
+            warnings: warning.into_iter().collect(),
         })
     }
 
@@ -279,14 +275,15 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
 
     /// The checks before any step: the model at its dimension, finite constants, the initial
     /// data of the right length and finite, `L` and its derivatives finite there, and
-    /// `∂²L/∂v²` not degenerate there. Returns `∂²L/∂v²` there, factorised, `∂²L/∂x²` there,
-    /// and the step map's eigenvalue below −1 if the Störmer–Verlet recurrence of step `h` is
-    /// proven unstable there (read only by a run that takes Störmer–Verlet steps).
+    /// `∂²L/∂v²` not degenerate there. Returns `∂²L/∂v²` there, factorised, the second
+    /// derivatives there, and the step map's eigenvalue below −1 if the Störmer–Verlet
+    /// recurrence of step `h` is proven unstable there (read only by a run that takes
+    /// Störmer–Verlet steps).
     fn check_initial_data(
         &self,
         q0: &[f64],
         v0: &[f64],
-    ) -> Result<(BandSystem, SparseBlock, Option<f64>)> {
+    ) -> Result<(BandSystem, SparseHessian, Option<f64>)> {
         let l = self.lagrangian;
         if let Some(reason) = l.invalid_dimension() {
             return Err(Error::InvalidModel { reason });
@@ -323,7 +320,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         let (system, measure) = vv_factorised(d, l.hessian_bandwidth(), &hessian);
         let sawtooth = verlet_unstable(&hessian.xx, self.grid.h());
         match system {
-            Some(system) if measure >= DEGENERACY_THRESHOLD => Ok((system, hessian.xx, sawtooth)),
+            Some(system) if measure >= DEGENERACY_THRESHOLD => Ok((system, hessian, sawtooth)),
             _ => Err(Error::DegenerateLagrangian {
                 at: Location::Step(0),
                 measure,

@@ -113,6 +113,14 @@ pub(crate) fn resolution_warning<const D: usize, L: Lagrangian<D> + ?Sized>(
     under_resolved(fastest_rate(lagrangian, q0, v0, t0)?, h, stages)
 }
 
+/// Whether a bound `B ≥ ‖K‖₂` on the linearisation's matrix proves the check silent: every
+/// norm ratio of [`dominant_rate`] is at most `‖K‖₂`, so its `ω` is at most `√B`, and `h √B`
+/// within [`RESOLUTION_LIMIT`] times `stages` (with a margin for rounding) means no
+/// [`Warning::UnderResolved`], without the power iteration.
+pub(crate) fn proved_resolved(bound: f64, h: f64, stages: usize) -> bool {
+    h * bound.sqrt() * (1.0 + 1e-9) <= RESOLUTION_LIMIT * stages as f64
+}
+
 /// [`Warning::UnderResolved`] when `h ω` exceeds [`RESOLUTION_LIMIT`] times `stages`, for the
 /// fastest rate `ω` at the initial data.
 pub(crate) fn under_resolved(omega: f64, h: f64, stages: usize) -> Option<Warning> {

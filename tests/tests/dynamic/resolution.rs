@@ -1,7 +1,8 @@
 //! The resolution check of run-time-dimension initial value runs: `Warning::UnderResolved` when
 //! `h ω` at the initial data exceeds 2, `ω` the fastest rate of the linearised equation by
 //! power iteration on the sparse blocks; checked against the closed-form spectra of linear
-//! chains (fixed ends, and a ring) and against the const-generic path on a nonlinear chain.
+//! chains (fixed ends with diagonal or coupled masses, and a ring) and against the
+//! const-generic path on a nonlinear chain.
 
 use varembed::{DynLagrangian, DynProblem, Embedding, Grid, Problem, Scheme, Side, Warning};
 use varembed_tests::models::generated::fput16;
@@ -28,6 +29,22 @@ fn springs(x: &[f64], v: &[f64], n: usize, m: f64, k: f64) -> f64 {
     for i in 0..n - 1 {
         let d = x[i + 1] - x[i];
         l += -0.5 * k * d * d;
+    }
+    l + -0.5 * k * (x[0] * x[0] + x[n - 1] * x[n - 1])
+}
+
+/// The chain of [`springs`] with neighbouring velocities coupled, `½ vᵀMv` with
+/// `M = m (I + c (S + Sᵀ))`, `S` the shift: `M` and the stiffness share the sine modes, so the
+/// fastest frequency is `√(k (2 + 2 cos θ) / (m (1 − 2c cos θ)))`, `θ = π/(n + 1)`.
+#[varembed::lagrangian]
+fn coupled_masses(x: &[f64], v: &[f64], n: usize, m: f64, k: f64, c: f64) -> f64 {
+    let mut l = 0.0;
+    for i in 0..n {
+        l += 0.5 * m * v[i] * v[i];
+    }
+    for i in 0..n - 1 {
+        let d = x[i + 1] - x[i];
+        l += m * c * v[i] * v[i + 1] - 0.5 * k * d * d;
     }
     l + -0.5 * k * (x[0] * x[0] + x[n - 1] * x[n - 1])
 }
@@ -81,19 +98,36 @@ fn an_under_resolved_implicit_run_is_flagged_and_a_resolved_one_is_not() {
         .solve_ivp(Scheme::Direct, &q0, &v0)
         .unwrap();
     assert!(quiet.warnings.is_empty() && quiet.run.warnings.is_empty());
-    // Resolved: no warning, both schemes.
+    // Resolved: no warning, both schemes, with a diagonal mass matrix (proved by a norm bound)
+    // and a coupled one (by the power iteration).
+    let coupled = CoupledMasses {
+        n: 32,
+        m: 2.0,
+        k: 3.0,
+        c: 0.1,
+    };
     let fine = direct_run(&chain, 0.05, 40);
+    let coupled_fine = DynProblem::new(
+        &coupled,
+        Grid::new(0.0, 2.0, 40).unwrap(),
+        Embedding::finite_difference(Side::Backward),
+    );
     for scheme in [Scheme::Direct, Scheme::Variational] {
-        let run = fine.solve_ivp(scheme, &q0, &v0).unwrap();
-        assert!(run.warnings.is_empty(), "{scheme}: {:?}", run.warnings);
+        let runs = [
+            fine.solve_ivp(scheme, &q0, &v0).unwrap(),
+            coupled_fine.solve_ivp(scheme, &q0, &v0).unwrap(),
+        ];
+        for run in runs {
+            assert!(run.warnings.is_empty(), "{scheme}: {:?}", run.warnings);
+        }
     }
 }
 
 #[test]
 fn the_fastest_rate_matches_the_closed_form_spectrum_of_linear_chains() {
     // 30 power iterations from the check's start vector: measured within 3.5e-4 relative of the
-    // closed form between walls (the top of the spectrum clusters as d grows), 5e-7 on the
-    // ring.
+    // closed form between walls (the top of the spectrum clusters as d grows), 3.8e-4 with
+    // coupled masses (the band solve with ∂²L/∂v²), 5e-7 on the ring.
     let (m, k) = (2.0, 3.0);
     for d in [8, 64, 512] {
         let chain = Springs { n: d, m, k };
@@ -106,6 +140,21 @@ fn the_fastest_rate_matches_the_closed_form_spectrum_of_linear_chains() {
         let omega = under_resolved(&run.warnings)[0].0;
         let gap = (omega - exact).abs() / exact;
         assert!(gap < 2e-3, "d = {d}: ω = {omega} against {exact} ({gap:e})");
+    }
+    for d in [8, 64, 512] {
+        let c = 0.1;
+        let chain = CoupledMasses { n: d, m, k, c };
+        let cos = (std::f64::consts::PI / (d as f64 + 1.0)).cos();
+        let exact = (k * (2.0 + 2.0 * cos) / (m * (1.0 - 2.0 * c * cos))).sqrt();
+        let run = direct_run(&chain, 1.0, 4)
+            .solve_ivp(Scheme::Direct, &displaced(d), &vec![0.0; d])
+            .unwrap();
+        let omega = under_resolved(&run.warnings)[0].0;
+        let gap = (omega - exact).abs() / exact;
+        assert!(
+            gap < 2e-3,
+            "coupled masses d = {d}: ω = {omega} against {exact} ({gap:e})"
+        );
     }
     for d in [8, 64, 512] {
         let chain = Ring { n: d, m, k };
