@@ -42,7 +42,7 @@ pub trait ComparedSolution: Clone + std::fmt::Debug {
     /// Newton iterations of the solve.
     fn newton_iterations(&self) -> usize;
 
-    /// What the solver warns about the solution (none for a [`DynSolution`]).
+    /// What the solver warns about the solution.
     fn warnings(&self) -> &[Warning];
 
     /// `max_k |Q_k|∞`, the scale of the solution's round-off.
@@ -142,7 +142,7 @@ impl ComparedSolution for DynSolution {
     }
 
     fn warnings(&self) -> &[Warning] {
-        &[]
+        &self.warnings
     }
 
     fn size(&self) -> f64 {

@@ -82,6 +82,8 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
             newton: self.newton,
             blow_up_guard: self.blow_up_guard,
             start: self.start,
+            resolution_check: self.resolution_check,
+            posedness_check: self.posedness_check,
         }
     }
 

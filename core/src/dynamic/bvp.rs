@@ -12,7 +12,12 @@ use crate::error::{Error, Location, Result, check_len};
 use crate::memory::reserve;
 use crate::options::NewtonOptions;
 use crate::regularity::DEGENERACY_THRESHOLD;
-use crate::solve::newton::at_round_off;
+use crate::solve::conditioning::{
+    ILL_POSED_BELOW, NUMERICALLY_SINGULAR, condition_bound, ill_posedness, inverse_iteration,
+    neighbour_coupling_of,
+};
+use crate::solve::newton::{LineSearch, at_round_off};
+use crate::solve::solution::Warning;
 
 use super::DynLagrangian;
 use super::band::BandSystem;
@@ -142,9 +147,19 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
     pub fn solve_bvp_from(&self, scheme: Scheme, guess: &[f64]) -> Result<DynSolution> {
         let rows = DynRows::new(self.lagrangian, self.grid, self.embedding, scheme)?;
         check_input(&rows, guess)?;
-        let (q, newton_iterations, band) = newton(&rows, &self.newton, guess)?;
+        let Converged {
+            q,
+            iterations: newton_iterations,
+            band,
+            measure,
+        } = newton(&rows, &self.newton, guess, self.posedness_check)?;
         check_nodes(&rows, &q, false)?;
         let (n, d) = (self.grid.n(), rows.d);
+        let ill_posed = measure.filter(|&m| m < ILL_POSED_BELOW);
+        let warnings: Vec<Warning> = ill_posed
+            .map(|measure| Warning::IllPosed { measure })
+            .into_iter()
+            .collect();
         Ok(DynSolution {
             run: DynRun {
                 scheme,
@@ -155,10 +170,12 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
                 explicit_steps: 0,
                 band,
                 reordered: true,
+                warnings: warnings.clone(),
             },
             dimension: d,
             indices: (0..=n).collect(),
             q,
+            warnings,
         })
     }
 }
@@ -369,29 +386,47 @@ fn assemble<'s, L: DynLagrangian + ?Sized>(
     Ok(system.as_mut().expect("planned above"))
 }
 
+/// What Newton's method returns: the nodes, the iterations, the Jacobian's time-major band and,
+/// when asked for, the ill-posedness measure at the converged iterate.
+struct Converged {
+    q: Vec<f64>,
+    iterations: usize,
+    band: usize,
+    measure: Option<f64>,
+}
+
 /// Newton's method on the rows from `guess`, as the const-generic boundary value solve runs it:
 /// factorise before testing convergence (a solution where the Jacobian is singular is not
-/// isolated, and is reported), stop at the tolerance or at round-off, backtrack on the
-/// residual's max-norm. Returns the nodes, the iterations and the Jacobian's time-major band.
+/// isolated, and is reported), stop at the tolerance or at round-off, and globalise by the same
+/// line search (the residual's 2-norm, full steps first, with a watchdog). With `posedness_check`, the converged iterate's Jacobian and its
+/// factorisation give the ill-posedness measure (see [`measure`]).
 fn newton<L: DynLagrangian + ?Sized>(
     rows: &DynRows<'_, L>,
     options: &NewtonOptions,
     guess: &[f64],
-) -> Result<(Vec<f64>, usize, usize)> {
+    posedness_check: bool,
+) -> Result<Converged> {
     let (grid, d) = (rows.grid, rows.d);
     let n = grid.n();
     let mut q = guess.to_vec();
     let unknowns = (n - 1) * d;
     if unknowns == 0 {
-        return Ok((q, 0, 0));
+        let (iterations, band, measure) = (0, 0, None);
+        return Ok(Converged {
+            q,
+            iterations,
+            band,
+            measure,
+        });
     }
-    let (mut current, mut trial_values) = (CurveValues::zeros(n, d), CurveValues::zeros(n, d));
+    let mut current = CurveValues::zeros(n, d);
     let mut res = evaluate(rows, &q, &mut current, 0)?;
+    let mut merit = two_norm(&current.r);
+    let mut line_search = LineSearch::new(&q, merit);
     let mut previous = f64::INFINITY;
     let mut hessians = HessianCache::new(d);
     let mut system = None;
     let mut delta = vec![0.0; unknowns];
-    let mut trial = q.clone();
     for iteration in 0..=options.max_iterations {
         let at = Location::Newton(iteration);
         let scale = rows.scale(&current);
@@ -410,35 +445,71 @@ fn newton<L: DynLagrangian + ?Sized>(
             return Err(Error::SingularJacobian { at });
         }
         if res <= options.tolerance * scale || at_round_off(res, previous, j_norm, max_norm(&q)) {
-            let band = system.as_ref().map_or(0, |(m, _)| m.bandwidth());
-            return Ok((q, iteration, band));
+            // As the const-generic solve: a system singular to working precision is an error,
+            // the inverse iteration's smallest eigenvalue the ill-posedness measure.
+            let inverse = inverse_iteration(matrix.order(), |v| lu.solve_in_place(v));
+            let correction = if res > 0.0 {
+                max_norm(&delta) / res
+            } else {
+                0.0
+            };
+            let condition = condition_bound(j_norm, inverse, unknowns, correction);
+            if condition >= NUMERICALLY_SINGULAR {
+                return Err(Error::IllConditioned { at, condition });
+            }
+            let sigma = inverse.map(|run| run.sigma);
+            let measure = posedness_check
+                .then(|| measure(rows, matrix, sigma?))
+                .flatten();
+            let band = matrix.bandwidth();
+            return Ok(Converged {
+                q,
+                iterations: iteration,
+                band,
+                measure,
+            });
         }
         if iteration == options.max_iterations {
             break;
         }
-        // The line search: q − λ δ on the interior nodes, λ = 1, ½, ¼, …, the shortest taken
-        // anyway below 1/32.
-        let mut lambda = 1.0;
-        loop {
-            for ((t, q), delta) in trial[d..n * d].iter_mut().zip(&q[d..n * d]).zip(&delta) {
-                *t = q - delta * lambda;
-            }
-            let last = lambda < 1.0 / 32.0;
-            match evaluate(rows, &trial, &mut trial_values, iteration + 1) {
-                Ok(rt) if rt < res || last => {
-                    std::mem::swap(&mut q, &mut trial);
-                    std::mem::swap(&mut current, &mut trial_values);
-                    (previous, res) = (res, rt);
-                    break;
-                }
-                Err(e) if last => return Err(e),
-                _ => lambda *= 0.5,
-            }
-        }
+        // The line search of the const-generic solve, on the flat nodes.
+        let (next, values, next_res, next_merit) =
+            line_search.step(&q, merit, &delta, |trial| {
+                let mut values = CurveValues::zeros(n, d);
+                let res = evaluate(rows, trial, &mut values, iteration + 1)?;
+                let merit = two_norm(&values.r);
+                Ok((values, res, merit))
+            })?;
+        (q, current, previous, res, merit) = (next, values, res, next_res, next_merit);
     }
     Err(Error::NewtonDidNotConverge {
         at: Location::Newton(options.max_iterations),
         iterations: options.max_iterations,
         residual: res,
     })
+}
+
+/// The 2-norm of flat residual rows, the line search's merit.
+fn two_norm(r: &[f64]) -> f64 {
+    r.iter().map(|x| x * x).sum::<f64>().sqrt()
+}
+
+/// The ill-posedness measure of the conditioning module at the converged iterate: the largest
+/// coupling between neighbouring nodes read off `matrix` (one pass over its entries) against
+/// `sigma`, the smallest eigenvalue by inverse iteration on its factorisation.
+fn measure<L: DynLagrangian + ?Sized>(
+    rows: &DynRows<'_, L>,
+    matrix: &SparseRows,
+    sigma: f64,
+) -> Option<f64> {
+    let (grid, d) = (rows.grid, rows.d);
+    let coupling = neighbour_coupling_of(d, matrix.entries());
+    let (h, length) = (grid.h(), grid.b() - grid.a());
+    Some(ill_posedness(
+        sigma,
+        coupling,
+        h,
+        length,
+        rows.embedding.alpha(),
+    ))
 }

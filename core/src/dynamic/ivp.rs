@@ -14,13 +14,14 @@ use crate::options::NewtonOptions;
 use crate::regularity::DEGENERACY_THRESHOLD;
 use crate::side::Side;
 use crate::solve::guard::BlowUpGuard;
+use crate::solve::solution::Warning;
 use crate::solve::start::Start;
 use crate::step::StepKind;
 
 use super::DynLagrangian;
 use super::band::BandSystem;
 use super::sparse::SparseHessian;
-use super::stability::verlet_unstable;
+use super::stability::{resolution_warning, verlet_unstable};
 use super::step::{StepSolver, max_norm};
 
 /// A node handed to the observer of a run: `Q_k` at `t_k`, with the node before it
@@ -58,6 +59,9 @@ pub struct DynRun {
     pub band: usize,
     /// Whether the unknowns were reordered (reverse Cuthill–McKee) to reach that band.
     pub reordered: bool,
+    /// What the caller should know about the run (empty when nothing): see
+    /// [`DynSolution::warnings`](super::problem::DynSolution::warnings).
+    pub warnings: Vec<Warning>,
 }
 
 /// The parts of a run-time-dimension problem an initial value problem reads.
@@ -67,6 +71,8 @@ pub(crate) struct DynIvp<'a, L: ?Sized> {
     pub(crate) embedding: Embedding,
     pub(crate) newton: NewtonOptions,
     pub(crate) blow_up_guard: bool,
+    /// Whether the run's step is checked against its fastest motion at the initial data.
+    pub(crate) resolution_check: bool,
 }
 
 impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
@@ -102,8 +108,15 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         mut observe: impl FnMut(DynNode<'_>),
     ) -> Result<DynRun> {
         let kind = self.step_kind(scheme)?;
-        let (vv, sawtooth) = self.check_initial_data(q0, v0)?;
+        let (mut vv, hessian, sawtooth) = self.check_initial_data(q0, v0)?;
         let (grid, h) = (self.grid, self.grid.h());
+        // The resolution at the initial data, while `∂²L/∂v²` there is factorised; the
+        // warning is attached to a run that returns.
+        let warning = self
+            .resolution_check
+            .then(|| resolution_warning(&hessian, &mut vv, h))
+            .flatten();
+        drop(hessian);
         let d = q0.len();
         let t0 = grid.t(0);
         let mut pi = vec![0.0; d];
@@ -194,6 +207,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             explicit_steps,
             band,
             reordered,
+            warnings: warning.into_iter().collect(),
         })
     }
 
@@ -261,10 +275,15 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
 
     /// The checks before any step: the model at its dimension, finite constants, the initial
     /// data of the right length and finite, `L` and its derivatives finite there, and
-    /// `∂²L/∂v²` not degenerate there. Returns `∂²L/∂v²` there, factorised, and the step
-    /// map's eigenvalue below −1 if the Störmer–Verlet recurrence of step `h` is proven
-    /// unstable there (read only by a run that takes Störmer–Verlet steps).
-    fn check_initial_data(&self, q0: &[f64], v0: &[f64]) -> Result<(BandSystem, Option<f64>)> {
+    /// `∂²L/∂v²` not degenerate there. Returns `∂²L/∂v²` there, factorised, the second
+    /// derivatives there, and the step map's eigenvalue below −1 if the Störmer–Verlet
+    /// recurrence of step `h` is proven unstable there (read only by a run that takes
+    /// Störmer–Verlet steps).
+    fn check_initial_data(
+        &self,
+        q0: &[f64],
+        v0: &[f64],
+    ) -> Result<(BandSystem, SparseHessian, Option<f64>)> {
         let l = self.lagrangian;
         if let Some(reason) = l.invalid_dimension() {
             return Err(Error::InvalidModel { reason });
@@ -301,7 +320,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         let (system, measure) = vv_factorised(d, l.hessian_bandwidth(), &hessian);
         let sawtooth = verlet_unstable(&hessian.xx, self.grid.h());
         match system {
-            Some(system) if measure >= DEGENERACY_THRESHOLD => Ok((system, sawtooth)),
+            Some(system) if measure >= DEGENERACY_THRESHOLD => Ok((system, hessian, sawtooth)),
             _ => Err(Error::DegenerateLagrangian {
                 at: Location::Step(0),
                 measure,

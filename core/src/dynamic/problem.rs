@@ -6,6 +6,7 @@ use crate::error::{Error, Result};
 use crate::grid::Grid;
 use crate::memory::reserve;
 use crate::options::NewtonOptions;
+use crate::solve::solution::Warning;
 use crate::solve::start::Start;
 
 use super::DynLagrangian;
@@ -24,7 +25,11 @@ use super::ivp::{DynIvp, DynNode, DynRun};
 /// (a `2d × 2d` eigenproblem) is not run; a Störmer–Verlet run is checked at its initial data
 /// by bounds on the eigenvalues of `−∂²L/∂x²` ([`Error::Unstable`] when they prove `h ω > 2`),
 /// and any other unstable step shows as [`Error::BlowUp`] or [`Error::NotFinite`] once it has
-/// grown. Its two schemes are compared
+/// grown. The const-generic path's trust checks run on its solutions, which carry their
+/// [`warnings`](DynSolution::warnings): an initial value run whose step does not resolve the
+/// fastest motion at the initial data ([`with_resolution_check`](Self::with_resolution_check))
+/// and a boundary value problem near a resonance
+/// ([`with_posedness_check`](Self::with_posedness_check)). Its two schemes are compared
 /// as a [`Problem`](crate::Problem)'s are, into the same
 /// [`Comparison`](crate::Comparison) ([`compare_ivp`](Self::compare_ivp),
 /// [`compare_bvp`](Self::compare_bvp)).
@@ -74,6 +79,12 @@ pub struct DynProblem<'l, L: ?Sized> {
     pub(crate) newton: NewtonOptions,
     pub(crate) blow_up_guard: bool,
     pub(crate) start: Start,
+    /// Whether an initial value run's step is checked against its fastest motion (see the
+    /// resolution module).
+    pub(crate) resolution_check: bool,
+    /// Whether a converged boundary value problem measures how close it is to singular (see
+    /// the conditioning module).
+    pub(crate) posedness_check: bool,
 }
 
 /// The stored nodes of a run of a [`DynProblem`]: `Q_k` for `k` in [`indices`](Self::indices),
@@ -88,6 +99,11 @@ pub struct DynSolution {
     pub indices: Vec<usize>,
     /// The stored nodes, flat.
     pub q: Vec<f64>,
+    /// What the caller should know about this solution (empty when nothing):
+    /// [`Warning::UnderResolved`] for an initial value run whose step does not resolve the
+    /// fastest motion at the initial data, [`Warning::IllPosed`] for a boundary value problem
+    /// near a resonance. The same as the run report's [`DynRun::warnings`].
+    pub warnings: Vec<Warning>,
 }
 
 impl DynSolution {
@@ -127,6 +143,8 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
             newton: NewtonOptions::default(),
             blow_up_guard: true,
             start: Start::Legendre,
+            resolution_check: true,
+            posedness_check: true,
         }
     }
 
@@ -187,6 +205,88 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
         self
     }
 
+    /// Turns the resolution check of initial value runs on or off (on by default), as
+    /// [`Problem::with_resolution_check`](crate::Problem::with_resolution_check).
+    ///
+    /// A run whose `h ω` at the initial data exceeds 2 carries [`Warning::UnderResolved`]:
+    /// an implicit step (the direct Gauss-FDE− step, and every step of a model that is not
+    /// explicit) is stable there, but does not follow the fastest motion's phase. `ω` is the
+    /// fastest rate of `(∂²L/∂v²)⁻¹(−∂²L/∂x²)` at the initial data, by 30 power iterations on
+    /// the model's sparse blocks (a product with `∂²L/∂x²` and a band solve with `∂²L/∂v²`
+    /// each, `O(d b)`); with a diagonal `∂²L/∂v²`, a norm bound from one pass over the entries
+    /// proves most resolved runs so without them. A stiff run made on purpose turns it off.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{DynProblem, Embedding, Grid, Scheme, Side, Warning, lagrangian};
+    ///
+    /// /// `n` uncoupled oscillators of frequency 10.
+    /// #[lagrangian]
+    /// fn stiff(x: &[f64], v: &[f64], n: usize) -> f64 {
+    ///     let mut l = 0.0;
+    ///     for i in 0..n {
+    ///         l += 0.5 * (v[i] * v[i] - 100.0 * x[i] * x[i]);
+    ///     }
+    ///     l
+    /// }
+    ///
+    /// // ω = 10, h = 1: the direct Gauss-FDE− step is stable, and meaningless.
+    /// let model = Stiff { n: 4 };
+    /// let grid = Grid::new(0.0, 10.0, 10)?;
+    /// let problem = DynProblem::new(&model, grid, Embedding::finite_difference(Side::Backward));
+    /// let run = problem.solve_ivp(Scheme::Direct, &[1.0; 4], &[0.0; 4])?;
+    /// assert!(matches!(run.warnings[..], [Warning::UnderResolved { h_omega, .. }] if (h_omega - 10.0).abs() < 1e-6));
+    /// let quiet = problem.with_resolution_check(false).solve_ivp(Scheme::Direct, &[1.0; 4], &[0.0; 4])?;
+    /// assert!(quiet.warnings.is_empty());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn with_resolution_check(mut self, on: bool) -> Self {
+        self.resolution_check = on;
+        self
+    }
+
+    /// Turns the ill-posedness check of boundary value problems on or off (on by default), as
+    /// [`Problem::with_posedness_check`](crate::Problem::with_posedness_check).
+    ///
+    /// A solve that converges measures, from its last sparse LU factorisation, how close the
+    /// linearised problem is to singular (a resonance), and flags it with
+    /// [`Warning::IllPosed`]; the check costs two back-substitutions and one pass over the
+    /// Jacobian's entries, on the converged iterate only. Turn it off to time a solve without
+    /// it, or for a problem known to sit at a resonance.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use std::f64::consts::PI;
+    /// use varembed::{DynProblem, Embedding, Grid, Scheme, Side, Warning, lagrangian};
+    ///
+    /// /// `n` uncoupled unit oscillators.
+    /// #[lagrangian]
+    /// fn oscillators(x: &[f64], v: &[f64], n: usize) -> f64 {
+    ///     let mut l = 0.0;
+    ///     for i in 0..n {
+    ///         l += 0.5 * (v[i] * v[i] - x[i] * x[i]);
+    ///     }
+    ///     l
+    /// }
+    ///
+    /// // q̈ = −q, q(0) = 0, q(π) = 1 in each component: no solution. The discrete one exists,
+    /// // and is flagged.
+    /// let model = Oscillators { n: 3 };
+    /// let grid = Grid::new(0.0, PI, 100)?;
+    /// let problem = DynProblem::new(&model, grid, Embedding::finite_difference(Side::Backward));
+    /// let run = problem.solve_bvp(Scheme::Variational, &[0.0; 3], &[1.0; 3])?;
+    /// assert!(matches!(run.warnings[..], [Warning::IllPosed { .. }]));
+    /// let quiet = problem.with_posedness_check(false).solve_bvp(Scheme::Variational, &[0.0; 3], &[1.0; 3])?;
+    /// assert!(quiet.warnings.is_empty());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn with_posedness_check(mut self, on: bool) -> Self {
+        self.posedness_check = on;
+        self
+    }
+
     /// The model.
     pub fn lagrangian(&self) -> &'l L {
         self.lagrangian
@@ -204,6 +304,7 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
             embedding: self.embedding,
             newton: self.newton,
             blow_up_guard: self.blow_up_guard,
+            resolution_check: self.resolution_check,
         }
     }
 
@@ -246,6 +347,7 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
             }
         })?;
         Ok(DynSolution {
+            warnings: run.warnings.clone(),
             run,
             dimension: q0.len(),
             indices,

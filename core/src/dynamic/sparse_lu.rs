@@ -79,6 +79,22 @@ impl SparseRows {
             .unwrap_or(0)
     }
 
+    /// The order `n`.
+    pub(crate) fn order(&self) -> usize {
+        self.n
+    }
+
+    /// The stored entries `(row, col, value)`, row by row.
+    pub(crate) fn entries(&self) -> impl Iterator<Item = (usize, usize, f64)> + '_ {
+        (0..self.n).flat_map(move |i| {
+            let at = self.row_ptr[i]..self.row_ptr[i + 1];
+            self.col_idx[at.clone()]
+                .iter()
+                .zip(&self.values[at])
+                .map(move |(&j, &value)| (i, j, value))
+        })
+    }
+
     fn columns(&self, row: usize) -> &[usize] {
         &self.col_idx[self.row_ptr[row]..self.row_ptr[row + 1]]
     }

@@ -16,8 +16,16 @@
 //!
 //! The check reports only what it proves: between the two bounds, after its iterations, it
 //! gives no verdict, and the blow-up guard watches the run as before.
+//!
+//! The same linearisation at the initial data gives the resolution check
+//! ([`resolution_warning`]): the const-generic path's power iteration on the sparse blocks,
+//! skipped when a norm bound already proves the step resolved.
 
-use super::sparse::SparseBlock;
+use crate::solve::resolution::{dominant_rate, proved_resolved, under_resolved};
+use crate::solve::solution::Warning;
+
+use super::band::BandSystem;
+use super::sparse::{SparseBlock, SparseHessian};
 
 /// Power iterations before the check gives no verdict.
 const ITERATIONS: usize = 64;
@@ -77,6 +85,65 @@ pub(crate) fn verlet_unstable(xx: &SparseBlock, h: f64) -> Option<f64> {
     (best > limit * (1.0 + 1e-9)).then(|| {
         let b = 2.0 - h * h * best;
         (b - (b * b - 4.0).sqrt()) / 2.0
+    })
+}
+
+/// [`Warning::UnderResolved`] when the step `h` does not resolve the fastest rate of the
+/// equation linearised at the initial data, from its blocks `hessian` there (entries listed)
+/// and `vv`, `∂²L/∂v²` there factorised. When `∂²L/∂v²` is diagonal (every `½ vᵀMv` with
+/// diagonal `M`), a norm bound on `K = (∂²L/∂v²)⁻¹(−∂²L/∂x²)` from one pass over the entries
+/// proves most runs resolved without the power iteration ([`proved_resolved`]).
+pub(crate) fn resolution_warning(
+    hessian: &SparseHessian,
+    vv: &mut BandSystem,
+    h: f64,
+) -> Option<Warning> {
+    if diagonal_mass_bound(hessian).is_some_and(|bound| proved_resolved(bound, h, 1)) {
+        return None;
+    }
+    under_resolved(fastest_rate(&hessian.xx, vv)?, h, 1)
+}
+
+/// `√(‖K‖₁ ‖K‖∞) ≥ ‖K‖₂` for `K = (∂²L/∂v²)⁻¹(−∂²L/∂x²)` when `∂²L/∂v²` is diagonal (its
+/// listed entries off the diagonal all zero); `None` otherwise, or when a diagonal entry is
+/// zero. Repeated entries add their moduli, which only raises the bound.
+fn diagonal_mass_bound(hessian: &SparseHessian) -> Option<f64> {
+    let d = hessian.vv.dimension();
+    let mut mass = vec![0.0; d];
+    for &(i, j, value) in hessian.vv.entries() {
+        if i == j {
+            mass[i] += value;
+        } else if value != 0.0 {
+            return None;
+        }
+    }
+    if mass.contains(&0.0) {
+        return None;
+    }
+    let (mut rows, mut columns) = (vec![0.0; d], vec![0.0; d]);
+    for &(i, j, value) in hessian.xx.entries() {
+        let entry = (value / mass[i]).abs();
+        rows[i] += entry;
+        columns[j] += entry;
+    }
+    let largest = |x: &[f64]| x.iter().fold(0.0f64, |m, &c| m.max(c));
+    Some((largest(&rows) * largest(&columns)).sqrt())
+}
+
+/// The fastest rate `ω = √|μ|` of the equation linearised at a state, `μ` the eigenvalue of
+/// largest modulus of `(∂²L/∂v²)⁻¹(−∂²L/∂x²)`, from `xx = ∂²L/∂x²` there (its entries listed)
+/// and `vv`, `∂²L/∂v²` there factorised: the const-generic path's power iteration, each product
+/// a pass over the entries of `xx` and a band solve (`O(d b)`). `None` when a product is not
+/// finite.
+fn fastest_rate(xx: &SparseBlock, vv: &mut BandSystem) -> Option<f64> {
+    let entries = xx.entries();
+    dominant_rate(xx.dimension(), |y, out| {
+        out.fill(0.0);
+        for &(i, j, c) in entries {
+            out[i] -= c * y[j];
+        }
+        vv.solve_in_place(out);
+        Some(())
     })
 }
 

@@ -144,20 +144,36 @@ pub(crate) fn start(n: usize) -> Vec<f64> {
 }
 
 /// The largest coupling between neighbouring nodes of a Jacobian of `unknowns` rows in blocks of
-/// `d` (node `k`'s unknowns at `k d .. (k + 1) d`), read by `entry(i, j)`.
+/// `d` (node `k`'s unknowns at `k d .. (k + 1) d`), read by `entry(i, j)`: the dense and band
+/// storages, every entry of each row's next block.
 pub(crate) fn neighbour_coupling(
     unknowns: usize,
     d: usize,
     entry: impl Fn(usize, usize) -> f64,
 ) -> f64 {
-    let mut a = 0.0f64;
-    for i in 0..unknowns {
+    let next_block = |i: usize| {
         let next = (i / d + 1) * d;
-        for j in next..(next + d).min(unknowns) {
-            a = a.max(entry(i, j).abs());
-        }
-    }
-    a
+        (next..(next + d).min(unknowns)).map(move |j| (i, j))
+    };
+    neighbour_coupling_of(
+        d,
+        (0..unknowns)
+            .flat_map(next_block)
+            .map(|(i, j)| (i, j, entry(i, j))),
+    )
+}
+
+/// The largest coupling between neighbouring nodes, as [`neighbour_coupling`], over the stored
+/// entries `(i, j, value)` of a sparse Jacobian (any order; entries outside the next block
+/// are skipped): `O(nnz)`.
+pub(crate) fn neighbour_coupling_of(
+    d: usize,
+    entries: impl IntoIterator<Item = (usize, usize, f64)>,
+) -> f64 {
+    entries
+        .into_iter()
+        .filter(|&(i, j, _)| j / d == i / d + 1)
+        .fold(0.0f64, |a, (_, _, value)| a.max(value.abs()))
 }
 
 /// The measure of the module docs: `σ / (a (π h / T)^{2α})`.

@@ -162,27 +162,63 @@ const SHORTEST: f64 = 1.0 / 64.0;
 /// Armijo factor, or, below `λ = 1/64`, the best trial seen. The merit is the 2-norm, not the
 /// max-norm of the stopping rule: the Newton direction (exact, or inexact within a forcing
 /// term `η < 1` in the 2-norm) is a descent direction of `‖r‖₂²`, of no other norm.
-pub(crate) struct LineSearch<const D: usize> {
-    best: Vec<Vector<D>>,
+pub(crate) struct LineSearch<X> {
+    best: X,
     best_merit: f64,
     /// Full steps taken since the best iterate improved.
     free: usize,
 }
 
 /// An accepted iterate: nodes, evaluation, residual max-norm and 2-norm.
-pub(crate) type Accepted<const D: usize, E> = (Vec<Vector<D>>, E, f64, f64);
+pub(crate) type Accepted<X, E> = (X, E, f64, f64);
 
-impl<const D: usize> LineSearch<D> {
+/// The nodes of a boundary value iteration, in either storage: what the line search moves
+/// along a Newton direction `δ`, flat over the interior nodes (the end nodes stay).
+pub(crate) trait Iterate: Clone {
+    /// `q − λ δ` on the interior nodes.
+    fn along(&self, delta: &[f64], lambda: f64) -> Self;
+}
+
+/// Nodes of a fixed dimension, node `k`'s correction at `δ[(k−1)D..kD]`.
+impl<const D: usize> Iterate for Vec<Vector<D>> {
+    fn along(&self, delta: &[f64], lambda: f64) -> Self {
+        let n = self.len() - 1;
+        (0..=n)
+            .map(|k| {
+                if k == 0 || k == n {
+                    self[k]
+                } else {
+                    self[k] - Vector::<D>::from_column_slice(&delta[(k - 1) * D..k * D]) * lambda
+                }
+            })
+            .collect()
+    }
+}
+
+/// Flat nodes of a run-time dimension `d`, node `k` at `q[kd..(k+1)d]`: `δ` covers all but
+/// the first and last `d` entries, which gives `d`.
+impl Iterate for Vec<f64> {
+    fn along(&self, delta: &[f64], lambda: f64) -> Self {
+        let d = (self.len() - delta.len()) / 2;
+        let mut q = self.clone();
+        for (q, delta) in q[d..d + delta.len()].iter_mut().zip(delta) {
+            *q -= delta * lambda;
+        }
+        q
+    }
+}
+
+impl<X: Iterate> LineSearch<X> {
     /// From the initial iterate `q` with residual 2-norm `merit`.
-    pub(crate) fn new(q: &[Vector<D>], merit: f64) -> Self {
+    pub(crate) fn new(q: &X, merit: f64) -> Self {
         LineSearch {
-            best: q.to_vec(),
+            best: q.clone(),
             best_merit: merit,
             free: 0,
         }
     }
 
-    fn accept<E>(&mut self, accepted: Accepted<D, E>) -> Accepted<D, E> {
+    fn accept<E>(&mut self, accepted: Accepted<X, E>) -> Accepted<X, E> {
         if accepted.3 < self.best_merit {
             self.best.clone_from(&accepted.0);
             self.best_merit = accepted.3;
@@ -196,24 +232,12 @@ impl<const D: usize> LineSearch<D> {
     /// evaluating a trial rejects it; an error at the last trial, with none better, is returned.
     pub(crate) fn step<E>(
         &mut self,
-        q: &[Vector<D>],
+        q: &X,
         merit: f64,
         delta: &[f64],
-        mut evaluate: impl FnMut(&[Vector<D>]) -> Result<(E, f64, f64)>,
-    ) -> Result<Accepted<D, E>> {
-        let n = q.len() - 1;
-        let trial = |lambda: f64| -> Vec<Vector<D>> {
-            (0..=n)
-                .map(|k| {
-                    if k == 0 || k == n {
-                        q[k]
-                    } else {
-                        q[k] - Vector::<D>::from_column_slice(&delta[(k - 1) * D..k * D]) * lambda
-                    }
-                })
-                .collect()
-        };
-        let full = trial(1.0);
+        mut evaluate: impl FnMut(&X) -> Result<(E, f64, f64)>,
+    ) -> Result<Accepted<X, E>> {
+        let full = q.along(delta, 1.0);
         let mut best_trial = None;
         if let Ok((e, max, m)) = evaluate(&full) {
             let decrease = m <= (1.0 - ARMIJO) * merit;
@@ -236,7 +260,7 @@ impl<const D: usize> LineSearch<D> {
         }
         let mut lambda = 0.5;
         loop {
-            let q_lambda = trial(lambda);
+            let q_lambda = q.along(delta, lambda);
             match evaluate(&q_lambda) {
                 Ok((e, max, m)) => {
                     if m <= (1.0 - ARMIJO * lambda) * merit {

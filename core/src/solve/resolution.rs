@@ -8,7 +8,7 @@ use nalgebra::{DMatrix, DVector, Dyn, LU};
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::solve::solution::Warning;
 
-/// Products with the linearisation's matrix in [`fastest_rate`]'s power iteration.
+/// Products with the linearisation's matrix in [`dominant_rate`]'s power iteration.
 const POWER_ITERATIONS: usize = 30;
 
 /// The largest `hω` per stage of the scheme (one for the three-point recurrences) that the
@@ -19,12 +19,9 @@ const POWER_ITERATIONS: usize = 30;
 pub(crate) const RESOLUTION_LIMIT: f64 = 2.0;
 
 /// The fastest rate of the equation linearised at `(x, v, t)`, `ω = √|μ|` with `μ` the
-/// eigenvalue of largest modulus of `K = (∂²L/∂v²)⁻¹(−∂²L/∂x²)`: the angular frequency of the
-/// fastest oscillation (`μ > 0`) or the rate of the fastest exponential (`μ < 0`); the
-/// velocity couplings `∂²L/∂x∂v` are left out. By power iteration from a vector with a
-/// component along every coordinate, the norm ratio of the last two products (within a few
-/// per cent of `|μ|` when the dominant eigenvalue is separated, which is all a threshold
-/// needs). `None` when `∂²L/∂v²` is singular or a block is not finite.
+/// eigenvalue of largest modulus of `K = (∂²L/∂v²)⁻¹(−∂²L/∂x²)` ([`dominant_rate`] on the dense
+/// blocks); the velocity couplings `∂²L/∂x∂v` are left out. `None` when `∂²L/∂v²` is singular
+/// or a block is not finite.
 pub(crate) fn fastest_rate<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
     x: &Vector<D>,
@@ -32,19 +29,40 @@ pub(crate) fn fastest_rate<const D: usize, L: Lagrangian<D> + ?Sized>(
     t: f64,
 ) -> Option<f64> {
     let (lu, stiffness) = linearisation(lagrangian, x, v, t);
-    let mut y = DVector::from_fn(D, |i, _| {
-        1.0 + 0.5 * if i % 2 == 0 { 1.0 } else { -1.0 } + 0.25 * (i as f64).sin()
-    });
+    dominant_rate(D, |y, out| {
+        let next = lu.solve(&(&stiffness * DVector::from_column_slice(y)))?;
+        out.copy_from_slice(next.as_slice());
+        Some(())
+    })
+}
+
+/// `√|μ|`, `μ` the eigenvalue of largest modulus of an operator `K` of order `n` given by its
+/// products (`product(y, out)` writes `K y` into `out`; `None` when it cannot, e.g. a singular
+/// solve): by power iteration from a vector with a component along every coordinate, the norm
+/// ratio of the last two products (within a few per cent of `|μ|` when the dominant eigenvalue
+/// is separated, which is all a threshold needs). `None` when a product failed or is not
+/// finite. For `K = (∂²L/∂v²)⁻¹(−∂²L/∂x²)` it is the angular frequency of the fastest
+/// oscillation (`μ > 0`) or the rate of the fastest exponential (`μ < 0`), whatever the storage
+/// of the blocks (dense on the const-generic path, band and sparse on the run-time one).
+pub(crate) fn dominant_rate(
+    n: usize,
+    mut product: impl FnMut(&[f64], &mut [f64]) -> Option<()>,
+) -> Option<f64> {
+    let norm = |y: &[f64]| y.iter().map(|c| c * c).sum::<f64>().sqrt();
+    let mut y: Vec<f64> = (0..n)
+        .map(|i| 1.0 + 0.5 * if i % 2 == 0 { 1.0 } else { -1.0 } + 0.25 * (i as f64).sin())
+        .collect();
+    let mut next = vec![0.0; n];
     let mut ratio = 0.0;
     for _ in 0..POWER_ITERATIONS {
-        let norm = y.norm();
-        if norm == 0.0 || !norm.is_finite() {
+        let size = norm(&y);
+        if size == 0.0 || !size.is_finite() {
             break;
         }
-        y /= norm;
-        let next = lu.solve(&(&stiffness * &y))?;
-        ratio = next.norm();
-        y = next;
+        y.iter_mut().for_each(|c| *c /= size);
+        product(&y, &mut next)?;
+        ratio = norm(&next);
+        std::mem::swap(&mut y, &mut next);
     }
     (ratio.is_finite()).then(|| ratio.sqrt())
 }
@@ -92,7 +110,20 @@ pub(crate) fn resolution_warning<const D: usize, L: Lagrangian<D> + ?Sized>(
     h: f64,
     stages: usize,
 ) -> Option<Warning> {
-    let omega = fastest_rate(lagrangian, q0, v0, t0)?;
+    under_resolved(fastest_rate(lagrangian, q0, v0, t0)?, h, stages)
+}
+
+/// Whether a bound `B ≥ ‖K‖₂` on the linearisation's matrix proves the check silent: every
+/// norm ratio of [`dominant_rate`] is at most `‖K‖₂`, so its `ω` is at most `√B`, and `h √B`
+/// within [`RESOLUTION_LIMIT`] times `stages` (with a margin for rounding) means no
+/// [`Warning::UnderResolved`], without the power iteration.
+pub(crate) fn proved_resolved(bound: f64, h: f64, stages: usize) -> bool {
+    h * bound.sqrt() * (1.0 + 1e-9) <= RESOLUTION_LIMIT * stages as f64
+}
+
+/// [`Warning::UnderResolved`] when `h ω` exceeds [`RESOLUTION_LIMIT`] times `stages`, for the
+/// fastest rate `ω` at the initial data.
+pub(crate) fn under_resolved(omega: f64, h: f64, stages: usize) -> Option<Warning> {
     let limit = RESOLUTION_LIMIT * stages as f64;
     (h * omega > limit).then_some(Warning::UnderResolved {
         h_omega: h * omega,

@@ -46,7 +46,8 @@ pub enum Warning {
     /// returns `Ok`, but it samples that motion at fewer than `π` points a period: its phase
     /// means nothing (the midpoint rule at `ωh = 10` advances the oscillator's phase by
     /// `2 atan(5) ≈ 2.75` a step, not 10). Take a smaller step, or, for a stiff run made on purpose (a fast mode whose
-    /// phase does not matter), turn the check off with `Problem::with_resolution_check(false)`.
+    /// phase does not matter), turn the check off with `Problem::with_resolution_check(false)`
+    /// (`DynProblem::with_resolution_check(false)` for a run-time-dimension model).
     /// Explicit runs are not checked: their stability check stops them first.
     UnderResolved {
         /// The step times the fastest rate, at the initial data.
@@ -62,8 +63,8 @@ pub enum Warning {
     /// the grid (`min_j |(jπ/T)² m − k| / ((π/T)² m)` on `L = ½mv² − ½kx²`), unlike a
     /// condition number, and is flagged below `10⁻²`. `q̈ = −q` on `[0, π]` with `q(0) = 0`,
     /// `q(π) = 1` has none, and is flagged; over `[0, π/2]` it reads ¾. Computed by inverse
-    /// iteration on the banded and dense solves' last factorisation; not yet on the fractional
-    /// fast path and for run-time-dimension models.
+    /// iteration on the last factorisation of the banded and dense solves and of the sparse LU
+    /// solve of run-time-dimension models; not yet on the fractional fast path.
     IllPosed {
         /// The measure above.
         measure: f64,

@@ -72,6 +72,12 @@ where
             solution.run.newton_iterations, reference.newton_iterations,
             "{name} {embedding} {scheme}"
         );
+        // Well-posed, as the const-generic path finds it.
+        assert_eq!(
+            solution.warnings, reference.warnings,
+            "{name} {embedding} {scheme}"
+        );
+        assert!(solution.warnings.is_empty(), "{name} {embedding} {scheme}");
         solution
     })
 }
@@ -194,6 +200,7 @@ fn a_large_chain_returns_the_nodes_of_its_initial_value_run() {
                 gap <= 1e-10,
                 "periodic {periodic} {side:?} {scheme}: {gap:e}"
             );
+            assert!(run.warnings.is_empty() && bvp.warnings.is_empty());
         }
     }
 }

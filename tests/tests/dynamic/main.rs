@@ -1,6 +1,8 @@
-//! Run-time-dimension models (`DynProblem`): initial and boundary value problems and comparisons, against the const-generic path and hand-written loops. One test binary for the group.
+//! Run-time-dimension models (`DynProblem`): initial and boundary value problems, their trust checks and comparisons, against the const-generic path and hand-written loops. One test binary for the group.
 
 mod bvp;
 mod compare;
+mod ill_posed;
 mod ivp;
+mod resolution;
 mod scale_invariance;
