@@ -89,30 +89,6 @@ fn the_indefinite_spring_at_n_4000() {
     }
 }
 
-/// The same at `N = 4000` against the dense solve (a 3999² LU: about a minute at the test
-/// profile's opt-level): `cargo test -p varembed-tests --release --test fractional --
-/// --ignored indefinite_n4000`.
-#[test]
-#[ignore = "dense reference at N = 4000"]
-fn indefinite_n4000_against_dense() {
-    for side in [Side::Backward, Side::Forward] {
-        let run = |solver| {
-            solve(
-                &SPRING,
-                side,
-                0.3,
-                4000,
-                Scheme::Variational,
-                (0.0, 1.0),
-                solver,
-            )
-        };
-        let gap = gap(&run(FractionalSolver::Fast), &run(FractionalSolver::Dense));
-        eprintln!("{side:?}: gap {gap:e}");
-        assert!(gap <= 1e-9, "{side:?}: gap {gap:e}");
-    }
-}
-
 /// Generated indefinite cases against the dense solve: α drawn in `(0, 1/2]` and in
 /// `(1/2, 1)`, `k` between 15 and 150 (above the lowest kinetic eigenvalue, about 1.3 at
 /// `α = 0.3` and 10 at `α = 1`), random force, end values, side and scheme, `N` 200 to 400.
