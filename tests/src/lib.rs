@@ -21,3 +21,4 @@ pub mod curve;
 pub mod models;
 pub mod reference;
 pub mod rng;
+pub mod warnings;

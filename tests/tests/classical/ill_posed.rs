@@ -6,9 +6,10 @@
 
 use std::f64::consts::PI;
 
-use varembed::{Embedding, Grid, Problem, Scheme, Side, Warning};
+use varembed::{Embedding, Grid, Problem, Scheme, Side};
 use varembed_tests::models::hand::Oscillator;
 use varembed_tests::rng::Rng;
+use varembed_tests::warnings::ill_posed;
 
 /// Every classical embedding that solves boundary value problems.
 fn embeddings() -> Vec<Embedding> {
@@ -19,14 +20,6 @@ fn embeddings() -> Vec<Embedding> {
         Embedding::midpoint(),
         Embedding::trapezoidal(),
     ]
-}
-
-/// The measure of the `IllPosed` warning, if any.
-fn ill_posed(warnings: &[Warning]) -> Option<f64> {
-    warnings.iter().find_map(|w| match *w {
-        Warning::IllPosed { measure } => Some(measure),
-        _ => None,
-    })
 }
 
 #[test]

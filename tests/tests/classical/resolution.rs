@@ -3,22 +3,10 @@
 //! checked against exact frequencies (the oscillator, and random quadratic Lagrangians whose
 //! `ω_max` comes from a symmetric eigen-decomposition).
 
-use varembed::{
-    Embedding, Grid, Hessian, Lagrangian, Matrix, Problem, Scheme, Side, Vector, Warning,
-};
+use varembed::{Embedding, Grid, Hessian, Lagrangian, Matrix, Problem, Scheme, Side, Vector};
 use varembed_tests::models::hand::Oscillator;
 use varembed_tests::rng::Rng;
-
-/// The `UnderResolved` warnings of `warnings`: `(h ω, limit)`.
-fn under_resolved(warnings: &[Warning]) -> Vec<(f64, f64)> {
-    warnings
-        .iter()
-        .filter_map(|w| match *w {
-            Warning::UnderResolved { h_omega, limit } => Some((h_omega, limit)),
-            _ => None,
-        })
-        .collect()
-}
+use varembed_tests::warnings::under_resolved;
 
 #[test]
 fn an_under_resolved_midpoint_run_is_flagged_and_a_resolved_one_is_not() {

@@ -13,7 +13,7 @@ use varembed_tests::models::generated::ring12::{N as RING, Ring};
 
 /// Every classical embedding the run-time-dimension boundary value problems offer, each with
 /// both schemes.
-fn kinds() -> Vec<(Embedding, Scheme)> {
+pub(crate) fn kinds() -> Vec<(Embedding, Scheme)> {
     let mut out = Vec::new();
     for side in [Side::Backward, Side::Forward] {
         for embedding in [

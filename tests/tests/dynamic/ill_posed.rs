@@ -8,34 +8,9 @@
 
 use std::f64::consts::PI;
 
-use varembed::{
-    DynLagrangian, DynProblem, Embedding, Grid, Problem, Scheme, Side, Warning, lagrangian,
-};
-
-/// Every embedding the run-time-dimension boundary value problems offer, each with both
-/// schemes.
-fn kinds() -> Vec<(Embedding, Scheme)> {
-    let mut out = Vec::new();
-    for side in [Side::Backward, Side::Forward] {
-        for embedding in [
-            Embedding::finite_difference(side),
-            Embedding::asymmetric(side),
-        ] {
-            for scheme in [Scheme::Direct, Scheme::Variational] {
-                out.push((embedding, scheme));
-            }
-        }
-    }
-    out
-}
-
-/// The measure of the `IllPosed` warning, if any.
-fn ill_posed(warnings: &[Warning]) -> Option<f64> {
-    warnings.iter().find_map(|w| match *w {
-        Warning::IllPosed { measure } => Some(measure),
-        _ => None,
-    })
-}
+use super::bvp::kinds;
+use varembed::{DynLagrangian, DynProblem, Embedding, Grid, Problem, Scheme, Side, lagrangian};
+use varembed_tests::warnings::ill_posed;
 
 /// `n` unit oscillators, neighbours joined by springs of stiffness `kappa` (free ends): the
 /// uniform mode has frequency 1 whatever `kappa`, the others `√(1 + 4κ sin²(jπ/(2n)))`.

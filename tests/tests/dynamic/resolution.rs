@@ -4,19 +4,9 @@
 //! chains (fixed ends with diagonal or coupled masses, and a ring) and against the
 //! const-generic path on a nonlinear chain.
 
-use varembed::{DynLagrangian, DynProblem, Embedding, Grid, Problem, Scheme, Side, Warning};
+use varembed::{DynLagrangian, DynProblem, Embedding, Grid, Problem, Scheme, Side};
 use varembed_tests::models::generated::fput16;
-
-/// The `UnderResolved` warnings of `warnings`: `(h ω, limit)`.
-fn under_resolved(warnings: &[Warning]) -> Vec<(f64, f64)> {
-    warnings
-        .iter()
-        .filter_map(|w| match *w {
-            Warning::UnderResolved { h_omega, limit } => Some((h_omega, limit)),
-            _ => None,
-        })
-        .collect()
-}
+use varembed_tests::warnings::under_resolved;
 
 /// `n` masses `m` joined by springs `k`, and to walls at both ends by springs `k`: the fastest
 /// frequency is `2√(k/m) sin(nπ/(2(n + 1)))`.
