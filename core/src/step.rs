@@ -44,8 +44,9 @@
 //! So for `L = ½ vᵀM(x)v − U(x)` the direct forward step is closed-form (`L_vv = M(x)` is read
 //! at `b`), the variational forward step is not (`L_xv = M′(x)v` depends on `v`); with a
 //! constant `M` the variational backward step is closed-form too, and the direct backward step
-//! only when `U` is quadratic (`L_xx = −U″` must be constant). [`Update::plan`] decides this once per run, and when the blocks in `J` are
-//! constants it inverts `J` once for the whole run.
+//! only when `U` is quadratic (`L_xx = −U″` must be constant). [`Update::plan`] decides this
+//! once per run, and when the blocks in `J` are constants it inverts `J` once for the whole
+//! run.
 //!
 //! # The symmetric embeddings
 //!
@@ -64,10 +65,19 @@
 //! `∂P/∂y − h/2 ∂F_u/∂y` and `∂P/∂y − L_xv/2` (the last block at the node with the centred
 //! velocity). These steps always run Newton's method (from the linear extrapolation `2b − a`);
 //! on `L = ½|v|² − U(x)` the trapezoidal ones are affine, and Newton stops after one iteration.
+//!
+//! # One table for both storages
+//!
+//! Both tables are written out term by term in the `terms` submodule: each kind's momentum and
+//! equation as sums of `w_p p + w_f h f` at named points of an interval, and the weights of the
+//! second-derivative blocks in its Jacobian. The kernels here (fixed-size vectors, dense
+//! blocks) and the run-time-dimension steps (slices, band blocks) both evaluate that table, so
+//! a kind is defined once and the two paths take the same steps.
 
-use crate::interval::{Interval, Rule, node_force};
 use crate::lagrangian::{Dependence, Hessian, HessianDependence, Lagrangian, Matrix, Vector};
 use crate::linalg::solve_small;
+
+use terms::{BlockWeights, Point, Term, Terms, equation_terms, momentum_terms};
 
 /// Which classical scheme a step advances (see the module docs).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -117,35 +127,29 @@ impl StepKind {
         StepKind::TrapezoidalDirect,
     ];
 
-    /// The discrete Lagrangian of a symmetric kind and whether its scheme is the variational
-    /// one; `None` for the Gauss-FDEσ kinds.
-    #[inline(always)]
-    pub(crate) fn symmetric(self) -> Option<(Rule, bool)> {
+    /// The variational kind whose step equation, with `π` the momentum of the initial data, is
+    /// the discrete Legendre start of this kind's runs.
+    pub fn legendre_start(self) -> StepKind {
         match self {
-            StepKind::MidpointVariational => Some((Rule::Midpoint, true)),
-            StepKind::MidpointDirect => Some((Rule::Midpoint, false)),
-            StepKind::TrapezoidalVariational => Some((Rule::Trapezoidal, true)),
-            StepKind::TrapezoidalDirect => Some((Rule::Trapezoidal, false)),
-            _ => None,
+            StepKind::VariationalBackward | StepKind::DirectBackward => {
+                StepKind::VariationalBackward
+            }
+            StepKind::VariationalForward | StepKind::DirectForward => StepKind::VariationalForward,
+            StepKind::MidpointVariational | StepKind::MidpointDirect => {
+                StepKind::MidpointVariational
+            }
+            StepKind::TrapezoidalVariational | StepKind::TrapezoidalDirect => {
+                StepKind::TrapezoidalVariational
+            }
         }
     }
 
-    /// Whether the momentum and the step equation are evaluated `@right` (σ = −) rather than
-    /// `@left` (σ = +).
-    fn at_right(self) -> bool {
-        matches!(
-            self,
-            StepKind::VariationalBackward | StepKind::DirectBackward
-        )
-    }
-
-    /// The time at which the step equation is evaluated: `t_y` (`@right`) or `t_b` (`@left`).
+    /// The time at which a closed-form step evaluates its equation: that of the single
+    /// term of a Gauss-FDEσ kind, `t_y` (`@right`) or `t_b` (`@left`).
     fn equation_time(self, times: &StepTimes) -> f64 {
-        if self.at_right() {
-            times.t_y
-        } else {
-            times.t_b
-        }
+        equation_terms(self).as_slice()[0]
+            .point
+            .time(times.t_b, times.t_y)
     }
 }
 
@@ -225,13 +229,6 @@ impl<const D: usize> Step<D> {
             times: *times,
         }
     }
-
-    /// Where `G` is evaluated for the newest node `y`: at `y` (`@right`) or at `b` (`@left`).
-    #[inline]
-    fn equation_point<'a>(&'a self, y: &'a Vector<D>) -> (&'a Vector<D>, f64) {
-        let x = if self.kind.at_right() { y } else { &self.b };
-        (x, self.kind.equation_time(&self.times))
-    }
 }
 
 /// The momentum `π` that the step for `Q_n` must reproduce, from `a = Q_{n−2}`,
@@ -251,10 +248,11 @@ pub fn momentum<const D: usize, L: Lagrangian<D> + ?Sized>(
     momentum_from(kind, a, b, times, gradient).0
 }
 
-/// [`momentum`] and, from the same evaluations, `L` and `∂L/∂v` where the step's discrete
-/// Lagrangian evaluates `L` with the velocity `(b − a)/h`: at the quadrature node of side σ,
-/// at the interval's midpoint, or their means over its two ends (the trapezoid). The step's
-/// energy is `v·p − L`: the blow-up guard samples it at no cost beyond the step's own.
+/// [`momentum`] and, from the same evaluations, the weighted sums `Σ w_p L` and `Σ w_p ∂L/∂v`
+/// over the momentum's terms, all at the velocity `(b − a)/h`: `L` and `p` at the quadrature
+/// node of side σ, at the interval's midpoint, or their means over its two ends (the
+/// trapezoid). The step's energy is `v·p − L`: the blow-up guard samples it at no cost beyond
+/// the step's own.
 #[inline]
 pub(crate) fn momentum_and_energy_terms<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
@@ -268,6 +266,72 @@ pub(crate) fn momentum_and_energy_terms<const D: usize, L: Lagrangian<D> + ?Size
     })
 }
 
+/// `(x, v, t)` of a term's point on `[u, w]` (times `t_u`, `t_w`), `before` the node before
+/// `u` (the table of the terms module).
+#[inline(always)]
+fn locate<const D: usize>(
+    point: Point,
+    (before, u, w): (&Vector<D>, &Vector<D>, &Vector<D>),
+    (t_u, t_w): (f64, f64),
+    inv_h: f64,
+) -> (Vector<D>, Vector<D>, f64) {
+    let t = point.time(t_u, t_w);
+    match point {
+        Point::Left => (*u, (w - u) * inv_h, t),
+        Point::Middle => ((u + w) * 0.5, (w - u) * inv_h, t),
+        Point::Right => (*w, (w - u) * inv_h, t),
+        Point::Centred => (*u, (w - before) * (0.5 * inv_h), t),
+    }
+}
+
+/// `w_p p + w_f h f` of `term`, with no operation for a zero weight (`0 · f` would not fold
+/// away: it is NaN for an infinite `f`).
+#[inline(always)]
+fn weighted<const D: usize>(term: &Term, p: Vector<D>, f: Vector<D>, h: f64) -> Vector<D> {
+    match (term.p != 0.0, term.f != 0.0) {
+        (true, true) => p * term.p + f * (term.f * h),
+        (true, false) => p * term.p,
+        (false, true) => f * (term.f * h),
+        (false, false) => Vector::<D>::zeros(),
+    }
+}
+
+/// `xx L_xx + xv L_xv + vx L_vx + vv L_vv`, with no operation for a zero weight.
+#[inline(always)]
+fn block_sum<const D: usize>(hs: &Hessian<D>, w: BlockWeights) -> Matrix<D> {
+    let mut m = if w.vv != 0.0 {
+        hs.vv * w.vv
+    } else {
+        Matrix::<D>::zeros()
+    };
+    if w.vx != 0.0 {
+        m += hs.xv.transpose() * w.vx;
+    }
+    if w.xv != 0.0 {
+        m += hs.xv * w.xv;
+    }
+    if w.xx != 0.0 {
+        m += hs.xx * w.xx;
+    }
+    m
+}
+
+/// Sums `each` over the (up to three) terms, written out rather than looped so that, for a
+/// kind known at compile time, each term's weights are constants and what a zero weight
+/// multiplies is never computed.
+#[inline(always)]
+fn sum_terms<T>(terms: &Terms, mut each: impl FnMut(&Term) -> T, add: impl Fn(T, T) -> T) -> T {
+    let terms = terms.as_slice();
+    let mut sum = each(&terms[0]);
+    if let Some(term) = terms.get(1) {
+        sum = add(sum, each(term));
+    }
+    if let Some(term) = terms.get(2) {
+        sum = add(sum, each(term));
+    }
+    sum
+}
+
 /// [`momentum_and_energy_terms`] with `eval` giving `(L, ∂L/∂x, ∂L/∂v)` at a point.
 #[inline(always)]
 fn momentum_from<const D: usize>(
@@ -277,65 +341,44 @@ fn momentum_from<const D: usize>(
     times: &StepTimes,
     eval: impl Fn(&Vector<D>, &Vector<D>, f64) -> (f64, Vector<D>, Vector<D>),
 ) -> (Vector<D>, (f64, Vector<D>)) {
-    if let Some((rule, variational)) = kind.symmetric() {
-        let interval = Interval {
-            u: *a,
-            w: *b,
-            t_u: times.t_a,
-            t_w: times.t_b,
-            h: times.h,
-        };
-        let (l, g) = interval.evaluate(rule, eval);
-        let pi = if variational {
-            g.momentum + g.force_right * (0.5 * times.h)
-        } else {
-            g.momentum
-        };
-        return (pi, (l, g.momentum));
-    }
-    let v = (b - a) * times.inv_h;
-    let (x, t) = if kind.at_right() {
-        (b, times.t_b)
-    } else {
-        (a, times.t_a)
-    };
-    let (l, f, p) = eval(x, &v, t);
-    let pi = match kind {
-        StepKind::VariationalBackward | StepKind::DirectForward => p + f * times.h,
-        _ => p,
-    };
-    (pi, (l, p))
+    let h = times.h;
+    sum_terms(
+        &momentum_terms(kind),
+        |term| {
+            let (x, v, t) = locate(term.point, (a, a, b), (times.t_a, times.t_b), times.inv_h);
+            let (l, f, p) = eval(&x, &v, t);
+            let pi = weighted(term, p, f, h);
+            if term.p == 1.0 {
+                (pi, (l, p))
+            } else {
+                (pi, (term.p * l, p * term.p))
+            }
+        },
+        |(pi, (l, p)), (pi2, (l2, p2))| (pi + pi2, (l + l2, p + p2)),
+    )
 }
 
-/// `G` from the gradient at its evaluation point: `p` or `p − h f`.
-/// Only the Gauss-FDEσ kinds reach it (the symmetric steps are never planned in closed form).
+/// `G(y)` of a closed-form step at `y = b`, from the gradient at `b`: its single term's
+/// `w_p p + w_f h f`. Only the Gauss-FDEσ kinds reach it (the symmetric steps are never
+/// planned in closed form).
 #[inline(always)]
 fn equation<const D: usize>(kind: StepKind, f: Vector<D>, p: Vector<D>, h: f64) -> Vector<D> {
-    match kind {
-        StepKind::VariationalBackward | StepKind::DirectForward => p,
-        _ => p - f * h,
-    }
+    weighted(&equation_terms(kind).as_slice()[0], p, f, h)
 }
 
-/// `h J` from the blocks at the evaluation point (second table of the module docs, times `h`).
+/// `h J` from the blocks at the evaluation point of a single-term kind.
 ///
 /// The closed-form update uses `J⁻¹ = h (h J)⁻¹`: for `L_vv = I` (and `L_xv = 0`) that is
 /// exactly `h`, so the update is `b + h π` with no rounding beyond the hand-written
 /// Störmer–Verlet loop's.
 #[inline(always)]
 fn scaled_jacobian<const D: usize>(kind: StepKind, hs: &Hessian<D>, h: f64) -> Matrix<D> {
-    match kind {
-        StepKind::VariationalBackward => hs.xv.transpose() * h + hs.vv,
-        StepKind::VariationalForward => hs.vv - hs.xv * h,
-        StepKind::DirectBackward => hs.xv.transpose() * h + hs.vv - hs.xx * (h * h) - hs.xv * h,
-        // The Gauss-FDEσ kinds only: the symmetric steps are never planned in closed form.
-        _ => hs.vv,
-    }
+    block_sum(hs, equation_terms(kind).as_slice()[0].block_weights(h))
 }
 
 /// Residual `G(y) − π` of the step equation at the candidate newest node `y`, and its
 /// Jacobian `J = ∂G/∂y`: what one Newton iteration needs, from one
-/// [`Lagrangian::gradient_and_hessian`].
+/// [`Lagrangian::gradient_and_hessian`] per term of the equation.
 ///
 /// One arm per kind, each handing on the step with its kind a constant: where the caller's kind
 /// is not known at compile time (inside Newton's iteration, a function of its own), what that
@@ -351,10 +394,10 @@ pub fn residual<const D: usize, L: Lagrangian<D> + ?Sized>(
     (r, j)
 }
 
-/// [`residual`] and the size of the terms `G(y)` sums at `y`: the max-norms of the momentum
-/// `p` (or `P`) and of the force times its step weight (`h f`, `h/2 F_u`), the largest of them.
-/// With `‖π‖∞` it is the scale of the step's equation, against which Newton's tolerance is
-/// measured (it scales with `L`, so the stopping rule does not depend on `L`'s scale).
+/// [`residual`] and the size of the terms `G(y)` sums at `y`: the largest of `|w_p| ‖p‖∞` and
+/// `|w_f| h ‖f‖∞` over its terms. With `‖π‖∞` it is the scale of the step's equation, against
+/// which Newton's tolerance is measured (it scales with `L`, so the stopping rule does not
+/// depend on `L`'s scale).
 #[inline]
 pub(crate) fn residual_and_terms<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
@@ -375,68 +418,39 @@ pub(crate) fn residual_and_terms<const D: usize, L: Lagrangian<D> + ?Sized>(
     }
 }
 
-/// [`residual`] for one kind.
+/// [`residual`] for one kind: the equation's terms on `[b, y]`.
+///
+/// Forced inline: called out of line, Newton's loop evaluated every derivative the generated
+/// code computes, where inlined it drops those the step does not read (the direct midpoint
+/// step of the double pendulum ran 1.8× slower out of line, BENCHMARKS.md).
 #[inline(always)]
 fn residual_of<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
     step: &Step<D>,
     y: &Vector<D>,
 ) -> (Vector<D>, Matrix<D>, f64) {
-    if let Some((rule, variational)) = step.kind.symmetric() {
-        return symmetric_residual(lagrangian, step, y, rule, variational);
-    }
-    let StepTimes { h, inv_h, .. } = step.times;
-    let v = (y - step.b) * inv_h;
-    let (x, t) = step.equation_point(y);
-    let (f, p, hs) = lagrangian.gradient_and_hessian(x, &v, t);
-    let terms = match step.kind {
-        StepKind::VariationalBackward | StepKind::DirectForward => p.amax(),
-        _ => p.amax().max(h * f.amax()),
-    };
-    (
-        equation(step.kind, f, p, h) - step.momentum,
-        scaled_jacobian(step.kind, &hs, h) * inv_h,
-        terms,
-    )
-}
-
-/// [`residual`] for the symmetric kinds (the table "The symmetric embeddings" of the module
-/// docs).
-///
-/// Forced inline: called out of line, Newton's loop evaluated every derivative the generated
-/// code computes, where inlined it drops those the step does not read (the direct midpoint
-/// step of the double pendulum ran 1.8× slower out of line, BENCHMARKS.md).
-#[inline(always)]
-fn symmetric_residual<const D: usize, L: Lagrangian<D> + ?Sized>(
-    lagrangian: &L,
-    step: &Step<D>,
-    y: &Vector<D>,
-    rule: Rule,
-    variational: bool,
-) -> (Vector<D>, Matrix<D>, f64) {
-    let StepTimes { h, t_b, t_y, .. } = step.times;
-    let interval = Interval {
-        u: step.b,
-        w: *y,
-        t_u: t_b,
-        t_w: t_y,
-        h,
-    };
-    let (g, jac) = interval.gradient_and_jacobian(lagrangian, rule);
-    if variational {
-        (
-            g.momentum - g.force_left * (0.5 * h) - step.momentum,
-            jac.momentum[1] - jac.force_left[1] * (0.5 * h),
-            g.momentum.amax().max(0.5 * h * g.force_left.amax()),
-        )
-    } else {
-        let (f, hs) = node_force(lagrangian, &step.a, &step.b, y, t_b, h);
-        (
-            g.momentum - f * h - step.momentum,
-            jac.momentum[1] - hs.xv * 0.5,
-            g.momentum.amax().max(h * f.amax()),
-        )
-    }
+    let StepTimes {
+        h, inv_h, t_b, t_y, ..
+    } = step.times;
+    let (g, hj, size) = sum_terms(
+        &equation_terms(step.kind),
+        |term| {
+            let (x, v, t) = locate(term.point, (&step.a, &step.b, y), (t_b, t_y), inv_h);
+            let (f, p, hs) = lagrangian.gradient_and_hessian(&x, &v, t);
+            let size = match (term.p != 0.0, term.f != 0.0) {
+                (true, true) => (term.p.abs() * p.amax()).max((term.f * h).abs() * f.amax()),
+                (true, false) => term.p.abs() * p.amax(),
+                (false, _) => (term.f * h).abs() * f.amax(),
+            };
+            (
+                weighted(term, p, f, h),
+                block_sum(&hs, term.block_weights(h)),
+                size,
+            )
+        },
+        |(g, j, s), (g2, j2, s2)| (g + g2, j + j2, s.max(s2)),
+    );
+    (g - step.momentum, hj * inv_h, size)
 }
 
 /// Whether the step equation of `kind` is affine in the newest node (third table of the
@@ -562,6 +576,8 @@ fn inverse<const D: usize>(m: &Matrix<D>) -> Option<Matrix<D>> {
     }
     inv.iter().all(|c| c.is_finite()).then_some(inv)
 }
+
+pub(crate) mod terms;
 
 #[cfg(test)]
 mod tests;

@@ -109,15 +109,16 @@ impl BandSystem {
         Ok(())
     }
 
-    /// Sets the matrix to `Σ c_k B_k + c_t B_tᵀ` for blocks `B_k` (`plain`) and `B_t`
-    /// (`transposed`) in band mode with this system's half-width, row by row on the band
-    /// storage; their entries outside the band are then added one by one. `Err` when the
-    /// system is reordered, a block's band has another width, or an entry falls outside the
-    /// band (the caller re-plans).
-    pub(crate) fn set_from_bands(
+    /// Sets the matrix to `Σ c_k B_k + c_t B_tᵀ` (`fresh`), or adds that sum to it, for blocks
+    /// `B_k` (`plain`) and `B_t` (`transposed`) in band mode with this system's half-width, row
+    /// by row on the band storage; their entries outside the band are then added one by one.
+    /// `Err` when the system is reordered, a block's band has another width, or an entry falls
+    /// outside the band (the caller re-plans).
+    pub(crate) fn add_bands(
         &mut self,
         plain: [(f64, &SparseBlock); 3],
         transposed: (f64, &SparseBlock),
+        fresh: bool,
     ) -> Result<(), OutsideBand> {
         if self.position.is_some() {
             return Err(OutsideBand);
@@ -130,8 +131,8 @@ impl BandSystem {
         ];
         let transposed_band = band_of(b, transposed)?;
         match &mut self.matrix {
-            Storage::Tridiagonal(m) => set_diagonals(m, b, &terms, transposed_band),
-            Storage::Band(m) => set_rows(m, b, &terms, transposed_band),
+            Storage::Tridiagonal(m) => set_diagonals(m, b, &terms, transposed_band, fresh),
+            Storage::Band(m) => set_rows(m, b, &terms, transposed_band, fresh),
         }
         for (c, block) in plain {
             if c != 0.0 {
@@ -220,16 +221,24 @@ impl BandSystem {
 }
 
 /// A block's band storage scaled by `c` (entry `(i, j)` at `i (2b + 1) + j + b − i`), one
-/// term of [`BandSystem::set_from_bands`].
+/// term of [`BandSystem::add_bands`].
 type Term<'a> = Option<(f64, &'a [f64])>;
 
-/// `Σ c_k B_k + c_t B_tᵀ` into the rows of a band matrix of half-width `b`.
-fn set_rows(matrix: &mut BandedMatrix, b: usize, plain: &[Term<'_>; 3], transposed: Term<'_>) {
+/// `Σ c_k B_k + c_t B_tᵀ` into (`fresh`) or onto the rows of a band matrix of half-width `b`.
+fn set_rows(
+    matrix: &mut BandedMatrix,
+    b: usize,
+    plain: &[Term<'_>; 3],
+    transposed: Term<'_>,
+    fresh: bool,
+) {
     let width = 2 * b + 1;
     let d = matrix.order();
     for i in 0..d {
         let row = matrix.row_mut(i);
-        row.fill(0.0);
+        if fresh {
+            row.fill(0.0);
+        }
         let head = &mut row[..width];
         for (c, values) in plain.iter().flatten() {
             for (a, x) in head.iter_mut().zip(&values[i * width..(i + 1) * width]) {
@@ -248,21 +257,24 @@ fn set_rows(matrix: &mut BandedMatrix, b: usize, plain: &[Term<'_>; 3], transpos
     }
 }
 
-/// `Σ c_k B_k + c_t B_tᵀ` into the three diagonals of a matrix of half-width `b ≤ 1`, one
-/// diagonal at a time. In the blocks' storage (rows of `2b + 1`), `B(i, i)` sits at
-/// `i w + b`, `B(i, i + 1)` at `i w + b + 1` and `B(i + 1, i)` at `(i + 1) w + b − 1`; `Bᵀ`
-/// exchanges the last two.
+/// `Σ c_k B_k + c_t B_tᵀ` into (`fresh`) or onto the three diagonals of a matrix of
+/// half-width `b ≤ 1`, one diagonal at a time. In the blocks' storage (rows of `2b + 1`),
+/// `B(i, i)` sits at `i w + b`, `B(i, i + 1)` at `i w + b + 1` and `B(i + 1, i)` at
+/// `(i + 1) w + b − 1`; `Bᵀ` exchanges the last two.
 fn set_diagonals(
     matrix: &mut TridiagonalMatrix,
     b: usize,
     plain: &[Term<'_>; 3],
     transposed: Term<'_>,
+    fresh: bool,
 ) {
     let w = 2 * b + 1;
     let (lower, diagonal, upper) = matrix.diagonals_mut();
-    lower.fill(0.0);
-    diagonal.fill(0.0);
-    upper.fill(0.0);
+    if fresh {
+        lower.fill(0.0);
+        diagonal.fill(0.0);
+        upper.fill(0.0);
+    }
     let terms = plain.iter().flatten().map(|&t| (t, false));
     for ((c, values), transpose) in terms.chain(transposed.map(|t| (t, true))) {
         for (a, row) in diagonal.iter_mut().zip(values.chunks_exact(w)) {
@@ -288,7 +300,7 @@ fn set_diagonals(
     }
 }
 
-/// A term `c B` of [`BandSystem::set_from_bands`]: `B`'s band storage when it has one of
+/// A term `c B` of [`BandSystem::add_bands`]: `B`'s band storage when it has one of
 /// half-width `b` and `c ≠ 0`; `None` for nothing to add; `Err` for a band of another width.
 fn band_of(b: usize, (c, block): (f64, &SparseBlock)) -> Result<Term<'_>, OutsideBand> {
     match block.band() {
@@ -436,9 +448,9 @@ mod tests {
             ];
             let transposed = band_of(b, (1.9, &hessian.xv)).unwrap();
             let mut rows = BandedMatrix::zeros(d, b, b);
-            set_rows(&mut rows, b, &terms, transposed);
+            set_rows(&mut rows, b, &terms, transposed, true);
             let mut tri = TridiagonalMatrix::zeros(d);
-            set_diagonals(&mut tri, b, &terms, transposed);
+            set_diagonals(&mut tri, b, &terms, transposed, true);
             let (lower, diagonal, upper) = tri.diagonals_mut();
             for i in 0..d {
                 assert_eq!(

@@ -12,8 +12,8 @@ use crate::error::{Error, Location, Result};
 use crate::grid::Grid;
 use crate::options::NewtonOptions;
 use crate::regularity::DEGENERACY_THRESHOLD;
-use crate::side::Side;
 use crate::solve::guard::BlowUpGuard;
+use crate::solve::ivp::step_kind;
 use crate::solve::solution::Warning;
 use crate::solve::start::Start;
 use crate::step::StepKind;
@@ -22,7 +22,7 @@ use super::DynLagrangian;
 use super::band::BandSystem;
 use super::sparse::SparseHessian;
 use super::stability::{resolution_warning, verlet_unstable};
-use super::step::{StepSolver, max_norm};
+use super::step::{EnergySample, StepSolver, max_norm};
 
 /// A node handed to the observer of a run: `Q_k` at `t_k`, with the node before it
 /// (`Q_0` itself for `k = 0`) so that the observer can form the velocity `(Q_k − Q_{k−1})/h`.
@@ -76,26 +76,16 @@ pub(crate) struct DynIvp<'a, L: ?Sized> {
 }
 
 impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
-    /// The step kind of `scheme`: the Gauss-FDEσ embeddings (and their coherent asymmetric
-    /// version, whose direct scheme is the variational recurrence).
+    /// The step kind of `scheme`: that of the const-generic path
+    /// ([`step_kind`](crate::solve::ivp::step_kind)).
     fn step_kind(&self, scheme: Scheme) -> Result<StepKind> {
-        let backward = self.embedding.side() == Side::Backward;
-        match (self.embedding.kind(), scheme) {
-            (EmbeddingKind::FiniteDifference, Scheme::Direct) => Ok(if backward {
-                StepKind::DirectBackward
-            } else {
-                StepKind::DirectForward
-            }),
-            (EmbeddingKind::FiniteDifference | EmbeddingKind::Asymmetric, _) => Ok(if backward {
-                StepKind::VariationalBackward
-            } else {
-                StepKind::VariationalForward
-            }),
-            _ => Err(Error::Unsupported {
+        if let EmbeddingKind::GaussLegendre { .. } = self.embedding.kind() {
+            return Err(Error::Unsupported {
                 operation: "an initial value problem of a run-time-dimension model",
                 embedding: self.embedding.to_string(),
-            }),
+            });
         }
+        step_kind(&self.embedding, scheme)
     }
 
     /// The run of `scheme` from `q(a) = q0`, `q̇(a) = v0` with `start` for `Q_1`, each node
@@ -168,12 +158,10 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             let times = (grid.t(n - 2), grid.t(n - 1));
             let sample = guard.is_enabled() && (n - 2) % stride == 0;
             if sample || !verlet {
-                let terms = solver.momentum((&a, &b), times, &mut pi, sample);
-                if let Some((vp, p_max)) = terms {
-                    let value = solver.lagrangian_at_momentum_point((&a, &b), times);
-                    let e = vp - value;
+                let sampled = solver.momentum((&a, &b), times, &mut pi, sample);
+                if let Some(EnergySample { energy, vp, p_max }) = sampled {
                     let x_scale = max_norm(&a).max(max_norm(&b));
-                    guard.record(e, vp, e.abs() + x_scale * p_max * inv_h, n)?;
+                    guard.record(energy, vp, energy.abs() + x_scale * p_max * inv_h, n)?;
                 }
             }
             let its = if verlet {
@@ -221,12 +209,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         pi: &mut [f64],
     ) -> Result<Vec<f64>> {
         let (grid, h, t0) = (self.grid, self.grid.h(), self.grid.t(0));
-        let start_kind = match kind {
-            StepKind::VariationalBackward | StepKind::DirectBackward => {
-                StepKind::VariationalBackward
-            }
-            _ => StepKind::VariationalForward,
-        };
+        let start_kind = kind.legendre_start();
         self.lagrangian.momentum(q0, v0, t0, pi);
         let mut start = StepSolver::new(self.lagrangian, start_kind, h, self.newton, (q0, v0, t0));
         // The node before q0 on the tangent, so that Newton's guess 2b − a is q0 + h v0.

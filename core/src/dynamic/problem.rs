@@ -16,9 +16,13 @@ use super::ivp::{DynIvp, DynNode, DynRun};
 /// [`Problem`](crate::Problem) is for a const-generic [`Lagrangian`](crate::Lagrangian).
 ///
 /// The Gauss-FDEσ embeddings ([`Embedding::finite_difference`], and the coherent
-/// [`Embedding::asymmetric`]) are offered, both schemes, as initial value problems with the
-/// discrete Legendre start or the second-order start ([`with_start`](Self::with_start)), and as
-/// boundary value problems. Every implicit step is solved by Newton's method on a band matrix
+/// [`Embedding::asymmetric`]) and the symmetric ones ([`Embedding::midpoint`],
+/// [`Embedding::trapezoidal`]) are offered, both schemes, as initial value problems with the
+/// discrete Legendre start or the second-order start ([`with_start`](Self::with_start)): the
+/// steps of the const-generic path, from the same table of terms. The Gauss-FDEσ embeddings
+/// are also offered as boundary value problems; the Gauss–Legendre integrators and the
+/// symmetric boundary value problems run on the const-generic path only
+/// ([`Error::Unsupported`] here). Every implicit step is solved by Newton's method on a band matrix
 /// (`O(d b²)` for half-bandwidth `b`); a step that is affine in the newest node is taken in
 /// closed form, and a constant step Jacobian is factorised once per run. The runs are watched
 /// by the blow-up guard of the const-generic path. The eigenvalue stability check of that path

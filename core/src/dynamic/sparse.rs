@@ -161,21 +161,6 @@ impl SparseBlock {
         }
     }
 
-    /// Every entry as a triplet, band included: the pattern of a block in band mode (the
-    /// band's positions all count, zero or not).
-    pub(crate) fn triplets(&self) -> Vec<(usize, usize, f64)> {
-        let mut all = self.entries.clone();
-        if let Some((b, values)) = self.band() {
-            let d = self.dimension;
-            for i in 0..d {
-                for j in i.saturating_sub(b)..(i + b + 1).min(d) {
-                    all.push((i, j, values[i * (2 * b + 1) + j + b - i]));
-                }
-            }
-        }
-        all
-    }
-
     /// The largest `|i − j|` over the entries (0 for none; for a block in band mode, the
     /// band's half-width once anything was added in it).
     pub fn bandwidth(&self) -> usize {
@@ -230,19 +215,6 @@ impl SparseHessian {
             xx: SparseBlock::with_band(d, b),
             xv: SparseBlock::with_band(d, b),
             vv: SparseBlock::with_band(d, b),
-        }
-    }
-
-    /// The same blocks with every entry listed (band mode off): what a re-plan reads.
-    pub(crate) fn to_listed(&self) -> Self {
-        let listed = |block: &SparseBlock| SparseBlock {
-            entries: block.triplets(),
-            ..SparseBlock::new(block.dimension)
-        };
-        SparseHessian {
-            xx: listed(&self.xx),
-            xv: listed(&self.xv),
-            vv: listed(&self.vv),
         }
     }
 

@@ -1,20 +1,20 @@
-//! One step of the Gauss-FDEσ schemes for a run-time-dimension model: the momentum `π` from
-//! the two previous nodes, then the discrete Legendre map `G(y) = π` for the newest node, by a
-//! closed form where the step is affine in `y` and by sparse Newton otherwise.
+//! One step of the classical schemes for a run-time-dimension model: the momentum `π` from
+//! the two previous nodes, then the step equation `G(y) = π` for the newest node, by a closed
+//! form where the step is affine in `y` and by sparse Newton otherwise.
 //!
-//! The equations, the Jacobians and the affine cases are the step module's tables (read there
-//! with `Q_{n−2} = a`, `Q_{n−1} = b`, `Q_n = y`); this module evaluates them on slices and
-//! assembles the Jacobian `h J` entry by entry from the model's sparse blocks into a
-//! [`BandSystem`]. Every buffer is allocated once per run.
+//! What each step kind evaluates, and with which weights, is the step module's table of terms
+//! (the const-generic steps read the same table, so the two paths take the same steps); this
+//! module evaluates the terms on slices and assembles the Jacobian `h J` from the model's
+//! sparse blocks, term by term, into a [`BandSystem`]. Every buffer is allocated once per run.
 
 use crate::error::{Error, Location, Result};
-use crate::linalg::BandNorms;
 use crate::options::NewtonOptions;
-use crate::solve::newton::at_round_off;
+use crate::solve::newton::{StepIteration, newton};
+use crate::step::terms::{BlockWeights, Point, Terms, equation_terms, momentum_terms};
 use crate::step::{StepKind, is_affine, jacobian_is_constant};
 
 use super::DynLagrangian;
-use super::band::BandSystem;
+use super::band::{BandSystem, OutsideBand};
 use super::sparse::{SparseBlock, SparseHessian};
 
 /// How the newest node of a step is found.
@@ -34,11 +34,86 @@ enum Update {
     Verlet,
 }
 
-/// The step solver of one run: the model, the scheme's kind, the step size, the Newton
-/// options, and the buffers.
+/// The energy terms a step's momentum evaluation samples for the blow-up guard: the energy
+/// `Σ w_p (v·p − L)` over the momentum's terms, its `Σ w_p v·p`, and the largest `‖p‖∞`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct EnergySample {
+    pub(crate) energy: f64,
+    pub(crate) vp: f64,
+    pub(crate) p_max: f64,
+}
+
+/// The positions and velocities at which the terms of one interval `[u, w]` evaluate.
+struct Points {
+    /// The midpoint `(u + w)/2` (empty when no term reads it).
+    middle: Vec<f64>,
+    /// `(w − u)/h`.
+    velocity: Vec<f64>,
+    /// `(w − a)/(2h)`, `a` the node before `u` (empty when no term reads it).
+    centred: Vec<f64>,
+}
+
+impl Points {
+    /// Buffers of length `d` for what the terms of `tables` read.
+    fn new(d: usize, tables: &[Terms]) -> Self {
+        let reads = |point| {
+            tables
+                .iter()
+                .any(|terms| terms.as_slice().iter().any(|t| t.point == point))
+        };
+        let buffer = |point| vec![0.0; if reads(point) { d } else { 0 }];
+        Points {
+            middle: buffer(Point::Middle),
+            velocity: vec![0.0; d],
+            centred: buffer(Point::Centred),
+        }
+    }
+
+    /// The velocity of `[u, w]` (and, when `centred`, that of `w` against `before`) and the
+    /// midpoint, where a term reads it.
+    #[inline]
+    fn on_interval(&mut self, (before, u, w): (&[f64], &[f64], &[f64]), inv_h: f64, centred: bool) {
+        for ((v, u), w) in self.velocity.iter_mut().zip(u).zip(w) {
+            *v = (w - u) * inv_h;
+        }
+        for ((m, u), w) in self.middle.iter_mut().zip(u).zip(w) {
+            *m = 0.5 * (u + w);
+        }
+        if centred {
+            let half = 0.5 * inv_h;
+            for ((c, a), w) in self.centred.iter_mut().zip(before).zip(w) {
+                *c = (w - a) * half;
+            }
+        }
+    }
+
+    /// `(x, v, t)` of `point` on `[u, w]` (times `t_u`, `t_w`), after
+    /// [`on_interval`](Self::on_interval).
+    #[inline]
+    fn at<'a>(
+        &'a self,
+        point: Point,
+        (u, w): (&'a [f64], &'a [f64]),
+        (t_u, t_w): (f64, f64),
+    ) -> (&'a [f64], &'a [f64], f64) {
+        let t = point.time(t_u, t_w);
+        match point {
+            Point::Left => (u, &self.velocity, t),
+            Point::Middle => (&self.middle, &self.velocity, t),
+            Point::Right => (w, &self.velocity, t),
+            Point::Centred => (u, &self.centred, t),
+        }
+    }
+}
+
+/// The step solver of one run: the model, the scheme's kind and its terms, the step size, the
+/// Newton options, and the buffers.
 pub(crate) struct StepSolver<'l, L: ?Sized> {
     lagrangian: &'l L,
-    kind: StepKind,
+    momentum_terms: Terms,
+    equation_terms: Terms,
+    /// Whether the equation has a term with the centred velocity (it then reads `a`).
+    centred: bool,
     h: f64,
     inv_h: f64,
     newton: NewtonOptions,
@@ -47,45 +122,45 @@ pub(crate) struct StepSolver<'l, L: ?Sized> {
     factored: bool,
     system: BandSystem,
     hessian: SparseHessian,
-    /// Velocity, force, momentum and residual buffers (length `d`), and a zero velocity.
-    v: Vec<f64>,
+    points: Points,
+    /// A zero velocity, and force, momentum and residual buffers (length `d`).
     zero: Vec<f64>,
     f: Vec<f64>,
     p: Vec<f64>,
     r: Vec<f64>,
+    /// The size of the terms `G(y)` summed at the last residual's `y`: the largest of
+    /// `|w_p| ‖p‖∞` and `|w_f| h ‖f‖∞`.
+    size: f64,
 }
 
-/// Whether the momentum and the step equation are read `@right` (σ = −).
-fn at_right(kind: StepKind) -> bool {
-    matches!(
-        kind,
-        StepKind::VariationalBackward | StepKind::DirectBackward
-    )
+/// `r ← w x − π` (`Some(π)`: the first term) or `r ← r + w x`.
+#[inline]
+fn accumulate(r: &mut [f64], w: f64, x: &[f64], first: Option<&[f64]>) {
+    match first {
+        Some(pi) => {
+            for ((r, x), pi) in r.iter_mut().zip(x).zip(pi) {
+                *r = w * x - pi;
+            }
+        }
+        None => {
+            for (r, x) in r.iter_mut().zip(x) {
+                *r += w * x;
+            }
+        }
+    }
 }
 
-/// Where the step evaluates on the interval `[u, w]` (times `t_u`, `t_w`), with the velocity
-/// `(w − u)/h`: at `(w, t_w)` `@right` (σ = −), at `(u, t_u)` `@left` (σ = +). The momentum
-/// reads it on `[a, b]`, the step equation on `[b, y]`.
-fn point<'a>(
-    kind: StepKind,
-    (u, w): (&'a [f64], &'a [f64]),
-    (t_u, t_w): (f64, f64),
-) -> (&'a [f64], f64) {
-    if at_right(kind) { (w, t_w) } else { (u, t_u) }
-}
-
-/// Whether the momentum is `p + h f` (otherwise `p`); the equation is then `p` (otherwise
-/// `p − h f`).
-fn momentum_has_force(kind: StepKind) -> bool {
-    matches!(
-        kind,
-        StepKind::VariationalBackward | StepKind::DirectForward
-    )
+/// `y ← w x` (`fresh`) or `y ← y + w x`.
+#[inline]
+fn axpy(y: &mut [f64], w: f64, x: &[f64], fresh: bool) {
+    for (y, x) in y.iter_mut().zip(x) {
+        *y = if fresh { w * x } else { *y + w * x };
+    }
 }
 
 impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
-    /// The solver of `kind` (a Gauss-FDEσ kind) with step `h`, its linear system planned on
-    /// the pattern of the Hessian at `(x, v, t)` (a point of the run's initial data).
+    /// The solver of `kind` with step `h`, its linear system planned on the pattern of the
+    /// Hessian at `(x, v, t)` (a point of the run's initial data).
     pub(crate) fn new(
         lagrangian: &'l L,
         kind: StepKind,
@@ -94,18 +169,19 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         (x, v, t): (&[f64], &[f64], f64),
     ) -> Self {
         let d = lagrangian.dimension();
+        let (momentum, equation) = (momentum_terms(kind), equation_terms(kind));
         let mut hessian = SparseHessian::new(d);
         lagrangian.hessian(x, v, t, &mut hessian);
         let system = BandSystem::plan(
             d,
             lagrangian.hessian_bandwidth(),
-            &jacobian_blocks(kind, &hessian),
+            &jacobian_blocks(&equation, h, &hessian),
         );
         let dependence = lagrangian.hessian_dependence();
         let update = if !is_affine(kind, &dependence) {
             Update::Newton
         } else if jacobian_is_constant(kind, &dependence) {
-            if scaled_jacobian_is_identity(kind, h, &hessian) {
+            if scaled_jacobian_is_identity(&equation, h, &hessian) {
                 let variational = matches!(
                     kind,
                     StepKind::VariationalBackward | StepKind::VariationalForward
@@ -131,9 +207,15 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         } else {
             SparseHessian::with_band(d, system.band())
         };
+        let centred = equation
+            .as_slice()
+            .iter()
+            .any(|term| term.point == Point::Centred);
         StepSolver {
             lagrangian,
-            kind,
+            momentum_terms: momentum,
+            equation_terms: equation,
+            centred,
             h,
             inv_h: 1.0 / h,
             newton,
@@ -141,11 +223,12 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
             factored: false,
             system,
             hessian: blocks,
-            v: vec![0.0; d],
+            points: Points::new(d, &[momentum, equation]),
             zero: vec![0.0; d],
             f: vec![0.0; d],
             p: vec![0.0; d],
             r: vec![0.0; d],
+            size: 0.0,
         }
     }
 
@@ -191,46 +274,42 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
     }
 
     /// Writes the momentum `π` of the step from `a`, `b` (times `t_a`, `t_b`) into `pi`, and
-    /// when `sample`, returns `v·p` and `‖p‖∞` with `p = ∂L/∂v` at the momentum's point (the
-    /// energy `v·p − L` and its round-off scale, for the blow-up guard).
+    /// when `sample`, returns the energy terms at the momentum's points (for the blow-up
+    /// guard).
     #[inline]
     pub(crate) fn momentum(
         &mut self,
         (a, b): (&[f64], &[f64]),
-        (t_a, t_b): (f64, f64),
+        times: (f64, f64),
         pi: &mut [f64],
         sample: bool,
-    ) -> Option<(f64, f64)> {
-        let inv_h = self.inv_h;
-        for ((v, a), b) in self.v.iter_mut().zip(a).zip(b) {
-            *v = (b - a) * inv_h;
-        }
-        let (x, t) = point(self.kind, (a, b), (t_a, t_b));
-        self.lagrangian.momentum(x, &self.v, t, pi);
-        let terms = sample.then(|| {
-            let vp = dot(&self.v, pi);
-            (vp, max_norm(pi))
-        });
-        if momentum_has_force(self.kind) {
-            self.lagrangian.force(x, &self.v, t, &mut self.f);
-            let h = self.h;
-            for (pi, f) in pi.iter_mut().zip(&self.f) {
-                *pi += h * f;
+    ) -> Option<EnergySample> {
+        let l = self.lagrangian;
+        self.points.on_interval((a, a, b), self.inv_h, false);
+        let mut sampled = sample.then(EnergySample::default);
+        for (k, term) in self.momentum_terms.as_slice().iter().enumerate() {
+            let (x, v, t) = self.points.at(term.point, (a, b), times);
+            // Every momentum term reads `p`; the first with weight 1 writes it in place.
+            let in_place = k == 0 && term.p == 1.0;
+            if in_place {
+                l.momentum(x, v, t, pi);
+            } else {
+                l.momentum(x, v, t, &mut self.p);
+                axpy(pi, term.p, &self.p, k == 0);
+            }
+            if let Some(s) = &mut sampled {
+                let p: &[f64] = if in_place { pi } else { &self.p };
+                let vp = dot(v, p);
+                s.vp += term.p * vp;
+                s.energy += term.p * (vp - l.value(x, v, t));
+                s.p_max = s.p_max.max(max_norm(p));
+            }
+            if term.f != 0.0 {
+                l.force(x, v, t, &mut self.f);
+                axpy(pi, term.f * self.h, &self.f, false);
             }
         }
-        terms
-    }
-
-    /// `L` at the momentum's point of the step from `a`, `b`, right after
-    /// [`momentum`](Self::momentum) of the same step (whose velocity it reads): with its `v·p`,
-    /// the energy the blow-up guard samples.
-    pub(crate) fn lagrangian_at_momentum_point(
-        &self,
-        nodes: (&[f64], &[f64]),
-        times: (f64, f64),
-    ) -> f64 {
-        let (x, t) = point(self.kind, nodes, times);
-        self.lagrangian.value(x, &self.v, t)
+        sampled
     }
 
     /// Solves `G(y) = π` for the newest node of step `n` from `a = Q_{n−2}`, `b = Q_{n−1}`
@@ -253,34 +332,35 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
                 at: Location::Step(n),
             });
         }
-        if self.update != Update::Newton && self.closed_form(b, pi, times, y, n) {
+        if self.update != Update::Newton && self.closed_form((a, b), pi, times, y, n) {
             return Ok(0);
         }
         for ((y, a), b) in y.iter_mut().zip(a).zip(b) {
             *y = 2.0 * b - a;
         }
-        self.newton(b, pi, times, y, n)
+        self.newton((a, b), pi, times, y, n)
     }
 
     /// The closed-form node `y = b − h (h J)⁻¹ (G(b) − π)` of an affine step; `false` when its
     /// Jacobian is singular or not finite or the node is not finite.
     fn closed_form(
         &mut self,
-        b: &[f64],
+        (a, b): (&[f64], &[f64]),
         pi: &[f64],
         times: (f64, f64),
         y: &mut [f64],
         n: usize,
     ) -> bool {
         y.copy_from_slice(b);
-        self.residual(b, pi, times, y);
+        self.residual((a, b, y), pi, times);
         match self.update {
             // A Verlet solver's start (the one step it takes through `solve`) is `h J = I`.
             Update::Identity | Update::Verlet => {}
             Update::Constant if self.factored => self.system.solve_in_place(&mut self.r),
             _ => {
-                self.read_blocks(b, times, y);
-                if self.assemble(Location::Step(n)).is_err() || !self.system.factorize() {
+                if self.assemble((b, y), times, Location::Step(n)).is_err()
+                    || !self.system.factorize()
+                {
                     return false;
                 }
                 self.factored = true;
@@ -293,194 +373,208 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         y.iter().all(|c| c.is_finite())
     }
 
-    /// Newton's method on step `n` (the stopping rule and the errors of the const-generic
-    /// path's `newton_step`).
+    /// Newton's method ([`newton`]) on step `n` from the iterate in `y`.
     fn newton(
         &mut self,
-        b: &[f64],
+        nodes: (&[f64], &[f64]),
         pi: &[f64],
         times: (f64, f64),
         y: &mut [f64],
         n: usize,
     ) -> Result<usize> {
-        let at = Location::Step(n);
-        let momentum_size = max_norm(pi);
-        let mut residual = f64::INFINITY;
         let options = self.newton;
-        let diverged = |iterations, residual| Error::NewtonDidNotConverge {
+        let at = Location::Step(n);
+        let mut iteration = SliceStep {
+            momentum_size: max_norm(pi),
+            solver: self,
+            nodes,
+            pi,
+            times,
+            y,
             at,
-            iterations,
-            residual,
         };
-        for iteration in 0..=options.max_iterations {
-            self.residual(b, pi, times, y);
-            let previous = residual;
-            // NaN when an entry is: one pass both measures and checks.
-            residual = max_norm(&self.r);
-            // The scale of the equation: the terms it balances, `π` and those of `G(y)` (as
-            // the const-generic path; no absolute part, so `c L` stops where `L` does).
-            let scale = momentum_size.max(self.terms());
-            if residual.is_finite() && iteration > 0 && residual <= options.tolerance * scale {
-                // Converged after a step from an iterate whose Jacobian was factorised (and
-                // regular): the converged iterate is `O(|δ|)` from it, so its Jacobian is not
-                // formed again. This skips a third of the Hessian evaluations, assemblies and
-                // factorisations of a step that converges in two iterations.
-                return Ok(iteration);
-            }
-            if residual.is_finite() {
-                self.read_blocks(b, times, y);
-            }
-            let assembled = residual.is_finite() && self.assemble(at).is_ok();
-            // The solve for the next iterate comes with the factorisation; it is wasted only
-            // on an iteration that turns out to be at round-off.
-            let (norms, regular) = if assembled {
-                self.system.factorize_solving(&mut self.r)
-            } else {
-                (BandNorms::NOT_FINITE, false)
-            };
-            if !norms.is_finite() {
-                return Err(if iteration == 0 {
-                    Error::NotFinite { at }
-                } else {
-                    diverged(iteration, previous)
-                });
-            }
-            let j_norm = norms.inf * self.inv_h;
-            let converged = residual <= options.tolerance * scale
-                || at_round_off(residual, previous, j_norm, max_norm(y));
-            if !regular {
-                return Err(if iteration == 0 || converged {
-                    Error::SingularJacobian { at }
-                } else {
-                    diverged(iteration, residual)
-                });
-            }
-            if converged {
-                return Ok(iteration);
-            }
-            if iteration == options.max_iterations {
-                break;
-            }
-            for (y, z) in y.iter_mut().zip(&self.r) {
-                *y -= self.h * z;
-            }
-            if !y.iter().all(|c| c.is_finite()) {
-                return Err(diverged(iteration + 1, residual));
-            }
-        }
-        Err(diverged(options.max_iterations, residual))
+        newton(&mut iteration, &options, at)
     }
 
-    /// The residual `G(y) − π` into `self.r` (and the velocity `(y − b)/h` into `self.v`).
+    /// The residual `G(y) − π` into `self.r`, the size of its terms into `self.size`, and the
+    /// points of `[b, y]` into `self.points` (read by [`assemble`](Self::assemble) at the
+    /// same `y`).
     #[inline]
-    fn residual(&mut self, b: &[f64], pi: &[f64], (t_b, t_y): (f64, f64), y: &[f64]) {
-        let inv_h = self.inv_h;
-        for ((v, y), b) in self.v.iter_mut().zip(y).zip(b) {
-            *v = (y - b) * inv_h;
-        }
-        let (x, t) = point(self.kind, (b, y), (t_b, t_y));
+    fn residual(&mut self, (a, b, y): (&[f64], &[f64], &[f64]), pi: &[f64], times: (f64, f64)) {
         let l = self.lagrangian;
-        l.momentum(x, &self.v, t, &mut self.p);
-        if momentum_has_force(self.kind) {
-            for ((r, p), pi) in self.r.iter_mut().zip(&self.p).zip(pi) {
-                *r = p - pi;
+        self.points.on_interval((a, b, y), self.inv_h, self.centred);
+        let mut first = Some(pi);
+        let mut size = 0.0f64;
+        for term in self.equation_terms.as_slice() {
+            let (x, v, t) = self.points.at(term.point, (b, y), times);
+            if term.p != 0.0 {
+                l.momentum(x, v, t, &mut self.p);
+                accumulate(&mut self.r, term.p, &self.p, first.take());
+                size = size.max(term.p.abs() * max_norm(&self.p));
             }
-        } else {
-            l.force(x, &self.v, t, &mut self.f);
-            let h = self.h;
-            for (((r, p), f), pi) in self.r.iter_mut().zip(&self.p).zip(&self.f).zip(pi) {
-                *r = p - h * f - pi;
+            if term.f != 0.0 {
+                l.force(x, v, t, &mut self.f);
+                let w = term.f * self.h;
+                accumulate(&mut self.r, w, &self.f, first.take());
+                size = size.max(w.abs() * max_norm(&self.f));
             }
         }
+        self.size = size;
     }
 
-    /// The size of the terms of `G(y)` after [`residual`](Self::residual): `‖p‖∞`, and
-    /// `h ‖f‖∞` when `G` has the force.
-    fn terms(&self) -> f64 {
-        let p = max_norm(&self.p);
-        if momentum_has_force(self.kind) {
-            p
-        } else {
-            p.max(self.h * max_norm(&self.f))
-        }
-    }
-
-    /// The blocks at the equation's point into `self.hessian`, after
-    /// [`residual`](Self::residual) at the same `y` (whose velocity they read).
-    fn read_blocks(&mut self, b: &[f64], (t_b, t_y): (f64, f64), y: &[f64]) {
-        let (x, t) = point(self.kind, (b, y), (t_b, t_y));
-        self.hessian.clear();
-        self.lagrangian.hessian(x, &self.v, t, &mut self.hessian);
-    }
-
-    /// `h J` from the blocks in `self.hessian` into the band system (second table of the step
-    /// module, times `h`); an entry outside the band re-plans the system on this pattern.
-    fn assemble(&mut self, at: Location) -> Result<()> {
-        if self.try_assemble().is_err() {
-            // An entry outside the planned band: plan again on the full pattern, and list the
-            // entries from now on.
+    /// `h J` at the points of the last [`residual`](Self::residual) into the band system, one
+    /// term's blocks at a time (module docs); an entry outside the band re-plans the system
+    /// on the pattern of every term's blocks, listed from then on.
+    fn assemble(&mut self, nodes: (&[f64], &[f64]), times: (f64, f64), at: Location) -> Result<()> {
+        if self.try_assemble(nodes, times).is_err() {
             let d = self.lagrangian.dimension();
-            self.hessian = self.hessian.to_listed();
-            self.system = BandSystem::plan(d, None, &jacobian_blocks(self.kind, &self.hessian));
-            self.try_assemble()
+            let listed: Vec<SparseHessian> = self
+                .equation_terms
+                .as_slice()
+                .iter()
+                .map(|term| {
+                    let (x, v, t) = self.points.at(term.point, nodes, times);
+                    let mut hessian = SparseHessian::new(d);
+                    self.lagrangian.hessian(x, v, t, &mut hessian);
+                    hessian
+                })
+                .collect();
+            let blocks: Vec<&SparseBlock> = listed
+                .iter()
+                .flat_map(|hessian| jacobian_blocks(&self.equation_terms, self.h, hessian))
+                .collect();
+            self.system = BandSystem::plan(d, None, &blocks);
+            self.hessian = SparseHessian::new(d);
+            self.try_assemble(nodes, times)
                 .map_err(|_| Error::SingularJacobian { at })?;
         }
         Ok(())
     }
 
-    fn try_assemble(&mut self) -> std::result::Result<(), super::band::OutsideBand> {
-        let h = self.h;
-        let (xv_t, xv_plain, xx_scale) = match self.kind {
-            StepKind::VariationalBackward => (h, 0.0, 0.0),
-            StepKind::VariationalForward => (0.0, -h, 0.0),
-            StepKind::DirectBackward => (h, -h, -h * h),
-            _ => (0.0, 0.0, 0.0),
-        };
-        let SparseHessian { xx, xv, vv } = &self.hessian;
-        let system = &mut self.system;
-        if vv.band().is_some() || xx.band().is_some() || xv.band().is_some() {
-            return system.set_from_bands([(1.0, vv), (xx_scale, xx), (xv_plain, xv)], (xv_t, xv));
-        }
-        system.clear();
-        for &(i, j, value) in vv.entries() {
-            system.add(i, j, value)?;
-        }
-        for &(i, j, value) in xv.entries() {
-            if xv_t != 0.0 {
-                system.add(j, i, xv_t * value)?;
-            }
-            if xv_plain != 0.0 {
-                system.add(i, j, xv_plain * value)?;
-            }
-        }
-        if xx_scale != 0.0 {
-            for &(i, j, value) in xx.entries() {
-                system.add(i, j, xx_scale * value)?;
-            }
+    fn try_assemble(
+        &mut self,
+        nodes: (&[f64], &[f64]),
+        times: (f64, f64),
+    ) -> std::result::Result<(), OutsideBand> {
+        let terms = self.equation_terms;
+        for (k, term) in terms.as_slice().iter().enumerate() {
+            let (x, v, t) = self.points.at(term.point, nodes, times);
+            self.hessian.clear();
+            self.lagrangian.hessian(x, v, t, &mut self.hessian);
+            let weights = term.block_weights(self.h);
+            add_blocks(&mut self.system, &self.hessian, weights, k == 0)?;
         }
         Ok(())
     }
 }
 
-/// The blocks that enter the Jacobian of `kind` (second table of the step module): `vv`
-/// always, `xv` (and its transpose) except for the direct σ = + step, `xx` for the direct σ = −
-/// step only. The system is planned on their pattern alone: a long-range `L_xx` does not widen
-/// the band of a step whose Jacobian does not read it.
-fn jacobian_blocks(kind: StepKind, hessian: &SparseHessian) -> Vec<&SparseBlock> {
-    let mut blocks = vec![&hessian.vv];
-    if kind != StepKind::DirectForward {
+/// A step of the run-time path at its current iterate `y`, as Newton's method sees it.
+struct SliceStep<'s, 'l, 'n, L: ?Sized> {
+    solver: &'s mut StepSolver<'l, L>,
+    nodes: (&'n [f64], &'n [f64]),
+    pi: &'n [f64],
+    momentum_size: f64,
+    times: (f64, f64),
+    y: &'n mut [f64],
+    at: Location,
+}
+
+impl<L: DynLagrangian + ?Sized> StepIteration for SliceStep<'_, '_, '_, L> {
+    fn residual(&mut self) -> (f64, f64) {
+        let (a, b) = self.nodes;
+        self.solver.residual((a, b, self.y), self.pi, self.times);
+        // NaN when an entry is: one pass both measures and checks.
+        let residual = max_norm(&self.solver.r);
+        (residual, self.momentum_size.max(self.solver.size))
+    }
+
+    fn solve(&mut self) -> (f64, bool) {
+        let solver = &mut *self.solver;
+        if solver
+            .assemble((self.nodes.1, self.y), self.times, self.at)
+            .is_err()
+        {
+            return (f64::NAN, false);
+        }
+        // The solve for the correction comes with the factorisation.
+        let (norms, regular) = solver.system.factorize_solving(&mut solver.r);
+        let j_norm = if norms.is_finite() {
+            norms.inf * solver.inv_h
+        } else {
+            f64::NAN
+        };
+        (j_norm, regular)
+    }
+
+    fn size(&self) -> f64 {
+        max_norm(self.y)
+    }
+
+    fn update(&mut self) -> bool {
+        let h = self.solver.h;
+        for (y, z) in self.y.iter_mut().zip(&self.solver.r) {
+            *y -= h * z;
+        }
+        self.y.iter().all(|c| c.is_finite())
+    }
+}
+
+/// `xx L_xx + xv L_xv + vx L_xvᵀ + vv L_vv` from `hessian`'s blocks into (`fresh`) or onto the
+/// system.
+fn add_blocks(
+    system: &mut BandSystem,
+    hessian: &SparseHessian,
+    w: BlockWeights,
+    fresh: bool,
+) -> std::result::Result<(), OutsideBand> {
+    let SparseHessian { xx, xv, vv } = hessian;
+    if vv.band().is_some() || xx.band().is_some() || xv.band().is_some() {
+        return system.add_bands([(w.vv, vv), (w.xx, xx), (w.xv, xv)], (w.vx, xv), fresh);
+    }
+    if fresh {
+        system.clear();
+    }
+    for (weight, block) in [(w.vv, vv), (w.xx, xx), (w.xv, xv)] {
+        if weight != 0.0 {
+            for &(i, j, value) in block.entries() {
+                system.add(i, j, weight * value)?;
+            }
+        }
+    }
+    if w.vx != 0.0 {
+        for &(i, j, value) in xv.entries() {
+            system.add(j, i, w.vx * value)?;
+        }
+    }
+    Ok(())
+}
+
+/// The blocks that enter the step Jacobian of the equation `terms` with step `h`: those with a
+/// nonzero weight in some term. The system is planned on their pattern alone: a long-range
+/// `L_xx` does not widen the band of a step whose Jacobian does not read it.
+fn jacobian_blocks<'a>(terms: &Terms, h: f64, hessian: &'a SparseHessian) -> Vec<&'a SparseBlock> {
+    let reads = |weight: fn(&BlockWeights) -> f64| terms.reads(h, weight);
+    let mut blocks = Vec::new();
+    if reads(|w| w.vv) {
+        blocks.push(&hessian.vv);
+    }
+    if reads(|w| w.xv.abs() + w.vx.abs()) {
         blocks.push(&hessian.xv);
     }
-    if kind == StepKind::DirectBackward {
+    if reads(|w| w.xx) {
         blocks.push(&hessian.xx);
     }
     blocks
 }
 
-/// Whether `h J` is exactly the identity for the constant blocks in `hessian`: `L_vv = I` and
-/// no block of `J` other than `vv` has a nonzero entry. The closed form is then `y = b −
-/// h (G(b) − π)`, with no rounding beyond the hand-written Störmer–Verlet loop's.
-fn scaled_jacobian_is_identity(kind: StepKind, h: f64, hessian: &SparseHessian) -> bool {
+/// Whether `h J` is exactly the identity for the constant blocks in `hessian`: one term with
+/// `L_vv = I` and no other block of `J` with a nonzero entry. The closed form is then
+/// `y = b − h (G(b) − π)`, with no rounding beyond the hand-written Störmer–Verlet loop's.
+fn scaled_jacobian_is_identity(terms: &Terms, h: f64, hessian: &SparseHessian) -> bool {
+    let [term] = terms.as_slice() else {
+        return false;
+    };
+    let w = term.block_weights(h);
     let d = hessian.vv.dimension();
     let mut diagonal = vec![0.0; d];
     let mut off_diagonal = false;
@@ -491,15 +585,13 @@ fn scaled_jacobian_is_identity(kind: StepKind, h: f64, hessian: &SparseHessian) 
             off_diagonal |= value != 0.0;
         }
     }
-    let others_zero =
-        |block: &super::sparse::SparseBlock| block.entries().iter().all(|e| e.2 == 0.0);
-    let xv_enters = !matches!(kind, StepKind::DirectForward);
-    let xx_enters = matches!(kind, StepKind::DirectBackward);
+    let zero = |block: &SparseBlock| block.entries().iter().all(|e| e.2 == 0.0);
     h.is_finite()
+        && w.vv == 1.0
         && !off_diagonal
         && diagonal.iter().all(|&c| c == 1.0)
-        && (!xv_enters || others_zero(&hessian.xv))
-        && (!xx_enters || others_zero(&hessian.xx))
+        && (w.xv == 0.0 && w.vx == 0.0 || zero(&hessian.xv))
+        && (w.xx == 0.0 || zero(&hessian.xx))
 }
 
 /// Max-norm of a slice; NaN when an entry is NaN.

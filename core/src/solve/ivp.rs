@@ -26,6 +26,40 @@ use crate::solve::stability::{Verdict, largest_stable_step, step_map_verdict};
 use crate::solve::start::Start;
 use crate::step::{Step, StepKind, StepTimes, Update, momentum_and_energy_terms};
 
+/// The step kind that advances `scheme` under `embedding`, on either path.
+///
+/// The asymmetric Gauss-FDEσ is coherent: its direct scheme *is* the variational recurrence,
+/// so both schemes step with the variational kernel. Gauss-GLEσ has no three-point recurrence
+/// (every node talks to every other) and gives [`Error::Unsupported`]: solve it as a boundary
+/// value problem. The symmetric embeddings step with kernels of their own.
+pub(crate) fn step_kind(embedding: &Embedding, scheme: Scheme) -> Result<StepKind> {
+    match (embedding.kind(), scheme, embedding.side()) {
+        (EmbeddingKind::Midpoint, Scheme::Variational, _) => Ok(StepKind::MidpointVariational),
+        (EmbeddingKind::Midpoint, Scheme::Direct, _) => Ok(StepKind::MidpointDirect),
+        (EmbeddingKind::Trapezoidal, Scheme::Variational, _) => {
+            Ok(StepKind::TrapezoidalVariational)
+        }
+        (EmbeddingKind::Trapezoidal, Scheme::Direct, _) => Ok(StepKind::TrapezoidalDirect),
+        (EmbeddingKind::GrunwaldLetnikov { .. }, _, _) => Err(Error::Unsupported {
+            operation: "an initial value problem",
+            embedding: embedding.to_string(),
+        }),
+        // A one-step map of (q, p): its runs start from q(a), q̇(a) (`solve`).
+        (EmbeddingKind::GaussLegendre { .. }, _, _) => Err(Error::Unsupported {
+            operation: "a three-point recurrence from two nodes or a discrete Legendre start",
+            embedding: embedding.to_string(),
+        }),
+        (EmbeddingKind::FiniteDifference, Scheme::Direct, Side::Backward) => {
+            Ok(StepKind::DirectBackward)
+        }
+        (EmbeddingKind::FiniteDifference, Scheme::Direct, Side::Forward) => {
+            Ok(StepKind::DirectForward)
+        }
+        (_, _, Side::Backward) => Ok(StepKind::VariationalBackward),
+        (_, _, Side::Forward) => Ok(StepKind::VariationalForward),
+    }
+}
+
 /// What an initial value problem is made of: the Lagrangian, the grid, the embedding and the
 /// Newton options of its implicit steps.
 pub(crate) struct Ivp<'l, L: ?Sized, const D: usize> {
@@ -53,40 +87,9 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
         }
     }
 
-    /// The step kind that advances `scheme` under this embedding.
-    ///
-    /// The asymmetric Gauss-FDEσ is coherent: its direct scheme *is* the variational
-    /// recurrence, so both schemes step with the variational kernel. Gauss-GLEσ has no
-    /// three-point recurrence (every node talks to every other) and gives
-    /// [`Error::Unsupported`]: solve it as a boundary value problem. The symmetric embeddings
-    /// step with kernels of their own.
+    /// The step kind that advances `scheme` under this embedding ([`step_kind`]).
     pub(crate) fn step_kind(&self, scheme: Scheme) -> Result<StepKind> {
-        let side = self.embedding.side();
-        match (self.embedding.kind(), scheme, side) {
-            (EmbeddingKind::Midpoint, Scheme::Variational, _) => Ok(StepKind::MidpointVariational),
-            (EmbeddingKind::Midpoint, Scheme::Direct, _) => Ok(StepKind::MidpointDirect),
-            (EmbeddingKind::Trapezoidal, Scheme::Variational, _) => {
-                Ok(StepKind::TrapezoidalVariational)
-            }
-            (EmbeddingKind::Trapezoidal, Scheme::Direct, _) => Ok(StepKind::TrapezoidalDirect),
-            (EmbeddingKind::GrunwaldLetnikov { .. }, _, _) => Err(Error::Unsupported {
-                operation: "an initial value problem",
-                embedding: self.embedding.to_string(),
-            }),
-            // A one-step map of (q, p): its runs start from q(a), q̇(a) (`solve`).
-            (EmbeddingKind::GaussLegendre { .. }, _, _) => Err(Error::Unsupported {
-                operation: "a three-point recurrence from two nodes or a discrete Legendre start",
-                embedding: self.embedding.to_string(),
-            }),
-            (EmbeddingKind::FiniteDifference, Scheme::Direct, Side::Backward) => {
-                Ok(StepKind::DirectBackward)
-            }
-            (EmbeddingKind::FiniteDifference, Scheme::Direct, Side::Forward) => {
-                Ok(StepKind::DirectForward)
-            }
-            (_, _, Side::Backward) => Ok(StepKind::VariationalBackward),
-            (_, _, Side::Forward) => Ok(StepKind::VariationalForward),
-        }
+        step_kind(&self.embedding, scheme)
     }
 
     /// The discrete Legendre start (see `Problem::legendre_start`).

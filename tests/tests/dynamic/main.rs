@@ -2,6 +2,7 @@
 
 mod bvp;
 mod compare;
+mod every_embedding;
 mod ill_posed;
 mod ivp;
 mod resolution;
