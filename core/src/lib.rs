@@ -111,7 +111,9 @@
 //! - Models of run-time dimension with sparse second derivatives (chains, lattices, discretised
 //!   fields): [`DynLagrangian`], [`SparseHessian`], [`SparseBlock`]; solved by
 //!   [`DynProblem`] into a [`DynSolution`] (its state between the nodes: [`DynState`]) or,
-//!   node by node, an observer of [`DynNode`]s and a [`DynRun`].
+//!   node by node, an observer of [`DynNode`]s and a [`DynRun`]. A `#[lagrangian]` model with
+//!   loops over `[f64; N]` is both kinds of model, and from [`RUN_TIME_FROM`] degrees of
+//!   freedom on a [`Problem`] runs it on the run-time engine.
 //! - Solving: [`Solution`] and its [`Warning`]s, [`Start`], [`NewtonOptions`],
 //!   [`FractionalSolver`]; a solution's values at its nodes (times, positions, velocities,
 //!   momenta, energy; CSV export): [`NodeValues`], [`NodeState`], [`NodeRule`],
@@ -157,6 +159,7 @@ pub mod guide;
 // solve (krylov, minres, newton, start, nodes, solution, dense, guard, fractional, bvp, gauss, ivp),
 // dynamic (sparse, step, ivp, problem, dense), compare, problem.
 mod compare;
+mod degenerate;
 mod discretisation;
 mod dynamic;
 mod embedding;
@@ -186,7 +189,6 @@ pub use compare::compared::ComparedSolution;
 pub use compare::convergence::{Convergence, Level};
 pub use compare::order::{OrderStatus, observed_order, observed_orders};
 pub use compare::{CompareOptions, Comparison, Reference, SchemeReport, max_error};
-pub use dynamic::DynLagrangian;
 pub use dynamic::dense::DynState;
 pub use dynamic::ivp::{DynNode, DynRun};
 pub use dynamic::problem::{DynProblem, DynSolution};
@@ -196,10 +198,10 @@ pub use ensemble::Ensemble;
 pub use error::{Error, Location, Result};
 pub use grid::Grid;
 pub use lagrangian::{
-    Dependence, Hessian, HessianDependence, IntoVector, Lagrangian, Matrix, Vector,
+    Dependence, DynLagrangian, Hessian, HessianDependence, IntoVector, Lagrangian, Matrix, Vector,
 };
 pub use ode::{DifferentialOperator, DirectEmbedding};
-pub use options::{FractionalSolver, NewtonOptions};
+pub use options::{FractionalSolver, NewtonOptions, RUN_TIME_FROM};
 pub use problem::{Problem, curve_from_flat};
 pub use side::Side;
 pub use solve::nodes::{NodeFormula, NodeRule, NodeState, NodeValues};
@@ -211,10 +213,9 @@ pub use varembed_macros::lagrangian;
 /// integration tests reach into. Not part of the public API: it changes without notice.
 #[doc(hidden)]
 pub mod __private {
-    pub use crate::dynamic::DynLagrangian;
     pub use crate::dynamic::sparse::SparseHessian;
     pub use crate::lagrangian::{
-        Dependence, Hessian, HessianDependence, Lagrangian, Matrix, Vector,
+        Dependence, DynLagrangian, Hessian, HessianDependence, Lagrangian, Matrix, Vector,
     };
     /// The relay that hands `#[lagrangian(helper)]` fns to the Lagrangians that call them.
     pub use varembed_macros::__lagrangian_helpers as lagrangian_helpers;

@@ -119,6 +119,18 @@ impl FractionalSolver {
 /// FFT (at `N = 256` a dense product is about 3·10⁴ multiply–adds).
 pub(crate) const FFT_OPERATOR_THRESHOLD: usize = 256;
 
+/// The number of degrees of freedom from which [`Problem`](crate::Problem) solves the initial
+/// value problems of a model that is also a [`DynLagrangian`](crate::DynLagrangian) (every
+/// `#[lagrangian]` model with loops over `[f64; N]`, see
+/// [`Lagrangian::run_time`](crate::Lagrangian::run_time)) with the run-time-dimension engine:
+/// from there on its steps are as fast or faster, and nothing of size `D × D` is put on the
+/// stack ([solvers](crate::guide::solvers#large-models-run-time-dimension-and-sparse-newton)).
+///
+/// ```
+/// assert!(varembed::RUN_TIME_FROM <= 256);
+/// ```
+pub const RUN_TIME_FROM: usize = 64;
+
 /// Iteration budgets of the Krylov solvers (per Newton system of the fractional fast path).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct KrylovBudget {

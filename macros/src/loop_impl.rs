@@ -140,12 +140,21 @@ pub fn emit(
         }
         _ => quote!(),
     };
+    // The model implements `DynLagrangian` too (`dynamic::emit`): large runs of `Problem` go
+    // to the run-time engine through it.
+    let dyn_lagrangian = private("DynLagrangian");
+    let run_time = quote! {
+        fn run_time(&self) -> ::core::option::Option<&dyn #dyn_lagrangian> {
+            ::core::option::Option::Some(self)
+        }
+    };
     let methods = quote! {
         #value
         #gradient
         #value_and_gradient
         #hessian_m
         #both
+        #run_time
     };
     let shell = shell(model, text, dim, methods, properties, with_item);
     let checks = names.bounds(&model.item.sig.ident);

@@ -3,7 +3,7 @@
 //! the const-generic [`Solution`] and the run-time-dimension [`DynSolution`].
 
 use crate::dynamic::problem::DynSolution;
-use crate::dynamic::step::max_norm as flat_max_norm;
+use crate::dynamic::slices::max_norm as flat_max_norm;
 use crate::embedding::Embedding;
 use crate::grid::Grid;
 use crate::lagrangian::Vector;

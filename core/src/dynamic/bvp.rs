@@ -24,9 +24,9 @@ use super::band::BandSystem;
 use super::ivp::DynRun;
 use super::problem::{DynProblem, DynSolution};
 use super::rows::{CurveValues, DynRows, HessianCache};
+use super::slices::max_norm;
 use super::sparse::SparseHessian;
 use super::sparse_lu::{Singular, SparseLu, SparseRows};
-use super::step::max_norm;
 
 impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
     /// Solves the boundary value problem `q(a) = qa`, `q(b) = qb` of `scheme`, from the

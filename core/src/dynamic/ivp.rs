@@ -20,9 +20,10 @@ use crate::step::StepKind;
 
 use super::DynLagrangian;
 use super::band::BandSystem;
+use super::slices::max_norm;
 use super::sparse::SparseHessian;
 use super::stability::{resolution_warning, verlet_unstable};
-use super::step::{EnergySample, StepSolver, max_norm};
+use super::step::{EnergySample, StepSolver};
 
 /// A node handed to the observer of a run: `Q_k` at `t_k`, with the node before it
 /// (`Q_0` itself for `k = 0`) so that the observer can form the velocity `(Q_k − Q_{k−1})/h`.

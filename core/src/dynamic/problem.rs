@@ -4,9 +4,10 @@
 use crate::embedding::{Embedding, Scheme};
 use crate::error::{Error, Result};
 use crate::grid::Grid;
+use crate::lagrangian::Vector;
 use crate::memory::reserve;
 use crate::options::NewtonOptions;
-use crate::solve::solution::Warning;
+use crate::solve::solution::{Solution, Warning};
 use crate::solve::start::Start;
 
 use super::DynLagrangian;
@@ -111,6 +112,26 @@ pub struct DynSolution {
 }
 
 impl DynSolution {
+    /// The nodes as a const-generic [`Solution`] of dimension `D = d` (every node stored):
+    /// what [`Problem`](crate::Problem) returns for a run it handed to this engine.
+    pub(crate) fn into_nodes<const D: usize>(self) -> Solution<D> {
+        let q = self
+            .q
+            .chunks_exact(D)
+            .map(Vector::<D>::from_column_slice)
+            .collect();
+        Solution {
+            scheme: self.run.scheme,
+            embedding: self.run.embedding,
+            grid: self.run.grid,
+            q,
+            momenta: Vec::new(),
+            newton_iterations: self.run.newton_iterations,
+            explicit_steps: self.run.explicit_steps,
+            warnings: self.warnings,
+        }
+    }
+
     /// The number of stored nodes.
     pub fn len(&self) -> usize {
         self.indices.len()

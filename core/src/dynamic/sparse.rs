@@ -1,6 +1,6 @@
 //! The sparse second-derivative blocks a [`DynLagrangian`](super::DynLagrangian) writes.
 
-use crate::regularity::{DIRECTIONS_UP_TO, degenerate_directions};
+use crate::degenerate::{DIRECTIONS_UP_TO, degenerate_directions};
 
 /// One `d × d` second-derivative block as a list of entries `(i, j, value)`; an entry listed
 /// twice holds the sum of its values, an entry never listed is zero.

@@ -15,6 +15,7 @@ use crate::step::{StepKind, is_affine, jacobian_is_constant};
 
 use super::DynLagrangian;
 use super::band::{BandSystem, OutsideBand};
+use super::slices::{accumulate, axpy, dot, max_norm};
 use super::sparse::{SparseBlock, SparseHessian};
 
 /// How the newest node of a step is found.
@@ -131,31 +132,6 @@ pub(crate) struct StepSolver<'l, L: ?Sized> {
     /// The size of the terms `G(y)` summed at the last residual's `y`: the largest of
     /// `|w_p| ‖p‖∞` and `|w_f| h ‖f‖∞`.
     size: f64,
-}
-
-/// `r ← w x − π` (`Some(π)`: the first term) or `r ← r + w x`.
-#[inline]
-fn accumulate(r: &mut [f64], w: f64, x: &[f64], first: Option<&[f64]>) {
-    match first {
-        Some(pi) => {
-            for ((r, x), pi) in r.iter_mut().zip(x).zip(pi) {
-                *r = w * x - pi;
-            }
-        }
-        None => {
-            for (r, x) in r.iter_mut().zip(x) {
-                *r += w * x;
-            }
-        }
-    }
-}
-
-/// `y ← w x` (`fresh`) or `y ← y + w x`.
-#[inline]
-fn axpy(y: &mut [f64], w: f64, x: &[f64], fresh: bool) {
-    for (y, x) in y.iter_mut().zip(x) {
-        *y = if fresh { w * x } else { *y + w * x };
-    }
 }
 
 impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
@@ -592,85 +568,4 @@ fn scaled_jacobian_is_identity(terms: &Terms, h: f64, hessian: &SparseHessian) -
         && diagonal.iter().all(|&c| c == 1.0)
         && (w.xv == 0.0 && w.vx == 0.0 || zero(&hessian.xv))
         && (w.xx == 0.0 || zero(&hessian.xx))
-}
-
-/// Max-norm of a slice; NaN when an entry is NaN.
-///
-/// Four running maxima over interleaved entries, so that each comparison waits on the one
-/// four entries back rather than on the last (a single running maximum is a chain of
-/// dependent comparisons, the slowest pass of a Newton iteration on a chain).
-pub(crate) fn max_norm(x: &[f64]) -> f64 {
-    let mut lanes = [0.0f64; 4];
-    let mut nan = false;
-    let mut chunks = x.chunks_exact(4);
-    for chunk in &mut chunks {
-        for (m, c) in lanes.iter_mut().zip(chunk) {
-            let a = c.abs();
-            *m = if a > *m { a } else { *m };
-            nan |= a.is_nan();
-        }
-    }
-    for (m, c) in lanes.iter_mut().zip(chunks.remainder()) {
-        let a = c.abs();
-        *m = if a > *m { a } else { *m };
-        nan |= a.is_nan();
-    }
-    if nan {
-        f64::NAN
-    } else {
-        lanes.into_iter().fold(0.0, f64::max)
-    }
-}
-
-/// `Σ a_i b_i` over four running sums of interleaved terms (a single running sum is a chain
-/// of dependent additions, as slow as a whole explicit step at large `d`); the guard's `v·p`,
-/// where the order of the additions only moves the last bits.
-fn dot(a: &[f64], b: &[f64]) -> f64 {
-    let mut lanes = [0.0f64; 4];
-    let (mut x, mut y) = (a.chunks_exact(4), b.chunks_exact(4));
-    for (x, y) in (&mut x).zip(&mut y) {
-        for ((s, x), y) in lanes.iter_mut().zip(x).zip(y) {
-            *s += x * y;
-        }
-    }
-    let tail: f64 = x
-        .remainder()
-        .iter()
-        .zip(y.remainder())
-        .map(|(x, y)| x * y)
-        .sum();
-    (lanes[0] + lanes[1]) + (lanes[2] + lanes[3]) + tail
-}
-
-#[cfg(test)]
-mod tests {
-    use super::{dot, max_norm};
-
-    #[test]
-    fn dot_is_the_sum_of_products() {
-        for n in 0..11 {
-            let a: Vec<f64> = (0..n).map(|i| (i as f64 * 0.7).sin()).collect();
-            let b: Vec<f64> = (0..n).map(|i| (i as f64 * 1.3).cos()).collect();
-            let expected: f64 = a.iter().zip(&b).map(|(x, y)| x * y).sum();
-            assert!(
-                (dot(&a, &b) - expected).abs() <= 1e-15 * n as f64,
-                "n = {n}"
-            );
-        }
-    }
-
-    #[test]
-    fn max_norm_is_the_largest_magnitude_and_nan_anywhere_shows() {
-        for n in 0..11 {
-            let x: Vec<f64> = (0..n).map(|i| ((i * 37 % 11) as f64 - 5.3) * 1.7).collect();
-            let expected = x.iter().fold(0.0f64, |m, c| m.max(c.abs()));
-            assert_eq!(max_norm(&x), expected, "n = {n}");
-            for k in 0..n {
-                let mut with_nan = x.clone();
-                with_nan[k] = f64::NAN;
-                assert!(max_norm(&with_nan).is_nan(), "NaN at {k} of {n}");
-            }
-        }
-        assert_eq!(max_norm(&[1.0, f64::NEG_INFINITY]), f64::INFINITY);
-    }
 }

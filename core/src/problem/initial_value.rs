@@ -2,9 +2,11 @@
 //! solver.
 
 use super::Problem;
-use crate::embedding::Scheme;
+use crate::dynamic::problem::DynProblem;
+use crate::embedding::{EmbeddingKind, Scheme};
 use crate::error::Result;
 use crate::lagrangian::{IntoVector, Lagrangian, Vector};
+use crate::options::RUN_TIME_FROM;
 use crate::solve::ivp::Ivp;
 use crate::solve::solution::Solution;
 use crate::solve::start::Start;
@@ -13,6 +15,35 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// The parts of this problem an initial value problem needs.
     fn ivp(&self) -> Ivp<'_, L, D> {
         Ivp::new(&self.discretisation, &self.options)
+    }
+
+    /// The run of a model that is also a [`DynLagrangian`](crate::DynLagrangian) (see
+    /// [`Lagrangian::run_time`]) with [`RUN_TIME_FROM`] or more degrees of freedom, by the
+    /// run-time engine with this problem's options; `None` for any other run, which stays on
+    /// the const-generic path (Gauss–Legendre among them).
+    fn on_run_time_engine(
+        &self,
+        scheme: Scheme,
+        (q0, v0): (&Vector<D>, &Vector<D>),
+        start: Start,
+    ) -> Option<Result<Solution<D>>> {
+        if D < RUN_TIME_FROM {
+            return None;
+        }
+        let model = self.discretisation.lagrangian().run_time()?;
+        let embedding = *self.discretisation.embedding();
+        if let EmbeddingKind::GaussLegendre { .. } | EmbeddingKind::GrunwaldLetnikov { .. } =
+            embedding.kind()
+        {
+            return None;
+        }
+        let problem = DynProblem::new(model, *self.discretisation.grid(), embedding)
+            .with_newton(self.options.newton)
+            .with_blow_up_guard(self.options.blow_up_guard)
+            .with_resolution_check(self.options.resolution_check)
+            .with_start(start);
+        let run = problem.solve_ivp(scheme, q0.as_slice(), v0.as_slice());
+        Some(run.map(|solution| solution.into_nodes()))
     }
 
     /// The discrete Legendre start: `Q_1` from `Q_0 = q(a)` and `π_0 = ∂L/∂v(q(a), q̇(a), a)`,
@@ -89,8 +120,11 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         v0: impl IntoVector<D>,
         start: Start,
     ) -> Result<Solution<D>> {
-        self.ivp()
-            .solve(scheme, q0.into_vector(), v0.into_vector(), start)
+        let (q0, v0) = (q0.into_vector(), v0.into_vector());
+        if let Some(run) = self.on_run_time_engine(scheme, (&q0, &v0), start) {
+            return run;
+        }
+        self.ivp().solve(scheme, q0, v0, start)
     }
 
     /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` with `scheme`, starting from
@@ -98,6 +132,12 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     ///
     /// A step whose equation is affine in the newest node (as declared by
     /// [`Lagrangian::hessian_dependence`]) is taken in closed form, with no Newton iteration.
+    ///
+    /// A model that is also a [`DynLagrangian`](crate::DynLagrangian) (every `#[lagrangian]`
+    /// model with loops over `[f64; N]`, see [`Lagrangian::run_time`]) with
+    /// [`RUN_TIME_FROM`](crate::RUN_TIME_FROM) or more degrees of freedom is run by the
+    /// run-time-dimension engine: the same steps, with no `D × D` block on the stack, and
+    /// without the eigenvalue stability check (Gauss–Legendre stays on this path).
     ///
     /// Under [`Embedding::gauss_legendre`](crate::Embedding::gauss_legendre) the run is the
     /// one-step Gauss–Legendre map of `(q_k, p_k)` from `p_0 = ∂L/∂v(q(a), q̇(a), a)` (no start;
@@ -133,8 +173,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         q0: impl IntoVector<D>,
         v0: impl IntoVector<D>,
     ) -> Result<Solution<D>> {
-        self.ivp()
-            .solve(scheme, q0.into_vector(), v0.into_vector(), Start::Legendre)
+        self.solve_ivp_with(scheme, q0, v0, Start::Legendre)
     }
 
     /// Runs the recurrence of `scheme` from given first nodes `Q_0`, `Q_1`.

@@ -179,6 +179,11 @@ impl ::varembed::__private::Lagrangian<N> for Chain {
             },
         )
     }
+    fn run_time(
+        &self,
+    ) -> ::core::option::Option<&dyn ::varembed::__private::DynLagrangian> {
+        ::core::option::Option::Some(self)
+    }
     #[inline]
     fn hessian_dependence(&self) -> ::varembed::__private::HessianDependence {
         ::varembed::__private::HessianDependence {

@@ -231,6 +231,11 @@ impl ::varembed::__private::Lagrangian<N> for NLink {
             },
         )
     }
+    fn run_time(
+        &self,
+    ) -> ::core::option::Option<&dyn ::varembed::__private::DynLagrangian> {
+        ::core::option::Option::Some(self)
+    }
     #[inline]
     fn hessian_dependence(&self) -> ::varembed::__private::HessianDependence {
         ::varembed::__private::HessianDependence {

@@ -105,6 +105,7 @@ macro_rules! fput_chain {
 }
 
 fput_chain!(fput16, 16);
+fput_chain!(fput32, 32);
 fput_chain!(fput64, 64);
 
 /// The periodic FPUT chain of `N = 12` particles (a ring: the bond `x_0 − x_{N−1}` closes it),

@@ -4,7 +4,7 @@
 //! wrapper that forwards everything but claims no bandwidth.
 
 use varembed::{Embedding, Grid, Lagrangian, Problem, Scheme, Side, lagrangian};
-use varembed_tests::models::dense::Dense;
+use varembed_tests::models::dense::{ConstGeneric, Dense};
 use varembed_tests::models::generated::fput64::{Fput, N};
 use varembed_tests::rng::Rng;
 
@@ -50,7 +50,10 @@ fn banded_equals_dense<L: Lagrangian<N> + Send + 'static>(
 fn run_both<L: Lagrangian<N>>(lag: L, embedding: Embedding, scheme: Scheme) {
     let grid = Grid::new(0.0, 10.0, 400).unwrap();
     let dense = Dense(&lag);
-    let banded = Problem::new(&lag, grid, embedding)
+    // A model with loops of 64 degrees of freedom would go to the run-time engine: kept on
+    // the const-generic banded path.
+    let const_generic = ConstGeneric(&lag);
+    let banded = Problem::new(&const_generic, grid, embedding)
         .solve_ivp(scheme, start(0.8), [0.0; N])
         .unwrap();
     let reference = Problem::new(&dense, grid, embedding)

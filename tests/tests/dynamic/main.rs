@@ -7,3 +7,4 @@ mod ill_posed;
 mod ivp;
 mod resolution;
 mod scale_invariance;
+mod through_problem;

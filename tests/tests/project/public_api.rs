@@ -87,6 +87,7 @@ const ROOT: &[&str] = &[
     "NodeValues",
     "OrderStatus",
     "Problem",
+    "RUN_TIME_FROM",
     "Reference",
     "Result",
     "Scheme",

@@ -1,0 +1,132 @@
+//! A `[f64; N]` model with loops is also a run-time-dimension model: from `RUN_TIME_FROM`
+//! degrees of freedom on, `Problem` hands its initial value problems to the run-time engine.
+//! The nodes are the const-generic path's, and a model of 256 degrees of freedom runs on the
+//! 2 MiB stack of a test thread.
+
+use varembed::{
+    DynProblem, Embedding, Grid, Lagrangian, Problem, RUN_TIME_FROM, Scheme, Side, Solution,
+    Vector, lagrangian,
+};
+use varembed_tests::models::dense::Dense;
+
+/// Every classical embedding with a three-point recurrence.
+fn embeddings() -> [Embedding; 6] {
+    [
+        Embedding::finite_difference(Side::Backward),
+        Embedding::finite_difference(Side::Forward),
+        Embedding::asymmetric(Side::Backward),
+        Embedding::asymmetric(Side::Forward),
+        Embedding::midpoint(),
+        Embedding::trapezoidal(),
+    ]
+}
+
+const RING: usize = 256;
+
+/// The sine-Gordon ring: `RING` pendulums `1 − cos x` coupled to their neighbours around a
+/// circle.
+#[lagrangian]
+fn sine_gordon(x: [f64; RING], v: [f64; RING], c: f64) -> f64 {
+    let mut l = 0.0;
+    for i in 0..RING {
+        let stretch = x[(i + 1) % RING] - x[i];
+        l += 0.5 * v[i] * v[i] - (1.0 - x[i].cos()) - 0.5 * c * stretch * stretch;
+    }
+    l
+}
+
+const SMALL: usize = 64;
+
+/// The same ring at the threshold's size.
+#[lagrangian]
+fn small_ring(x: [f64; SMALL], v: [f64; SMALL], c: f64) -> f64 {
+    let mut l = 0.0;
+    for i in 0..SMALL {
+        let stretch = x[(i + 1) % SMALL] - x[i];
+        l += 0.5 * v[i] * v[i] - (1.0 - x[i].cos()) - 0.5 * c * stretch * stretch;
+    }
+    l
+}
+
+/// A kink-like initial displacement of `n` sites.
+fn displaced(n: usize) -> (Vec<f64>, Vec<f64>) {
+    let q0 = (0..n)
+        .map(|i| 0.8 * (2.0 * std::f64::consts::PI * i as f64 / n as f64).sin())
+        .collect();
+    let v0 = (0..n).map(|i| 0.1 * (i as f64 * 0.37).cos()).collect();
+    (q0, v0)
+}
+
+/// Runs `f` on a thread with a stack of `bytes`.
+fn on_stack<T: Send>(bytes: usize, f: impl FnOnce() -> T + Send) -> T {
+    std::thread::scope(|scope| {
+        std::thread::Builder::new()
+            .stack_size(bytes)
+            .spawn_scoped(scope, f)
+            .expect("a thread")
+            .join()
+            .expect("no overflow, no panic")
+    })
+}
+
+#[test]
+fn a_ring_of_256_runs_through_problem_on_a_two_megabyte_stack() {
+    const { assert!(RING >= RUN_TIME_FROM) };
+    let model = SineGordon { c: 4.0 };
+    let grid = Grid::new(0.0, 1.0, 40).unwrap();
+    let (q0, v0) = displaced(RING);
+    on_stack(2 << 20, || {
+        for embedding in embeddings() {
+            for scheme in [Scheme::Direct, Scheme::Variational] {
+                let x0 = Vector::<RING>::from_column_slice(&q0);
+                let u0 = Vector::<RING>::from_column_slice(&v0);
+                let run = Problem::new(&model, grid, embedding)
+                    .solve_ivp(scheme, x0, u0)
+                    .unwrap();
+                let reference = DynProblem::new(&model, grid, embedding)
+                    .solve_ivp(scheme, &q0, &v0)
+                    .unwrap();
+                assert_eq!(run.q.len(), grid.n() + 1);
+                for (k, node) in run.q.iter().enumerate() {
+                    assert_eq!(node.as_slice(), reference.node(k), "{embedding} {scheme:?}");
+                }
+            }
+        }
+    });
+}
+
+#[test]
+fn at_the_threshold_problem_gives_the_const_generic_nodes() {
+    const { assert!(SMALL == RUN_TIME_FROM) };
+    let model = SmallRing { c: 4.0 };
+    // `Dense` forwards the model but not its run-time form: the const-generic path.
+    assert!(Lagrangian::<SMALL>::run_time(&model).is_some());
+    assert!(Lagrangian::<SMALL>::run_time(&Dense(&model)).is_none());
+    let grid = Grid::new(0.0, 2.0, 100).unwrap();
+    let (q0, v0) = displaced(SMALL);
+    let (x0, u0) = (
+        Vector::<SMALL>::from_column_slice(&q0),
+        Vector::<SMALL>::from_column_slice(&v0),
+    );
+    // The const-generic path keeps `64 × 64` blocks on the stack: a large one.
+    on_stack(64 << 20, || {
+        for embedding in embeddings() {
+            for scheme in [Scheme::Direct, Scheme::Variational] {
+                let routed: Solution<SMALL> = Problem::new(&model, grid, embedding)
+                    .solve_ivp(scheme, x0, u0)
+                    .unwrap();
+                let reference = Problem::new(&Dense(&model), grid, embedding)
+                    .solve_ivp(scheme, x0, u0)
+                    .unwrap();
+                let size = reference.q.iter().map(|q| q.amax()).fold(0.0, f64::max);
+                let gap = routed
+                    .q
+                    .iter()
+                    .zip(&reference.q)
+                    .map(|(a, b)| (a - b).amax())
+                    .fold(0.0, f64::max);
+                assert!(gap <= 1e-12 * size, "{embedding} {scheme:?}: {gap:e}");
+            }
+        }
+    });
+}
