@@ -1,7 +1,8 @@
-//! Fractional (Grünwald–Letnikov) boundary value problems: the dense and fast solvers, orders, hard and ill-posed cases. One test binary for the group.
+//! Fractional (Grünwald–Letnikov, and its Caputo form) boundary value problems: the dense and fast solvers, orders, hard and ill-posed cases, bad input. One test binary for the group.
 
 mod alpha_one;
 mod caputo;
+mod caputo_input;
 mod end_forcing;
 mod fractional_fast;
 mod fractional_orders;
