@@ -8,8 +8,8 @@ use crate::side::Side;
 use std::fmt;
 use std::ops::RangeInclusive;
 
-mod kind;
-pub use kind::EmbeddingKind;
+pub(crate) mod kind;
+pub(crate) use kind::EmbeddingKind;
 
 /// Which discrete scheme of an embedding.
 ///
