@@ -318,10 +318,11 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
 }
 
 /// Below this fraction of the solution's largest node an end value counts as zero in
-/// [`fractional_warnings`]: the non-converging part of the error it causes is proportional to it
-/// (0.05 times the end value on the oscillator of [`Warning::InfiniteFractionalAction`]), so
-/// below `10⁻⁸` of the curve it is under the discretisation error at any `N` a fractional solve
-/// reaches, and data meant to be zero but computed (`sin π`) are not flagged.
+/// [`fractional_warnings`]: the part of the error it causes that does not converge is
+/// proportional to it (about 0.05 times the end value on the oscillator of
+/// [`Warning::InfiniteFractionalAction`]), so below `10⁻⁸` of the curve it stays under about
+/// `10⁻⁹` of it, below the discretisation error of fractional solves at practical `N`; and
+/// data meant to be zero but computed (`sin π`) are not flagged.
 const END_VALUE_NEGLIGIBLE: f64 = 1e-8;
 
 /// What a fractional boundary value problem's solution `q` should carry, from its data alone:
