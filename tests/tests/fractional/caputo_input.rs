@@ -53,6 +53,16 @@ fn initial_value_problems_and_node_values_are_unsupported_and_name_the_embedding
                 other => panic!("{name} {scheme}: {other:?}"),
             }
         }
+        for scheme in [Scheme::Direct, Scheme::Variational] {
+            assert!(matches!(
+                problem.solve_ivp_from_nodes(scheme, 0.3, 0.31),
+                Err(Error::Unsupported { embedding, .. }) if embedding == name
+            ));
+        }
+        assert!(matches!(
+            problem.compare_ivp(0.3, 0.0),
+            Err(Error::Unsupported { embedding, .. }) if embedding == name
+        ));
         let solution = problem.solve_bvp(Scheme::Variational, 0.3, 1.0).unwrap();
         assert!(matches!(
             solution.node_values(&Pendulum),
