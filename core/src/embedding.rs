@@ -8,6 +8,9 @@ use crate::side::Side;
 use std::fmt;
 use std::ops::RangeInclusive;
 
+pub(crate) mod kind;
+pub(crate) use kind::EmbeddingKind;
+
 /// Which discrete scheme of an embedding.
 ///
 /// With `f_k = ∂L/∂x` and `p_k = ∂L/∂v` at `(Q_k, V_k, t_k)` on the quadrature rows, the
@@ -66,79 +69,6 @@ impl fmt::Display for Scheme {
             Scheme::Variational => "variational",
         })
     }
-}
-
-/// The families of discrete embeddings: the three of the paper, and the two symmetric ones
-/// (midpoint and trapezoidal) whose discrete Lagrangians are second order.
-///
-/// ```
-/// use varembed::{Embedding, EmbeddingKind, Side};
-/// let kind = Embedding::grunwald_letnikov(Side::Forward, 0.5)?.kind();
-/// assert_eq!(kind, EmbeddingKind::GrunwaldLetnikov { alpha: 0.5 });
-/// # Ok::<(), varembed::Error>(())
-/// ```
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub enum EmbeddingKind {
-    /// Gauss-FDEσ (paper §2.1): the direct scheme substitutes `d/dt ↦ −σΔ_σ`. Not coherent.
-    FiniteDifference,
-    /// The asymmetric Gauss-FDEσ (paper §2.3): `d_− ↦ Δ_−`, `d_+ ↦ Δ_+`. Coherent.
-    Asymmetric,
-    /// Gauss-GLEσ (paper §3): `D^α_± ↦ Δ^α_±`. Coherent. Only boundary value problems
-    /// (every node couples to every other).
-    ///
-    /// # Which α give a two-point problem
-    ///
-    /// The discrete system is solvable for every `0 < α ≤ 1`, but for `α ≤ 1/2` it does not
-    /// discretise a continuous two-point problem: the action's natural space is `H^α`, whose
-    /// curves have point values only when `α > 1/2`, so `q(b)` cannot be imposed and in general
-    /// there is no continuous solution. The discrete solutions show it as a boundary layer:
-    /// under Gauss-GLE− (pendulum `L = ½v² + cos x`, `[0, 1]`, `Q_0 = 0`, `Q_N = 1`) the jump
-    /// `Q_N − Q_{N−1}` at `t = b` is, for N = 100, 200, 400,
-    ///
-    /// | α | jump | as `h → 0` |
-    /// | --- | --- | --- |
-    /// | 0.05 | 0.80, 0.84, 0.86 | grows: the interior ignores `q(b)` |
-    /// | 0.3 | 0.44, 0.47, 0.49 | grows |
-    /// | 0.5 | 0.156, 0.150, 0.144 | borderline, barely decays |
-    /// | 0.7 | 0.036, 0.028, 0.021 | vanishes, ≈ `h^{2(α−1/2)}` |
-    /// | 1 | 0.0118, 0.0059, 0.0029 | vanishes, `O(h)` |
-    ///
-    /// For `α > 1/2` the solutions converge (slowly near 1/2), change continuously with α and
-    /// tend to the classical ones as α → 1, at distance `O(1 − α)`. Tested in
-    /// `tests/tests/fractional/hard_fractional.rs`.
-    GrunwaldLetnikov {
-        /// The order `0 < α ≤ 1`.
-        alpha: f64,
-    },
-    /// The variational Gauss–Legendre integrator of `s` stages, order `2s` (Marsden–West
-    /// §2.6; Hairer–Lubich–Wanner VI.6): the discrete Lagrangian
-    /// `L_d(q_k, q_{k+1}) = h Σ_i b_i L(Q_i, V_i, t_k + c_i h)` over the degree-`s` polynomial
-    /// through `q_k` and `q_{k+1}` collocated at the Gauss nodes, as a one-step map of
-    /// `(q_k, p_k)` (a symplectic partitioned Runge–Kutta method). Variational only: it is
-    /// built from the action, with a polynomial on each step and a quadrature rule at its
-    /// stages, not from an operator on the nodes that could be substituted into the
-    /// Euler–Lagrange equation, so it has no direct scheme in the paper's sense and asking for
-    /// one is [`Error::Unsupported`] ([schemes](crate::guide::schemes) says why, and how Gauss
-    /// collocation of the equation relates to it). Only initial value problems
-    /// ([solvers](crate::guide::solvers)).
-    GaussLegendre {
-        /// The number of stages `1 ≤ s ≤ 4`.
-        stages: usize,
-    },
-    /// The midpoint embedding: the discrete Lagrangian
-    /// `L_d(Q_k, Q_{k+1}) = h L((Q_k + Q_{k+1})/2, (Q_{k+1} − Q_k)/h, t_k + h/2)`. Its
-    /// variational scheme is the implicit midpoint rule's variational integrator (on a linear
-    /// system, the Cayley transform: A-stable); its direct scheme evaluates `∂L/∂x` at the node
-    /// with the centred velocity. Not coherent: the two schemes differ by `O(h²)`
-    /// ([schemes](crate::guide::schemes)).
-    Midpoint,
-    /// The trapezoidal embedding: the discrete Lagrangian
-    /// `L_d(Q_k, Q_{k+1}) = h/2 [L(Q_k, V, t_k) + L(Q_{k+1}, V, t_{k+1})]`,
-    /// `V = (Q_{k+1} − Q_k)/h`. Its variational scheme is Störmer–Verlet on `½|v|² − U(x)`
-    /// (stable for `ωh < 2`); its direct scheme evaluates `∂L/∂x` at the node with the centred
-    /// velocity. Not coherent where `∂L/∂x` is not affine in `v`
-    /// ([schemes](crate::guide::schemes)).
-    Trapezoidal,
 }
 
 /// A discrete embedding: a family and a side σ.
@@ -227,6 +157,46 @@ impl Embedding {
         }
         Ok(Embedding {
             kind: EmbeddingKind::GrunwaldLetnikov { alpha },
+            side,
+        })
+    }
+
+    /// Gauss-GLEσ in the Caputo form ([`EmbeddingKind::Caputo`]) of order α: the velocity
+    /// `V = −σ Δ^α_σ (Q − Q_e)`, `Q_e` the end node where the derivative starts (`Q_0` for
+    /// σ = −, `Q_N` for σ = +); errors unless `0 < α ≤ 1`. For boundary data that do not
+    /// vanish at that end, where Gauss-GLEσ has infinite action for `α ≥ 1/2`
+    /// ([solvers](crate::guide::solvers)).
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, EmbeddingKind, Error, Grid, Problem, Scheme, Side, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn free(_x: f64, v: f64) -> f64 {
+    ///     0.5 * v * v
+    /// }
+    ///
+    /// let caputo = Embedding::caputo(Side::Backward, 0.8)?;
+    /// assert_eq!(caputo.kind(), EmbeddingKind::Caputo { alpha: 0.8 });
+    /// assert_eq!(caputo.to_string(), "Caputo Gauss-GLE− (α = 0.8)");
+    /// assert!(caputo.is_fractional() && caputo.is_coherent());
+    /// assert_eq!(Embedding::caputo(Side::Forward, 1.5), Err(Error::AlphaOutOfRange { alpha: 1.5 }));
+    ///
+    /// // A constant curve has zero Caputo velocity, so it is a critical point of the action:
+    /// // the data q(0) = q(1) = 0.3 give back the constant, with no warning.
+    /// let problem = Problem::new(&Free, Grid::new(0.0, 1.0, 16)?, caputo);
+    /// let solution = problem.solve_bvp(Scheme::Variational, 0.3, 0.3)?;
+    /// assert!(solution.q.iter().all(|q| (q[0] - 0.3).abs() < 1e-12));
+    /// assert!(solution.warnings.is_empty());
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn caputo(side: Side, alpha: f64) -> Result<Self> {
+        if !(alpha > 0.0 && alpha <= 1.0) {
+            return Err(Error::AlphaOutOfRange { alpha });
+        }
+        Ok(Embedding {
+            kind: EmbeddingKind::Caputo { alpha },
             side,
         })
     }
@@ -358,24 +328,39 @@ impl Embedding {
     /// ```
     pub fn alpha(&self) -> f64 {
         match self.kind {
-            EmbeddingKind::GrunwaldLetnikov { alpha } => alpha,
+            EmbeddingKind::GrunwaldLetnikov { alpha } | EmbeddingKind::Caputo { alpha } => alpha,
             _ => 1.0,
         }
     }
-    /// Whether the embedding is Grünwald–Letnikov (even at α = 1, where its operators equal
-    /// the classical ones but are stored densely).
+    /// Whether the embedding is Grünwald–Letnikov, in either form (even at α = 1, where its
+    /// operators equal the classical ones but are stored densely).
     ///
     /// ```
     /// use varembed::{Embedding, EmbeddingKind, Side};
     /// assert!(Embedding::grunwald_letnikov(Side::Forward, 1.0)?.is_fractional());
+    /// assert!(Embedding::caputo(Side::Forward, 0.6)?.is_fractional());
     /// assert!(!Embedding::asymmetric(Side::Forward).is_fractional());
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn is_fractional(&self) -> bool {
-        matches!(self.kind, EmbeddingKind::GrunwaldLetnikov { .. })
+        matches!(
+            self.kind,
+            EmbeddingKind::GrunwaldLetnikov { .. } | EmbeddingKind::Caputo { .. }
+        )
+    }
+
+    /// The node whose value the velocity subtracts from the curve: `Some(0)` (σ = −) or
+    /// `Some(N)` (σ = +) for the Caputo form, `None` for every other embedding.
+    pub(crate) fn caputo_end(&self, n: usize) -> Option<usize> {
+        match (self.kind, self.side) {
+            (EmbeddingKind::Caputo { .. }, Side::Backward) => Some(0),
+            (EmbeddingKind::Caputo { .. }, Side::Forward) => Some(n),
+            _ => None,
+        }
     }
     /// Whether the embedding is coherent (direct = variational): proved by the paper for the
-    /// asymmetric Gauss-FDEσ and Gauss-GLEσ. Gauss-FDEσ is not; neither are the midpoint and
+    /// asymmetric Gauss-FDEσ and Gauss-GLEσ, and so for the Caputo form, whose two schemes are
+    /// Gauss-GLEσ's rows at its own velocity. Gauss-FDEσ is not; neither are the midpoint and
     /// trapezoidal embeddings, whose direct scheme evaluates `∂L/∂x` once at the node where
     /// the variational one averages it over the two neighbouring intervals
     /// ([schemes](crate::guide::schemes)); the Gauss–Legendre integrators have no direct scheme
@@ -391,7 +376,9 @@ impl Embedding {
     pub fn is_coherent(&self) -> bool {
         matches!(
             self.kind,
-            EmbeddingKind::Asymmetric | EmbeddingKind::GrunwaldLetnikov { .. }
+            EmbeddingKind::Asymmetric
+                | EmbeddingKind::GrunwaldLetnikov { .. }
+                | EmbeddingKind::Caputo { .. }
         )
     }
 
@@ -435,9 +422,10 @@ impl Embedding {
     ///   `p_0 = −D₁L_d(Q_0, Q_1)` is second order).
     /// - Gauss–Legendre with `s` stages: `2s`, variational only (`None` for the direct
     ///   scheme, which it does not have).
-    /// - Gauss-GLEσ: 1 at α = 1 (the Gauss-FDEσ operators); `None` for `α < 1`, where the
-    ///   order depends on the data: the solution of a fractional problem is in general
-    ///   singular at the ends ([schemes](crate::guide::schemes)).
+    /// - Gauss-GLEσ, in either form: 1 at α = 1 (the Gauss-FDEσ operators, which ignore the
+    ///   Caputo shift); `None` for `α < 1`, where the order depends on the data: the solution
+    ///   of a fractional problem is in general singular at the ends
+    ///   ([schemes](crate::guide::schemes)).
     ///
     /// # Example
     ///
@@ -457,7 +445,9 @@ impl Embedding {
         match self.kind {
             EmbeddingKind::Midpoint | EmbeddingKind::Trapezoidal => Some(2),
             EmbeddingKind::FiniteDifference | EmbeddingKind::Asymmetric => Some(1),
-            EmbeddingKind::GrunwaldLetnikov { alpha } => (alpha == 1.0).then_some(1),
+            EmbeddingKind::GrunwaldLetnikov { alpha } | EmbeddingKind::Caputo { alpha } => {
+                (alpha == 1.0).then_some(1)
+            }
             // Variational only: no order for a direct scheme that does not exist.
             EmbeddingKind::GaussLegendre { stages } => {
                 (scheme == Scheme::Variational).then_some(2 * stages as u32)
@@ -507,7 +497,10 @@ impl Embedding {
 
     fn operator(&self, side: Side, grid: &Grid) -> Operator {
         match self.kind {
-            EmbeddingKind::GrunwaldLetnikov { alpha } => {
+            // The Caputo form's operators are Grünwald–Letnikov's: its velocity applies them to
+            // the shifted curve (the discretisation does), and its direct scheme applies the
+            // adjoint to the momenta as Gauss-GLEσ does.
+            EmbeddingKind::GrunwaldLetnikov { alpha } | EmbeddingKind::Caputo { alpha } => {
                 Operator::grunwald_letnikov(side, alpha, grid)
                     .expect("α was checked when the embedding was built")
             }
@@ -573,6 +566,7 @@ impl fmt::Display for Embedding {
             EmbeddingKind::FiniteDifference => write!(f, "Gauss-FDE{s}"),
             EmbeddingKind::Asymmetric => write!(f, "asymmetric Gauss-FDE{s}"),
             EmbeddingKind::GrunwaldLetnikov { alpha } => write!(f, "Gauss-GLE{s} (α = {alpha})"),
+            EmbeddingKind::Caputo { alpha } => write!(f, "Caputo Gauss-GLE{s} (α = {alpha})"),
             EmbeddingKind::GaussLegendre { stages } => write!(f, "Gauss–Legendre s = {stages}"),
             EmbeddingKind::Midpoint => f.write_str("midpoint"),
             EmbeddingKind::Trapezoidal => f.write_str("trapezoidal"),

@@ -81,6 +81,7 @@
 //! | stiff, only stability matters | Gauss-FDE−, [`Scheme::Direct`] | 1 | dissipative; stable at every `h` | implicit |
 //! | an equation, not a Lagrangian | [`DifferentialOperator`], [`DirectEmbedding`] | 1 | nothing | implicit |
 //! | a fractional boundary value problem | [`Embedding::grunwald_letnikov`], either scheme (coherent) | below 1, falling with α | nothing | a dense global system (FFT Newton–Krylov) |
+//! | the same, with data not vanishing where the derivative starts | [`Embedding::caputo`] (the Caputo derivative), either scheme | α, or more where the momentum vanishes there | nothing | as above |
 //!
 //! The paper's Gauss-FDEσ schemes are first order, and their direct schemes do not conserve
 //! energy (σ = − loses it, σ = + gains it): use them to reproduce the paper or in the cases
@@ -193,7 +194,8 @@ pub use dynamic::dense::DynState;
 pub use dynamic::ivp::{DynNode, DynRun};
 pub use dynamic::problem::{DynProblem, DynSolution};
 pub use dynamic::sparse::{SparseBlock, SparseHessian};
-pub use embedding::{Embedding, EmbeddingKind, Scheme};
+pub use embedding::kind::EmbeddingKind;
+pub use embedding::{Embedding, Scheme};
 pub use ensemble::Ensemble;
 pub use error::{Error, Location, Result};
 pub use grid::Grid;

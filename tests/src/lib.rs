@@ -9,6 +9,7 @@
 //! - [`reference`](mod@reference): closed-form discrete solutions of the harmonic oscillator's
 //!   schemes, and the pendulum's exact solution.
 //! - [`curve`]: max-norms of discrete curves and of their differences.
+//! - [`special`]: the Gamma function, for exact fractional solutions.
 //! - [`bench`](mod@bench): the criterion configurations and the `bench_main!` entry point.
 //!
 //! The integration tests of the workspace live in this package's `tests/` folder; the
@@ -21,4 +22,5 @@ pub mod curve;
 pub mod models;
 pub mod reference;
 pub mod rng;
+pub mod special;
 pub mod warnings;

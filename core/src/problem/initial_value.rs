@@ -32,8 +32,9 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         }
         let model = self.discretisation.lagrangian().run_time()?;
         let embedding = *self.discretisation.embedding();
-        if let EmbeddingKind::GaussLegendre { .. } | EmbeddingKind::GrunwaldLetnikov { .. } =
-            embedding.kind()
+        if let EmbeddingKind::GaussLegendre { .. }
+        | EmbeddingKind::GrunwaldLetnikov { .. }
+        | EmbeddingKind::Caputo { .. } = embedding.kind()
         {
             return None;
         }

@@ -177,7 +177,9 @@ pub(crate) fn rule(embedding: &Embedding, scheme: Scheme) -> Result<NodeRule> {
             order: 2 * stages as u32,
         }),
         (EmbeddingKind::GaussLegendre { .. }, Scheme::Direct)
-        | (EmbeddingKind::GrunwaldLetnikov { .. }, _) => Err(unsupported()),
+        | (EmbeddingKind::GrunwaldLetnikov { .. } | EmbeddingKind::Caputo { .. }, _) => {
+            Err(unsupported())
+        }
     }
 }
 

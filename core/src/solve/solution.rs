@@ -4,6 +4,7 @@ use crate::embedding::{Embedding, Scheme};
 use crate::error::Result;
 use crate::grid::Grid;
 use crate::lagrangian::{Lagrangian, Vector};
+use crate::side::Side;
 use crate::solve::nodes::NodeValues;
 use std::fmt;
 
@@ -19,6 +20,13 @@ use std::fmt;
 /// let gle = Embedding::grunwald_letnikov(Side::Backward, 0.4)?;
 /// let solution = Problem::new(&Pendulum, Grid::new(0.0, 1.0, 20)?, gle).solve_bvp(Scheme::Variational, 0.0, 1.0)?;
 /// assert_eq!(solution.warnings, [Warning::IllPosedFractional { alpha: 0.4 }]);
+/// // q(0) = 0.5 ≠ 0 under Gauss-GLE− at α = 0.7: infinite action.
+/// let gle = Embedding::grunwald_letnikov(Side::Backward, 0.7)?;
+/// let solution = Problem::new(&Pendulum, Grid::new(0.0, 1.0, 20)?, gle).solve_bvp(Scheme::Variational, 0.5, 1.0)?;
+/// assert_eq!(
+///     solution.warnings,
+///     [Warning::InfiniteFractionalAction { alpha: 0.7, side: Side::Backward, value: 0.5 }]
+/// );
 /// # Ok::<(), varembed::Error>(())
 /// ```
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -37,6 +45,30 @@ pub enum Warning {
     IllPosedFractional {
         /// The order α of the Grünwald–Letnikov embedding.
         alpha: f64,
+    },
+    /// A Gauss-GLEσ boundary value problem of order `1/2 ≤ α < 1` whose value at the end where
+    /// the derivative starts is not zero: `q(a)` for σ = −, `q(b)` for σ = +.
+    ///
+    /// The Riemann–Liouville derivative of such a curve behaves like
+    /// `q(a) (t − a)^{−α} / Γ(1 − α)` next to `a` (σ = −; `(b − t)^{−α}` next to `b` for
+    /// σ = +), whose square is not integrable for `α ≥ 1/2`: every curve with these end values
+    /// has infinite action, the continuous problem has no minimiser, and the discrete solutions
+    /// do not converge as `N` grows (on `L = ½v² − ½x² + x`, `q(0) = 0.3`, `q(1) = 1`, σ = −,
+    /// `α = 0.9`, the convergence study's error estimates are 0.0145, 0.0147, 0.0148, 0.0149 at
+    /// `N = 50, 100, 200, 400`).
+    /// The [Caputo form](crate::Embedding::caputo) differentiates `q − q(a)` instead and has a
+    /// finite action for any end values. For `α < 1/2` the singular term is square integrable
+    /// and nothing is flagged here (such problems carry [`Warning::IllPosedFractional`]); at
+    /// `α = 1` the operator is the classical difference, which has no singular term. The end
+    /// value counts as not zero above `10⁻⁸` times the solution's largest node
+    /// ([solvers](crate::guide::solvers) says why).
+    InfiniteFractionalAction {
+        /// The order α of the Grünwald–Letnikov embedding.
+        alpha: f64,
+        /// The side σ: the end is `a` for [`Side::Backward`], `b` for [`Side::Forward`].
+        side: Side,
+        /// The end value's size `|q(a)|∞` (σ = −) or `|q(b)|∞` (σ = +).
+        value: f64,
     },
     /// An implicit initial value run whose step does not resolve the fastest motion of the
     /// equation linearised at the initial data: `h ω` above `limit` (2 per stage: 2 for the
@@ -80,6 +112,22 @@ impl fmt::Display for Warning {
                  both end values imposed has no continuous solution for generic data; the \
                  discrete solutions need not converge as N grows"
             ),
+            Warning::InfiniteFractionalAction { alpha, side, value } => {
+                let (end, sign) = match side {
+                    Side::Backward => ("a", "(t − a)^{−α}"),
+                    Side::Forward => ("b", "(b − t)^{−α}"),
+                };
+                write!(
+                    f,
+                    "infinite action: the curve's value at {end} is not zero (|q({end})| = \
+                     {value:.3e}), so its Riemann–Liouville derivative of order α = {alpha} \
+                     behaves like {sign} there, whose square is not integrable for α ≥ 1/2: \
+                     every curve with these end values has infinite action and the discrete \
+                     solutions need not converge as N grows. Use the Caputo form \
+                     (Embedding::caputo), which differentiates q − q({end}), or data vanishing \
+                     at {end}"
+                )
+            }
             Warning::IllPosed { measure } => write!(
                 f,
                 "ill-posed: the linearised boundary value problem is nearly singular (smallest \

@@ -1,5 +1,5 @@
 //! Coherence (paper §2.2–3.2): on random Q the direct and variational residuals
-//! agree to round-off for the asymmetric Gauss-FDE± and Gauss-GLE±, and differ by O(1) for
+//! agree to round-off for the asymmetric Gauss-FDE± and Gauss-GLE± (both forms), and differ by O(1) for
 //! Gauss-FDE±.
 
 use varembed::{Embedding, Grid, Problem, Scheme, Side};
@@ -15,6 +15,7 @@ fn asymmetric_and_grunwald_letnikov_embeddings_are_coherent() {
         let mut embeddings = vec![Embedding::asymmetric(side)];
         for alpha in [0.1, 0.3, 0.5, 0.7, 0.9, 1.0] {
             embeddings.push(Embedding::grunwald_letnikov(side, alpha).unwrap());
+            embeddings.push(Embedding::caputo(side, alpha).unwrap());
         }
         for embedding in embeddings {
             let problem = Problem::new(&Coupled, grid, embedding);

@@ -50,6 +50,7 @@ fn variational_residual_is_the_gradient_of_the_discrete_action() {
         embeddings.push(Embedding::asymmetric(side));
         for alpha in [1.0, 0.3, 0.7] {
             embeddings.push(Embedding::grunwald_letnikov(side, alpha).unwrap());
+            embeddings.push(Embedding::caputo(side, alpha).unwrap());
         }
     }
     for embedding in embeddings {

@@ -38,6 +38,10 @@ pub(super) fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
     // Through the differences of the curve (see `FftOperator`): the residual's accuracy rests
     // on V's, whose error the rows amplify by h^{−α}.
     system.velocity.apply_by_differences_inplace(q, &mut v)?;
+    if let Some(end) = disc.embedding().caputo_end(n) {
+        // The Caputo form: the end node's term taken out (a rank-one correction, no copy).
+        disc.velocity_operator().remove_end_term(q[end], &mut v);
+    }
     let minus_sigma = -system.sigma;
     // r starts as f on the interior nodes; p goes in the rows' buffer (no allocation per call).
     let mut r = vec![Vector::<D>::zeros(); n - 1];

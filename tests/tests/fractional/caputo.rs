@@ -1,0 +1,296 @@
+//! The Caputo form of Gauss-GLEσ against exact solutions with `q(a) ≠ 0`.
+//!
+//! On `[0, 1]`, σ = −: choose the momentum `p(t)` a polynomial with `p(1) = 0`; then
+//! `q = q_a + I^α_− p` (left Riemann–Liouville integral, `I^α tᵏ = k!/Γ(k + 1 + α) t^{k+α}`) has
+//! Caputo derivative `D^α_C q = D^α_− (q − q_a) = p`, and it solves the Euler–Lagrange equation
+//! `∂_x L + D^α_+ (∂_v L) = 0` of `L = ½v² + c cos x − F(t) x` with
+//! `F = D^α_+ p − c sin q`, where `D^α_+ p` is in closed form once `p` is written in powers of
+//! `1 − t` (`D^α_+ (1 − t)^j = j!/Γ(j + 1 − α) (1 − t)^{j−α}`; `p(1) = 0` keeps it bounded).
+//! σ = + is the mirror image: `q(1 − t)` solves the problem of `F(1 − t)` under the right
+//! Caputo derivative, whose end is `b`.
+
+use varembed::{
+    Embedding, FractionalSolver, Grid, Hessian, Lagrangian, Matrix, Problem, Scheme, Side, Vector,
+    observed_orders,
+};
+use varembed_tests::curve::v1;
+use varembed_tests::special::gamma;
+
+/// An exact solution: `q = q_a + I^α p` with `p = Σ_k coefficients[k] tᵏ`, `p(1) = 0`.
+struct Exact {
+    alpha: f64,
+    qa: f64,
+    /// `p` in powers of `t`.
+    p: Vec<f64>,
+    /// The weight `c` of `c cos x` in `L`.
+    c: f64,
+}
+
+impl Exact {
+    /// `q(t)` on the σ = − problem.
+    fn q(&self, t: f64) -> f64 {
+        let a = self.alpha;
+        self.qa
+            + self
+                .p
+                .iter()
+                .enumerate()
+                .map(|(k, pk)| {
+                    pk * gamma(k as f64 + 1.0) / gamma(k as f64 + 1.0 + a) * t.powf(k as f64 + a)
+                })
+                .sum::<f64>()
+    }
+
+    /// `D^α_+ p(t)`: `p = Σ_j ρ_j uʲ`, `u = 1 − t`, `ρ_j = (−1)ʲ Σ_k p_k C(k, j)`, `ρ_0 = 0`.
+    fn right_derivative_of_p(&self, t: f64) -> f64 {
+        let (a, u) = (self.alpha, 1.0 - t);
+        let mut total = 0.0;
+        for j in 1..self.p.len() {
+            let rho: f64 = self
+                .p
+                .iter()
+                .enumerate()
+                .skip(j)
+                .map(|(k, pk)| pk * binomial(k, j))
+                .sum::<f64>()
+                * if j % 2 == 0 { 1.0 } else { -1.0 };
+            total += rho * gamma(j as f64 + 1.0) / gamma(j as f64 + 1.0 - a) * u.powf(j as f64 - a);
+        }
+        total
+    }
+
+    /// The forcing `F = D^α_+ p − c sin q` of the σ = − problem.
+    fn forcing(&self, t: f64) -> f64 {
+        self.right_derivative_of_p(t) - self.c * self.q(t).sin()
+    }
+}
+
+fn binomial(k: usize, j: usize) -> f64 {
+    (0..j).fold(1.0, |c, i| c * (k - i) as f64 / (i + 1) as f64)
+}
+
+/// `L = ½v² + c cos x − F(t) x`, `F` tabulated from an [`Exact`] solution (mirrored for σ = +).
+struct Forced<'e> {
+    exact: &'e Exact,
+    mirrored: bool,
+}
+
+impl Forced<'_> {
+    fn forcing(&self, t: f64) -> f64 {
+        self.exact.forcing(if self.mirrored { 1.0 - t } else { t })
+    }
+}
+
+impl Lagrangian<1> for Forced<'_> {
+    fn value(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> f64 {
+        0.5 * v[0] * v[0] + self.exact.c * x[0].cos() - self.forcing(t) * x[0]
+    }
+    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> (Vector<1>, Vector<1>) {
+        (v1(-self.exact.c * x[0].sin() - self.forcing(t)), *v)
+    }
+    fn hessian(&self, x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
+        Hessian {
+            xx: Matrix::<1>::new(-self.exact.c * x[0].cos()),
+            xv: Matrix::<1>::zeros(),
+            vv: Matrix::<1>::identity(),
+        }
+    }
+}
+
+/// The max nodal error of the Caputo solution on `N` steps.
+fn error(exact: &Exact, side: Side, scheme: Scheme, solver: FractionalSolver, n: usize) -> f64 {
+    let mirrored = side == Side::Forward;
+    let model = Forced { exact, mirrored };
+    let q = |t: f64| exact.q(if mirrored { 1.0 - t } else { t });
+    let embedding = Embedding::caputo(side, exact.alpha).unwrap();
+    let grid = Grid::new(0.0, 1.0, n).unwrap();
+    let solution = Problem::new(&model, grid, embedding)
+        .with_fractional_solver(solver)
+        .solve_bvp(scheme, q(0.0), q(1.0))
+        .unwrap();
+    assert!(solution.warnings.is_empty(), "{:?}", solution.warnings);
+    solution
+        .q
+        .iter()
+        .zip(grid.nodes())
+        .fold(0.0f64, |m, (x, t)| m.max((x[0] - q(t)).abs()))
+}
+
+/// `p = 1 + t − 2t²` (`p(0) = 1`): `q − q_a ~ t^α/Γ(1 + α)` next to `a`, the generic
+/// behaviour of a Caputo solution.
+fn generic(alpha: f64) -> Exact {
+    Exact {
+        alpha,
+        qa: 0.5,
+        p: vec![1.0, 1.0, -2.0],
+        c: 1.0,
+    }
+}
+
+/// `p = t − t³` (`p(0) = 0`): `q − q_a ~ t^{1+α}` next to `a`.
+fn flat_at_a(alpha: f64) -> Exact {
+    Exact {
+        alpha,
+        qa: 0.5,
+        p: vec![0.0, 1.0, 0.0, -1.0],
+        c: 1.0,
+    }
+}
+
+/// Errors on `ns` and the orders between them, every order in `orders` and the last error at
+/// most 1.1 times `last` (the value measured when the test was written).
+fn converges(
+    exact: &Exact,
+    side: Side,
+    (scheme, solver): (Scheme, FractionalSolver),
+    ns: &[usize],
+    orders: (f64, f64),
+    last: f64,
+) {
+    let errors: Vec<(usize, f64)> = ns
+        .iter()
+        .map(|&n| (n, error(exact, side, scheme, solver, n)))
+        .collect();
+    let observed = observed_orders(&errors);
+    let what = format!(
+        "α = {} {side:?} {scheme} {solver:?}: {errors:?}, orders {observed:?}",
+        exact.alpha
+    );
+    assert!(
+        observed.iter().all(|o| (orders.0..=orders.1).contains(o)),
+        "{what}"
+    );
+    assert!(errors.last().unwrap().1 <= 1.1 * last, "{what}");
+}
+
+const DENSE: (Scheme, FractionalSolver) = (Scheme::Variational, FractionalSolver::Dense);
+const FAST: (Scheme, FractionalSolver) = (Scheme::Variational, FractionalSolver::Fast);
+
+/// Generic data: order α, both sides (measured on `N = 50 … 400`: 0.608, 0.606, 0.604 at
+/// α = 0.6; 0.794, 0.797, 0.799 at α = 0.8; the same for σ = +, the mirror image).
+#[test]
+fn generic_data_converge_at_order_alpha() {
+    for (alpha, last) in [(0.6, 3.284e-3), (0.8, 6.101e-4)] {
+        for side in [Side::Backward, Side::Forward] {
+            let orders = (alpha - 0.03, alpha + 0.05);
+            converges(
+                &generic(alpha),
+                side,
+                DENSE,
+                &[50, 100, 200, 400],
+                orders,
+                last,
+            );
+        }
+    }
+}
+
+/// A momentum vanishing at `a`: order about `1 + α` (measured on `N = 50 … 400`: 1.57, 1.59,
+/// 1.60 at α = 0.6; 1.60, 1.66, 1.70 at α = 0.8, still rising).
+#[test]
+fn data_flat_at_the_start_converge_faster() {
+    for (alpha, last) in [(0.6, 3.383e-6), (0.8, 1.289e-6)] {
+        for side in [Side::Backward, Side::Forward] {
+            converges(
+                &flat_at_a(alpha),
+                side,
+                DENSE,
+                &[50, 100, 200, 400],
+                (1.5, 1.9),
+                last,
+            );
+        }
+    }
+}
+
+/// The fast path (its residual's velocity corrected by the rank-one end term) continues the
+/// same orders to `N = 6400` (measured: generic 0.6012, 0.6006, 0.6003 at α = 0.6; flat at `a`
+/// 1.741, 1.754, 1.764 at α = 0.8), and agrees with the dense solve where both run.
+#[test]
+fn the_fast_path_continues_the_orders() {
+    let ns = [800, 1600, 3200, 6400];
+    for side in [Side::Backward, Side::Forward] {
+        converges(&generic(0.6), side, FAST, &ns, (0.58, 0.65), 6.203e-4);
+        converges(&flat_at_a(0.8), side, FAST, &ns, (1.65, 1.9), 1.020e-8);
+        for exact in [generic(0.8), flat_at_a(0.6)] {
+            let dense = error(
+                &exact,
+                side,
+                Scheme::Variational,
+                FractionalSolver::Dense,
+                300,
+            );
+            let fast = error(
+                &exact,
+                side,
+                Scheme::Variational,
+                FractionalSolver::Fast,
+                300,
+            );
+            assert!(
+                (dense - fast).abs() <= 1e-9 * dense,
+                "{dense:e} vs {fast:e}"
+            );
+        }
+    }
+}
+
+/// The direct scheme (the right Riemann–Liouville operator applied to the momenta) has the same
+/// solutions: the embedding is coherent.
+#[test]
+fn the_direct_scheme_converges_the_same() {
+    let direct = (Scheme::Direct, FractionalSolver::Dense);
+    for side in [Side::Backward, Side::Forward] {
+        converges(
+            &generic(0.8),
+            side,
+            direct,
+            &[100, 200],
+            (0.77, 0.85),
+            1.062e-3,
+        );
+        converges(
+            &flat_at_a(0.6),
+            side,
+            direct,
+            &[100, 200],
+            (1.5, 1.9),
+            1.024e-5,
+        );
+    }
+}
+
+/// The discrete velocity is the Grünwald–Letnikov sum of the shifted curve, computed here from
+/// the weights' definition `α_r = (−1)^r C(α, r)` by a loop of its own.
+#[test]
+fn the_velocity_is_grunwald_letnikov_of_the_shifted_curve() {
+    let (n, alpha) = (12, 0.7);
+    let grid = Grid::new(0.0, 1.2, n).unwrap();
+    let q: Vec<Vector<1>> = (0..=n).map(|k| v1(0.4 + (0.9 * k as f64).cos())).collect();
+    let weight = |r: usize| (0..r).fold(1.0, |w, i| -w * (alpha - i as f64) / (i + 1) as f64);
+    let h_alpha = grid.h().powf(-alpha);
+    for side in [Side::Backward, Side::Forward] {
+        let problem = Problem::new(&Free, grid, Embedding::caputo(side, alpha).unwrap());
+        for (k, v) in problem.quadrature_velocities(&q).unwrap() {
+            let want = match side {
+                Side::Backward => (0..=k)
+                    .map(|r| weight(r) * (q[k - r][0] - q[0][0]))
+                    .sum::<f64>(),
+                Side::Forward => -(0..=n - k)
+                    .map(|r| weight(r) * (q[k + r][0] - q[n][0]))
+                    .sum::<f64>(),
+            } * h_alpha;
+            assert!(
+                (v[0] - want).abs() <= 1e-12 * want.abs().max(1.0),
+                "{side:?} k = {k}: {} vs {want}",
+                v[0]
+            );
+        }
+    }
+}
+
+/// `L = ½v²`.
+#[varembed::lagrangian]
+fn free(_x: f64, v: f64) -> f64 {
+    0.5 * v * v
+}
