@@ -147,9 +147,10 @@ impl StepKind {
     /// The time at which a closed-form step evaluates its equation: that of the single
     /// term of a Gauss-FDEσ kind, `t_y` (`@right`) or `t_b` (`@left`).
     fn equation_time(self, times: &StepTimes) -> f64 {
-        equation_terms(self).as_slice()[0]
-            .point
-            .time(times.t_b, times.t_y)
+        match equation_terms(self).first().point {
+            Point::Right => times.t_y,
+            _ => times.t_b,
+        }
     }
 }
 
@@ -321,8 +322,8 @@ fn block_sum<const D: usize>(hs: &Hessian<D>, w: BlockWeights) -> Matrix<D> {
 /// multiplies is never computed.
 #[inline(always)]
 fn sum_terms<T>(terms: &Terms, mut each: impl FnMut(&Term) -> T, add: impl Fn(T, T) -> T) -> T {
+    let mut sum = each(&terms.first());
     let terms = terms.as_slice();
-    let mut sum = each(&terms[0]);
     if let Some(term) = terms.get(1) {
         sum = add(sum, each(term));
     }
@@ -342,6 +343,19 @@ fn momentum_from<const D: usize>(
     eval: impl Fn(&Vector<D>, &Vector<D>, f64) -> (f64, Vector<D>, Vector<D>),
 ) -> (Vector<D>, (f64, Vector<D>)) {
     let h = times.h;
+    if let Some(term) = single_term(kind) {
+        // The Gauss-FDEσ kinds, the explicit runs' path: their one term written out, so that
+        // the stepping loop of an explicit run keeps its shape (measured: through the general
+        // sum below, the explicit Kepler run was 1.4× slower, BENCHMARKS.md).
+        let v = (b - a) * times.inv_h;
+        let (x, t) = match term.point {
+            Point::Right => (b, times.t_b),
+            _ => (a, times.t_a),
+        };
+        let (l, f, p) = eval(x, &v, t);
+        let pi = if term.f != 0.0 { p + f * h } else { p };
+        return (pi, (l, p));
+    }
     sum_terms(
         &momentum_terms(kind),
         |term| {
@@ -358,12 +372,31 @@ fn momentum_from<const D: usize>(
     )
 }
 
+/// The one term of a Gauss-FDEσ kind's momentum (`p` or `p + h f` at a node), `None` for the
+/// symmetric kinds.
+#[inline(always)]
+fn single_term(kind: StepKind) -> Option<Term> {
+    match kind {
+        StepKind::VariationalBackward
+        | StepKind::VariationalForward
+        | StepKind::DirectBackward
+        | StepKind::DirectForward => Some(momentum_terms(kind).first()),
+        _ => None,
+    }
+}
+
 /// `G(y)` of a closed-form step at `y = b`, from the gradient at `b`: its single term's
 /// `w_p p + w_f h f`. Only the Gauss-FDEσ kinds reach it (the symmetric steps are never
 /// planned in closed form).
 #[inline(always)]
 fn equation<const D: usize>(kind: StepKind, f: Vector<D>, p: Vector<D>, h: f64) -> Vector<D> {
-    weighted(&equation_terms(kind).as_slice()[0], p, f, h)
+    // `p` or `p − h f`: the table's weights are 1 and 0 or −1, written out as the explicit
+    // runs take it.
+    if equation_terms(kind).first().f != 0.0 {
+        p - f * h
+    } else {
+        p
+    }
 }
 
 /// `h J` from the blocks at the evaluation point of a single-term kind.
@@ -373,7 +406,7 @@ fn equation<const D: usize>(kind: StepKind, f: Vector<D>, p: Vector<D>, h: f64) 
 /// Störmer–Verlet loop's.
 #[inline(always)]
 fn scaled_jacobian<const D: usize>(kind: StepKind, hs: &Hessian<D>, h: f64) -> Matrix<D> {
-    block_sum(hs, equation_terms(kind).as_slice()[0].block_weights(h))
+    block_sum(hs, equation_terms(kind).first().block_weights(h))
 }
 
 /// Residual `G(y) − π` of the step equation at the candidate newest node `y`, and its
@@ -420,37 +453,55 @@ pub(crate) fn residual_and_terms<const D: usize, L: Lagrangian<D> + ?Sized>(
 
 /// [`residual`] for one kind: the equation's terms on `[b, y]`.
 ///
-/// Forced inline: called out of line, Newton's loop evaluated every derivative the generated
-/// code computes, where inlined it drops those the step does not read (the direct midpoint
-/// step of the double pendulum ran 1.8× slower out of line, BENCHMARKS.md).
+/// Forced inline, as is each term's evaluation ([`equation_term`], a function rather than a
+/// closure: a closure is one function for every kind, which the optimiser does not inline
+/// into each of its call sites): called out of line, Newton's loop evaluated every derivative
+/// the generated code computes, where inlined it drops those the step does not read (the
+/// direct midpoint step of the double pendulum ran 1.8× slower out of line, and 1.3× slower
+/// through a closure, BENCHMARKS.md).
 #[inline(always)]
 fn residual_of<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
     step: &Step<D>,
     y: &Vector<D>,
 ) -> (Vector<D>, Matrix<D>, f64) {
+    let terms = equation_terms(step.kind);
+    let (mut g, mut hj, mut size) = equation_term(lagrangian, step, y, &terms.first());
+    for k in [1, 2] {
+        if let Some(term) = terms.as_slice().get(k) {
+            let (g_k, hj_k, size_k) = equation_term(lagrangian, step, y, term);
+            g += g_k;
+            hj += hj_k;
+            size = size.max(size_k);
+        }
+    }
+    (g - step.momentum, hj * step.times.inv_h, size)
+}
+
+/// One term of a step equation at `y`: `w_p p + w_f h f`, its block sum in `h J`, and its size
+/// (`|w_p| ‖p‖∞`, `|w_f| h ‖f‖∞`, the larger).
+#[inline(always)]
+fn equation_term<const D: usize, L: Lagrangian<D> + ?Sized>(
+    lagrangian: &L,
+    step: &Step<D>,
+    y: &Vector<D>,
+    term: &Term,
+) -> (Vector<D>, Matrix<D>, f64) {
     let StepTimes {
         h, inv_h, t_b, t_y, ..
     } = step.times;
-    let (g, hj, size) = sum_terms(
-        &equation_terms(step.kind),
-        |term| {
-            let (x, v, t) = locate(term.point, (&step.a, &step.b, y), (t_b, t_y), inv_h);
-            let (f, p, hs) = lagrangian.gradient_and_hessian(&x, &v, t);
-            let size = match (term.p != 0.0, term.f != 0.0) {
-                (true, true) => (term.p.abs() * p.amax()).max((term.f * h).abs() * f.amax()),
-                (true, false) => term.p.abs() * p.amax(),
-                (false, _) => (term.f * h).abs() * f.amax(),
-            };
-            (
-                weighted(term, p, f, h),
-                block_sum(&hs, term.block_weights(h)),
-                size,
-            )
-        },
-        |(g, j, s), (g2, j2, s2)| (g + g2, j + j2, s.max(s2)),
-    );
-    (g - step.momentum, hj * inv_h, size)
+    let (x, v, t) = locate(term.point, (&step.a, &step.b, y), (t_b, t_y), inv_h);
+    let (f, p, hs) = lagrangian.gradient_and_hessian(&x, &v, t);
+    let size = match (term.p != 0.0, term.f != 0.0) {
+        (true, true) => (term.p.abs() * p.amax()).max((term.f * h).abs() * f.amax()),
+        (true, false) => term.p.abs() * p.amax(),
+        (false, _) => (term.f * h).abs() * f.amax(),
+    };
+    (
+        weighted(term, p, f, h),
+        block_sum(&hs, term.block_weights(h)),
+        size,
+    )
 }
 
 /// Whether the step equation of `kind` is affine in the newest node (third table of the

@@ -102,17 +102,21 @@ impl Term {
     #[inline(always)]
     pub fn block_weights(&self, h: f64) -> BlockWeights {
         let (c_x, c_v) = self.point.slopes();
+        // A zero weight is an exact 0, decided on the constants alone (`0 · h` would not fold
+        // away), so that a step of a kind known at compile time never computes a block it
+        // does not read.
+        let scaled = |c: f64, s: f64| if c == 0.0 { 0.0 } else { c * s };
         BlockWeights {
-            xx: self.f * c_x * h * h,
-            xv: self.f * c_v * h,
-            vx: self.p * c_x * h,
+            xx: scaled(self.f * c_x, h * h),
+            xv: scaled(self.f * c_v, h),
+            vx: scaled(self.p * c_x, h),
             vv: self.p * c_v,
         }
     }
 }
 
 /// Up to three terms, held by value so that a step of a kind known at compile time reads its
-/// weights as constants.
+/// weights as constants: each table's arms are `const` blocks, evaluated by the compiler.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Terms {
     items: [Term; 3],
@@ -120,6 +124,7 @@ pub struct Terms {
 }
 
 impl Terms {
+    #[inline(always)]
     const fn of<const N: usize>(terms: [Term; N]) -> Self {
         let unused = Term {
             point: Point::Left,
@@ -133,6 +138,13 @@ impl Terms {
             k += 1;
         }
         Terms { items, len: N }
+    }
+
+    /// The first term (every kind has one): read without a bounds check, so that a step of a
+    /// kind not known at compile time has no panic path in its loop.
+    #[inline(always)]
+    pub fn first(&self) -> Term {
+        self.items[0]
     }
 
     /// The terms, in the order the table lists them.
@@ -159,16 +171,18 @@ const fn term(point: Point, p: f64, f: f64) -> Term {
 pub const fn momentum_terms(kind: StepKind) -> Terms {
     use Point::*;
     match kind {
-        StepKind::VariationalBackward => Terms::of([term(Right, 1.0, 1.0)]),
-        StepKind::VariationalForward => Terms::of([term(Left, 1.0, 0.0)]),
-        StepKind::DirectBackward => Terms::of([term(Right, 1.0, 0.0)]),
-        StepKind::DirectForward => Terms::of([term(Left, 1.0, 1.0)]),
-        StepKind::MidpointVariational => Terms::of([term(Middle, 1.0, 0.5)]),
-        StepKind::MidpointDirect => Terms::of([term(Middle, 1.0, 0.0)]),
+        StepKind::VariationalBackward => const { Terms::of([term(Right, 1.0, 1.0)]) },
+        StepKind::VariationalForward => const { Terms::of([term(Left, 1.0, 0.0)]) },
+        StepKind::DirectBackward => const { Terms::of([term(Right, 1.0, 0.0)]) },
+        StepKind::DirectForward => const { Terms::of([term(Left, 1.0, 1.0)]) },
+        StepKind::MidpointVariational => const { Terms::of([term(Middle, 1.0, 0.5)]) },
+        StepKind::MidpointDirect => const { Terms::of([term(Middle, 1.0, 0.0)]) },
         StepKind::TrapezoidalVariational => {
-            Terms::of([term(Left, 0.5, 0.0), term(Right, 0.5, 0.5)])
+            const { Terms::of([term(Left, 0.5, 0.0), term(Right, 0.5, 0.5)]) }
         }
-        StepKind::TrapezoidalDirect => Terms::of([term(Left, 0.5, 0.0), term(Right, 0.5, 0.0)]),
+        StepKind::TrapezoidalDirect => {
+            const { Terms::of([term(Left, 0.5, 0.0), term(Right, 0.5, 0.0)]) }
+        }
     }
 }
 
@@ -177,19 +191,25 @@ pub const fn momentum_terms(kind: StepKind) -> Terms {
 pub const fn equation_terms(kind: StepKind) -> Terms {
     use Point::*;
     match kind {
-        StepKind::VariationalBackward => Terms::of([term(Right, 1.0, 0.0)]),
-        StepKind::VariationalForward => Terms::of([term(Left, 1.0, -1.0)]),
-        StepKind::DirectBackward => Terms::of([term(Right, 1.0, -1.0)]),
-        StepKind::DirectForward => Terms::of([term(Left, 1.0, 0.0)]),
-        StepKind::MidpointVariational => Terms::of([term(Middle, 1.0, -0.5)]),
-        StepKind::MidpointDirect => Terms::of([term(Middle, 1.0, 0.0), term(Centred, 0.0, -1.0)]),
-        StepKind::TrapezoidalVariational => {
-            Terms::of([term(Left, 0.5, -0.5), term(Right, 0.5, 0.0)])
+        StepKind::VariationalBackward => const { Terms::of([term(Right, 1.0, 0.0)]) },
+        StepKind::VariationalForward => const { Terms::of([term(Left, 1.0, -1.0)]) },
+        StepKind::DirectBackward => const { Terms::of([term(Right, 1.0, -1.0)]) },
+        StepKind::DirectForward => const { Terms::of([term(Left, 1.0, 0.0)]) },
+        StepKind::MidpointVariational => const { Terms::of([term(Middle, 1.0, -0.5)]) },
+        StepKind::MidpointDirect => {
+            const { Terms::of([term(Middle, 1.0, 0.0), term(Centred, 0.0, -1.0)]) }
         }
-        StepKind::TrapezoidalDirect => Terms::of([
-            term(Left, 0.5, 0.0),
-            term(Right, 0.5, 0.0),
-            term(Centred, 0.0, -1.0),
-        ]),
+        StepKind::TrapezoidalVariational => {
+            const { Terms::of([term(Left, 0.5, -0.5), term(Right, 0.5, 0.0)]) }
+        }
+        StepKind::TrapezoidalDirect => {
+            const {
+                Terms::of([
+                    term(Left, 0.5, 0.0),
+                    term(Right, 0.5, 0.0),
+                    term(Centred, 0.0, -1.0),
+                ])
+            }
+        }
     }
 }
