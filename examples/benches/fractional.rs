@@ -174,9 +174,15 @@ fn scaling_table() {
             }
         }
         for ((name, _), results) in builds.iter().zip(&results) {
-            let fastest = results.iter().map(|r| r.seconds).fold(f64::INFINITY, f64::min);
+            let fastest = results
+                .iter()
+                .map(|r| r.seconds)
+                .fold(f64::INFINITY, f64::min);
             let peak = results.iter().map(|r| r.peak_kib).fold(0.0, f64::max);
-            let times: Vec<String> = results.iter().map(|r| format!("{:.3}", r.seconds)).collect();
+            let times: Vec<String> = results
+                .iter()
+                .map(|r| format!("{:.3}", r.seconds))
+                .collect();
             eprintln!(
                 "  {name:>10} N = {n:>8}: {fastest:.3} s (runs {} s), peak RSS {:.0} MiB \
                  ({:.0} bytes/node), Newton {}, Q(¼, ½, ¾) = {}",
