@@ -137,19 +137,22 @@ const LANCZOS_STEPS: usize = 4;
 /// (BENCHMARKS.md). An interior eigenvalue near zero (a resonance of a higher mode) needs more
 /// steps to be resolved, and is then not flagged: the bound keeps an unconverged Ritz value
 /// from flagging a well-posed problem, never the other way round.
+///
+/// `x` is a vector of the unknowns' length for the iterates, which the check discards (the
+/// Newton step's, idle by then).
 fn ill_posedness<const D: usize>(
     system: &mut FastSystem<'_, D>,
+    x: &mut [f64],
     work: &mut MinresWork,
 ) -> Option<f64> {
     let b = start((system.n - 1) * D);
-    let mut x = vec![0.0; b.len()];
     let mut lanczos = Tridiagonal::default();
     let options = KrylovOptions {
         tolerance: 0.0,
         max_iterations: LANCZOS_STEPS,
         restart: 0,
     };
-    let _ = minres_in(system, &b, &mut x, &options, Some(&mut lanczos), work);
+    let _ = minres_in(system, &b, x, &options, Some(&mut lanczos), work);
     ritz_values(&lanczos)
         .into_iter()
         .filter(|(theta, bound)| theta.abs() + bound < ILL_POSED_BELOW)
@@ -206,7 +209,7 @@ fn solve_with<L: Lagrangian<D> + ?Sized, const D: usize>(
                 if iteration == 0 {
                     system.linearize(disc, &q, &eval.v, at)?;
                 }
-                let measure = ill_posedness(&mut system, &mut work);
+                let measure = ill_posedness(&mut system, &mut delta, &mut work);
                 warnings.extend(measure.map(|measure| Warning::IllPosed { measure }));
             }
             return Ok(Solution {

@@ -176,49 +176,61 @@ fn preconditioner_inverts_the_whole_kinetic_part() {
     }
 }
 
-/// The same with `d = 2` and full `L_vv` blocks (the Woodbury term is a 2 × 2 system).
+/// The same with `d = 2` and full `L_vv` blocks (the Woodbury term is a 2 × 2 system), at
+/// successive linearisations of one system: `L_vv` unchanged (the correction kept), changed
+/// (recomputed), and unchanged again.
 #[test]
 fn preconditioner_inverts_the_kinetic_part_with_blocks() {
     let n = 15;
     let grid = Grid::new(0.2, 1.5, n).unwrap();
+    let shifted: Vec<Vector<2>> = curve(n)
+        .iter()
+        .map(|x| x * 1.3 + Vector::<2>::new(0.2, -0.1))
+        .collect();
     for side in [Side::Backward, Side::Forward] {
         let embedding = Embedding::grunwald_letnikov(side, 0.6).unwrap();
         let disc = Discretisation::new(&Mixed, grid, embedding);
-        let q = curve(n);
         let mut fft = FftOperator::new(disc.velocity_operator());
-        let (mut system, _) = linearized(&disc, &mut fft, &q);
-        assert!(system.preconditioner.correction.is_some());
-        let m = n - 1;
-        let mut p = DMatrix::<f64>::zeros(2 * m, 2 * m);
-        let sigma = side.sign();
-        for (i, k) in disc.velocity_operator().rows().enumerate() {
-            let vv = system.hessians[i].vv;
-            let d = |j| {
-                disc.velocity_operator()
-                    .row_entries(k)
-                    .find(|&(jj, _)| jj == j)
-                    .map_or(0.0, |(_, c)| -sigma * c)
-            };
-            for a in 1..n {
-                for b in 1..n {
-                    let block = vv * (d(a) * d(b));
-                    for (r, c) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
-                        p[(2 * (a - 1) + r, 2 * (b - 1) + c)] += block[(r, c)];
+        let (mut system, _) = linearized(&disc, &mut fft, &curve(n));
+        for q in [curve(n), shifted.clone(), shifted.clone()] {
+            let mut eval = Evaluation::new(n);
+            evaluate(&disc, &mut system, &q, 0, &mut eval).unwrap();
+            system
+                .linearize(&disc, &q, &eval.v, Location::Newton(0))
+                .unwrap();
+            assert!(system.preconditioner.correction.is_some());
+            let m = n - 1;
+            let mut p = DMatrix::<f64>::zeros(2 * m, 2 * m);
+            let sigma = side.sign();
+            for (i, k) in disc.velocity_operator().rows().enumerate() {
+                let vv = system.hessians[i].vv;
+                let d = |j| {
+                    disc.velocity_operator()
+                        .row_entries(k)
+                        .find(|&(jj, _)| jj == j)
+                        .map_or(0.0, |(_, c)| -sigma * c)
+                };
+                for a in 1..n {
+                    for b in 1..n {
+                        let block = vv * (d(a) * d(b));
+                        for (r, c) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                            p[(2 * (a - 1) + r, 2 * (b - 1) + c)] += block[(r, c)];
+                        }
                     }
                 }
             }
-        }
-        let x: Vec<f64> = (0..2 * m).map(|i| (i as f64 * 0.37).cos()).collect();
-        let px = &p * nalgebra::DVector::from_vec(x.clone());
-        let mut z = vec![0.0; 2 * m];
-        system.precondition(px.as_slice(), &mut z);
-        for i in 0..2 * m {
-            assert!(
-                (z[i] - x[i]).abs() < 1e-9,
-                "{side:?} {i}: {} vs {}",
-                z[i],
-                x[i]
-            );
+            let x: Vec<f64> = (0..2 * m).map(|i| (i as f64 * 0.37).cos()).collect();
+            let px = &p * nalgebra::DVector::from_vec(x.clone());
+            let mut z = vec![0.0; 2 * m];
+            system.precondition(px.as_slice(), &mut z);
+            for i in 0..2 * m {
+                assert!(
+                    (z[i] - x[i]).abs() < 1e-9,
+                    "{side:?} {i}: {} vs {}",
+                    z[i],
+                    x[i]
+                );
+            }
         }
     }
 }
