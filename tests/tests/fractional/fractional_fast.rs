@@ -227,9 +227,9 @@ fn fast_and_dense_agree_when_the_kinetic_term_moves_with_the_iterate() {
     let mut rng = Rng(23);
     for n in [60, 320] {
         for side in [Side::Backward, Side::Forward] {
-            for (alpha, scheme) in [(0.45, Scheme::Variational), (0.8, Scheme::Direct)] {
-                // Boundary values of a few tenths: farther out, at α = 0.45, Newton from the
-                // straight line fails on both paths for some draws (the quartic potential).
+            for (alpha, scheme) in [(0.7, Scheme::Variational), (0.8, Scheme::Direct)] {
+                // Boundary values of a few tenths: at α = 0.45, or with values near 1, Newton
+                // from the straight line fails on the dense path too for some draws.
                 let qa = Vector::<2>::new(rng.uniform(-0.4, 0.4), rng.uniform(-0.4, 0.4));
                 let qb = Vector::<2>::new(rng.uniform(-0.6, 0.6), rng.uniform(-0.6, 0.6));
                 let gap = fast_vs_dense(&Coupled, n, side, alpha, scheme, qa, qb);
@@ -367,25 +367,4 @@ fn million_nodes_in_linear_memory() {
     // measured in release, BENCHMARKS.md).
     assert!(peak_mib < 400.0, "peak RSS {peak_mib:.0} MiB");
     assert!(sol.q.iter().all(|x| x[0].is_finite()));
-}
-
-#[test]
-fn tmp_probe_coupled() {
-    let mut rng = Rng(23);
-    for n in [60, 320] {
-        for side in [Side::Backward, Side::Forward] {
-            for (alpha, scheme) in [(0.45, Scheme::Variational), (0.8, Scheme::Direct)] {
-                let qa = Vector::<2>::new(rng.uniform(-0.4, 0.4), rng.uniform(-0.4, 0.4));
-                let qb = Vector::<2>::new(rng.uniform(-0.6, 0.6), rng.uniform(-0.6, 0.6));
-                let grid = Grid::new(0.0, 1.0, n).unwrap();
-                let embedding = Embedding::grunwald_letnikov(side, alpha).unwrap();
-                for solver in [FractionalSolver::Dense, FractionalSolver::Fast] {
-                    let r = Problem::new(&Coupled, grid, embedding)
-                        .with_fractional_solver(solver)
-                        .solve_bvp(scheme, qa, qb);
-                    eprintln!("TMP N={n} {side:?} {alpha} {scheme} {solver:?}: {:?}", r.map(|s| s.newton_iterations));
-                }
-            }
-        }
-    }
 }
