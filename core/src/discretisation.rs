@@ -17,7 +17,7 @@ use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::operator::Operator;
 use crate::options::FFT_OPERATOR_THRESHOLD;
 use std::ops::RangeInclusive;
-use std::sync::{Mutex, OnceLock, PoisonError};
+use std::sync::{Mutex, OnceLock, PoisonError, TryLockError};
 
 /// An operator's FFT form, built on first use. Its products need scratch buffers, so it sits
 /// behind a lock: a discretisation shared between threads stays usable, its FFT products
@@ -32,6 +32,20 @@ impl FftCache {
         // leaves nothing behind to distrust.
         let mut fft = cell.lock().unwrap_or_else(PoisonError::into_inner);
         f(&mut fft)
+    }
+
+    /// Like [`with`](Self::with), for a long use: when another thread holds the lock, `f`
+    /// works on a copy instead of waiting for it.
+    fn with_exclusive<R>(&self, op: &Operator, f: impl FnOnce(&mut FftOperator) -> R) -> R {
+        let cell = self.0.get_or_init(|| Mutex::new(FftOperator::new(op)));
+        match cell.try_lock() {
+            Ok(mut fft) => f(&mut fft),
+            Err(TryLockError::Poisoned(poisoned)) => f(&mut poisoned.into_inner()),
+            Err(TryLockError::WouldBlock) => {
+                let mut copy = self.with(op, |fft| fft.clone());
+                f(&mut copy)
+            }
+        }
     }
 }
 
@@ -94,10 +108,12 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
         &self.velocity
     }
 
-    /// A copy of the FFT form of `Δ_σ` (planned and transformed once per discretisation), for a
-    /// solver that keeps it with buffers of its own for a whole solve.
-    pub(crate) fn velocity_fft(&self) -> FftOperator {
-        self.velocity_fft.with(&self.velocity, |fft| fft.clone())
+    /// Runs `f` with the FFT form of `Δ_σ` (planned and transformed once per discretisation),
+    /// for a solver that uses it for a whole solve: the kept one itself, so that its spectra
+    /// and buffers are not copied (at `N = 10⁷` they are about 100 bytes a node), or a copy
+    /// when another thread is using the kept one.
+    pub(crate) fn with_velocity_fft<R>(&self, f: impl FnOnce(&mut FftOperator) -> R) -> R {
+        self.velocity_fft.with_exclusive(&self.velocity, f)
     }
 
     /// The nodes `k` of the equations of `scheme`; entry `i` of a residual is row

@@ -95,6 +95,54 @@ impl FftOperator {
         self.toeplitz.fft_len()
     }
 
+    /// One component of `Δ Q`: `out(i, (Δ Q)_i)` for the rows `i = 0..N` (entry `i` is row
+    /// `i + first_row`, as [`Operator::apply`]), with node `k`'s value `input(k)`, `k = 0..=N`.
+    /// The vectors of a product live in the caller's closures, so a solver needs no buffers of
+    /// its own for them.
+    pub(crate) fn apply_with(
+        &mut self,
+        input: impl FnMut(usize) -> f64,
+        mut out: impl FnMut(usize, f64),
+    ) {
+        let (transpose, shift) = match self.side {
+            Side::Backward => (false, 1),
+            Side::Forward => (true, 0),
+        };
+        let (n, s) = (self.n, self.scale);
+        self.toeplitz
+            .mul_with(transpose, &mut self.ws, input, |k, y| {
+                if k >= shift && k - shift < n {
+                    out(k - shift, y * s);
+                }
+            });
+    }
+
+    /// One component of `Δᵀ W`: `out(k, (Δᵀ W)_k)` for the nodes `k = 0..=N`, with row `i`'s
+    /// value `input(i)`, `i = 0..N`.
+    pub(crate) fn apply_transpose_with(
+        &mut self,
+        mut input: impl FnMut(usize) -> f64,
+        mut out: impl FnMut(usize, f64),
+    ) {
+        let (transpose, shift) = match self.side {
+            Side::Backward => (true, 1),
+            Side::Forward => (false, 0),
+        };
+        let (n, s) = (self.n, self.scale);
+        self.toeplitz.mul_with(
+            transpose,
+            &mut self.ws,
+            |k| {
+                if k >= shift && k - shift < n {
+                    input(k - shift)
+                } else {
+                    0.0
+                }
+            },
+            |k, y| out(k, y * s),
+        );
+    }
+
     /// `Δ Q` into `out`: `q` has `N + 1` nodes, `out` `N` values (entry `i` is row
     /// `i + first_row`, as [`Operator::apply`]).
     pub fn apply_inplace<const D: usize>(
@@ -104,22 +152,8 @@ impl FftOperator {
     ) -> Result<()> {
         check_len("curve", self.n + 1, q.len())?;
         check_len("values on the rows", self.n, out.len())?;
-        let (transpose, shift) = match self.side {
-            Side::Backward => (false, 1),
-            Side::Forward => (true, 0),
-        };
-        let (n, s) = (self.n, self.scale);
         for c in 0..D {
-            self.toeplitz.mul_with(
-                transpose,
-                &mut self.ws,
-                |k| q[k][c],
-                |k, y| {
-                    if k >= shift && k - shift < n {
-                        out[k - shift][c] = y * s;
-                    }
-                },
-            );
+            self.apply_with(|k| q[k][c], |i, y| out[i][c] = y);
         }
         Ok(())
     }
@@ -135,39 +169,55 @@ impl FftOperator {
     ) -> Result<()> {
         check_len("curve", self.n + 1, q.len())?;
         check_len("values on the rows", self.n, out.len())?;
+        for c in 0..D {
+            self.apply_by_differences_with(|k| q[k][c], |i, y| out[i][c] = y);
+        }
+        Ok(())
+    }
+
+    /// One component of `Δ Q` through the differences of the nodes, `input(k)` being node
+    /// `k`'s value, as [`apply_with`](Self::apply_with).
+    pub(crate) fn apply_by_differences_with(
+        &mut self,
+        input: impl Fn(usize) -> f64,
+        mut out: impl FnMut(usize, f64),
+    ) {
         let (n, s, alpha) = (self.n, self.scale, self.alpha);
         let toeplitz = &self.toeplitz;
         let (t, g) = self.differences.get_or_insert_with(|| {
             let g = grunwald_letnikov_inverse(1.0 - alpha, n + 1);
             (toeplitz.with_same_plans(&g), g)
         });
-        for c in 0..D {
-            match self.side {
-                // Rows 1..=N of T Q.
-                Side::Backward => t.mul_with(
+        match self.side {
+            // Rows 1..=N of T Q.
+            Side::Backward => {
+                let first = input(0);
+                t.mul_with(
                     false,
                     &mut self.ws,
-                    |k| if k == 0 { 0.0 } else { q[k][c] - q[k - 1][c] },
+                    |k| if k == 0 { 0.0 } else { input(k) - input(k - 1) },
                     |k, y| {
                         if k >= 1 {
-                            out[k - 1][c] = (y + g[k] * q[0][c]) * s;
+                            out(k - 1, (y + g[k] * first) * s);
                         }
                     },
-                ),
-                // Rows 0..N of Tᵀ Q.
-                Side::Forward => t.mul_with(
+                )
+            }
+            // Rows 0..N of Tᵀ Q.
+            Side::Forward => {
+                let last = input(n);
+                t.mul_with(
                     true,
                     &mut self.ws,
-                    |k| if k == n { 0.0 } else { q[k][c] - q[k + 1][c] },
+                    |k| if k == n { 0.0 } else { input(k) - input(k + 1) },
                     |k, y| {
                         if k < n {
-                            out[k][c] = (y + g[n - k] * q[n][c]) * s;
+                            out(k, (y + g[n - k] * last) * s);
                         }
                     },
-                ),
+                )
             }
         }
-        Ok(())
     }
 
     /// `Δᵀ W` into `out`: `w` has `N` values on the rows, `out` `N + 1` nodes.
@@ -178,24 +228,8 @@ impl FftOperator {
     ) -> Result<()> {
         check_len("values on the rows", self.n, w.len())?;
         check_len("curve", self.n + 1, out.len())?;
-        let (transpose, shift) = match self.side {
-            Side::Backward => (true, 1),
-            Side::Forward => (false, 0),
-        };
-        let (n, s) = (self.n, self.scale);
         for c in 0..D {
-            self.toeplitz.mul_with(
-                transpose,
-                &mut self.ws,
-                |k| {
-                    if k >= shift && k - shift < n {
-                        w[k - shift][c]
-                    } else {
-                        0.0
-                    }
-                },
-                |k, y| out[k][c] = y * s,
-            );
+            self.apply_transpose_with(|i| w[i][c], |k, y| out[k][c] = y);
         }
         Ok(())
     }

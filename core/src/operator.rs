@@ -145,37 +145,6 @@ impl Operator {
         Ok(self.rows().map(|k| self.apply_row(q, k)).collect())
     }
 
-    /// Turns `Δ^α Q` on the rows (`v`, as [`apply`](Self::apply) returns it) into
-    /// `Δ^α (Q − Q_e)`, `Q_e = end_value` the node where the rows' sums end (`Q_0` for σ = −,
-    /// `Q_N` for σ = +): the Caputo form's velocity, from the Grünwald–Letnikov one by a rank-one
-    /// correction. Row `k` sums `h^{−α} Σ_r α_r Q_{k∓r}` up to that node, so subtracting `Q_e`
-    /// from every node subtracts `h^{−α} c_m Q_e`, `m = |k − e|`, with `c_m = Σ_{r≤m} α_r` the
-    /// partial sums of the weights: the weights of `(1 − z)^{α−1}`, `c_m = c_{m−1} (m − α)/m`,
-    /// a product of positive factors (no cancellation, unlike the sum). `O(N)` time, no
-    /// storage: the fast path's hook, where a shifted copy of the curve would cost `N + 1`
-    /// more nodes.
-    pub(crate) fn remove_end_term<const D: usize>(
-        &self,
-        end_value: Vector<D>,
-        v: &mut [Vector<D>],
-    ) {
-        let mut partial = 1.0;
-        let mut take = |m: usize, vk: &mut Vector<D>| {
-            partial *= (m as f64 - self.alpha) / m as f64;
-            *vk -= end_value * (self.scale * partial);
-        };
-        match self.side {
-            // Row k = i + 1 is m = k steps from Q_0.
-            Side::Backward => v.iter_mut().enumerate().for_each(|(i, vk)| take(i + 1, vk)),
-            // Row k = i is m = N − k steps from Q_N: walk from the last row.
-            Side::Forward => v
-                .iter_mut()
-                .rev()
-                .enumerate()
-                .for_each(|(i, vk)| take(i + 1, vk)),
-        }
-    }
-
     /// `Δᵀ W`: `w` has `N` values on the rows, the result `N + 1` nodes.
     pub fn apply_transpose<const D: usize>(&self, w: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
         check_len("values on the rows", self.n, w.len())?;
@@ -259,29 +228,6 @@ mod tests {
                 (lhs - rhs).abs() <= 1e-12 * lhs.abs().max(1.0),
                 "{lhs} vs {rhs}"
             );
-        }
-    }
-
-    /// The rank-one correction equals the operator applied to the shifted curve, both sides.
-    #[test]
-    fn removing_the_end_term_is_applying_to_the_shifted_curve() {
-        let n = 9;
-        let grid = Grid::new(0.0, 1.0, n).unwrap();
-        let q: Vec<Vector<2>> = (0..=n)
-            .map(|k| Vector::<2>::new(0.7 + (k as f64).sin(), -1.3 + 0.1 * (k * k) as f64))
-            .collect();
-        for (side, end) in [(Side::Backward, 0), (Side::Forward, n)] {
-            let op = Operator::grunwald_letnikov(side, 0.35, &grid).unwrap();
-            let mut v = op.apply(&q).unwrap();
-            op.remove_end_term(q[end], &mut v);
-            let shifted: Vec<Vector<2>> = q.iter().map(|x| x - q[end]).collect();
-            let want = op.apply(&shifted).unwrap();
-            for (a, b) in v.iter().zip(&want) {
-                assert!(
-                    (a - b).amax() <= 1e-13 * (1.0 + b.amax()),
-                    "{side:?}: {a} vs {b}"
-                );
-            }
         }
     }
 

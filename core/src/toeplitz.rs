@@ -8,11 +8,20 @@
 //!
 //! `T x = IFFT(ĉ · x̂)[0..M]`,  `Tᵀ x = IFFT(conj(ĉ) · x̂)[0..M]` (`c` real).
 //!
-//! `ĉ` is computed once, when the matrix is built. All vectors are real, so the transforms are
-//! real-to-complex and complex-to-real FFTs ([`realfft`]): a length-`L` real transform is one
-//! complex FFT of length `L/2` plus an `O(L)` pass, half the work and half the memory of a
-//! complex FFT of length `L`. `L` is even, `L = 2K` with `K ≥ M` a product of small primes
-//! ([`fft_len`]).
+//! `ĉ` is computed once, when the matrix is built. All vectors are real, so `L = 2K` real
+//! values are transformed as `K` complex ones (`z_j = x_{2j} + i x_{2j+1}`), by one complex FFT
+//! of length `K` and an `O(K)` pass that separates the even and odd halves (Sorensen et al.):
+//! half the work and half the memory of a complex FFT of length `L`. `K ≥ M` is a product of
+//! small primes ([`fft_len`]).
+//!
+//! **One pass, one plan.** A product is: pack `x` into `z`, FFT, one pass over the frequency
+//! pairs `(m, K − m)` that unpacks `x̂`, multiplies by `ĉ` and packs the product's spectrum
+//! for the inverse transform, FFT again, unpack. The inverse transform is the forward one of
+//! the conjugate (`IFFT(W) = conj(FFT(conj W))/K`, the conjugations folded into the pass and
+//! the unpacking), so one complex plan (its twiddle tables: 16 bytes per `K`) serves both
+//! directions, where a real-FFT library keeps a forward and an inverse plan, each with its
+//! own twiddles (48 bytes per `K` with the real passes' tables, measured: 475 MB of plans at
+//! `K = 10⁷`). The pass's own twiddles `e^{−πi m/K}`, `m ≤ K/2`, are 8 bytes per `K`.
 //!
 //! ## Reference
 //!
@@ -20,19 +29,25 @@
 //! H. V. Sorensen et al., *Real-valued fast Fourier transform algorithms*, IEEE Trans. ASSP 35
 //! (1987) (the real transform through a half-length complex one).
 
-use realfft::num_complex::Complex;
-use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
+use rustfft::num_complex::Complex;
+use rustfft::{Fft, FftPlanner};
 use std::sync::Arc;
+
+/// The complex FFT of length `K` and the twiddles `e^{−πi m/K}`, `m = 0..=K/2`, of the pass
+/// between real and half-length complex transforms.
+struct Plan {
+    fft: Arc<dyn Fft<f64>>,
+    twiddles: Vec<Complex<f64>>,
+}
 
 /// A lower-triangular Toeplitz matrix of order `M` (and its transpose), applied by FFT.
 #[derive(Clone)]
 pub struct TriangularToeplitz {
     order: usize,
-    /// `FFT(c zero-padded to L) / L`, the `L/2 + 1` non-negative frequencies (the `1/L` of the
+    /// `FFT(c zero-padded to L) / L`, the `K + 1` non-negative frequencies (the `1/L` of the
     /// inverse FFT folded in).
     spectrum: Vec<Complex<f64>>,
-    forward: Arc<dyn RealToComplex<f64>>,
-    inverse: Arc<dyn ComplexToReal<f64>>,
+    plan: Arc<Plan>,
 }
 
 impl std::fmt::Debug for TriangularToeplitz {
@@ -44,11 +59,14 @@ impl std::fmt::Debug for TriangularToeplitz {
     }
 }
 
-/// The buffers one product needs (`L` reals, `L/2 + 1` complex numbers and the FFTs' scratch);
-/// built once and reused, so that a product allocates nothing.
+/// The buffers one product needs (`K` complex numbers, and the FFT's scratch, which the
+/// out-of-place transform keeps at `K` more); built once and reused, so that a product
+/// allocates nothing.
 #[derive(Clone, Debug)]
 pub struct Workspace {
-    real: Vec<f64>,
+    /// The packed vector: `x_{2j} + i x_{2j+1}` before a product, the result after it.
+    packed: Vec<Complex<f64>>,
+    /// The transform of `packed`, and the input buffer (destroyed) of the inverse transform.
     spectrum: Vec<Complex<f64>>,
     scratch: Vec<Complex<f64>>,
 }
@@ -56,14 +74,12 @@ pub struct Workspace {
 impl Workspace {
     /// Buffers for `matrix` (and for any matrix of the same FFT length).
     pub fn new(matrix: &TriangularToeplitz) -> Self {
-        let scratch = matrix
-            .forward
-            .get_scratch_len()
-            .max(matrix.inverse.get_scratch_len());
+        let fft = &matrix.plan.fft;
+        let k = fft.len();
         Workspace {
-            real: vec![0.0; matrix.fft_len()],
-            spectrum: vec![Complex::new(0.0, 0.0); matrix.spectrum.len()],
-            scratch: vec![Complex::new(0.0, 0.0); scratch],
+            packed: vec![Complex::new(0.0, 0.0); k],
+            spectrum: vec![Complex::new(0.0, 0.0); k],
+            scratch: vec![Complex::new(0.0, 0.0); fft.get_outofplace_scratch_len()],
         }
     }
 }
@@ -109,13 +125,16 @@ impl TriangularToeplitz {
     /// [`Workspace`]); the length used is [`fft_len`] of `max(len/2, column.len())`.
     pub fn with_fft_len(column: &[f64], len: usize) -> Self {
         let len = fft_len(column.len().max(len.div_ceil(2)));
-        let mut planner = RealFftPlanner::<f64>::new();
-        let forward = planner.plan_fft_forward(len);
-        let inverse = planner.plan_fft_inverse(len);
-        Self::with_plans(column, forward, inverse)
+        let k = len / 2;
+        let fft = FftPlanner::<f64>::new().plan_fft_forward(k);
+        let step = -std::f64::consts::PI / k as f64;
+        let twiddles = (0..=k / 2)
+            .map(|m| Complex::from_polar(1.0, step * m as f64))
+            .collect();
+        Self::with_plan(column, Arc::new(Plan { fft, twiddles }))
     }
 
-    /// Another matrix of the same FFT length, sharing this one's FFT plans (their twiddle
+    /// Another matrix of the same FFT length, sharing this one's FFT plan (its twiddle
     /// tables) and [`Workspace`]s.
     ///
     /// # Panics
@@ -123,31 +142,32 @@ impl TriangularToeplitz {
     /// If `column` is longer than half the FFT length (an internal misuse, never user input).
     pub fn with_same_plans(&self, column: &[f64]) -> Self {
         assert!(2 * column.len() <= self.fft_len(), "column too long");
-        Self::with_plans(column, self.forward.clone(), self.inverse.clone())
+        Self::with_plan(column, self.plan.clone())
     }
 
-    fn with_plans(
-        column: &[f64],
-        forward: Arc<dyn RealToComplex<f64>>,
-        inverse: Arc<dyn ComplexToReal<f64>>,
-    ) -> Self {
-        let len = forward.len();
-        let inv_len = 1.0 / len as f64;
-        let mut padded = vec![0.0; len];
-        for (p, &c) in padded.iter_mut().zip(column) {
-            *p = c * inv_len;
-        }
-        let mut spectrum = forward.make_output_vec();
-        let mut scratch = forward.make_scratch_vec();
-        forward
-            .process_with_scratch(&mut padded, &mut spectrum, &mut scratch)
-            .expect("buffers made by the plan");
-        TriangularToeplitz {
+    fn with_plan(column: &[f64], plan: Arc<Plan>) -> Self {
+        let k = plan.fft.len();
+        let mut matrix = TriangularToeplitz {
             order: column.len(),
-            spectrum,
-            forward,
-            inverse,
+            spectrum: Vec::new(),
+            plan,
+        };
+        let mut ws = Workspace::new(&matrix);
+        matrix.load(&mut ws, |r| column[r]);
+        matrix.transform_forward(&mut ws);
+        let inv_len = 1.0 / (2 * k) as f64;
+        let mut spectrum = vec![Complex::new(0.0, 0.0); k + 1];
+        let z = &ws.spectrum;
+        let tw = &matrix.plan.twiddles;
+        spectrum[0] = Complex::new((z[0].re + z[0].im) * inv_len, 0.0);
+        spectrum[k] = Complex::new((z[0].re - z[0].im) * inv_len, 0.0);
+        for m in 1..=k / 2 {
+            let (xm, xkm) = unpack(z[m], z[k - m], tw[m]);
+            spectrum[m] = xm * inv_len;
+            spectrum[k - m] = xkm * inv_len;
         }
+        matrix.spectrum = spectrum;
+        matrix
     }
 
     /// The order `M`.
@@ -155,9 +175,9 @@ impl TriangularToeplitz {
         self.order
     }
 
-    /// The FFT length `L`.
+    /// The FFT length `L` (of the real transform; the complex one is `L/2`).
     pub fn fft_len(&self) -> usize {
-        self.forward.len()
+        2 * self.plan.fft.len()
     }
 
     /// The general product: `out(k, (T x)_k)` (or `Tᵀ x` when `transpose`) for `k = 0..M`,
@@ -170,39 +190,76 @@ impl TriangularToeplitz {
         &self,
         transpose: bool,
         ws: &mut Workspace,
-        mut input: impl FnMut(usize) -> f64,
-        mut out: impl FnMut(usize, f64),
+        input: impl FnMut(usize) -> f64,
+        out: impl FnMut(usize, f64),
     ) {
-        let (head, tail) = ws.real.split_at_mut(self.order);
-        for (k, b) in head.iter_mut().enumerate() {
-            *b = input(k);
+        self.load(ws, input);
+        self.mul_loaded(transpose, ws);
+        self.store(ws, out);
+    }
+
+    /// Writes the input `x_k = input(k)`, `k = 0..M`, into `ws` (zero-padded), for
+    /// [`mul_loaded`](Self::mul_loaded). With [`store`](Self::store) after it, a caller that
+    /// reads its input from the vector it writes the output to needs no buffer of its own.
+    pub fn load(&self, ws: &mut Workspace, mut input: impl FnMut(usize) -> f64) {
+        let m = self.order;
+        for (j, z) in ws.packed.iter_mut().enumerate() {
+            let (even, odd) = (2 * j, 2 * j + 1);
+            let re = if even < m { input(even) } else { 0.0 };
+            let im = if odd < m { input(odd) } else { 0.0 };
+            *z = Complex::new(re, im);
         }
-        // The real transform uses its input as scratch: the padding is written every time.
-        tail.fill(0.0);
-        self.forward
-            .process_with_scratch(&mut ws.real, &mut ws.spectrum, &mut ws.scratch)
-            .expect("workspace built for this FFT length");
-        if transpose {
-            for (b, s) in ws.spectrum.iter_mut().zip(&self.spectrum) {
-                *b *= s.conj();
+    }
+
+    /// `T x` (or `Tᵀ x`) of the input [`load`](Self::load)ed into `ws`, left in `ws`.
+    ///
+    /// # Panics
+    ///
+    /// If `ws` was built for another FFT length (an internal misuse, never user input).
+    pub fn mul_loaded(&self, transpose: bool, ws: &mut Workspace) {
+        self.transform_forward(ws);
+        let k = self.plan.fft.len();
+        let (z, s, tw) = (&mut ws.spectrum, &self.spectrum, &self.plan.twiddles);
+        let filter = |c: Complex<f64>| if transpose { c.conj() } else { c };
+        // m = 0 and m = K: x̂_0 and x̂_K are real (a NaN input stays in the real parts).
+        let y0 = (z[0].re + z[0].im) * filter(s[0]).re;
+        let yk = (z[0].re - z[0].im) * filter(s[k]).re;
+        // conj(W_0) for W_0 = (ŷ_0 + ŷ_K) + i(ŷ_0 − ŷ_K).
+        z[0] = Complex::new(y0 + yk, -(y0 - yk));
+        for m in 1..=k / 2 {
+            let (xm, xkm) = unpack(z[m], z[k - m], tw[m]);
+            let (ym, ykm) = (xm * filter(s[m]), xkm * filter(s[k - m]));
+            let (wm, wkm) = pack_conjugate(ym, ykm, tw[m]);
+            z[m] = wm;
+            z[k - m] = wkm;
+        }
+        // The inverse transform as the forward one of the conjugate, into `packed`.
+        self.plan.fft.process_outofplace_with_scratch(
+            &mut ws.spectrum,
+            &mut ws.packed,
+            &mut ws.scratch,
+        );
+    }
+
+    /// Reads the result of [`mul_loaded`](Self::mul_loaded): `out(k, y_k)` for `k = 0..M`.
+    pub fn store(&self, ws: &Workspace, mut out: impl FnMut(usize, f64)) {
+        let m = self.order;
+        for (j, z) in ws.packed.iter().enumerate().take(m.div_ceil(2)) {
+            // The packed result is conj(FFT(conj W)): y_{2j} = Re, y_{2j+1} = −Im.
+            out(2 * j, z.re);
+            if 2 * j + 1 < m {
+                out(2 * j + 1, -z.im);
             }
-        } else {
-            for (b, s) in ws.spectrum.iter_mut().zip(&self.spectrum) {
-                *b *= s;
-            }
         }
-        // The zero and Nyquist frequencies of a real vector's product are real; a non-finite input
-        // could leave a NaN there, which the inverse transform rejects (the NaN still propagates
-        // through the real parts).
-        let last = ws.spectrum.len() - 1;
-        ws.spectrum[0].im = 0.0;
-        ws.spectrum[last].im = 0.0;
-        self.inverse
-            .process_with_scratch(&mut ws.spectrum, &mut ws.real, &mut ws.scratch)
-            .expect("workspace built for this FFT length");
-        for (k, b) in ws.real[..self.order].iter().enumerate() {
-            out(k, *b);
-        }
+    }
+
+    /// `packed` → `spectrum` by the forward FFT (`packed` is its scratch and is destroyed).
+    fn transform_forward(&self, ws: &mut Workspace) {
+        self.plan.fft.process_outofplace_with_scratch(
+            &mut ws.packed,
+            &mut ws.spectrum,
+            &mut ws.scratch,
+        );
     }
 
     /// `T x` (or `Tᵀ x`) into `y`. A slice `x` shorter than `M` is padded with zeros, a longer `y`
@@ -219,6 +276,35 @@ impl TriangularToeplitz {
             },
         );
     }
+}
+
+/// The real transform `x̂_m`, `x̂_{K−m}` (`L = 2K`) from the complex one `Z` of the packed
+/// `z_j = x_{2j} + i x_{2j+1}`: with `E = (Z_m + conj Z_{K−m})/2`,
+/// `O = −i (Z_m − conj Z_{K−m})/2` and `t = e^{−πi m/K}`, `x̂_m = E + t O` and
+/// `x̂_{K−m} = conj(E − t O)`.
+fn unpack(zm: Complex<f64>, zkm: Complex<f64>, t: Complex<f64>) -> (Complex<f64>, Complex<f64>) {
+    let e = (zm + zkm.conj()) * 0.5;
+    let d = zm - zkm.conj();
+    let o = Complex::new(d.im, -d.re) * 0.5;
+    let to = t * o;
+    (e + to, (e - to).conj())
+}
+
+/// `conj W_m` and `conj W_{K−m}` of the packed spectrum whose inverse transform of length `K`
+/// gives `y_{2j} + i y_{2j+1}` (the real inverse transform of `ŷ`): with
+/// `A = ŷ_m + conj ŷ_{K−m}`, `B = ŷ_m − conj ŷ_{K−m}`, `W_m = A + i conj(t) B` and
+/// `W_{K−m} = conj A + i t conj B`.
+fn pack_conjugate(
+    ym: Complex<f64>,
+    ykm: Complex<f64>,
+    t: Complex<f64>,
+) -> (Complex<f64>, Complex<f64>) {
+    let a = ym + ykm.conj();
+    let b = ym - ykm.conj();
+    let i = Complex::new(0.0, 1.0);
+    let wm = a + i * t.conj() * b;
+    let wkm = a.conj() + i * t * b.conj();
+    (wm.conj(), wkm.conj())
 }
 
 #[cfg(test)]

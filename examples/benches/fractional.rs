@@ -1,4 +1,5 @@
-//! The fractional BVP solve time against N, fast path vs dense LU, in one run.
+//! The fractional BVP solve time against N, fast path vs dense LU, in one run, and the fast
+//! path's time and peak resident memory per solve at N = 10⁵, 10⁶ (and 10⁷).
 //!
 //! Pendulum `L = ½v² + cos x`, Gauss-GLE− with α = 0.7 on `[0, 1]`, `Q_0 = 0`, `Q_N = 1`.
 //! Three solves side by side: dense LU, the fast path at the default Newton tolerance (1e-12
@@ -7,10 +8,22 @@
 //! the exact discrete solution rounded to doubles). Before timing each size, the solve is run
 //! once and its Newton iterations and reached residual are printed (see `report`).
 //!
+//! **Scaling table.** Peak resident memory is a property of a whole process, so each entry of
+//! the scaling table is measured by a fresh process that runs one solve and nothing else: the
+//! bench starts its own binary with `VAREMBED_BENCH_PROBE=N` (see [`probe`]), which prints the
+//! solve's wall time, Newton iterations, `VmHWM` and a few nodes of the solution. With
+//! `VAREMBED_BENCH_BASELINE=<another build of this bench>` the same probes run that binary too,
+//! alternately with this one, so that two builds of the library are compared in one run under
+//! the same load. Each probe runs [`PROBE_REPEATS`] times; the table gives the fastest time.
+//!
 //! `cargo bench -p varembed-examples --bench fractional -- --warm-up-time 1 --measurement-time 3`;
-//! set `VAREMBED_BENCH_MILLION=1` to include N = 10⁶.
+//! set `VAREMBED_BENCH_MILLION=1` to include N = 10⁶ in the criterion timings, and
+//! `VAREMBED_BENCH_TEN_MILLION=1` to add N = 10⁷ to the scaling table (probes only: criterion's
+//! ten samples would take minutes).
 
 use std::hint::black_box;
+use std::process::Command;
+use std::time::Instant;
 
 use criterion::{BenchmarkId, Criterion};
 use varembed::__private::fft_operator::FftOperator;
@@ -27,6 +40,9 @@ struct Variant {
 }
 
 const DEFAULT_TOLERANCE: f64 = 1e-12;
+
+/// Solves per probe size and binary in the scaling table.
+const PROBE_REPEATS: usize = 3;
 
 fn problem(n: usize, variant: Variant) -> Problem<'static, Pendulum, 1> {
     let grid = Grid::new(0.0, 1.0, n).expect("valid grid");
@@ -71,7 +87,121 @@ fn report(n: usize, variant: Variant) {
     );
 }
 
+/// The probe process: one fast solve at the default tolerance on `n` steps, then one line on
+/// stdout, `probe n=… seconds=… newton=… peak_kib=… q=…` (`q`: the nodes at t = ¼, ½, ¾, to
+/// all digits, for comparing two builds), and exit.
+fn probe(n: usize) -> ! {
+    let fast = Variant {
+        name: "fast",
+        solver: FractionalSolver::Fast,
+        tolerance: DEFAULT_TOLERANCE,
+    };
+    let p = problem(n, fast);
+    let start = Instant::now();
+    let sol = p
+        .solve_bvp(Scheme::Variational, 0.0, 1.0)
+        .expect("the pendulum BVP converges");
+    let seconds = start.elapsed().as_secs_f64();
+    let status = std::fs::read_to_string("/proc/self/status").expect("/proc/self/status");
+    let peak_kib = status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .map(|v| v.trim().trim_end_matches("kB").trim().to_string())
+        .expect("VmHWM in /proc/self/status");
+    let nodes: Vec<String> = [n / 4, n / 2, 3 * n / 4]
+        .iter()
+        .map(|&k| format!("{:e}", sol.q[k][0]))
+        .collect();
+    println!(
+        "probe n={n} seconds={seconds:.4} newton={} peak_kib={peak_kib} q={}",
+        sol.newton_iterations,
+        nodes.join(",")
+    );
+    std::process::exit(0);
+}
+
+/// What one probe process printed.
+struct ProbeResult {
+    seconds: f64,
+    newton: String,
+    peak_kib: f64,
+    q: String,
+}
+
+/// Runs `binary` as a probe of `n` steps and reads its line.
+fn run_probe(binary: &std::path::Path, n: usize) -> ProbeResult {
+    let output = Command::new(binary)
+        .env("VAREMBED_BENCH_PROBE", n.to_string())
+        .output()
+        .expect("the probe process starts");
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    let line = stdout
+        .lines()
+        .find(|l| l.starts_with("probe "))
+        .unwrap_or_else(|| panic!("no probe line from {}: {stdout}", binary.display()));
+    let field = |name: &str| {
+        line.split_whitespace()
+            .find_map(|f| f.strip_prefix(name).and_then(|f| f.strip_prefix('=')))
+            .unwrap_or_else(|| panic!("no {name} in {line}"))
+            .to_string()
+    };
+    ProbeResult {
+        seconds: field("seconds").parse().expect("seconds"),
+        newton: field("newton"),
+        peak_kib: field("peak_kib").parse().expect("peak_kib"),
+        q: field("q"),
+    }
+}
+
+/// The scaling table: for each size, the fastest of [`PROBE_REPEATS`] probe solves and the
+/// peak RSS, for this build and (when given) the baseline build, alternately.
+fn scaling_table() {
+    let mut sizes = vec![100_000, 1_000_000];
+    if std::env::var_os("VAREMBED_BENCH_TEN_MILLION").is_some() {
+        sizes.push(10_000_000);
+    }
+    let this = std::env::current_exe().expect("the bench binary's path");
+    let mut builds = vec![("this build", this)];
+    if let Some(baseline) = std::env::var_os("VAREMBED_BENCH_BASELINE") {
+        builds.push(("baseline", baseline.into()));
+    }
+    eprintln!("scaling table (fastest of {PROBE_REPEATS} solves, one process per solve):");
+    for n in sizes {
+        let mut results: Vec<Vec<ProbeResult>> = builds.iter().map(|_| Vec::new()).collect();
+        for _ in 0..PROBE_REPEATS {
+            for (build, results) in builds.iter().zip(results.iter_mut()) {
+                results.push(run_probe(&build.1, n));
+            }
+        }
+        for ((name, _), results) in builds.iter().zip(&results) {
+            let fastest = results
+                .iter()
+                .map(|r| r.seconds)
+                .fold(f64::INFINITY, f64::min);
+            let peak = results.iter().map(|r| r.peak_kib).fold(0.0, f64::max);
+            let times: Vec<String> = results
+                .iter()
+                .map(|r| format!("{:.3}", r.seconds))
+                .collect();
+            eprintln!(
+                "  {name:>10} N = {n:>8}: {fastest:.3} s (runs {} s), peak RSS {:.0} MiB \
+                 ({:.0} bytes/node), Newton {}, Q(¼, ½, ¾) = {}",
+                times.join(", "),
+                peak / 1024.0,
+                peak * 1024.0 / n as f64,
+                results[0].newton,
+                results[0].q
+            );
+        }
+    }
+}
+
 fn bench(c: &mut Criterion) {
+    if let Some(n) = std::env::var_os("VAREMBED_BENCH_PROBE") {
+        let n = n.to_str().and_then(|n| n.parse().ok());
+        probe(n.expect("VAREMBED_BENCH_PROBE is a number of steps"));
+    }
+    scaling_table();
     let mut group = c.benchmark_group("fractional_bvp_pendulum_alpha0.7");
     group.sample_size(10);
     let mut fast_sizes = vec![1_000, 10_000, 100_000];

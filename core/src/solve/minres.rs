@@ -13,9 +13,18 @@
 //!
 //! Each iteration costs one product with `A` and one with `M`, as a CG iteration does, and
 //! the same [`KrylovSystem::image_len`] by-product applies: `A` is only ever applied to the
-//! preconditioned vectors `z_j`. The residual `b − A x` is carried along in the 2-norm
-//! (`A w_{j+1} = (A z_j − α₃ A w_{j−1} − α₂ A w_j)/α₁`), so the stopping rule is that of the
-//! other solvers, `‖b − A x‖₂ ≤ tolerance · ‖b‖₂`, at a few more vector operations.
+//! preconditioned vectors `z_j`. The residual `b − A x` is carried along in the 2-norm, so the
+//! stopping rule is that of the other solvers, `‖b − A x‖₂ ≤ tolerance · ‖b‖₂`, by a
+//! recurrence on the Lanczos vectors that needs no vector of its own: with
+//! `ṽ_j = v_j/γ_j`, the Lanczos relation `A Z_k = Ṽ_{k+1} T̄_k` (`T̄_k` the `(k+1) × k`
+//! tridiagonal matrix) and `x_k = Z_k y_k` give `r_k = Ṽ_{k+1}(γ_1 e_1 − T̄_k y_k)
+//! = φ̄_{k+1} Ṽ_{k+1} Q_kᵀ e_{k+1}`, where `Q_k` is the product of the Givens rotations and
+//! `φ̄_{k+1} = −s_k φ̄_k`; the last column of `Q_kᵀ` is `(−s_k Q_{k−1}ᵀ e_k, c_k)`, so
+//! `r_k = s_k² r_{k−1} + φ̄_{k+1} c_k ṽ_{k+1}` (Choi, Paige and Saunders). It is the
+//! residual of the iterate `x_k` to rounding, whether or not the Lanczos vectors stay
+//! orthogonal, since it rests only on the three-term recurrence that defines them; it
+//! replaced the recurrence of the products `A w_j`, whose two vectors were 16 bytes a node of
+//! the fractional fast path.
 //!
 //! The tridiagonal matrix `T_k` (diagonal `δ_j`, off-diagonal `γ_{j+1}`) is that of
 //! `M^{1/2} A M^{1/2}`, so its eigenvalues (the Ritz values) approximate those of `M A`, and
@@ -28,6 +37,9 @@
 //! equations*, SIAM J. Numer. Anal. 12 (1975); the preconditioned form as in H. C. Elman,
 //! D. J. Silvester and A. J. Wathen, *Finite Elements and Fast Iterative Solvers*, 2nd ed.,
 //! Algorithm 4.1. The Ritz bound: B. N. Parlett, *The Symmetric Eigenvalue Problem*, §13.1.
+//! The residual recurrence: S.-C. T. Choi, C. C. Paige and M. A. Saunders, *MINRES-QLP: a
+//! Krylov subspace method for indefinite or singular symmetric systems*, SIAM J. Sci. Comput.
+//! 33 (2011), §2.
 
 use crate::solve::krylov::{KrylovFailure, KrylovOptions, KrylovStats, KrylovSystem};
 use nalgebra::{DMatrix, SymmetricEigen};
@@ -46,6 +58,67 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
+/// The vectors of [`minres`], kept by a caller that solves many systems of one size (the
+/// Newton steps of one solve): at `N = 10⁷` unknowns twelve fresh vectors cost a gigabyte of
+/// page faults and zeroing per solve.
+#[derive(Debug, Default)]
+pub(crate) struct MinresWork {
+    r: Vec<f64>,
+    v: Vec<f64>,
+    v_old: Vec<f64>,
+    z: Vec<f64>,
+    z_next: Vec<f64>,
+    z_image: Vec<f64>,
+    z_next_image: Vec<f64>,
+    az: Vec<f64>,
+    w: Vec<f64>,
+    w_old: Vec<f64>,
+}
+
+impl MinresWork {
+    /// The vectors, in a fixed order.
+    fn vectors(&mut self) -> [&mut Vec<f64>; 10] {
+        [
+            &mut self.r,
+            &mut self.v,
+            &mut self.v_old,
+            &mut self.z,
+            &mut self.z_next,
+            &mut self.z_image,
+            &mut self.z_next_image,
+            &mut self.az,
+            &mut self.w,
+            &mut self.w_old,
+        ]
+    }
+
+    /// One of the vectors (the largest allocation), for other use between two solves: the
+    /// caller's buffers need no memory of their own while the solver's are idle. A solve after
+    /// it allocates what is missing.
+    pub(crate) fn lend(&mut self) -> Vec<f64> {
+        self.vectors()
+            .into_iter()
+            .max_by_key(|v| v.capacity())
+            .map(std::mem::take)
+            .unwrap_or_default()
+    }
+
+    /// Gives back a vector (from [`lend`](Self::lend) or any other), into an empty place;
+    /// dropped when there is none.
+    pub(crate) fn give(&mut self, vector: Vec<f64>) {
+        if let Some(place) = self.vectors().into_iter().find(|v| v.capacity() == 0) {
+            *place = vector;
+        }
+    }
+}
+
+/// `buffer` as `len` zeros, reusing its allocation.
+fn zeroed(buffer: &mut Vec<f64>, len: usize) -> &mut Vec<f64> {
+    buffer.clear();
+    buffer.resize(len, 0.0);
+    buffer
+}
+
 /// Preconditioned MINRES for symmetric `A` and symmetric positive definite `M`, from `x = 0`;
 /// `x` is overwritten. With `record`, the Lanczos coefficients of every iteration are appended
 /// to it. A non-positive `v·M v` (an indefinite `M`) is [`KrylovFailure::Breakdown`].
@@ -54,7 +127,19 @@ pub fn minres(
     b: &[f64],
     x: &mut [f64],
     options: &KrylovOptions,
+    record: Option<&mut Tridiagonal>,
+) -> Result<KrylovStats, KrylovFailure> {
+    minres_in(system, b, x, options, record, &mut MinresWork::default())
+}
+
+/// [`minres`] in the vectors of `work`.
+pub(crate) fn minres_in(
+    system: &mut impl KrylovSystem,
+    b: &[f64],
+    x: &mut [f64],
+    options: &KrylovOptions,
     mut record: Option<&mut Tridiagonal>,
+    work: &mut MinresWork,
 ) -> Result<KrylovStats, KrylovFailure> {
     let n = system.len();
     x.fill(0.0);
@@ -72,19 +157,32 @@ pub fn minres(
     let scale = power_of_two(b_norm);
     let b_norm = b_norm / scale;
     let images = system.image_len();
-    let mut r: Vec<f64> = b.iter().map(|x| x / scale).collect();
-    let mut v = r.clone();
-    let mut v_old = vec![0.0; n];
-    let (mut z, mut z_next) = (vec![0.0; n], vec![0.0; n]);
-    let (mut z_image, mut z_next_image) = (vec![0.0; images], vec![0.0; images]);
-    let mut az = vec![0.0; n];
-    let (mut w, mut w_old) = (vec![0.0; n], vec![0.0; n]);
-    let (mut aw, mut aw_old) = (vec![0.0; n], vec![0.0; n]);
-    system.precondition_with_image(&v, &mut z, &mut z_image);
+    let MinresWork {
+        r,
+        v,
+        v_old,
+        z,
+        z_next,
+        z_image,
+        z_next_image,
+        az,
+        w,
+        w_old,
+    } = work;
+    r.clear();
+    r.extend(b.iter().map(|x| x / scale));
+    v.clear();
+    v.extend_from_slice(r);
+    let (mut v, mut v_old) = (v, zeroed(v_old, n));
+    let (mut z, mut z_next) = (zeroed(z, n), zeroed(z_next, n));
+    let (mut z_image, mut z_next_image) = (zeroed(z_image, images), zeroed(z_next_image, images));
+    let az = zeroed(az, n);
+    let (mut w, mut w_old) = (zeroed(w, n), zeroed(w_old, n));
+    system.precondition_with_image(v, z, z_image);
     z.iter_mut()
         .chain(z_image.iter_mut())
         .for_each(|x| *x *= scale);
-    let gamma_sq = dot(&z, &v);
+    let gamma_sq = dot(z, v);
     if !(gamma_sq > 0.0 && gamma_sq.is_finite()) {
         return Err(KrylovFailure::Breakdown {
             iterations: 0,
@@ -103,21 +201,21 @@ pub fn minres(
         let inverse = 1.0 / gamma;
         z.iter_mut().for_each(|zi| *zi *= inverse);
         z_image.iter_mut().for_each(|zi| *zi *= inverse);
-        system.apply_with_image(&z, &z_image, &mut az);
+        system.apply_with_image(z, z_image, az);
         az.iter_mut().for_each(|x| *x /= scale);
-        let delta = dot(&az, &z);
+        let delta = dot(az, z);
         // v_{j+1} into v_old's storage, then the two swap places.
         let (a, b_coef) = (delta / gamma, gamma / gamma_old);
         for i in 0..n {
             v_old[i] = az[i] - a * v[i] - b_coef * v_old[i];
         }
         std::mem::swap(&mut v, &mut v_old);
-        system.precondition_with_image(&v, &mut z_next, &mut z_next_image);
+        system.precondition_with_image(v, z_next, z_next_image);
         z_next
             .iter_mut()
             .chain(z_next_image.iter_mut())
             .for_each(|x| *x *= scale);
-        let gamma_next_sq = dot(&z_next, &v);
+        let gamma_next_sq = dot(z_next, v);
         if !(gamma_next_sq >= 0.0 && gamma_next_sq.is_finite() && delta.is_finite()) {
             return Err(breakdown(relative));
         }
@@ -135,22 +233,23 @@ pub fn minres(
             return Err(breakdown(relative));
         }
         let (c_new, s_new) = (alpha0 / alpha1, gamma_next / alpha1);
-        // w_{j+1} = (z_j − α₃ w_{j−1} − α₂ w_j)/α₁ into w_old's storage, A w_{j+1} alike.
+        // w_{j+1} = (z_j − α₃ w_{j−1} − α₂ w_j)/α₁ into w_old's storage; the residual by its
+        // recurrence (module docs), with v_{j+1} (now in `v`) = γ_{j+1} ṽ_{j+1} and
+        // φ̄_{j+1} c_{j+1} / γ_{j+1} = −η c_new / α₁.
         let step = c_new * eta;
+        let (s2, v_coef) = (s_new * s_new, eta * c_new / alpha1);
         for i in 0..n {
             w_old[i] = (z[i] - alpha3 * w_old[i] - alpha2 * w[i]) / alpha1;
-            aw_old[i] = (az[i] - alpha3 * aw_old[i] - alpha2 * aw[i]) / alpha1;
             x[i] += step * w_old[i];
-            r[i] -= step * aw_old[i];
+            r[i] = s2 * r[i] - v_coef * v[i];
         }
         std::mem::swap(&mut w, &mut w_old);
-        std::mem::swap(&mut aw, &mut aw_old);
         std::mem::swap(&mut z, &mut z_next);
         std::mem::swap(&mut z_image, &mut z_next_image);
         eta *= -s_new;
         (c_old, c, s_old, s) = (c, c_new, s, s_new);
         (gamma_old, gamma) = (gamma, gamma_next);
-        relative = dot(&r, &r).sqrt() / b_norm;
+        relative = dot(r, r).sqrt() / b_norm;
         if !relative.is_finite() {
             return Err(breakdown(relative));
         }

@@ -1,4 +1,6 @@
 use super::*;
+use crate::lagrangian::{Dependence, HessianDependence};
+use crate::linalg::solve_small;
 use crate::test_models::Mixed;
 
 const TIMES: StepTimes = StepTimes::new(0.1, 0.3, 0.4, 0.5);

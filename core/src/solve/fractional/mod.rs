@@ -67,15 +67,16 @@ mod tests;
 use crate::discretisation::Discretisation;
 use crate::embedding::Scheme;
 use crate::error::{Error, Location, Result};
+use crate::fft_operator::FftOperator;
 use crate::lagrangian::{Lagrangian, Vector};
-use crate::linalg::{max_norm, set_block};
+use crate::linalg::max_norm;
 use crate::options::{KrylovBudget, SolverOptions};
 use crate::solve::conditioning::{ILL_POSED_BELOW, start};
 use crate::solve::krylov::{KrylovFailure, KrylovOptions, gmres};
-use crate::solve::minres::{Tridiagonal, minres, ritz_values};
-use crate::solve::newton::{LineSearch, at_round_off, two_norm};
+use crate::solve::minres::{MinresWork, Tridiagonal, minres_in, ritz_values};
+use crate::solve::newton::{LineSearch, at_round_off};
 use crate::solve::solution::{Solution, Warning};
-use residual::evaluate;
+use residual::{Evaluation, evaluate};
 use system::FastSystem;
 
 /// The largest forcing term: a step whose linear residual is below this fraction of the
@@ -86,19 +87,20 @@ const ETA_MAX: f64 = 0.1;
 /// down (a preconditioner that is not positive definite: some `L_vv` is not). Accepts an
 /// iterate below [`ETA_MAX`] as an inexact step.
 fn solve_newton_system<const D: usize>(
-    system: &mut FastSystem<D>,
+    system: &mut FastSystem<'_, D>,
     rhs: &[f64],
     delta: &mut [f64],
     eta: f64,
     budget: &KrylovBudget,
     at: Location,
+    work: &mut MinresWork,
 ) -> Result<usize> {
     let mut options = KrylovOptions {
         tolerance: eta,
         max_iterations: budget.minres_iterations,
         restart: budget.restart,
     };
-    let failure = match minres(system, rhs, delta, &options, None) {
+    let failure = match minres_in(system, rhs, delta, &options, None, work) {
         Ok(stats) => return Ok(stats.iterations),
         Err(failure @ KrylovFailure::MaxIterations { .. }) => failure,
         Err(breakdown) => {
@@ -135,16 +137,22 @@ const LANCZOS_STEPS: usize = 4;
 /// (BENCHMARKS.md). An interior eigenvalue near zero (a resonance of a higher mode) needs more
 /// steps to be resolved, and is then not flagged: the bound keeps an unconverged Ritz value
 /// from flagging a well-posed problem, never the other way round.
-fn ill_posedness<const D: usize>(system: &mut FastSystem<D>) -> Option<f64> {
+///
+/// `x` is a vector of the unknowns' length for the iterates, which the check discards (the
+/// Newton step's, idle by then).
+fn ill_posedness<const D: usize>(
+    system: &mut FastSystem<'_, D>,
+    x: &mut [f64],
+    work: &mut MinresWork,
+) -> Option<f64> {
     let b = start((system.n - 1) * D);
-    let mut x = vec![0.0; b.len()];
     let mut lanczos = Tridiagonal::default();
     let options = KrylovOptions {
         tolerance: 0.0,
         max_iterations: LANCZOS_STEPS,
         restart: 0,
     };
-    let _ = minres(system, &b, &mut x, &options, Some(&mut lanczos));
+    let _ = minres_in(system, &b, x, &options, Some(&mut lanczos), work);
     ritz_values(&lanczos)
         .into_iter()
         .filter(|(theta, bound)| theta.abs() + bound < ILL_POSED_BELOW)
@@ -160,22 +168,34 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
     scheme: Scheme,
     guess: &[Vector<D>],
 ) -> Result<Solution<D>> {
+    disc.with_velocity_fft(|fft| solve_with(disc, fft, options, scheme, guess))
+}
+
+/// [`solve`] with `fft`, the FFT form of the discretisation's `Δ^α_σ`.
+fn solve_with<L: Lagrangian<D> + ?Sized, const D: usize>(
+    disc: &Discretisation<'_, L, D>,
+    fft: &mut FftOperator,
+    options: &SolverOptions,
+    scheme: Scheme,
+    guess: &[Vector<D>],
+) -> Result<Solution<D>> {
     let n = disc.grid().n();
     let opts = options.newton;
-    let mut system = FastSystem::<D>::new(disc.velocity_operator(), disc.velocity_fft());
+    let mut system = FastSystem::<D>::new(disc.velocity_operator(), fft);
     let mut q = guess.to_vec();
-    let mut eval = evaluate(disc, &mut system, &q, 0)?;
-    let unknowns = (n - 1) * D;
-    let mut rhs = vec![0.0; unknowns];
-    let mut delta = vec![0.0; unknowns];
+    let mut eval = Evaluation::new(n);
+    evaluate(disc, &mut system, &q, 0, &mut eval)?;
+    // The vectors of the linear solves, kept from one Newton step to the next.
+    let mut work = MinresWork::default();
+    let mut delta = vec![0.0; (n - 1) * D];
     let mut eta = ETA_MAX;
     let mut previous_norm: Option<f64> = None;
     let mut previous_res = f64::INFINITY;
-    let mut merit = two_norm(&eval.r);
+    let mut merit = eval.two_norm();
     let mut line_search = LineSearch::new(&q, merit);
     for iteration in 0..=opts.max_iterations {
         let at = Location::Newton(iteration);
-        let res = max_norm(&eval.r);
+        let res = eval.max_norm();
         // The same rule as the dense path: tolerance, or stagnation at the round-off floor
         // (with the Jacobian's norm bounded, since it is never assembled here).
         let floor = at_round_off(res, previous_res, system.jacobian_bound(), max_norm(&q));
@@ -189,7 +209,7 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
                 if iteration == 0 {
                     system.linearize(disc, &q, &eval.v, at)?;
                 }
-                let measure = ill_posedness(&mut system);
+                let measure = ill_posedness(&mut system, &mut delta, &mut work);
                 warnings.extend(measure.map(|measure| Warning::IllPosed { measure }));
             }
             return Ok(Solution {
@@ -206,10 +226,7 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
         if iteration == opts.max_iterations {
             break;
         }
-        for (j, r) in eval.r.iter().enumerate() {
-            set_block(&mut rhs, j, r);
-        }
-        let norm = rhs.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let norm = eval.two_norm();
         // Eisenstat–Walker choice 2 with its safeguard, capped at ETA_MAX; never asking for
         // more than the Newton tolerance needs (the linear residual then is at most half of it).
         if let Some(previous) = previous_norm {
@@ -223,17 +240,24 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
         eta = eta.max(0.5 * opts.tolerance * eval.scale / norm).max(1e-13);
         previous_norm = Some(norm);
         system.linearize(disc, &q, &eval.v, at)?;
-        solve_newton_system(&mut system, &rhs, &mut delta, eta, &options.krylov, at)?;
+        let budget = &options.krylov;
+        solve_newton_system(&mut system, &eval.r, &mut delta, eta, budget, at, &mut work)?;
+        // A trial's evaluation borrows the idle Krylov vectors, and the replaced one gives
+        // its vectors back: no N-vector is allocated or added to the peak per Newton step.
         let (trial, next, _, next_merit) = line_search.step(&q, merit, &delta, |trial| {
-            let e = evaluate(disc, &mut system, trial, iteration + 1)?;
-            let (res, merit) = (max_norm(&e.r), two_norm(&e.r));
+            let mut e = Evaluation::from_buffers(n, work.lend(), work.lend());
+            evaluate(disc, &mut system, trial, iteration + 1, &mut e)?;
+            let (res, merit) = (e.max_norm(), e.two_norm());
             Ok((e, res, merit))
         })?;
-        (q, eval, merit) = (trial, next, next_merit);
+        for vector in std::mem::replace(&mut eval, next).into_buffers() {
+            work.give(vector);
+        }
+        (q, merit) = (trial, next_merit);
     }
     Err(Error::NewtonDidNotConverge {
         at: Location::Newton(opts.max_iterations),
         iterations: opts.max_iterations,
-        residual: max_norm(&eval.r),
+        residual: eval.max_norm(),
     })
 }

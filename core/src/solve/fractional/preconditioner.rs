@@ -49,15 +49,16 @@ use crate::weights::grunwald_letnikov_inverse;
 
 /// `P'⁻¹ = P⁻¹ − U K (E P⁻¹)` for `P' = P + Eᵀ H_e E` (Woodbury), `E` the extra row of `D`
 /// (`e_j I` blocks), `H_e` its `L_vv`: `U = P⁻¹ Eᵀ` (blocks `u_j`), `K = (I + H_e E U)⁻¹ H_e`.
+/// (`D_a U`, which the images need, is `V⁻¹ D_a⁻ᵀ Eᵀ`: blocks `L_vv⁻¹ ⋅ (D_a⁻ᵀ e)_j`, formed
+/// where they are used rather than stored.)
 pub(super) struct Correction<const D: usize> {
     u: Vec<Matrix<D>>,
-    /// `D_a U`, for the images.
-    du: Vec<Matrix<D>>,
     k: Matrix<D>,
 }
 
-/// `P'⁻¹` at one linearisation, with its buffers.
-pub(super) struct Preconditioner<const D: usize> {
+/// `P'⁻¹` at one linearisation. Its products run in place in the workspace of the solve's
+/// FFT operator and in the caller's vectors: it keeps no vectors of its own but the blocks.
+pub(super) struct Preconditioner<'a, const D: usize> {
     /// The number of steps `N`.
     n: usize,
     side: Side,
@@ -68,15 +69,17 @@ pub(super) struct Preconditioner<const D: usize> {
     /// `D_a⁻ᵀ e` in closed form (module docs): `−g_{N−1−p}` (σ = −) or `−g_{p+1}` (σ = +) at
     /// position `p = j − 1`.
     extra_solved: Vec<f64>,
-    /// The row of `D` outside the square block `D_a`, on the interior columns: `e_j` at entry
-    /// `j − 1` (`e_j = h^{−α} w_{N−j}` for σ = −, row `N`; `e_j = −h^{−α} w_j` for σ = +, row 0).
-    pub(super) extra: Vec<f64>,
+    /// The Grünwald–Letnikov weights `w`, whose entries make the row of `D` outside the square
+    /// block ([`extra`](Self::extra)).
+    weights: &'a [f64],
     /// `L_vv⁻¹` at the interior nodes `1..N−1` (entry `j − 1`).
     vv_inverse: Vec<Matrix<D>>,
     /// The extra row's term (module docs), when it can be formed.
     pub(super) correction: Option<Correction<D>>,
-    input: Vec<Vector<D>>,
-    middle: Vec<Vector<D>>,
+    /// `H_e` of the last [`update_correction`](Self::update_correction): when no `L_vv`
+    /// changed since (a kinetic term independent of `x`, `v` and `t`, as the pendulum's), the
+    /// correction is still right and its `d²` products are not repeated.
+    corrected_for: Option<Matrix<D>>,
 }
 
 /// The position of the extra row of `D` among the quadrature rows: the last for σ = −
@@ -88,36 +91,38 @@ pub(super) fn extra_row(side: Side, n: usize) -> usize {
     }
 }
 
-impl<const D: usize> Preconditioner<D> {
+impl<'a, const D: usize> Preconditioner<'a, D> {
     /// For `velocity = Δ^α_σ` on `N ≥ 2` steps; `fft` is its FFT form, whose plans `G` shares
     /// (order `N + 1 ≥ N − 1`), so that both use one workspace and one set of twiddle tables.
-    pub(super) fn new(velocity: &Operator, fft: &FftOperator) -> Self {
+    pub(super) fn new(velocity: &'a Operator, fft: &FftOperator) -> Self {
         let n = fft.n();
         // g_0..g_{N−1}: G (order N − 1) uses the first N − 1, D_a⁻ᵀ e also g_{N−1}.
         let g_all = grunwald_letnikov_inverse(velocity.alpha(), n);
         let side = velocity.side();
+        let inverse = fft.toeplitz().with_same_plans(&g_all[..n - 1]);
         let extra_solved = match side {
             Side::Backward => (0..n - 1).map(|p| -g_all[n - 1 - p]).collect(),
             Side::Forward => (0..n - 1).map(|p| -g_all[p + 1]).collect(),
         };
-        let inverse = fft.toeplitz().with_same_plans(&g_all[..n - 1]);
-        let scale = velocity.scale();
-        let w = velocity.weights();
-        let extra = match side {
-            Side::Backward => (1..n).map(|j| scale * w[n - j]).collect(),
-            Side::Forward => (1..n).map(|j| -scale * w[j]).collect(),
-        };
         Preconditioner {
             n,
             side,
-            scale,
+            scale: velocity.scale(),
             inverse,
             extra_solved,
-            extra,
+            weights: velocity.weights(),
             vv_inverse: vec![Matrix::<D>::identity(); n - 1],
             correction: None,
-            input: vec![Vector::<D>::zeros(); n - 1],
-            middle: vec![Vector::<D>::zeros(); n - 1],
+            corrected_for: None,
+        }
+    }
+
+    /// Entry `p = j − 1` of the row of `D` outside the square block `D_a`, on the interior
+    /// columns: `e_j = h^{−α} w_{N−j}` for σ = − (row `N`), `e_j = −h^{−α} w_j` for σ = + (row 0).
+    pub(super) fn extra(&self, p: usize) -> f64 {
+        match self.side {
+            Side::Backward => self.scale * self.weights[self.n - 1 - p],
+            Side::Forward => -self.scale * self.weights[p + 1],
         }
     }
 
@@ -126,119 +131,109 @@ impl<const D: usize> Preconditioner<D> {
     pub(super) fn update(&mut self, hessians: &[Hessian<D>], first_row: usize, ws: &mut Workspace) {
         // Where an L_vv block cannot be inverted the preconditioner keeps the identity there:
         // it only has to be good, and the Krylov solver reports what it cannot solve.
+        let mut changed = false;
         for j in 1..self.n {
             let vv = &hessians[j - first_row].vv;
             let inv = vv.try_inverse().filter(|m| m.iter().all(|c| c.is_finite()));
             let size = vv.amax();
-            self.vv_inverse[j - 1] = inv.unwrap_or_else(|| {
+            let inv = inv.unwrap_or_else(|| {
                 if size > 0.0 {
                     Matrix::<D>::identity() / size
                 } else {
                     Matrix::<D>::identity()
                 }
             });
+            changed |= inv != self.vv_inverse[j - 1];
+            self.vv_inverse[j - 1] = inv;
         }
         let h_e = hessians[extra_row(self.side, self.n)].vv;
-        self.update_correction(&h_e, ws);
+        if changed || self.corrected_for != Some(h_e) {
+            self.update_correction(&h_e, ws);
+            self.corrected_for = Some(h_e);
+        }
     }
 
     /// [`Correction`] at the current linearisation: `U = P⁻¹Eᵀ = D_a⁻¹ V⁻¹ (D_a⁻ᵀ Eᵀ)`, with
-    /// `D_a⁻ᵀ Eᵀ` in closed form, so `d²` FFT products; `D_a U = V⁻¹ D_a⁻ᵀ Eᵀ` comes free.
+    /// `D_a⁻ᵀ Eᵀ` in closed form, so `d²` FFT products, each in place in the workspace.
     fn update_correction(&mut self, h_e: &Matrix<D>, ws: &mut Workspace) {
-        self.correction = None;
         let m = self.n - 1;
-        let mut u = vec![Matrix::<D>::zeros(); m];
-        let mut du = vec![Matrix::<D>::zeros(); m];
-        let mut middle = vec![Vector::<D>::zeros(); m];
-        let mut solved = vec![Vector::<D>::zeros(); m];
+        let mut u = match self.correction.take() {
+            Some(old) => old.u,
+            None => vec![Matrix::<D>::zeros(); m],
+        };
         let g_transposed = self.side == Side::Forward;
         let factor = -self.side.sign() / self.scale;
         for c in 0..D {
-            for j in 0..m {
-                middle[j] = self.vv_inverse[j].column(c) * self.extra_solved[j];
-                du[j].set_column(c, &middle[j]);
-            }
-            self.mul_inverse(g_transposed, &middle, &mut solved, ws);
-            for j in 0..m {
-                u[j].set_column(c, &(solved[j] * factor));
+            for a in 0..D {
+                let (vv_inverse, extra_solved) = (&self.vv_inverse, &self.extra_solved);
+                self.inverse
+                    .load(ws, |j| vv_inverse[j][(a, c)] * extra_solved[j]);
+                self.inverse.mul_loaded(g_transposed, ws);
+                self.inverse.store(ws, |j, x| u[j][(a, c)] = x * factor);
             }
         }
         let mut eu = Matrix::<D>::zeros();
-        for (e, uj) in self.extra.iter().zip(&u) {
-            eu += uj * *e;
+        for (p, uj) in u.iter().enumerate() {
+            eu += uj * self.extra(p);
         }
         let k = (Matrix::<D>::identity() + h_e * eu)
             .try_inverse()
             .map(|inv| inv * h_e)
             .filter(|k| k.iter().all(|c| c.is_finite()));
-        if let Some(k) = k {
-            self.correction = Some(Correction { u, du, k });
-        }
+        self.correction = k.map(|k| Correction { u, k });
     }
 
-    /// `out = Gᵀ x` (transpose) or `G x`, one real product per component.
-    fn mul_inverse(
-        &self,
-        transpose: bool,
-        x: &[Vector<D>],
-        out: &mut [Vector<D>],
-        ws: &mut Workspace,
-    ) {
-        for c in 0..D {
-            self.inverse
-                .mul_with(transpose, ws, |k| x[k][c], |k, y| out[k][c] = y);
+    /// `x ↦ Gᵀ x` (transpose) or `G x` in place on `x`, one real product per component.
+    fn mul_inverse_in_place(&self, transpose: bool, x: &mut [f64], ws: &mut Workspace) {
+        for a in 0..D {
+            self.inverse.load(ws, |j| x[j * D + a]);
+            self.inverse.mul_loaded(transpose, ws);
+            self.inverse.store(ws, |j, v| x[j * D + a] = v);
         }
     }
 
     /// `z = P'⁻¹ r`, and `D_a z` into `image` if asked. With `D_a = −σ s A` (`A = T` for σ = −,
     /// `Tᵀ` for σ = +) and `A⁻¹ = G` or `Gᵀ`: `middle = s⁻² V⁻¹ A⁻ᵀ r`, `z = A⁻¹ middle`, and
-    /// `D_a z = −σ s · middle`; then the Woodbury term.
+    /// `D_a z = −σ s · middle`; then the Woodbury term. The middle vector lives in `z`.
     pub(super) fn apply(
-        &mut self,
+        &self,
         r: &[f64],
         z: &mut [f64],
         mut image: Option<&mut [f64]>,
         ws: &mut Workspace,
     ) {
         let m = self.n - 1;
-        let mut input = std::mem::take(&mut self.input);
-        let mut middle = std::mem::take(&mut self.middle);
-        for j in 0..m {
-            input[j] = block(r, j);
-        }
         let first_transposed = self.side == Side::Backward;
-        self.mul_inverse(first_transposed, &input, &mut middle, ws);
+        z.copy_from_slice(r);
+        self.mul_inverse_in_place(first_transposed, z, ws);
         let s2 = 1.0 / (self.scale * self.scale);
         for j in 0..m {
-            middle[j] = self.vv_inverse[j] * middle[j] * s2;
+            let middle = self.vv_inverse[j] * block::<D>(z, j) * s2;
+            set_block(z, j, &middle);
         }
         if let Some(image) = image.as_deref_mut() {
             let factor = -self.side.sign() * self.scale;
-            for j in 0..m {
-                set_block(image, j, &(middle[j] * factor));
+            for (i, x) in image.iter_mut().zip(z.iter()) {
+                *i = x * factor;
             }
         }
-        self.mul_inverse(!first_transposed, &middle, &mut input, ws);
-        for j in 0..m {
-            set_block(z, j, &input[j]);
-        }
+        self.mul_inverse_in_place(!first_transposed, z, ws);
         if let Some(corr) = &self.correction {
             let mut ez = Vector::<D>::zeros();
-            for (e, zj) in self.extra.iter().zip(&input) {
-                ez += zj * *e;
+            for p in 0..m {
+                ez += block::<D>(z, p) * self.extra(p);
             }
             let c = corr.k * ez;
             for j in 0..m {
-                set_block(z, j, &(input[j] - corr.u[j] * c));
+                set_block(z, j, &(block::<D>(z, j) - corr.u[j] * c));
             }
             if let Some(image) = image {
                 for j in 0..m {
-                    let v = block::<D>(image, j) - corr.du[j] * c;
+                    let du = self.vv_inverse[j] * self.extra_solved[j];
+                    let v = block::<D>(image, j) - du * c;
                     set_block(image, j, &v);
                 }
             }
         }
-        self.input = input;
-        self.middle = middle;
     }
 }

@@ -1,78 +1,118 @@
 //! The residual of the fractional fast path at an iterate, `r_j = f_j + (Dᵀ p)_j` on the
-//! interior nodes, by FFT in the buffers of the [`FastSystem`].
+//! interior nodes, by FFT in the workspace of the [`FastSystem`], into reused buffers.
 
 use super::system::FastSystem;
 use crate::discretisation::Discretisation;
-use crate::error::{Error, Location, Result};
+use crate::error::{Error, Location, Result, check_len};
 use crate::lagrangian::{Lagrangian, Vector};
-use crate::linalg::max_norm;
+use crate::linalg::{block, max_norm, set_block};
 
-/// The residual at an iterate, with what the Jacobian needs.
+/// The residual at an iterate, with what the Jacobian needs. Its buffers are reused from one
+/// evaluation to the next (at `N = 10⁷` a fresh `N`-vector costs its page faults: tens of
+/// milliseconds).
 pub(super) struct Evaluation<const D: usize> {
-    /// `r_j`, `j = 1..N−1`.
-    pub(super) r: Vec<Vector<D>>,
-    /// `V` on the rows.
-    pub(super) v: Vec<Vector<D>>,
+    /// `r_j`, `j = 1..N−1`, flat: component `c` of `r_j` at `(j − 1) D + c`, as the Krylov
+    /// solvers read a right-hand side.
+    pub(super) r: Vec<f64>,
+    /// `V` on the rows, flat as `r`: component `c` of `V_i` at `i D + c`.
+    pub(super) v: Vec<f64>,
     /// `max|f| + h^{−α} max|p|` over what the rows read: `f` on the interior nodes, `p` on
     /// the quadrature nodes (the scale of the rows, as the dense path's).
     pub(super) scale: f64,
 }
 
-/// The residual at `q` (a non-finite value anywhere is [`Error::NotFinite`] at Newton
-/// iteration `iteration`).
+impl<const D: usize> Evaluation<D> {
+    /// Buffers for `N` steps.
+    pub(super) fn new(n: usize) -> Self {
+        Self::from_buffers(n, Vec::new(), Vec::new())
+    }
+
+    /// Buffers for `N` steps in the allocations of two vectors (the Krylov solver's, idle
+    /// while a trial iterate is evaluated).
+    pub(super) fn from_buffers(n: usize, mut r: Vec<f64>, mut v: Vec<f64>) -> Self {
+        r.clear();
+        r.resize((n - 1) * D, 0.0);
+        v.clear();
+        v.resize(n * D, 0.0);
+        Evaluation { r, v, scale: 0.0 }
+    }
+
+    /// The allocations back, for [`from_buffers`](Self::from_buffers) or the Krylov solver.
+    pub(super) fn into_buffers(self) -> [Vec<f64>; 2] {
+        [self.r, self.v]
+    }
+
+    /// `max|r|`.
+    pub(super) fn max_norm(&self) -> f64 {
+        self.r.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+    }
+
+    /// `‖r‖₂`.
+    pub(super) fn two_norm(&self) -> f64 {
+        self.r.iter().map(|x| x * x).sum::<f64>().sqrt()
+    }
+}
+
+/// The residual at `q` into `eval` (a non-finite value anywhere is [`Error::NotFinite`] at
+/// Newton iteration `iteration`).
 pub(super) fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
-    system: &mut FastSystem<D>,
+    system: &mut FastSystem<'_, D>,
     q: &[Vector<D>],
     iteration: usize,
-) -> Result<Evaluation<D>> {
+    eval: &mut Evaluation<D>,
+) -> Result<()> {
     let not_finite = Error::NotFinite {
         at: Location::Newton(iteration),
     };
+    let n = system.n;
+    check_len("curve", n + 1, q.len())?;
     if !q.iter().all(|x| x.iter().all(|c| c.is_finite())) {
         return Err(not_finite);
     }
     let (lagrangian, grid) = (disc.lagrangian(), disc.grid());
-    let n = system.n;
-    let mut v = vec![Vector::<D>::zeros(); n];
+    let minus_sigma = -system.sigma;
     // Through the differences of the curve (see `FftOperator`): the residual's accuracy rests
     // on V's, whose error the rows amplify by h^{−α}.
-    system.velocity.apply_by_differences_inplace(q, &mut v)?;
-    if let Some(end) = disc.embedding().caputo_end(n) {
-        // The Caputo form: the end node's term taken out (a rank-one correction, no copy).
-        disc.velocity_operator().remove_end_term(q[end], &mut v);
+    let v = &mut eval.v;
+    // The Caputo form applies the operator to `Q − Q_e`, `Q_e` the end node's value (a shift
+    // of the curve the differences do not see but the end's term does).
+    let end = disc.embedding().caputo_end(n);
+    for c in 0..D {
+        let base = end.map_or(0.0, |e| q[e][c]);
+        system
+            .velocity
+            .apply_by_differences_with(|k| q[k][c] - base, |i, y| v[i * D + c] = y * minus_sigma);
     }
-    let minus_sigma = -system.sigma;
-    // r starts as f on the interior nodes; p goes in the rows' buffer (no allocation per call).
-    let mut r = vec![Vector::<D>::zeros(); n - 1];
-    let mut p = std::mem::take(&mut system.rows_b);
+    // r starts as f on the interior nodes; p goes in the rows' buffer.
     let mut f_max = 0.0f64;
     for i in 0..n {
         let k = i + system.first_row;
-        v[i] *= minus_sigma;
-        let (fk, pk) = lagrangian.gradient(&q[k], &v[i], grid.t(k));
+        let (fk, pk) = lagrangian.gradient(&q[k], &block(&eval.v, i), grid.t(k));
         if !fk.iter().chain(pk.iter()).all(|c| c.is_finite()) {
-            system.rows_b = p;
             return Err(not_finite);
         }
         // The end node's force is read by no row: it plays no part in the scale.
         if (1..n).contains(&k) {
             f_max = f_max.max(fk.amax());
-            r[k - 1] = fk;
+            set_block(&mut eval.r, k - 1, &fk);
         }
-        p[i] = pk;
+        system.rows[i] = pk;
     }
-    let mut dt_p = std::mem::take(&mut system.nodes);
-    let applied = system.velocity.apply_transpose_inplace(&p, &mut dt_p);
-    for (j, rj) in r.iter_mut().enumerate() {
-        *rj += dt_p[j + 1] * minus_sigma;
+    let (p, r) = (&system.rows, &mut eval.r);
+    for c in 0..D {
+        system.velocity.apply_transpose_with(
+            |i| p[i][c],
+            |j, y| {
+                if (1..n).contains(&j) {
+                    r[(j - 1) * D + c] += y * minus_sigma;
+                }
+            },
+        );
     }
-    let scale = f_max + system.scale * max_norm(&p);
-    system.rows_b = p;
-    system.nodes = dt_p;
-    applied?;
-    if !r.iter().all(|x| x.iter().all(|c| c.is_finite())) {
+    eval.scale = f_max + system.scale * max_norm(&system.rows);
+    if !eval.r.iter().all(|c| c.is_finite()) {
         return Err(not_finite);
     }
-    Ok(Evaluation { r, v, scale })
+    Ok(())
 }

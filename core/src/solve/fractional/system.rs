@@ -7,13 +7,18 @@ use crate::discretisation::Discretisation;
 use crate::error::{Error, Location, Result};
 use crate::fft_operator::FftOperator;
 use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
-use crate::linalg::{block, set_block};
+use crate::linalg::block;
 use crate::operator::Operator;
 use crate::solve::krylov::KrylovSystem;
 
 /// The Newton system at one iterate: Hessians at the quadrature rows, the preconditioner, and
-/// the FFT machinery with its buffers (allocated once per solve).
-pub(super) struct FastSystem<const D: usize> {
+/// the FFT operator whose workspace serves every product of the solve.
+///
+/// Memory (`d = 1`, per node): the Hessians (24 bytes), `a = D x` on the rows (8) and the
+/// preconditioner's blocks (`L_vv⁻¹`, `U`: 16) and `D_a⁻ᵀ e` (8). The other vectors of a
+/// product (the nodes of `x`, `b = L_vx x + L_vv a`, `Dᵀ b`) are read and written by the
+/// product's closures straight from and into the Krylov solver's vectors.
+pub(super) struct FastSystem<'a, const D: usize> {
     /// The number of steps `N`.
     pub(super) n: usize,
     pub(super) sigma: f64,
@@ -24,21 +29,17 @@ pub(super) struct FastSystem<const D: usize> {
     /// Where the row of `D` outside its square block sits among the rows.
     extra_row: usize,
     /// `Δ^α_σ` by FFT; its workspace serves every product of the solve.
-    pub(super) velocity: FftOperator,
+    pub(super) velocity: &'a mut FftOperator,
     /// Hessians at the rows `first_row..first_row + N`.
     pub(super) hessians: Vec<Hessian<D>>,
-    pub(super) preconditioner: Preconditioner<D>,
-    full: Vec<Vector<D>>,
-    rows: Vec<Vector<D>>,
-    /// Values on the rows (`N`): `L_vx δ + L_vv a` in a product, `p` in an evaluation.
-    pub(super) rows_b: Vec<Vector<D>>,
-    /// Values at the nodes (`N + 1`): `Dᵀ b` in a product, `Dᵀ p` in an evaluation.
-    pub(super) nodes: Vec<Vector<D>>,
+    pub(super) preconditioner: Preconditioner<'a, D>,
+    /// Values on the rows (`N`): `a = D x` in a product, `p` in an evaluation.
+    pub(super) rows: Vec<Vector<D>>,
 }
 
-impl<const D: usize> FastSystem<D> {
+impl<'a, const D: usize> FastSystem<'a, D> {
     /// For `velocity = Δ^α_σ` on `N ≥ 2` steps, with its FFT form.
-    pub(super) fn new(velocity: &Operator, fft: FftOperator) -> Self {
+    pub(super) fn new(velocity: &'a Operator, fft: &'a mut FftOperator) -> Self {
         let n = fft.n();
         let zero = Hessian {
             xx: Matrix::<D>::zeros(),
@@ -51,13 +52,10 @@ impl<const D: usize> FastSystem<D> {
             scale: velocity.scale(),
             first_row: velocity.first_row(),
             extra_row: extra_row(velocity.side(), n),
-            preconditioner: Preconditioner::new(velocity, &fft),
+            preconditioner: Preconditioner::new(velocity, fft),
             velocity: fft,
             hessians: vec![zero; n],
-            full: vec![Vector::<D>::zeros(); n + 1],
             rows: vec![Vector::<D>::zeros(); n],
-            rows_b: vec![Vector::<D>::zeros(); n],
-            nodes: vec![Vector::<D>::zeros(); n + 1],
         }
     }
 
@@ -77,18 +75,19 @@ impl<const D: usize> FastSystem<D> {
             .fold(0.0, f64::max)
     }
 
-    /// Hessians and preconditioner blocks at `q` (with `v` the velocities on the rows).
+    /// Hessians and preconditioner blocks at `q` (with `v` the velocities on the rows, flat:
+    /// component `c` of `V_i` at `i D + c`).
     pub(super) fn linearize<L: Lagrangian<D> + ?Sized>(
         &mut self,
         disc: &Discretisation<'_, L, D>,
         q: &[Vector<D>],
-        v: &[Vector<D>],
+        v: &[f64],
         at: Location,
     ) -> Result<()> {
         let (lagrangian, grid) = (disc.lagrangian(), disc.grid());
         for (i, h) in self.hessians.iter_mut().enumerate() {
             let k = i + self.first_row;
-            *h = lagrangian.hessian(&q[k], &v[i], grid.t(k));
+            *h = lagrangian.hessian(&q[k], &block(v, i), grid.t(k));
             let finite = h.xx.iter().chain(h.xv.iter()).chain(h.vv.iter());
             if !finite.into_iter().all(|c| c.is_finite()) {
                 return Err(Error::NotFinite { at });
@@ -105,18 +104,21 @@ impl<const D: usize> FastSystem<D> {
     /// `y = J x`; `a = D x` by FFT, or, given `image = D_a x`, from it and the one extra row.
     fn jacobian_product(&mut self, x: &[f64], image: Option<&[f64]>, y: &mut [f64]) {
         let n = self.n;
-        self.full[0] = Vector::<D>::zeros();
-        self.full[n] = Vector::<D>::zeros();
-        for j in 1..n {
-            self.full[j] = block(x, j - 1);
-        }
+        // Node k of x (zero at the fixed ends), component c.
+        let node = |k: usize, c: usize| {
+            if (1..n).contains(&k) {
+                x[(k - 1) * D + c]
+            } else {
+                0.0
+            }
+        };
         let minus_sigma = -self.sigma;
         match image {
             Some(image) => {
                 // Rows 1..N−1 are the square block; the extra row is N (σ = −) or 0 (σ = +).
                 let mut extra = Vector::<D>::zeros();
                 for j in 1..n {
-                    extra += self.full[j] * self.preconditioner.extra[j - 1];
+                    extra += block::<D>(x, j - 1) * self.preconditioner.extra(j - 1);
                 }
                 for j in 1..n {
                     self.rows[j - self.first_row] = block(image, j - 1);
@@ -124,32 +126,42 @@ impl<const D: usize> FastSystem<D> {
                 self.rows[self.extra_row] = extra;
             }
             None => {
-                self.velocity
-                    .apply_inplace(&self.full, &mut self.rows)
-                    .expect("buffers sized for the grid");
-                for a in self.rows.iter_mut() {
-                    *a *= minus_sigma;
+                let rows = &mut self.rows;
+                for c in 0..D {
+                    self.velocity
+                        .apply_with(|k| node(k, c), |i, a| rows[i][c] = a * minus_sigma);
                 }
             }
         }
-        for i in 0..n {
-            let k = i + self.first_row;
-            let h = &self.hessians[i];
-            self.rows_b[i] = h.xv.transpose() * self.full[k] + h.vv * self.rows[i];
-        }
-        self.velocity
-            .apply_transpose_inplace(&self.rows_b, &mut self.nodes)
-            .expect("buffers sized for the grid");
-        for j in 1..n {
-            let i = j - self.first_row;
-            let h = &self.hessians[i];
-            let yj = h.xx * self.full[j] + h.xv * self.rows[i] + self.nodes[j] * minus_sigma;
-            set_block(y, j - 1, &yj);
+        let (hessians, rows, first_row) = (&self.hessians, &self.rows, self.first_row);
+        let node_vector = |k: usize| {
+            if (1..n).contains(&k) {
+                block::<D>(x, k - 1)
+            } else {
+                Vector::<D>::zeros()
+            }
+        };
+        for c in 0..D {
+            // b_i = L_vx δ + L_vv a on the rows, component c, formed as the product reads it;
+            // y_j = L_xx δ + L_xv a + (Dᵀ b)_j written as the product yields it.
+            let b = |i: usize| {
+                let h = &hessians[i];
+                (h.xv.column(c).dot(&node_vector(i + first_row))) + h.vv.row(c).tr_dot(&rows[i])
+            };
+            self.velocity.apply_transpose_with(b, |j, dt_b| {
+                if (1..n).contains(&j) {
+                    let i = j - first_row;
+                    let h = &hessians[i];
+                    y[(j - 1) * D + c] = h.xx.row(c).tr_dot(&node_vector(j))
+                        + h.xv.row(c).tr_dot(&rows[i])
+                        + dt_b * minus_sigma;
+                }
+            });
         }
     }
 }
 
-impl<const D: usize> KrylovSystem for FastSystem<D> {
+impl<const D: usize> KrylovSystem for FastSystem<'_, D> {
     fn len(&self) -> usize {
         (self.n - 1) * D
     }

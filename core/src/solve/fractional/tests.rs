@@ -10,12 +10,14 @@ use crate::test_models::Mixed;
 use nalgebra::DMatrix;
 
 /// The fast system at `q`: its residual evaluated and its Jacobian linearised there.
-fn linearized<L: Lagrangian<D>, const D: usize>(
-    disc: &Discretisation<'_, L, D>,
+fn linearized<'a, L: Lagrangian<D>, const D: usize>(
+    disc: &'a Discretisation<'_, L, D>,
+    fft: &'a mut FftOperator,
     q: &[Vector<D>],
-) -> (FastSystem<D>, Evaluation<D>) {
-    let mut system = FastSystem::<D>::new(disc.velocity_operator(), disc.velocity_fft());
-    let eval = evaluate(disc, &mut system, q, 0).unwrap();
+) -> (FastSystem<'a, D>, Evaluation<D>) {
+    let mut system = FastSystem::<D>::new(disc.velocity_operator(), fft);
+    let mut eval = Evaluation::new(disc.grid().n());
+    evaluate(disc, &mut system, q, 0, &mut eval).unwrap();
     system
         .linearize(disc, q, &eval.v, Location::Newton(0))
         .unwrap();
@@ -41,9 +43,11 @@ fn matrix_free_jacobian_and_residual_match_the_dense_ones() {
         let embedding = Embedding::grunwald_letnikov(side, 0.6).unwrap();
         let disc = Discretisation::new(&Mixed, grid, embedding);
         let q = curve(n);
-        let (mut system, eval) = linearized(&disc, &q);
+        let mut fft = FftOperator::new(disc.velocity_operator());
+        let (mut system, eval) = linearized(&disc, &mut fft, &q);
         let dense_r = disc.residual(Scheme::Variational, &q).unwrap();
-        for (a, b) in eval.r.iter().zip(&dense_r) {
+        for (j, b) in dense_r.iter().enumerate() {
+            let a = block::<2>(&eval.r, j);
             assert!((a - b).amax() < 1e-12, "{side:?}: {a} vs {b}");
         }
         let pw = disc.pointwise(&q).unwrap();
@@ -73,7 +77,8 @@ fn preconditioner_images_are_the_square_block_products() {
         let embedding = Embedding::grunwald_letnikov(side, 0.55).unwrap();
         let disc = Discretisation::new(&Mixed, grid, embedding);
         let q = curve(n);
-        let (mut system, _) = linearized(&disc, &q);
+        let mut fft = FftOperator::new(disc.velocity_operator());
+        let (mut system, _) = linearized(&disc, &mut fft, &q);
         let m = (n - 1) * 2;
         let r: Vec<f64> = (0..m).map(|i| ((5 * i + 2) as f64).cos()).collect();
         let (mut z, mut image) = (vec![0.0; m], vec![0.0; m]);
@@ -134,7 +139,8 @@ fn preconditioner_inverts_the_whole_kinetic_part() {
         let embedding = Embedding::grunwald_letnikov(side, 0.45).unwrap();
         let disc = Discretisation::new(&Free, grid, embedding);
         let q: Vec<Vector<1>> = (0..=n).map(|k| Vector::<1>::new(k as f64)).collect();
-        let (mut system, _) = linearized(&disc, &q);
+        let mut fft = FftOperator::new(disc.velocity_operator());
+        let (mut system, _) = linearized(&disc, &mut fft, &q);
         assert!(system.preconditioner.correction.is_some());
         // P' = Σ_k D[k, ·]ᵀ L_vv(t_k) D[k, ·] over every row k of D = −σΔ.
         let m = n - 1;
@@ -170,48 +176,61 @@ fn preconditioner_inverts_the_whole_kinetic_part() {
     }
 }
 
-/// The same with `d = 2` and full `L_vv` blocks (the Woodbury term is a 2 × 2 system).
+/// The same with `d = 2` and full `L_vv` blocks (the Woodbury term is a 2 × 2 system), at
+/// successive linearisations of one system: `L_vv` unchanged (the correction kept), changed
+/// (recomputed), and unchanged again.
 #[test]
 fn preconditioner_inverts_the_kinetic_part_with_blocks() {
     let n = 15;
     let grid = Grid::new(0.2, 1.5, n).unwrap();
+    let shifted: Vec<Vector<2>> = curve(n)
+        .iter()
+        .map(|x| x * 1.3 + Vector::<2>::new(0.2, -0.1))
+        .collect();
     for side in [Side::Backward, Side::Forward] {
         let embedding = Embedding::grunwald_letnikov(side, 0.6).unwrap();
         let disc = Discretisation::new(&Mixed, grid, embedding);
-        let q = curve(n);
-        let (mut system, _) = linearized(&disc, &q);
-        assert!(system.preconditioner.correction.is_some());
-        let m = n - 1;
-        let mut p = DMatrix::<f64>::zeros(2 * m, 2 * m);
-        let sigma = side.sign();
-        for (i, k) in disc.velocity_operator().rows().enumerate() {
-            let vv = system.hessians[i].vv;
-            let d = |j| {
-                disc.velocity_operator()
-                    .row_entries(k)
-                    .find(|&(jj, _)| jj == j)
-                    .map_or(0.0, |(_, c)| -sigma * c)
-            };
-            for a in 1..n {
-                for b in 1..n {
-                    let block = vv * (d(a) * d(b));
-                    for (r, c) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
-                        p[(2 * (a - 1) + r, 2 * (b - 1) + c)] += block[(r, c)];
+        let mut fft = FftOperator::new(disc.velocity_operator());
+        let (mut system, _) = linearized(&disc, &mut fft, &curve(n));
+        for q in [curve(n), shifted.clone(), shifted.clone()] {
+            let mut eval = Evaluation::new(n);
+            evaluate(&disc, &mut system, &q, 0, &mut eval).unwrap();
+            system
+                .linearize(&disc, &q, &eval.v, Location::Newton(0))
+                .unwrap();
+            assert!(system.preconditioner.correction.is_some());
+            let m = n - 1;
+            let mut p = DMatrix::<f64>::zeros(2 * m, 2 * m);
+            let sigma = side.sign();
+            for (i, k) in disc.velocity_operator().rows().enumerate() {
+                let vv = system.hessians[i].vv;
+                let d = |j| {
+                    disc.velocity_operator()
+                        .row_entries(k)
+                        .find(|&(jj, _)| jj == j)
+                        .map_or(0.0, |(_, c)| -sigma * c)
+                };
+                for a in 1..n {
+                    for b in 1..n {
+                        let block = vv * (d(a) * d(b));
+                        for (r, c) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
+                            p[(2 * (a - 1) + r, 2 * (b - 1) + c)] += block[(r, c)];
+                        }
                     }
                 }
             }
-        }
-        let x: Vec<f64> = (0..2 * m).map(|i| (i as f64 * 0.37).cos()).collect();
-        let px = &p * nalgebra::DVector::from_vec(x.clone());
-        let mut z = vec![0.0; 2 * m];
-        system.precondition(px.as_slice(), &mut z);
-        for i in 0..2 * m {
-            assert!(
-                (z[i] - x[i]).abs() < 1e-9,
-                "{side:?} {i}: {} vs {}",
-                z[i],
-                x[i]
-            );
+            let x: Vec<f64> = (0..2 * m).map(|i| (i as f64 * 0.37).cos()).collect();
+            let px = &p * nalgebra::DVector::from_vec(x.clone());
+            let mut z = vec![0.0; 2 * m];
+            system.precondition(px.as_slice(), &mut z);
+            for i in 0..2 * m {
+                assert!(
+                    (z[i] - x[i]).abs() < 1e-9,
+                    "{side:?} {i}: {} vs {}",
+                    z[i],
+                    x[i]
+                );
+            }
         }
     }
 }
@@ -281,8 +300,9 @@ fn cg_breaks_down_on_an_indefinite_jacobian_and_minres_solves_it() {
         let q: Vec<Vector<1>> = (0..=n)
             .map(|k| Vector::<1>::new(0.3 - 1.3 * k as f64 / n as f64))
             .collect();
-        let (mut system, eval) = linearized(&disc, &q);
-        let rhs: Vec<f64> = eval.r.iter().map(|r| r[0]).collect();
+        let mut fft = FftOperator::new(disc.velocity_operator());
+        let (mut system, eval) = linearized(&disc, &mut fft, &q);
+        let rhs = eval.r.clone();
         let mut delta = vec![0.0; n - 1];
         let options = KrylovOptions {
             tolerance: 1e-10,
@@ -299,6 +319,7 @@ fn cg_breaks_down_on_an_indefinite_jacobian_and_minres_solves_it() {
             1e-10,
             &KrylovBudget::default(),
             at,
+            &mut MinresWork::default(),
         )
         .unwrap();
         let mut j_delta = vec![0.0; n - 1];

@@ -1,0 +1,132 @@
+//! How the steps of one run find the newest node: the closed-form update of the steps that are
+//! affine in it (the step module's third table), decided once per run, with `J⁻¹` inverted
+//! once when the step Jacobian is constant.
+
+use crate::lagrangian::{Dependence, HessianDependence, Lagrangian, Matrix, Vector};
+use crate::linalg::solve_small;
+
+use super::{Step, StepKind, StepTimes, equation, scaled_jacobian};
+
+/// Whether the step equation of `kind` is affine in the newest node (third table of the
+/// module docs). The symmetric kinds are never planned in closed form: `false`.
+pub fn is_affine(kind: StepKind, dependence: &HessianDependence) -> bool {
+    let HessianDependence { xx, xv, vv } = *dependence;
+    let on_x_or_v = |d: Dependence| d.x || d.v;
+    match kind {
+        StepKind::VariationalBackward => !on_x_or_v(xv) && !on_x_or_v(vv),
+        StepKind::VariationalForward => !xv.v && !vv.v,
+        StepKind::DirectBackward => !on_x_or_v(xx) && !on_x_or_v(xv) && !on_x_or_v(vv),
+        StepKind::DirectForward => !vv.v,
+        StepKind::MidpointVariational
+        | StepKind::MidpointDirect
+        | StepKind::TrapezoidalVariational
+        | StepKind::TrapezoidalDirect => false,
+    }
+}
+
+/// Whether every block in the Jacobian of `kind` is a constant, so that with a uniform step
+/// the Jacobian is the same at every step.
+pub(crate) fn jacobian_is_constant(kind: StepKind, dependence: &HessianDependence) -> bool {
+    let HessianDependence { xx, xv, vv } = *dependence;
+    let none = Dependence::NONE;
+    match kind {
+        StepKind::VariationalBackward | StepKind::VariationalForward => xv == none && vv == none,
+        StepKind::DirectBackward => xx == none && xv == none && vv == none,
+        StepKind::DirectForward => vv == none,
+        // Never affine (`is_affine`), so never asked.
+        _ => false,
+    }
+}
+
+/// How the steps of one run find the newest node, decided once per run by [`Update::plan`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Update<const D: usize> {
+    /// Newton's method: the step is not affine, or its constant Jacobian is singular (Newton
+    /// then reports the singular Jacobian with the step index).
+    Newton,
+    /// Affine with a constant diagonal `J⁻¹`, stored as its diagonal: one multiplication per
+    /// coordinate, with no zero entries on the critical path of an explicit run.
+    ConstantDiagonalInverse(Vector<D>),
+    /// Affine with a constant `J⁻¹`.
+    ConstantInverse(Matrix<D>),
+    /// Affine with a Jacobian that changes from step to step: one linear solve per step.
+    SolvePerStep,
+}
+
+impl<const D: usize> Update<D> {
+    /// The update of every step of `kind` for `lagrangian` with step size `times.h`.
+    ///
+    /// A constant Jacobian is inverted here, from the blocks at the first step's previous node
+    /// `b` (any point gives the same blocks; a real node keeps clear of points where the
+    /// Lagrangian is undefined).
+    pub fn plan<L: Lagrangian<D> + ?Sized>(
+        lagrangian: &L,
+        kind: StepKind,
+        b: &Vector<D>,
+        times: &StepTimes,
+    ) -> Self {
+        let dependence = lagrangian.hessian_dependence();
+        if !is_affine(kind, &dependence) {
+            return Update::Newton;
+        }
+        if !jacobian_is_constant(kind, &dependence) {
+            return Update::SolvePerStep;
+        }
+        let hs = lagrangian.hessian(b, &Vector::<D>::zeros(), kind.equation_time(times));
+        let Some(m_inv) = inverse(&scaled_jacobian(kind, &hs, times.h)) else {
+            return Update::Newton;
+        };
+        let j_inv = m_inv * times.h;
+        if (0..D).all(|i| (0..D).all(|j| i == j || j_inv[(i, j)] == 0.0)) {
+            Update::ConstantDiagonalInverse(j_inv.diagonal())
+        } else {
+            Update::ConstantInverse(j_inv)
+        }
+    }
+
+    /// The newest node in closed form, `y = b + J⁻¹ (π − G(b))` with `G` evaluated at `y = b`
+    /// (velocity 0). `None` for [`Update::Newton`] and for a singular per-step Jacobian; the
+    /// caller then runs Newton, which reports the failure with its step index.
+    #[inline(always)]
+    pub fn explicit<L: Lagrangian<D> + ?Sized>(
+        &self,
+        lagrangian: &L,
+        step: &Step<D>,
+    ) -> Option<Vector<D>> {
+        // At y = b the equation is evaluated at b, whichever side.
+        let (b, h) = (&step.b, step.times.h);
+        let t = step.kind.equation_time(&step.times);
+        // The velocity is an exact zero, not (b − b)/h: the optimiser then drops every term
+        // of the derivatives it multiplies. One per arm, so that the per-step solve passing
+        // its address on cannot keep the other arms' zero in memory.
+        let rest = Vector::<D>::zeros;
+        // π − G rather than −(G − π): π − 0 folds to π, −(0 − π) does not.
+        match self {
+            Update::Newton => None,
+            Update::ConstantDiagonalInverse(diagonal) => {
+                let (f, p) = lagrangian.gradient(b, &rest(), t);
+                Some(b + diagonal.component_mul(&(step.momentum - equation(step.kind, f, p, h))))
+            }
+            Update::ConstantInverse(j_inv) => {
+                let (f, p) = lagrangian.gradient(b, &rest(), t);
+                Some(b + j_inv * (step.momentum - equation(step.kind, f, p, h)))
+            }
+            Update::SolvePerStep => {
+                let (f, p, hs) = lagrangian.gradient_and_hessian(b, &rest(), t);
+                let rhs = step.momentum - equation(step.kind, f, p, h);
+                solve_small(&scaled_jacobian(step.kind, &hs, h), &rhs).map(|dy| b + dy * h)
+            }
+        }
+    }
+}
+
+/// `m⁻¹`, column by column with [`solve_small`] so that "singular" means what it means for
+/// every other step solve; `None` when singular or not finite.
+fn inverse<const D: usize>(m: &Matrix<D>) -> Option<Matrix<D>> {
+    let identity = Matrix::<D>::identity();
+    let mut inv = Matrix::<D>::zeros();
+    for j in 0..D {
+        inv.set_column(j, &solve_small(m, &identity.column(j).into_owned())?);
+    }
+    inv.iter().all(|c| c.is_finite()).then_some(inv)
+}
