@@ -345,7 +345,7 @@ fn momentum_from<const D: usize>(
     if let Some(term) = single_term(kind) {
         // The Gauss-FDEσ kinds, the explicit runs' path: their one term written out, so that
         // the stepping loop of an explicit run keeps its shape (measured: through the general
-        // sum below, the explicit Kepler run was 1.4× slower, BENCHMARKS.md).
+        // sum below the explicit Kepler run took 1.2× its time, BENCHMARKS.md).
         let v = (b - a) * times.inv_h;
         let (x, t) = match term.point {
             Point::Right => (b, times.t_b),

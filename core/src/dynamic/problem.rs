@@ -23,8 +23,8 @@ use super::ivp::{DynIvp, DynNode, DynRun};
 /// steps of the const-generic path, from the same table of terms. The Gauss-FDEσ embeddings
 /// are also offered as boundary value problems; the Gauss–Legendre integrators and the
 /// symmetric boundary value problems run on the const-generic path only
-/// ([`Error::Unsupported`] here). Every implicit step is solved by Newton's method on a band matrix
-/// (`O(d b²)` for half-bandwidth `b`); a step that is affine in the newest node is taken in
+/// ([`Error::Unsupported`] here). Every implicit step is solved by Newton's method on a band
+/// matrix (`O(d b²)` for half-bandwidth `b`); a step that is affine in the newest node is taken in
 /// closed form, and a constant step Jacobian is factorised once per run. The runs are watched
 /// by the blow-up guard of the const-generic path. The eigenvalue stability check of that path
 /// (a `2d × 2d` eigenproblem) is not run; a Störmer–Verlet run is checked at its initial data
