@@ -150,7 +150,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// direct scheme of Gauss–Legendre; at step `n`,
     /// [`Error::SingularJacobian`](crate::Error::SingularJacobian), [`Error::NewtonDidNotConverge`](crate::Error::NewtonDidNotConverge) (with the last residual) or
     /// [`Error::Unstable`](crate::Error::Unstable) (the linearised step map, checked at step 2 and every 1024 steps, has
-    /// a real eigenvalue below −1 or one of modulus ≥ 2: the step is too large for the scheme)
+    /// a real eigenvalue below −1 or one of modulus ≥ 2: the step is too large for the scheme;
+    /// on a run handed to the run-time engine only a Störmer–Verlet run, at its initial data)
     /// or [`Error::NotFinite`](crate::Error::NotFinite) (e.g. a recurrence overflowing between two checks); for a
     /// Lagrangian that does not depend on `t`, [`Error::BlowUp`](crate::Error::BlowUp) over a window of steps where the
     /// energy grew far beyond the early run's (see
