@@ -98,6 +98,17 @@ fn solvers() -> Vec<(String, Kind)> {
             }
         }
     }
+    // The symmetric embeddings run on this path as initial value problems only.
+    for embedding in [Embedding::midpoint(), Embedding::trapezoidal()] {
+        for scheme in [Scheme::Direct, Scheme::Variational] {
+            let kind = Kind {
+                embedding,
+                scheme,
+                bvp: false,
+            };
+            out.push((format!("DynProblem IVP {embedding} {scheme:?}"), kind));
+        }
+    }
     out
 }
 
