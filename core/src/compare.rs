@@ -317,6 +317,11 @@ pub(crate) trait Compares {
     /// Whether the Lagrangian may depend on `t` (its `dependence()`).
     fn depends_on_t(&self) -> bool;
 
+    /// Whether a generalised force acts (a [`Forced`](crate::Forced) model). The default: no.
+    fn is_forced(&self) -> bool {
+        false
+    }
+
     /// `E = V_k·∂L/∂v − L` at the quadrature nodes of `solution`, and the residual of `scheme`
     /// on it relative to the size of each row's terms ([`SchemeReport::residual_of_other`]).
     fn energy_and_residual(
@@ -351,6 +356,8 @@ pub(crate) fn compare_runs<C: Compares>(
         Some("the embedding is fractional: its flow does not conserve E")
     } else if problem.depends_on_t() {
         Some("L may depend on t (its `dependence()` says so): E is not conserved")
+    } else if problem.is_forced() {
+        Some("a generalised force acts: E changes by its work (`Forced::work`)")
     } else {
         None
     };

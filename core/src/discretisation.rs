@@ -381,10 +381,17 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
         let sigma = self.embedding.side().sign();
         let hess: Vec<Option<_>> = (0..=n)
             .map(|k| {
-                self.embedding
-                    .quadrature_rows(n)
-                    .contains(&k)
-                    .then(|| self.lagrangian.hessian(&q[k], &pw.v[k], self.grid.t(k)))
+                self.embedding.quadrature_rows(n).contains(&k).then(|| {
+                    let (x, v, t) = (&q[k], &pw.v[k], self.grid.t(k));
+                    let hs = self.lagrangian.hessian(x, v, t);
+                    // ∂f/∂x, ∂f/∂v of the row's force: L_xx, L_xv and a generalised
+                    // force's blocks; the momentum's blocks are L's alone.
+                    let (f_x, f_v) = match self.lagrangian.force_jacobian(x, v, t) {
+                        Some(force) => (hs.xx + force.x, hs.xv + force.v),
+                        None => (hs.xx, hs.xv),
+                    };
+                    (hs, f_x, f_v)
+                })
             })
             .collect();
         let unknown = |j: usize| (1..n).contains(&j);
@@ -395,18 +402,18 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
                 .map(move |(j, c)| (j, -sigma * c))
         };
         for (i, k) in self.rows(scheme).enumerate() {
-            let hk = hess[k].as_ref().expect("rows lie in I_σ");
+            let (_, f_x, f_v) = hess[k].as_ref().expect("rows lie in I_σ");
             if unknown(k) {
-                add(i, k - 1, &hk.xx);
+                add(i, k - 1, f_x);
             }
             for (j, c) in d_row(k) {
                 if unknown(j) {
-                    add(i, j - 1, &(hk.xv * c));
+                    add(i, j - 1, &(f_v * c));
                 }
             }
             let operators = (&self.velocity, &self.adjoint);
             for (m, b) in self.embedding.momentum_row(scheme, operators, k) {
-                let hm = hess[m].as_ref().expect("B only reaches nodes of I_σ");
+                let (hm, _, _) = hess[m].as_ref().expect("B only reaches nodes of I_σ");
                 if unknown(m) {
                     add(i, m - 1, &(hm.xv.transpose() * b));
                 }
@@ -533,14 +540,22 @@ mod tests {
     /// every embedding (so Newton's quadratic convergence rests on the right matrix).
     #[test]
     fn jacobian_matches_finite_differences_of_the_residual() {
+        jacobian_matches(&Mixed, true);
+        // Under a force: the classical embeddings (the fractional ones refuse a force).
+        jacobian_matches(&crate::test_models::FORCED_MIXED, false);
+    }
+
+    fn jacobian_matches<L: Lagrangian<2>>(lagrangian: &L, fractional: bool) {
         let n = 9;
         let grid = Grid::new(0.1, 1.0, n).unwrap();
         let mut embeddings = Vec::new();
         for side in [Side::Backward, Side::Forward] {
             embeddings.push(Embedding::finite_difference(side));
             embeddings.push(Embedding::asymmetric(side));
-            embeddings.push(Embedding::grunwald_letnikov(side, 0.6).unwrap());
-            embeddings.push(Embedding::caputo(side, 0.6).unwrap());
+            if fractional {
+                embeddings.push(Embedding::grunwald_letnikov(side, 0.6).unwrap());
+                embeddings.push(Embedding::caputo(side, 0.6).unwrap());
+            }
         }
         embeddings.push(Embedding::midpoint());
         embeddings.push(Embedding::trapezoidal());
@@ -548,7 +563,7 @@ mod tests {
             .map(|k| Vector::<2>::new((k as f64 * 0.7).sin(), (k as f64 * 0.3).cos() - 0.5))
             .collect();
         for embedding in embeddings {
-            let disc = Discretisation::new(&Mixed, grid, embedding);
+            let disc = Discretisation::new(lagrangian, grid, embedding);
             for scheme in [Scheme::Direct, Scheme::Variational] {
                 let pw = disc.pointwise(&q).unwrap();
                 let jac = disc.dense_jacobian(scheme, &q, &pw);

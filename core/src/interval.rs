@@ -19,7 +19,7 @@
 //! with `f = ∂L/∂x`, `p = ∂L/∂v`. The direct schemes also need the force at a node `Q_k` with
 //! the centred velocity `(Q_{k+1} − Q_{k−1})/(2h)`: [`node_force`].
 
-use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
+use crate::lagrangian::{ForceJacobian, Hessian, Lagrangian, Matrix, Vector};
 
 /// Which symmetric discrete Lagrangian.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -183,9 +183,13 @@ impl<const D: usize> Interval<D> {
         let v = self.velocity();
         let inv_h = 1.0 / self.h;
         // (∂p/∂u, ∂p/∂w) and (∂f/∂u, ∂f/∂w) at a point x = c_u u + c_w w.
-        let blocks = |hs: &Hessian<D>, c_u: f64, c_w: f64| {
+        // A generalised force joins `L_xx` and `L_xv` in `f`'s derivatives, not in `p`'s.
+        let blocks = |hs: &Hessian<D>, force: Option<ForceJacobian<D>>, c_u: f64, c_w: f64| {
             let (p_x, p_v) = (hs.xv.transpose(), hs.vv * inv_h);
-            let (f_x, f_v) = (hs.xx, hs.xv * inv_h);
+            let (f_x, f_v) = match force {
+                Some(force) => (hs.xx + force.x, (hs.xv + force.v) * inv_h),
+                None => (hs.xx, hs.xv * inv_h),
+            };
             (
                 [p_x * c_u - p_v, p_x * c_w + p_v],
                 [f_x * c_u - f_v, f_x * c_w + f_v],
@@ -195,7 +199,7 @@ impl<const D: usize> Interval<D> {
             Rule::Midpoint => {
                 let (m, t) = self.midpoint();
                 let (f, p, hs) = lagrangian.gradient_and_hessian(&m, &v, t);
-                let (dp, df) = blocks(&hs, 0.5, 0.5);
+                let (dp, df) = blocks(&hs, lagrangian.force_jacobian(&m, &v, t), 0.5, 0.5);
                 (
                     IntervalGradient {
                         momentum: p,
@@ -212,8 +216,10 @@ impl<const D: usize> Interval<D> {
             Rule::Trapezoidal => {
                 let (f_u, p_u, hs_u) = lagrangian.gradient_and_hessian(&self.u, &v, self.t_u);
                 let (f_w, p_w, hs_w) = lagrangian.gradient_and_hessian(&self.w, &v, self.t_w);
-                let (dp_u, df_u) = blocks(&hs_u, 1.0, 0.0);
-                let (dp_w, df_w) = blocks(&hs_w, 0.0, 1.0);
+                let force_u = lagrangian.force_jacobian(&self.u, &v, self.t_u);
+                let force_w = lagrangian.force_jacobian(&self.w, &v, self.t_w);
+                let (dp_u, df_u) = blocks(&hs_u, force_u, 1.0, 0.0);
+                let (dp_w, df_w) = blocks(&hs_w, force_w, 0.0, 1.0);
                 (
                     IntervalGradient {
                         momentum: (p_u + p_w) * 0.5,
@@ -232,8 +238,9 @@ impl<const D: usize> Interval<D> {
 }
 
 /// The force of the direct schemes at node `x = Q_k` (time `t`), with the centred velocity
-/// `c = (next − previous)/(2h)`. Its derivatives with respect to `Q_{k−1}`, `Q_k`, `Q_{k+1}`,
-/// `−L_xv/(2h)`, `L_xx`, `L_xv/(2h)`, are [`node_force_jacobian`]'s.
+/// `c = (next − previous)/(2h)`, and its derivatives `(∂f/∂x, ∂f/∂v)`: `L_xx`, `L_xv` and a
+/// generalised force's blocks. Its derivatives with respect to `Q_{k−1}`, `Q_k`, `Q_{k+1}`,
+/// `−f_v/(2h)`, `f_x`, `f_v/(2h)`, are [`node_force_jacobian`]'s.
 #[inline(always)]
 pub fn node_force<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
@@ -242,17 +249,21 @@ pub fn node_force<const D: usize, L: Lagrangian<D> + ?Sized>(
     next: &Vector<D>,
     t: f64,
     h: f64,
-) -> (Vector<D>, Hessian<D>) {
+) -> (Vector<D>, [Matrix<D>; 2]) {
     let c = (next - previous) / (2.0 * h);
     let (f, _, hs) = lagrangian.gradient_and_hessian(x, &c, t);
-    (f, hs)
+    match lagrangian.force_jacobian(x, &c, t) {
+        Some(force) => (f, [hs.xx + force.x, hs.xv + force.v]),
+        None => (f, [hs.xx, hs.xv]),
+    }
 }
 
-/// `∂f/∂Q_{k−1}`, `∂f/∂Q_k`, `∂f/∂Q_{k+1}` of [`node_force`] from its Hessian.
+/// `∂f/∂Q_{k−1}`, `∂f/∂Q_k`, `∂f/∂Q_{k+1}` of [`node_force`] from its derivatives
+/// `[f_x, f_v]`.
 #[inline]
-pub fn node_force_jacobian<const D: usize>(hs: &Hessian<D>, h: f64) -> [Matrix<D>; 3] {
-    let side = hs.xv / (2.0 * h);
-    [-side, hs.xx, side]
+pub fn node_force_jacobian<const D: usize>([f_x, f_v]: &[Matrix<D>; 2], h: f64) -> [Matrix<D>; 3] {
+    let side = f_v / (2.0 * h);
+    [-side, *f_x, side]
 }
 
 #[cfg(test)]
@@ -264,6 +275,11 @@ mod tests {
     /// a Lagrangian whose blocks all depend on `x`, `v` and `t`.
     #[test]
     fn jacobian_matches_finite_differences() {
+        jacobian_matches(&Mixed);
+        jacobian_matches(&crate::test_models::FORCED_MIXED);
+    }
+
+    fn jacobian_matches<L: Lagrangian<2>>(lagrangian: &L) {
         let interval = Interval {
             u: Vector::<2>::new(0.3, -0.2),
             w: Vector::<2>::new(0.36, -0.13),
@@ -272,8 +288,8 @@ mod tests {
             h: 0.1,
         };
         for rule in [Rule::Midpoint, Rule::Trapezoidal] {
-            let (g, jac) = interval.gradient_and_jacobian(&Mixed, rule);
-            assert_eq!(g, interval.gradient(&Mixed, rule));
+            let (g, jac) = interval.gradient_and_jacobian(lagrangian, rule);
+            assert_eq!(g, interval.gradient(lagrangian, rule));
             for (end, c) in [(0, 0), (0, 1), (1, 0), (1, 1)] {
                 let eps = 1e-6;
                 let moved = |s: f64| {
@@ -283,7 +299,7 @@ mod tests {
                     } else {
                         i.w[c] += s;
                     }
-                    i.gradient(&Mixed, rule)
+                    i.gradient(lagrangian, rule)
                 };
                 let (plus, minus) = (moved(eps), moved(-eps));
                 let fd = |a: Vector<2>, b: Vector<2>| (a - b) / (2.0 * eps);

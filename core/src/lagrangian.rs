@@ -84,6 +84,16 @@ pub struct Hessian<const D: usize> {
     pub vv: Matrix<D>,
 }
 
+/// The derivatives of a generalised force `f(x, v, t)`: `x[(i, j)] = ∂f_i/∂x_j`,
+/// `v[(i, j)] = ∂f_i/∂v_j`. Neither need be symmetric (see [`Force`](crate::Force)).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ForceJacobian<const D: usize> {
+    /// `∂f/∂x`.
+    pub x: Matrix<D>,
+    /// `∂f/∂v`.
+    pub v: Matrix<D>,
+}
+
 /// On which of `x`, `v`, `t` a function of `(x, v, t)` may depend.
 ///
 /// `true` is always safe (it only costs the closed-form update of a step); `false` is a
@@ -343,6 +353,21 @@ pub trait Lagrangian<const D: usize> {
         None
     }
 
+    /// Whether [`gradient`](Self::gradient)'s first output is `∂L/∂x + f`, with `f` a
+    /// generalised force (a [`Forced`](crate::Forced) model): the energy is then not conserved,
+    /// and the solvers that assume it is (the blow-up guard) stand down. The default: `false`.
+    fn is_forced(&self) -> bool {
+        false
+    }
+
+    /// `(∂f/∂x, ∂f/∂v)` of the generalised force a [`Forced`](crate::Forced) model adds to
+    /// `∂L/∂x`, at `(x, v, t)`: the step Jacobians add them to `L_xx` and `L_xv` where they
+    /// differentiate the force term (never where they differentiate `p`). The default: `None`.
+    #[inline(always)]
+    fn force_jacobian(&self, _x: &Vector<D>, _v: &Vector<D>, _t: f64) -> Option<ForceJacobian<D>> {
+        None
+    }
+
     /// The energy `E = v·∂L/∂v − L`.
     fn energy(&self, x: &Vector<D>, v: &Vector<D>, t: f64) -> f64 {
         let (l, _, p) = self.value_and_gradient(x, v, t);
@@ -393,6 +418,13 @@ impl<const D: usize, L: Lagrangian<D> + ?Sized> Lagrangian<D> for &L {
     }
     fn run_time(&self) -> Option<&dyn DynLagrangian> {
         (**self).run_time()
+    }
+    fn is_forced(&self) -> bool {
+        (**self).is_forced()
+    }
+    #[inline(always)]
+    fn force_jacobian(&self, x: &Vector<D>, v: &Vector<D>, t: f64) -> Option<ForceJacobian<D>> {
+        (**self).force_jacobian(x, v, t)
     }
 }
 

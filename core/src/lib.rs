@@ -167,6 +167,7 @@ mod embedding;
 mod ensemble;
 mod error;
 mod fft_operator;
+mod force;
 mod gauss_legendre;
 mod grid;
 mod interval;
@@ -198,9 +199,11 @@ pub use embedding::kind::EmbeddingKind;
 pub use embedding::{Embedding, Scheme};
 pub use ensemble::Ensemble;
 pub use error::{Error, Location, Result};
+pub use force::{Force, ForceDependence, Forced, Rayleigh};
 pub use grid::Grid;
 pub use lagrangian::{
-    Dependence, DynLagrangian, Hessian, HessianDependence, IntoVector, Lagrangian, Matrix, Vector,
+    Dependence, DynLagrangian, ForceJacobian, Hessian, HessianDependence, IntoVector, Lagrangian,
+    Matrix, Vector,
 };
 pub use ode::{DifferentialOperator, DirectEmbedding};
 pub use options::{FractionalSolver, NewtonOptions, RUN_TIME_FROM};

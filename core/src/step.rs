@@ -74,7 +74,7 @@
 //! blocks) and the run-time-dimension steps (slices, band blocks) both evaluate that table, so
 //! a kind is defined once and the two paths take the same steps.
 
-use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
+use crate::lagrangian::{ForceJacobian, Hessian, Lagrangian, Matrix, Vector};
 
 use terms::{BlockWeights, Point, Term, Terms, equation_terms, momentum_terms};
 
@@ -316,6 +316,25 @@ fn block_sum<const D: usize>(hs: &Hessian<D>, w: BlockWeights) -> Matrix<D> {
     m
 }
 
+/// The blocks of a generalised force in `h J`: `∂f/∂x` where `L_xx` stands and `∂f/∂v` where
+/// `L_xv` does (the force enters with `∂L/∂x`, never with `p`), with no operation for a zero
+/// weight.
+#[inline(always)]
+fn force_block_sum<const D: usize>(
+    m: &mut Matrix<D>,
+    force: Option<ForceJacobian<D>>,
+    w: BlockWeights,
+) {
+    if let Some(force) = force {
+        if w.xv != 0.0 {
+            *m += force.v * w.xv;
+        }
+        if w.xx != 0.0 {
+            *m += force.x * w.xx;
+        }
+    }
+}
+
 /// Sums `each` over the (up to three) terms, written out rather than looped so that, for a
 /// kind known at compile time, each term's weights are constants and what a zero weight
 /// multiplies is never computed.
@@ -404,8 +423,16 @@ fn equation<const D: usize>(kind: StepKind, f: Vector<D>, p: Vector<D>, h: f64) 
 /// exactly `h`, so the update is `b + h π` with no rounding beyond the hand-written
 /// Störmer–Verlet loop's.
 #[inline(always)]
-fn scaled_jacobian<const D: usize>(kind: StepKind, hs: &Hessian<D>, h: f64) -> Matrix<D> {
-    block_sum(hs, equation_terms(kind).first().block_weights(h))
+fn scaled_jacobian<const D: usize>(
+    kind: StepKind,
+    hs: &Hessian<D>,
+    force: Option<ForceJacobian<D>>,
+    h: f64,
+) -> Matrix<D> {
+    let weights = equation_terms(kind).first().block_weights(h);
+    let mut m = block_sum(hs, weights);
+    force_block_sum(&mut m, force, weights);
+    m
 }
 
 /// Residual `G(y) − π` of the step equation at the candidate newest node `y`, and its
@@ -496,11 +523,12 @@ fn equation_term<const D: usize, L: Lagrangian<D> + ?Sized>(
         (true, false) => term.p.abs() * p.amax(),
         (false, _) => (term.f * h).abs() * f.amax(),
     };
-    (
-        weighted(term, p, f, h),
-        block_sum(&hs, term.block_weights(h)),
-        size,
-    )
+    let weights = term.block_weights(h);
+    let mut hj = block_sum(&hs, weights);
+    if term.f != 0.0 {
+        force_block_sum(&mut hj, lagrangian.force_jacobian(&x, &v, t), weights);
+    }
+    (weighted(term, p, f, h), hj, size)
 }
 
 pub(crate) mod terms;

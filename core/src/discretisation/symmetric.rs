@@ -18,7 +18,7 @@ use super::{Discretisation, Pointwise};
 use crate::embedding::{EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::interval::{Interval, IntervalJacobian, Rule, node_force, node_force_jacobian};
-use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
+use crate::lagrangian::{Lagrangian, Matrix, Vector};
 
 impl<L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'_, L, D> {
     /// The discrete Lagrangian of the embedding.
@@ -40,8 +40,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'_, L, D> {
         }
     }
 
-    /// The direct schemes' force at node `k` of `Q`, with its Hessian blocks.
-    fn node_force(&self, q: &[Vector<D>], k: usize) -> (Vector<D>, Hessian<D>) {
+    /// The direct schemes' force at node `k` of `Q`, with its derivatives `[f_x, f_v]`.
+    fn node_force(&self, q: &[Vector<D>], k: usize) -> (Vector<D>, [Matrix<D>; 2]) {
         let t = self.grid.t(k);
         node_force(
             self.lagrangian,
@@ -168,8 +168,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'_, L, D> {
                     blocks[2] += after.force_left[1] * 0.5;
                 }
                 Scheme::Direct => {
-                    let (_, hs) = self.node_force(q, k);
-                    for (block, df) in blocks.iter_mut().zip(node_force_jacobian(&hs, h)) {
+                    let (_, derivatives) = self.node_force(q, k);
+                    for (block, df) in blocks.iter_mut().zip(node_force_jacobian(&derivatives, h)) {
                         *block += df;
                     }
                 }

@@ -37,6 +37,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Compares for Comparer<'_, '_, L,
         self.0.discretisation.lagrangian().dependence().t
     }
 
+    fn is_forced(&self) -> bool {
+        self.0.discretisation.lagrangian().is_forced()
+    }
+
     fn energy_and_residual(
         &self,
         scheme: Scheme,

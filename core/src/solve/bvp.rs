@@ -142,6 +142,14 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
     guess: &[Vector<D>],
 ) -> Result<Solution<D>> {
     check_input(disc, guess)?;
+    if disc.embedding().is_fractional() && disc.lagrangian().is_forced() {
+        // The fractional systems' Jacobians and preconditioners are built from L's Hessian
+        // alone; a force's blocks have no place there yet.
+        return Err(Error::Unsupported {
+            operation: "a boundary value problem under a generalised force",
+            embedding: disc.embedding().to_string(),
+        });
+    }
     let mut solution = solve_unchecked(disc, options, scheme, guess)?;
     check_nodes(disc, &solution.q, false)?;
     let fractional = fractional_warnings(disc.embedding(), &solution.q);

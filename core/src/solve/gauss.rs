@@ -37,7 +37,7 @@ use crate::embedding::{Embedding, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::gauss_legendre::GaussTableau;
 use crate::grid::Grid;
-use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
+use crate::lagrangian::{ForceJacobian, Hessian, Lagrangian, Matrix, Vector};
 use crate::linalg::solve_dense_in_place;
 use crate::memory::reserve;
 use crate::options::NewtonOptions;
@@ -142,6 +142,9 @@ struct StageSystem<const D: usize> {
     f: Vec<Vector<D>>,
     p: Vec<Vector<D>>,
     hessian: Vec<Hessian<D>>,
+    /// The Jacobian of a generalised force at every stage (empty without one): its blocks join
+    /// `L_xx` and `L_xv` where the stage equations differentiate `Ṗ_i`.
+    force: Vec<ForceJacobian<D>>,
     /// The `s·d × s·d` Jacobian row by row, and the residual (then the Newton update).
     jacobian: Vec<f64>,
     rhs: Vec<f64>,
@@ -180,6 +183,7 @@ impl<const D: usize> StageSystem<D> {
             f: vec![zero; s],
             p: vec![zero; s],
             hessian: vec![no_hessian; s],
+            force: Vec::new(),
             jacobian: vec![0.0; s * s * D * D],
             rhs: vec![0.0; s * D],
         }
@@ -194,7 +198,13 @@ impl<const D: usize> StageSystem<D> {
             for j in 0..s {
                 qi += self.v[j] * (h * self.tableau.a(i, j));
             }
-            let (f, p, hs) = l.gradient_and_hessian(&qi, &self.v[i], tk + self.tableau.c[i] * h);
+            let ti = tk + self.tableau.c[i] * h;
+            let (f, p, hs) = l.gradient_and_hessian(&qi, &self.v[i], ti);
+            if let Some(force) = l.force_jacobian(&qi, &self.v[i], ti) {
+                self.force.resize(s, force);
+                self.force[i] = force;
+                finite &= force.x.iter().chain(force.v.iter()).all(|c| c.is_finite());
+            }
             finite &= f.iter().chain(p.iter()).all(|c| c.is_finite())
                 && [hs.xx, hs.xv, hs.vv]
                     .iter()
@@ -227,13 +237,22 @@ impl<const D: usize> StageSystem<D> {
         for i in 0..s {
             for m in 0..s {
                 let a_im = self.tableau.a(i, m);
-                let mut block = (self.hessian[i].xv.transpose() - self.hessian[m].xv) * (h * a_im);
+                // ∂Ṗ/∂x and ∂Ṗ/∂v at a stage: L_xx, L_xv and a force's blocks.
+                let f_x = |j: usize| match self.force.get(j) {
+                    Some(force) => self.hessian[j].xx + force.x,
+                    None => self.hessian[j].xx,
+                };
+                let f_v = match self.force.get(m) {
+                    Some(force) => self.hessian[m].xv + force.v,
+                    None => self.hessian[m].xv,
+                };
+                let mut block = (self.hessian[i].xv.transpose() - f_v) * (h * a_im);
                 if i == m {
                     block += self.hessian[i].vv;
                 }
                 for j in 0..s {
                     let weight = h * h * self.tableau.a(i, j) * self.tableau.a(j, m);
-                    block -= self.hessian[j].xx * weight;
+                    block -= f_x(j) * weight;
                 }
                 for r in 0..D {
                     for c in 0..D {
@@ -341,9 +360,15 @@ mod tests {
     use crate::test_models::Mixed;
 
     /// The assembled stage Jacobian equals central differences of the stage residual, for
-    /// every s, on a Lagrangian whose every Hessian block is non-zero and depends on x, v, t.
+    /// every s, on a Lagrangian whose every Hessian block is non-zero and depends on x, v, t,
+    /// alone and under a force whose blocks are not symmetric either.
     #[test]
     fn stage_jacobian_matches_finite_differences() {
+        stage_jacobian_matches(&Mixed);
+        stage_jacobian_matches(&crate::test_models::FORCED_MIXED);
+    }
+
+    fn stage_jacobian_matches<L: Lagrangian<2>>(lagrangian: &L) {
         let (qk, pk) = (Vector::<2>::new(0.3, -0.7), Vector::<2>::new(0.4, 1.1));
         let (tk, h) = (0.2, 0.15);
         for s in 1..=4 {
@@ -351,7 +376,7 @@ mod tests {
             for i in 0..s {
                 system.v[i] = Vector::<2>::new(0.5 + 0.1 * i as f64, -0.3 * i as f64 + 0.2);
             }
-            assert!(system.evaluate(&Mixed, &qk, tk));
+            assert!(system.evaluate(lagrangian, &qk, tk));
             system.residual(&pk);
             system.assemble_jacobian();
             let jacobian = system.jacobian.clone();
@@ -362,7 +387,7 @@ mod tests {
                     let mut other = StageSystem::new(GaussTableau::new(s), h, Vector::<2>::zeros());
                     other.v = system.v.clone();
                     other.v[col / 2][col % 2] += delta;
-                    assert!(other.evaluate(&Mixed, &qk, tk));
+                    assert!(other.evaluate(lagrangian, &qk, tk));
                     other.residual(&pk);
                     other.rhs
                 };

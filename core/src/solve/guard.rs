@@ -55,7 +55,8 @@
 //! midpoint is exactly conserved on a linear system (the Cayley transform is an isometry of the
 //! energy norm, and the midpoint is the mean of two points of one orbit).
 //!
-//! Non-autonomous Lagrangians (`dependence().t`) are not guarded: their energy is not
+//! Non-autonomous Lagrangians (`dependence().t`) and forced ones (`is_forced()`) are not
+//! guarded: their energy is not
 //! conserved, and growth of the energy, of `‖Q‖` or of the momenta is what a driven
 //! oscillator at resonance or a parametrically excited one (Mathieu) does physically. No
 //! growth rule tells that apart from a numerical blow-up, and a guard that flagged physics as
@@ -98,14 +99,16 @@ pub(crate) struct BlowUpGuard {
 
 impl BlowUpGuard {
     /// The guard of a run of `n_steps` steps of `lagrangian`;
-    /// `enabled` off (or a Lagrangian that depends on `t`) makes every sample a no-op.
+    /// `enabled` off (or a Lagrangian that depends on `t`, or one under a generalised force:
+    /// the energy is not conserved) makes every sample a no-op.
     pub(crate) fn new<L: Lagrangian<D> + ?Sized, const D: usize>(
         lagrangian: &L,
         drifts: bool,
         n_steps: usize,
         enabled: bool,
     ) -> Self {
-        Self::watching(drifts, n_steps, enabled && !lagrangian.dependence().t)
+        let conserved = !lagrangian.dependence().t && !lagrangian.is_forced();
+        Self::watching(drifts, n_steps, enabled && conserved)
     }
 
     /// The guard of a run of `n_steps` steps, watching when `enabled` (which the caller has

@@ -1,7 +1,7 @@
 use super::*;
 use crate::lagrangian::{Dependence, HessianDependence};
 use crate::linalg::solve_small;
-use crate::test_models::Mixed;
+use crate::test_models::{FORCED_MIXED, Mixed};
 
 const TIMES: StepTimes = StepTimes::new(0.1, 0.3, 0.4, 0.5);
 
@@ -79,24 +79,31 @@ fn momentum_and_residual_follow_the_table() {
 }
 
 /// The Jacobian of every kind against central differences of its residual, on a Lagrangian
-/// whose blocks all depend on `x`, `v` and `t` (`L_xv ≠ L_xvᵀ`, so a transposed block shows).
+/// whose blocks all depend on `x`, `v` and `t` (`L_xv ≠ L_xvᵀ`, so a transposed block shows),
+/// alone and under a force whose blocks are not symmetric either.
 #[test]
 fn jacobians_match_finite_differences() {
+    jacobians_match(&Mixed);
+    jacobians_match(&FORCED_MIXED);
+}
+
+fn jacobians_match<L: Lagrangian<2>>(lagrangian: &L) {
     let (a, b, y) = (
         Vector::<2>::new(0.3, -0.2),
         Vector::<2>::new(0.35, -0.12),
         Vector::<2>::new(0.41, -0.05),
     );
     for kind in StepKind::ALL {
-        let step = step(&Mixed, kind, a, b);
-        let (_, j) = residual(&Mixed, &step, &y);
+        let step = step(lagrangian, kind, a, b);
+        let (_, j) = residual(lagrangian, &step, &y);
         let delta = 1e-6;
         for c in 0..2 {
             let mut plus = y;
             let mut minus = y;
             plus[c] += delta;
             minus[c] -= delta;
-            let column = (residual(&Mixed, &step, &plus).0 - residual(&Mixed, &step, &minus).0)
+            let column = (residual(lagrangian, &step, &plus).0
+                - residual(lagrangian, &step, &minus).0)
                 / (2.0 * delta);
             let gap = (j.column(c) - column).amax();
             assert!(

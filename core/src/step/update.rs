@@ -72,8 +72,10 @@ impl<const D: usize> Update<D> {
         if !jacobian_is_constant(kind, &dependence) {
             return Update::SolvePerStep;
         }
-        let hs = lagrangian.hessian(b, &Vector::<D>::zeros(), kind.equation_time(times));
-        let Some(m_inv) = inverse(&scaled_jacobian(kind, &hs, times.h)) else {
+        let (rest, t) = (Vector::<D>::zeros(), kind.equation_time(times));
+        let hs = lagrangian.hessian(b, &rest, t);
+        let force = lagrangian.force_jacobian(b, &rest, t);
+        let Some(m_inv) = inverse(&scaled_jacobian(kind, &hs, force, times.h)) else {
             return Update::Newton;
         };
         let j_inv = m_inv * times.h;
@@ -113,8 +115,9 @@ impl<const D: usize> Update<D> {
             }
             Update::SolvePerStep => {
                 let (f, p, hs) = lagrangian.gradient_and_hessian(b, &rest(), t);
+                let force = lagrangian.force_jacobian(b, &rest(), t);
                 let rhs = step.momentum - equation(step.kind, f, p, h);
-                solve_small(&scaled_jacobian(step.kind, &hs, h), &rhs).map(|dy| b + dy * h)
+                solve_small(&scaled_jacobian(step.kind, &hs, force, h), &rhs).map(|dy| b + dy * h)
             }
         }
     }
