@@ -7,6 +7,7 @@ mod coherence;
 mod compare;
 mod dense_output;
 mod errors;
+mod forces;
 mod gauss_legendre;
 mod general_embedding;
 mod hard_input;

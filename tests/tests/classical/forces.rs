@@ -1,0 +1,397 @@
+//! Generalised forces (`Forced`, `Rayleigh`), against oracles independent of the schemes:
+//!
+//! - the damped oscillator `q̈ + γq̇ + q = 0` by Rayleigh friction, against its exact solution:
+//!   every classical embedding and scheme keeps the order it has without a force
+//!   (`Embedding::order`), as an initial value problem and as a boundary value problem;
+//! - the forced discrete Noether theorem: on a model invariant under a common translation, under
+//!   a force that depends on `x`, `v` and `t` non-linearly, the variational schemes' momentum
+//!   along the symmetry changes by the sum of the discrete impulses, to round-off;
+//! - the energy balance `E_k − E_0 = W_k` to the scheme's order;
+//! - the closed-form steps of a constant-Jacobian force against the same steps by Newton, and
+//!   the boundary value problem through the nodes of the initial value problem;
+//! - `Rayleigh`'s force and Jacobian against central differences of the dissipation function
+//!   the macro differentiated, at generated points;
+//! - what is refused: a fractional problem under a force, the impulse of a Gauss–Legendre run.
+
+use varembed::{
+    Dependence, Embedding, EmbeddingKind, Error, Force, ForceDependence, ForceJacobian, Forced,
+    Grid, Lagrangian, Matrix, NewtonOptions, Problem, Rayleigh, Scheme, Side, Vector, lagrangian,
+};
+
+#[lagrangian]
+fn oscillator(x: f64, v: f64) -> f64 {
+    0.5 * v * v - 0.5 * x * x
+}
+
+/// Linear friction, `f = −γ v`.
+#[lagrangian]
+fn friction(_x: f64, v: f64, gamma: f64) -> f64 {
+    0.5 * gamma * v * v
+}
+
+const GAMMA: f64 = 0.3;
+
+/// `q̈ + γq̇ + q = 0`, `q(0) = 1`, `q̇(0) = 0`: `q = e^{−γt/2}(cos ωt + γ/(2ω) sin ωt)`.
+fn damped_exact(t: f64) -> f64 {
+    let omega = (1.0 - GAMMA * GAMMA / 4.0).sqrt();
+    (-GAMMA * t / 2.0).exp() * ((omega * t).cos() + GAMMA / (2.0 * omega) * (omega * t).sin())
+}
+
+/// Every classical embedding with the schemes it has.
+fn classical() -> Vec<(Embedding, Scheme)> {
+    let mut runs = Vec::new();
+    for side in [Side::Backward, Side::Forward] {
+        for scheme in [Scheme::Direct, Scheme::Variational] {
+            runs.push((Embedding::finite_difference(side), scheme));
+            runs.push((Embedding::asymmetric(side), scheme));
+        }
+    }
+    for scheme in [Scheme::Direct, Scheme::Variational] {
+        runs.push((Embedding::midpoint(), scheme));
+        runs.push((Embedding::trapezoidal(), scheme));
+    }
+    for s in 1..=4 {
+        runs.push((Embedding::gauss_legendre(s).unwrap(), Scheme::Variational));
+    }
+    runs
+}
+
+fn is_gauss_legendre(embedding: &Embedding) -> bool {
+    matches!(embedding.kind(), EmbeddingKind::GaussLegendre { .. })
+}
+
+fn max_error(q: &[Vector<1>], grid: &Grid) -> f64 {
+    q.iter()
+        .zip(grid.nodes())
+        .map(|(q, t)| (q[0] - damped_exact(t)).abs())
+        .fold(0.0, f64::max)
+}
+
+fn tight() -> NewtonOptions {
+    NewtonOptions {
+        tolerance: 1e-15,
+        ..Default::default()
+    }
+}
+
+/// Observed orders `log₂(e_N / e_2N)` of the damped oscillator on `[0, 6]` against the order
+/// each embedding and scheme has without a force, initial value problems.
+#[test]
+fn damped_oscillator_keeps_every_order() {
+    let damped = Forced::new(Oscillator, Rayleigh(Friction { gamma: GAMMA }));
+    for (embedding, scheme) in classical() {
+        let expected = embedding
+            .order(scheme)
+            .expect("a classical embedding has an order") as f64;
+        // Coarser grids for the high orders, to stay clear of round-off.
+        let n = if expected > 4.0 { 12 } else { 200 };
+        let error = |n: usize| {
+            let grid = Grid::new(0.0, 6.0, n).unwrap();
+            let solution = Problem::new(&damped, grid, embedding)
+                .with_newton(tight())
+                .solve_ivp(scheme, 1.0, 0.0)
+                .unwrap();
+            max_error(&solution.q, &grid)
+        };
+        let (coarse, fine) = (error(n), error(2 * n));
+        let order = (coarse / fine).log2();
+        assert!(
+            (order - expected).abs() <= 0.25 && fine < 0.05,
+            "{embedding} {scheme}: errors {coarse:e}, {fine:e}, order {order:.2}, expected {expected}"
+        );
+    }
+}
+
+/// The same as boundary value problems (exact end values on `[0, 6]`), for the embeddings that
+/// have them.
+#[test]
+fn damped_boundary_value_problems_keep_their_order() {
+    let damped = Forced::new(Oscillator, Rayleigh(Friction { gamma: GAMMA }));
+    for (embedding, scheme) in classical() {
+        if is_gauss_legendre(&embedding) {
+            continue;
+        }
+        let expected = embedding.order(scheme).unwrap() as f64;
+        let error = |n: usize| {
+            let grid = Grid::new(0.0, 6.0, n).unwrap();
+            let solution = Problem::new(&damped, grid, embedding)
+                .solve_bvp(scheme, 1.0, damped_exact(6.0))
+                .unwrap();
+            max_error(&solution.q, &grid)
+        };
+        let (coarse, fine) = (error(200), error(400));
+        let order = (coarse / fine).log2();
+        assert!(
+            (order - expected).abs() <= 0.25,
+            "{embedding} {scheme}: errors {coarse:e}, {fine:e}, order {order:.2}"
+        );
+    }
+}
+
+/// Two bodies joined by a non-linear spring: invariant under a common translation
+/// `ξ = (1, 1)`, so its momentum `m₀v₀ + m₁v₁` is conserved without a force.
+#[lagrangian]
+fn pair(x: [f64; 2], v: [f64; 2]) -> f64 {
+    let stretch = x[0] - x[1];
+    0.5 * v[0] * v[0] + v[1] * v[1] - 0.5 * stretch * stretch - 0.1 * stretch.powi(4)
+}
+
+/// Quadratic drag on the first body with a drive, a position-dependent pull on the second:
+/// `f = (−0.3 v₀|v₀| + 0.2 sin t, −0.1 v₁ + 0.05 x₀)`.
+struct Drag;
+
+impl Force<2> for Drag {
+    fn force(&self, x: &Vector<2>, v: &Vector<2>, t: f64) -> Vector<2> {
+        Vector::<2>::new(
+            -0.3 * v[0] * v[0].abs() + 0.2 * t.sin(),
+            -0.1 * v[1] + 0.05 * x[0],
+        )
+    }
+    fn jacobian(&self, _x: &Vector<2>, v: &Vector<2>, _t: f64) -> ForceJacobian<2> {
+        ForceJacobian {
+            x: Matrix::<2>::new(0.0, 0.0, 0.05, 0.0),
+            v: Matrix::<2>::new(-0.6 * v[0].abs(), 0.0, 0.0, -0.1),
+        }
+    }
+}
+
+/// `p_N·ξ − p_0·ξ = Σ_k impulse_k·ξ` for the variational scheme of every embedding whose
+/// impulse the solution gives, to round-off (the momenta are the forced discrete Legendre
+/// transforms of `Solution::node_values`; the impulses are summed here, independently).
+#[test]
+fn forced_noether_holds_to_round_off() {
+    let forced = Forced::new(Pair, Drag);
+    let xi = Vector::<2>::new(1.0, 1.0);
+    for (embedding, scheme) in classical() {
+        if scheme != Scheme::Variational || is_gauss_legendre(&embedding) {
+            continue;
+        }
+        let grid = Grid::new(0.0, 8.0, 400).unwrap();
+        let solution = Problem::new(&forced, grid, embedding)
+            .with_newton(tight())
+            .solve_ivp(scheme, [0.4, -0.2], [1.0, -0.5])
+            .unwrap();
+        let nodes = solution.node_values(&forced).unwrap();
+        let impulses = forced.impulses(&solution).unwrap();
+        let transferred: f64 = impulses.iter().map(|i| i.dot(&xi)).sum();
+        let change = nodes.p[400].dot(&xi) - nodes.p[0].dot(&xi);
+        // The force changes the momentum by O(1): the balance is not trivially zero.
+        assert!(transferred.abs() > 0.1, "{embedding}: {transferred}");
+        assert!(
+            (change - transferred).abs() <= 1e-12,
+            "{embedding}: momentum change {change}, impulse {transferred}, gap {:e}",
+            change - transferred
+        );
+    }
+}
+
+/// `max_k |E_k − E_0 − W_k|` falls with the scheme's order (`Forced::work` by the embedding's
+/// quadrature; `E` at the nodes by `Solution::node_values`), on the non-linear pair under its
+/// drag. (On the damped linear oscillator the midpoint rule's balance is exact: 3e-15.)
+#[test]
+fn energy_balance_holds_to_the_schemes_order() {
+    let forced = Forced::new(Pair, Drag);
+    for (embedding, scheme) in classical() {
+        if is_gauss_legendre(&embedding) {
+            continue;
+        }
+        let expected = embedding.order(scheme).unwrap() as f64;
+        let gap = |n: usize| {
+            let grid = Grid::new(0.0, 6.0, n).unwrap();
+            let solution = Problem::new(&forced, grid, embedding)
+                .with_newton(tight())
+                .solve_ivp(scheme, [0.4, -0.2], [1.0, -0.5])
+                .unwrap();
+            let energy = solution.node_values(&forced).unwrap().energy.unwrap();
+            let work = forced.work(&solution).unwrap();
+            // The drag does work of order one.
+            assert!(work[n].abs() > 0.1, "{embedding} {scheme}: {}", work[n]);
+            (0..=n)
+                .map(|k| (energy[k] - energy[0] - work[k]).abs())
+                .fold(0.0, f64::max)
+        };
+        let (coarse, fine) = (gap(200), gap(400));
+        let order = (coarse / fine).log2();
+        assert!(
+            order >= expected - 0.25 && fine > 1e-12,
+            "{embedding} {scheme}: balance {coarse:e}, {fine:e}, order {order:.2}"
+        );
+    }
+}
+
+/// A force that claims nothing about its Jacobian: every step runs Newton's method.
+struct Opaque<F>(F);
+
+impl<F: Force<1>> Force<1> for Opaque<F> {
+    fn force(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> Vector<1> {
+        self.0.force(x, v, t)
+    }
+    fn jacobian(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> ForceJacobian<1> {
+        self.0.jacobian(x, v, t)
+    }
+}
+
+/// Linear friction has a constant Jacobian: the Gauss-FDEσ steps of the oscillator stay in
+/// closed form under it, and give the nodes Newton's method gives.
+#[test]
+fn closed_form_steps_under_a_linear_force_equal_newton() {
+    let friction = Rayleigh(Friction { gamma: GAMMA });
+    assert_eq!(
+        friction.jacobian_dependence(),
+        ForceDependence {
+            x: Dependence::NONE,
+            v: Dependence::NONE
+        }
+    );
+    let closed = Forced::new(Oscillator, friction);
+    let newton = Forced::new(Oscillator, Opaque(friction));
+    let grid = Grid::new(0.0, 6.0, 300).unwrap();
+    for side in [Side::Backward, Side::Forward] {
+        for scheme in [Scheme::Direct, Scheme::Variational] {
+            let embedding = Embedding::finite_difference(side);
+            let solve = |l: &dyn Fn() -> varembed::Result<varembed::Solution<1>>| l().unwrap();
+            let a = solve(&|| {
+                Problem::new(&closed, grid, embedding)
+                    .with_newton(tight())
+                    .solve_ivp(scheme, 1.0, 0.0)
+            });
+            let b = solve(&|| {
+                Problem::new(&newton, grid, embedding)
+                    .with_newton(tight())
+                    .solve_ivp(scheme, 1.0, 0.0)
+            });
+            assert!(
+                a.explicit_steps >= 299,
+                "{embedding} {scheme}: {}",
+                a.explicit_steps
+            );
+            // The direct Gauss-FDE+ step's equation, `p@left = π`, does not read the force:
+            // it stays in closed form under any force.
+            if side == Side::Forward && scheme == Scheme::Direct {
+                assert!(b.explicit_steps >= 299, "{embedding} {scheme}");
+            } else {
+                assert_eq!(b.explicit_steps, 0, "{embedding} {scheme}");
+            }
+            let gap = a.max_distance(&b.q).unwrap();
+            assert!(gap <= 1e-13, "{embedding} {scheme}: {gap:e}");
+        }
+    }
+}
+
+/// Under a force the boundary value problem of each scheme, given the end values of the
+/// initial value problem's nodes, returns those nodes.
+#[test]
+fn boundary_value_problems_return_the_initial_value_nodes() {
+    let forced = Forced::new(Pair, Drag);
+    for (embedding, scheme) in classical() {
+        if is_gauss_legendre(&embedding) {
+            continue;
+        }
+        let grid = Grid::new(0.0, 3.0, 60).unwrap();
+        let problem = Problem::new(&forced, grid, embedding).with_newton(tight());
+        let ivp = problem.solve_ivp(scheme, [0.4, -0.2], [1.0, -0.5]).unwrap();
+        let bvp = problem.solve_bvp(scheme, ivp.q[0], ivp.q[60]).unwrap();
+        let gap = bvp.max_distance(&ivp.q).unwrap();
+        assert!(gap <= 1e-10, "{embedding} {scheme}: {gap:e}");
+    }
+}
+
+/// A dissipation function with every block of its Hessian varying.
+#[lagrangian]
+fn coupled_dissipation(x: [f64; 2], v: [f64; 2], t: f64, c: f64) -> f64 {
+    0.5 * (1.0 + x[0] * x[0]) * v[0] * v[0] + c * v[0] * v[1] * x[1] * t.cos() + 0.05 * v[1].powi(4)
+}
+
+/// `Rayleigh`'s `f = −∂R/∂v` and its Jacobian against central differences of `R` as the macro
+/// evaluates it, at 200 generated points.
+#[test]
+fn rayleigh_force_is_minus_the_velocity_gradient() {
+    let r = CoupledDissipation { c: 0.7 };
+    let force = Rayleigh(r);
+    // A fixed xorshift stream: generated points, reproducible.
+    let mut state = 0x2545_f491_4f6c_dd1d_u64;
+    let mut draw = || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        (state >> 11) as f64 / (1u64 << 53) as f64 * 4.0 - 2.0
+    };
+    let eps = 1e-5;
+    for _ in 0..200 {
+        let x = Vector::<2>::new(draw(), draw());
+        let v = Vector::<2>::new(draw(), draw());
+        let t = draw();
+        let f = force.force(&x, &v, t);
+        let jacobian = force.jacobian(&x, &v, t);
+        for j in 0..2 {
+            let mut e = Vector::<2>::zeros();
+            e[j] = eps;
+            let dr = (r.value(&x, &(v + e), t) - r.value(&x, &(v - e), t)) / (2.0 * eps);
+            assert!(
+                (f[j] + dr).abs() <= 1e-7 * (1.0 + dr.abs()),
+                "f_{j}: {} vs {}",
+                f[j],
+                -dr
+            );
+            let df_dx = (force.force(&(x + e), &v, t) - force.force(&(x - e), &v, t)) / (2.0 * eps);
+            let df_dv = (force.force(&x, &(v + e), t) - force.force(&x, &(v - e), t)) / (2.0 * eps);
+            for i in 0..2 {
+                let (ax, av) = (jacobian.x[(i, j)], jacobian.v[(i, j)]);
+                assert!(
+                    (ax - df_dx[i]).abs() <= 1e-7 * (1.0 + ax.abs()),
+                    "∂f_{i}/∂x_{j}"
+                );
+                assert!(
+                    (av - df_dv[i]).abs() <= 1e-7 * (1.0 + av.abs()),
+                    "∂f_{i}/∂v_{j}"
+                );
+            }
+        }
+    }
+}
+
+/// A force under a driven resonance grows the energy a hundredfold: physics, which the
+/// blow-up guard must not report.
+#[test]
+fn the_blow_up_guard_stands_down_under_a_force() {
+    struct Resonant;
+    impl Force<1> for Resonant {
+        fn force(&self, _x: &Vector<1>, _v: &Vector<1>, t: f64) -> Vector<1> {
+            Vector::<1>::new(t.cos())
+        }
+        fn jacobian(&self, _x: &Vector<1>, _v: &Vector<1>, _t: f64) -> ForceJacobian<1> {
+            ForceJacobian {
+                x: Matrix::<1>::zeros(),
+                v: Matrix::<1>::zeros(),
+            }
+        }
+    }
+    let driven = Forced::new(Oscillator, Resonant);
+    let grid = Grid::new(0.0, 200.0, 20_000).unwrap();
+    let solution = Problem::recommended(&driven, grid)
+        .solve_ivp(Scheme::Variational, 0.1, 0.0)
+        .unwrap();
+    // q ≈ 0.1 cos t + (t/2) sin t: amplitude 100 at t = 200, from 0.1.
+    let amplitude = solution.q.iter().map(|q| q[0].abs()).fold(0.0, f64::max);
+    assert!(amplitude > 90.0, "{amplitude}");
+}
+
+/// What has no meaning yet under a force is refused with a typed error.
+#[test]
+fn fractional_problems_and_stage_impulses_are_refused() {
+    let damped = Forced::new(Oscillator, Rayleigh(Friction { gamma: GAMMA }));
+    let grid = Grid::new(0.0, 1.0, 20).unwrap();
+    let fractional = Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap();
+    let refused = Problem::new(&damped, grid, fractional).solve_bvp(Scheme::Variational, 0.0, 1.0);
+    assert!(
+        matches!(refused, Err(Error::Unsupported { .. })),
+        "{refused:?}"
+    );
+    let gauss = Problem::new(&damped, grid, Embedding::gauss_legendre(2).unwrap())
+        .solve_ivp(Scheme::Variational, 1.0, 0.0)
+        .unwrap();
+    assert!(matches!(
+        damped.impulses(&gauss),
+        Err(Error::Unsupported { .. })
+    ));
+}
