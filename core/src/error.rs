@@ -310,6 +310,33 @@ pub enum Error {
         /// The window's largest energy gain over the gain of the first window.
         growth: f64,
     },
+    /// Initial data violate a holonomic constraint `g(q) = 0` or its derivative
+    /// `G(q) q̇ = 0` beyond the tolerance `1e-10` relative to the constraint's terms
+    /// (`|G_i(q)| |q|` or `|G_i(q)| |q̇|`).
+    #[error(
+        "the initial {what} violates constraint {constraint}: residual {residual:.3e}; project the data onto the constraints with `project_initial_data`"
+    )]
+    InconsistentInitialData {
+        /// `"position"` (`g_i(q(a)) ≠ 0`) or `"velocity"` (`G_i(q(a)) q̇(a) ≠ 0`).
+        what: &'static str,
+        /// The index `i` of the violated constraint.
+        constraint: usize,
+        /// `g_i(q(a))` or `G_i(q(a)) q̇(a)`.
+        residual: f64,
+    },
+    /// The constraint Jacobian `G = ∂g/∂x` has dependent rows at a node: the ratio of its
+    /// smallest to its largest singular value is below `1e-12`, so the multipliers are not
+    /// determined (two constraints that say the same thing, or a singular point of the
+    /// constraint manifold).
+    #[error(
+        "the constraint Jacobian is rank-deficient at {at}: singular value ratio {ratio:.3e}; remove a redundant constraint or move off the singular configuration"
+    )]
+    RankDeficientConstraints {
+        /// Where.
+        at: Location,
+        /// Smallest over largest singular value of `G`.
+        ratio: f64,
+    },
     /// The computed solution stopped being finite (overflow of an unstable scheme, or a
     /// Lagrangian evaluated outside its domain).
     #[error("solution is no longer finite at {at}")]

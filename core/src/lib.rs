@@ -160,6 +160,7 @@ pub mod guide;
 // solve (krylov, minres, newton, start, nodes, solution, dense, guard, fractional, bvp, gauss, ivp),
 // dynamic (sparse, step, ivp, problem, dense), compare, problem.
 mod compare;
+mod constraint;
 mod degenerate;
 mod discretisation;
 mod dynamic;
@@ -191,6 +192,7 @@ pub use compare::compared::ComparedSolution;
 pub use compare::convergence::{Convergence, Level};
 pub use compare::order::{OrderStatus, observed_order, observed_orders};
 pub use compare::{CompareOptions, Comparison, Reference, SchemeReport, max_error};
+pub use constraint::{CONSISTENCY_TOLERANCE, Constraint, Holonomic, project_initial_data};
 pub use dynamic::dense::DynState;
 pub use dynamic::ivp::{DynNode, DynRun};
 pub use dynamic::problem::{DynProblem, DynSolution};
@@ -209,6 +211,7 @@ pub use ode::{DifferentialOperator, DirectEmbedding};
 pub use options::{FractionalSolver, NewtonOptions, RUN_TIME_FROM};
 pub use problem::{Problem, curve_from_flat};
 pub use side::Side;
+pub use solve::constrained::ConstrainedSolution;
 pub use solve::nodes::{NodeFormula, NodeRule, NodeState, NodeValues};
 pub use solve::solution::{Solution, Warning};
 pub use solve::start::Start;

@@ -4,6 +4,7 @@
 
 pub mod bvp;
 pub(crate) mod conditioning;
+pub mod constrained;
 pub(crate) mod dense;
 pub mod fractional;
 pub(crate) mod gauss;

@@ -5,6 +5,7 @@ mod blow_up;
 mod bvp_returns_ivp;
 mod coherence;
 mod compare;
+mod constraints;
 mod dense_output;
 mod errors;
 mod forces;

@@ -1,0 +1,209 @@
+//! Initial value problems under holonomic constraints: each three-point step of a classical
+//! scheme with the constraint force and the constraint at the newest node.
+//!
+//! The system `d/dt ∂L/∂v − ∂L/∂x = G(x)ᵀλ`, `g(x) = 0`. Each step of a classical scheme is the
+//! equation `G_K(y) = π` of its kind (`G_K` and `π` of the step module) times `−h` of one row of
+//! the scheme; that row gains the constraint force at the node where the row reads `∂L/∂x`, and
+//! the newest node must satisfy the constraint:
+//!
+//! `G_K(y) − π − G(c)ᵀ μ = 0`, `g(y) = 0`, `μ = h λ`,
+//!
+//! with `c` the middle node `b` for the variational kinds and the direct kinds of the symmetric
+//! embeddings (the constrained discrete Euler–Lagrange equations: `D₂L_d(a, b) + D₁L_d(b, y) +
+//! h G(b)ᵀλ = 0`), the newest node `y` for the direct Gauss-FDE− step (its row reads `∂L/∂x` at
+//! the right end) and the oldest node `a` for the direct Gauss-FDE+ step. Newton's method solves
+//! for `(y, μ)` together, from the extrapolation `2b − a` and the previous `μ`; its Jacobian is
+//! the saddle-point matrix `[[J − [c = y] Σ μ_i ∇²g_i, −G(c)ᵀ], [G(y), 0]]`. The first step is
+//! the discrete Legendre start with the same constraint force at `q(a)`.
+
+use nalgebra::{DMatrix, DVector, SVector};
+
+use crate::constraint::{Constraint, check_consistent, check_rank};
+use crate::embedding::{EmbeddingKind, Scheme};
+use crate::error::{Error, Location, Result};
+use crate::lagrangian::{Lagrangian, Vector};
+use crate::options::NewtonOptions;
+use crate::regularity::check_initial_data;
+use crate::solve::ivp::Ivp;
+use crate::solve::solution::Solution;
+use crate::step::{Step, StepKind, StepTimes, residual_and_terms};
+
+/// A solution under holonomic constraints: the nodes, and the multipliers of each step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ConstrainedSolution<const D: usize, const M: usize> {
+    /// The nodes and the run's figures (as for an unconstrained run; its node values are the
+    /// unconstrained formulas at the nodes).
+    pub solution: Solution<D>,
+    /// `λ` of the step that computed `Q_n`, at index `n − 1` (`N` entries; the first is the
+    /// start's): the constraint force `G(c)ᵀλ` at the node `c` of that step's row (module
+    /// docs of the solver).
+    pub multipliers: Vec<SVector<f64, M>>,
+}
+
+/// Which node of a step's row carries the constraint force.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum RowNode {
+    Oldest,
+    Middle,
+    Newest,
+}
+
+fn row_node(kind: StepKind) -> RowNode {
+    match kind {
+        StepKind::DirectBackward => RowNode::Newest,
+        StepKind::DirectForward => RowNode::Oldest,
+        _ => RowNode::Middle,
+    }
+}
+
+/// The run of `scheme` from `q(a) = q0`, `q̇(a) = v0` under `constraint`.
+pub(crate) fn solve<L, C, const D: usize, const M: usize>(
+    ivp: &Ivp<'_, L, D>,
+    constraint: &C,
+    scheme: Scheme,
+    q0: Vector<D>,
+    v0: Vector<D>,
+) -> Result<ConstrainedSolution<D, M>>
+where
+    L: Lagrangian<D> + ?Sized,
+    C: Constraint<D, M> + ?Sized,
+{
+    if let EmbeddingKind::GaussLegendre { .. } = ivp.embedding.kind() {
+        // Its stages would need the constraint at every stage (SPARK methods) to keep order 2s.
+        return Err(Error::Unsupported {
+            operation: "an initial value problem under constraints",
+            embedding: ivp.embedding.to_string(),
+        });
+    }
+    let kind = ivp.step_kind(scheme)?;
+    let (grid, lagrangian) = (ivp.grid, ivp.lagrangian);
+    let (_, pi0, _) = check_initial_data(lagrangian, &q0, &v0, grid.t(0))?;
+    check_consistent(constraint, &q0, &v0)?;
+    let (n_steps, h) = (grid.n(), grid.h());
+    let mut q = Vec::with_capacity(n_steps + 1);
+    let mut multipliers = Vec::with_capacity(n_steps);
+    q.push(q0);
+    let mut iterations = 0;
+    let mut mu = SVector::<f64, M>::zeros();
+    for n in 1..=n_steps {
+        let (step, guess) = if n == 1 {
+            let start = Step {
+                kind: kind.legendre_start(),
+                a: q0 - v0 * h,
+                b: q0,
+                momentum: pi0,
+                times: StepTimes::new(h, grid.t(0) - h, grid.t(0), grid.t(1)),
+            };
+            (start, q0 + v0 * h)
+        } else {
+            let (a, b) = (&q[n - 2], &q[n - 1]);
+            let times = StepTimes::new(h, grid.t(n - 2), grid.t(n - 1), grid.t(n));
+            (Step::new(lagrangian, kind, a, b, &times), b * 2.0 - a)
+        };
+        let (y, next_mu, used) =
+            constrained_step(lagrangian, constraint, &step, guess, mu, &ivp.newton, n)?;
+        iterations += used;
+        mu = next_mu;
+        q.push(y);
+        multipliers.push(mu / h);
+    }
+    Ok(ConstrainedSolution {
+        solution: Solution {
+            scheme,
+            embedding: ivp.embedding,
+            grid,
+            q,
+            momenta: Vec::new(),
+            newton_iterations: iterations,
+            explicit_steps: 0,
+            warnings: Vec::new(),
+        },
+        multipliers,
+    })
+}
+
+/// Newton's method on `(y, μ)` for one constrained step (module docs); the iterations used.
+///
+/// It stops when the step's rows are within the tolerance of their terms (`‖π‖∞`, the terms of
+/// `G_K(y)`, `‖G(c)ᵀμ‖∞`) and the constraint within the tolerance of `‖G(y)‖∞ ‖y‖∞`, or when an
+/// update is at round-off (`≤ 4ε` of the unknowns).
+fn constrained_step<L, C, const D: usize, const M: usize>(
+    lagrangian: &L,
+    constraint: &C,
+    step: &Step<D>,
+    mut y: Vector<D>,
+    mut mu: SVector<f64, M>,
+    newton: &NewtonOptions,
+    n: usize,
+) -> Result<(Vector<D>, SVector<f64, M>, usize)>
+where
+    L: Lagrangian<D> + ?Sized,
+    C: Constraint<D, M> + ?Sized,
+{
+    let at = Location::Step(n);
+    let node = row_node(step.kind);
+    let mut last = f64::INFINITY;
+    for iteration in 0..=newton.max_iterations {
+        let (r, j, size) = residual_and_terms(lagrangian, step, &y);
+        let c = match node {
+            RowNode::Oldest => step.a,
+            RowNode::Middle => step.b,
+            RowNode::Newest => y,
+        };
+        let g_c = constraint.jacobian(&c);
+        let force = g_c.transpose() * mu;
+        let r = r - force;
+        let (g, g_y) = (constraint.value(&y), constraint.jacobian(&y));
+        let residual = r.amax().max(g.amax());
+        if !residual.is_finite() || !j.iter().all(|c| c.is_finite()) {
+            return Err(if iteration == 0 {
+                Error::NotFinite { at }
+            } else {
+                Error::NewtonDidNotConverge {
+                    at,
+                    iterations: iteration,
+                    residual: last,
+                }
+            });
+        }
+        last = residual;
+        let row_scale = size.max(step.momentum.amax()).max(force.amax());
+        let constraint_scale = g_y.amax() * y.amax();
+        if r.amax() <= newton.tolerance * row_scale
+            && g.amax() <= newton.tolerance * constraint_scale
+        {
+            return Ok((y, mu, iteration));
+        }
+        if iteration == newton.max_iterations {
+            break;
+        }
+        let mut kkt = DMatrix::<f64>::zeros(D + M, D + M);
+        let mut top_left = j;
+        if node == RowNode::Newest {
+            top_left -= constraint.weighted_hessian(&y, &mu);
+        }
+        kkt.view_mut((0, 0), (D, D)).copy_from(&top_left);
+        kkt.view_mut((0, D), (D, M)).copy_from(&(-g_c.transpose()));
+        kkt.view_mut((D, 0), (M, D)).copy_from(&g_y);
+        let mut rhs = DVector::<f64>::zeros(D + M);
+        rhs.rows_mut(0, D).copy_from(&(-r));
+        rhs.rows_mut(D, M).copy_from(&(-g));
+        let solved = kkt.lu().solve(&rhs);
+        let Some(update) = solved.filter(|u| u.iter().all(|c| c.is_finite())) else {
+            check_rank(&g_y, at)?;
+            return Err(Error::SingularJacobian { at });
+        };
+        let (dy, dmu) = (update.rows(0, D), update.rows(D, M));
+        y += dy;
+        mu += dmu;
+        let round_off = |d: f64, x: f64| d <= 4.0 * f64::EPSILON * x;
+        if round_off(dy.amax(), y.amax()) && round_off(dmu.amax(), mu.amax()) {
+            return Ok((y, mu, iteration + 1));
+        }
+    }
+    Err(Error::NewtonDidNotConverge {
+        at,
+        iterations: newton.max_iterations,
+        residual: last,
+    })
+}
