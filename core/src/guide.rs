@@ -22,6 +22,10 @@ pub mod schemes {}
 pub mod solvers {}
 
 #[doc = guide_links!()]
+#[doc = include_str!("../docs/forces.md")]
+pub mod forces {}
+
+#[doc = guide_links!()]
 #[doc = include_str!("../docs/choosing.md")]
 pub mod choosing {}
 

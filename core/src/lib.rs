@@ -58,6 +58,10 @@
 //! - [solvers](guide::solvers): initial value problems (the starts, the step kernels, when a
 //!   step is explicit), boundary value problems (banded Newton; dense LU and FFT Newton–Krylov
 //!   for the fractional embeddings), large models, values at the nodes, the typed errors;
+//! - [generalised forces](guide::forces): damping, drives and hand-written forces
+//!   ([`Forced`], [`Rayleigh`], [`Force`]), the equations each scheme solves under a force
+//!   (the discrete Lagrange–d'Alembert principle), which steps stay explicit, the forced
+//!   discrete Noether theorem and the energy balance, what is not supported;
 //! - [the macro](guide::lagrangian_macro): what the [`lagrangian`](macro@lagrangian) attribute
 //!   accepts (loops, sums, helpers, run-time dimensions) and generates;
 //! - [architecture](guide::architecture): the workspace, the module graph, where the tests
@@ -109,6 +113,9 @@
 //! - Lagrangians: the [`Lagrangian`] trait, its [`Hessian`], what the Hessian blocks depend on
 //!   ([`HessianDependence`], [`Dependence`]), [`IntoVector`], [`Vector`], [`Matrix`], and the
 //!   [`lagrangian`](macro@lagrangian) attribute that derives an implementation from a function.
+//! - Generalised forces ([generalised forces](guide::forces)): [`Forced`], a Lagrangian under a
+//!   force; the [`Force`] trait, its [`ForceJacobian`] and what its blocks depend on
+//!   ([`ForceDependence`]); [`Rayleigh`], the force `−∂R/∂v` of a dissipation function.
 //! - Models of run-time dimension with sparse second derivatives (chains, lattices, discretised
 //!   fields): [`DynLagrangian`], [`SparseHessian`], [`SparseBlock`]; solved by
 //!   [`DynProblem`] into a [`DynSolution`] (its state between the nodes: [`DynState`]) or,
@@ -143,6 +150,7 @@ macro_rules! guide_links {
         "[conventions]: crate::guide::conventions\n\
          [schemes]: crate::guide::schemes\n\
          [solvers]: crate::guide::solvers\n\
+         [forces]: crate::guide::forces\n\
          [choosing]: crate::guide::choosing\n\
          [macro]: crate::guide::lagrangian_macro\n\
          [architecture]: crate::guide::architecture\n"
