@@ -133,17 +133,19 @@ pub(crate) fn check_consistent<C: Constraint<D, M> + ?Sized, const D: usize, con
     let (g, jacobian) = (constraint.value(q0), constraint.jacobian(q0));
     check_rank(&jacobian, Location::Step(0))?;
     let velocity = jacobian * v0;
+    // False for a NaN residual too.
+    let within = |residual: f64, bound: f64| residual.abs() <= bound;
     for i in 0..M {
         let row = jacobian.row(i).amax();
         let position_scale = row * q0.amax().max(1.0);
-        if !(g[i].abs() <= CONSISTENCY_TOLERANCE * position_scale) {
+        if !within(g[i], CONSISTENCY_TOLERANCE * position_scale) {
             return Err(Error::InconsistentInitialData {
                 what: "position",
                 constraint: i,
                 residual: g[i],
             });
         }
-        if !(velocity[i].abs() <= CONSISTENCY_TOLERANCE * row * v0.amax()) {
+        if !within(velocity[i], CONSISTENCY_TOLERANCE * row * v0.amax()) {
             return Err(Error::InconsistentInitialData {
                 what: "velocity",
                 constraint: i,

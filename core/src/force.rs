@@ -250,14 +250,6 @@ impl<L, F> Forced<L, F> {
     }
 }
 
-fn either(a: Dependence, b: Dependence) -> Dependence {
-    Dependence {
-        x: a.x || b.x,
-        v: a.v || b.v,
-        t: a.t || b.t,
-    }
-}
-
 impl<const D: usize, L: Lagrangian<D>, F: Force<D>> Lagrangian<D> for Forced<L, F> {
     #[inline]
     fn value(&self, x: &Vector<D>, v: &Vector<D>, t: f64) -> f64 {
@@ -297,16 +289,14 @@ impl<const D: usize, L: Lagrangian<D>, F: Force<D>> Lagrangian<D> for Forced<L, 
         (l, f + self.force.force(x, v, t), p)
     }
 
-    /// `L`'s, with what `∂f/∂x` depends on joined to `L_xx`'s and what `∂f/∂v` depends on to
-    /// `L_xv`'s: the step Jacobians add the force's blocks there.
+    /// `L`'s: the force's blocks are [`force_dependence`](Lagrangian::force_dependence).
     fn hessian_dependence(&self) -> HessianDependence {
-        let blocks = self.lagrangian.hessian_dependence();
+        self.lagrangian.hessian_dependence()
+    }
+
+    fn force_dependence(&self) -> Option<[Dependence; 2]> {
         let force = self.force.jacobian_dependence();
-        HessianDependence {
-            xx: either(blocks.xx, force.x),
-            xv: either(blocks.xv, force.v),
-            vv: blocks.vv,
-        }
+        Some([force.x, force.v])
     }
 
     /// `None`: the force's Jacobian may couple any two components.

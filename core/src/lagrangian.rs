@@ -360,6 +360,13 @@ pub trait Lagrangian<const D: usize> {
         false
     }
 
+    /// What `∂f/∂x` and `∂f/∂v` of a [`Forced`](crate::Forced) model's force depend on: the
+    /// steps whose equation reads the force are affine only if these are constants (joined to
+    /// `L_xx` and `L_xv`'s in that decision). The default: `None`.
+    fn force_dependence(&self) -> Option<[Dependence; 2]> {
+        None
+    }
+
     /// `(∂f/∂x, ∂f/∂v)` of the generalised force a [`Forced`](crate::Forced) model adds to
     /// `∂L/∂x`, at `(x, v, t)`: the step Jacobians add them to `L_xx` and `L_xv` where they
     /// differentiate the force term (never where they differentiate `p`). The default: `None`.
@@ -421,6 +428,9 @@ impl<const D: usize, L: Lagrangian<D> + ?Sized> Lagrangian<D> for &L {
     }
     fn is_forced(&self) -> bool {
         (**self).is_forced()
+    }
+    fn force_dependence(&self) -> Option<[Dependence; 2]> {
+        (**self).force_dependence()
     }
     #[inline(always)]
     fn force_jacobian(&self, x: &Vector<D>, v: &Vector<D>, t: f64) -> Option<ForceJacobian<D>> {

@@ -116,6 +116,10 @@
 //! - Generalised forces ([generalised forces](guide::forces)): [`Forced`], a Lagrangian under a
 //!   force; the [`Force`] trait, its [`ForceJacobian`] and what its blocks depend on
 //!   ([`ForceDependence`]); [`Rayleigh`], the force `−∂R/∂v` of a dissipation function.
+//! - Holonomic constraints ([generalised forces](guide::forces) has them too): the
+//!   [`Constraint`] trait, [`Holonomic`] (one constraint written as a `#[lagrangian]` fn),
+//!   [`project_initial_data`] and its [`CONSISTENCY_TOLERANCE`];
+//!   `Problem::solve_constrained_ivp` returns a [`ConstrainedSolution`].
 //! - Models of run-time dimension with sparse second derivatives (chains, lattices, discretised
 //!   fields): [`DynLagrangian`], [`SparseHessian`], [`SparseBlock`]; solved by
 //!   [`DynProblem`] into a [`DynSolution`] (its state between the nodes: [`DynState`]) or,

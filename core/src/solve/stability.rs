@@ -154,6 +154,9 @@ pub(crate) fn oscillator_limit(kind: StepKind) -> Option<f64> {
 
 /// The largest step at which `kind` is stable on the linearisation at `(x, v, t)`:
 /// [`oscillator_limit`] over [`fastest_frequency`] (see [`Error::Unstable`](crate::Error)).
+/// `None` under a generalised force: the limit on the oscillator is not the limit with
+/// damping (an explicit step under friction `−γv` also needs `γh ≤ 2`), and a wrong bound
+/// would mislead.
 pub(crate) fn largest_stable_step<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
     kind: StepKind,
@@ -161,6 +164,9 @@ pub(crate) fn largest_stable_step<const D: usize, L: Lagrangian<D> + ?Sized>(
     v: &Vector<D>,
     t: f64,
 ) -> Option<f64> {
+    if lagrangian.is_forced() {
+        return None;
+    }
     Some(oscillator_limit(kind)? / fastest_frequency(lagrangian, x, v, t)?)
 }
 

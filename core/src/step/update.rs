@@ -5,6 +5,7 @@
 use crate::lagrangian::{Dependence, HessianDependence, Lagrangian, Matrix, Vector};
 use crate::linalg::solve_small;
 
+use super::terms::equation_terms;
 use super::{Step, StepKind, StepTimes, equation, scaled_jacobian};
 
 /// Whether the step equation of `kind` is affine in the newest node (third table of the
@@ -65,7 +66,7 @@ impl<const D: usize> Update<D> {
         b: &Vector<D>,
         times: &StepTimes,
     ) -> Self {
-        let dependence = lagrangian.hessian_dependence();
+        let dependence = step_dependence(lagrangian, kind);
         if !is_affine(kind, &dependence) {
             return Update::Newton;
         }
@@ -121,6 +122,31 @@ impl<const D: usize> Update<D> {
             }
         }
     }
+}
+
+/// What the blocks of `kind`'s step Jacobian depend on: `L`'s blocks, and where the step's
+/// equation reads `∂L/∂x` a force's `∂f/∂x` and `∂f/∂v` joined to `L_xx` and `L_xv` (a step
+/// that reads the force only in its momentum keeps `L`'s affinity: the variational
+/// Gauss-FDE− step under quadratic drag is still Störmer–Verlet's closed form).
+fn step_dependence<const D: usize, L: Lagrangian<D> + ?Sized>(
+    lagrangian: &L,
+    kind: StepKind,
+) -> HessianDependence {
+    let mut dependence = lagrangian.hessian_dependence();
+    let reads_force = equation_terms(kind)
+        .as_slice()
+        .iter()
+        .any(|term| term.f != 0.0);
+    if let (true, Some([x, v])) = (reads_force, lagrangian.force_dependence()) {
+        let either = |a: Dependence, b: Dependence| Dependence {
+            x: a.x || b.x,
+            v: a.v || b.v,
+            t: a.t || b.t,
+        };
+        dependence.xx = either(dependence.xx, x);
+        dependence.xv = either(dependence.xv, v);
+    }
+    dependence
 }
 
 /// `m⁻¹`, column by column with [`solve_small`] so that "singular" means what it means for

@@ -265,9 +265,13 @@ fn closed_form_steps_under_a_linear_force_equal_newton() {
                 "{embedding} {scheme}: {}",
                 a.explicit_steps
             );
-            // The direct Gauss-FDE+ step's equation, `p@left = π`, does not read the force:
-            // it stays in closed form under any force.
-            if side == Side::Forward && scheme == Scheme::Direct {
+            // The variational Gauss-FDE− and direct Gauss-FDE+ steps' equations (`p@right`,
+            // `p@left`) do not read the force: they stay in closed form under any force.
+            let explicit = matches!(
+                (side, scheme),
+                (Side::Backward, Scheme::Variational) | (Side::Forward, Scheme::Direct)
+            );
+            if explicit {
                 assert!(b.explicit_steps >= 299, "{embedding} {scheme}");
             } else {
                 assert_eq!(b.explicit_steps, 0, "{embedding} {scheme}");
@@ -394,4 +398,95 @@ fn fractional_problems_and_stage_impulses_are_refused() {
         damped.impulses(&gauss),
         Err(Error::Unsupported { .. })
     ));
+}
+
+/// Quadratic drag `R = |v|³/6`: its `∂f/∂v` depends on `v`.
+#[lagrangian]
+fn quadratic_drag(_x: f64, v: f64) -> f64 {
+    0.5 * v * v * v.abs() / 3.0
+}
+
+/// Under a force whose Jacobian is not constant, the two Gauss-FDEσ steps whose equation does
+/// not read the force (variational σ = −: Störmer–Verlet; direct σ = +) keep every step in
+/// closed form; the two that read it run Newton's method. Both give the nodes of a run where
+/// every step runs Newton's method (the force hidden behind a model that claims nothing).
+#[test]
+fn only_the_steps_that_read_the_force_become_implicit() {
+    let dragged = Forced::new(Oscillator, Rayleigh(QuadraticDrag));
+    let grid = Grid::new(0.0, 6.0, 200).unwrap();
+    for side in [Side::Backward, Side::Forward] {
+        for scheme in [Scheme::Direct, Scheme::Variational] {
+            let embedding = Embedding::finite_difference(side);
+            let run = Problem::new(&dragged, grid, embedding)
+                .with_newton(tight())
+                .solve_ivp(scheme, 1.0, 0.0)
+                .unwrap();
+            let explicit = matches!(
+                (side, scheme),
+                (Side::Backward, Scheme::Variational) | (Side::Forward, Scheme::Direct)
+            );
+            if explicit {
+                assert_eq!(run.explicit_steps, 199, "{embedding} {scheme}");
+                assert_eq!(run.newton_iterations, 0, "{embedding} {scheme}");
+            } else {
+                assert_eq!(run.explicit_steps, 0, "{embedding} {scheme}");
+            }
+            let by_newton = Problem::new(&Claimless(&dragged), grid, embedding)
+                .with_newton(tight())
+                .solve_ivp(scheme, 1.0, 0.0)
+                .unwrap();
+            assert_eq!(by_newton.explicit_steps, 0);
+            let gap = run.max_distance(&by_newton.q).unwrap();
+            assert!(gap <= 1e-13, "{embedding} {scheme}: {gap:e}");
+        }
+    }
+}
+
+/// An explicit step under strong friction is unstable (`γh > 2`): the error says so, and
+/// names no step limit, since the oscillator's would be wrong there.
+#[test]
+fn an_explicit_step_under_strong_friction_is_reported_unstable() {
+    let damped = Forced::new(Oscillator, Rayleigh(Friction { gamma: 21.0 }));
+    let grid = Grid::new(0.0, 5.0, 50).unwrap();
+    let run = Problem::new(&damped, grid, Embedding::finite_difference(Side::Backward)).solve_ivp(
+        Scheme::Variational,
+        1.0,
+        0.0,
+    );
+    assert!(
+        matches!(
+            run,
+            Err(Error::Unstable {
+                largest_stable_step: None,
+                ..
+            })
+        ),
+        "{run:?}"
+    );
+    let calmer = Forced::new(Oscillator, Rayleigh(Friction { gamma: 19.0 }));
+    Problem::new(&calmer, grid, Embedding::finite_difference(Side::Backward))
+        .solve_ivp(Scheme::Variational, 1.0, 0.0)
+        .unwrap();
+}
+
+/// A model that claims nothing about its second derivatives (`hessian_dependence` and
+/// `force_dependence` left at their defaults): every step runs Newton's method.
+struct Claimless<L>(L);
+
+impl<L: Lagrangian<1>> Lagrangian<1> for Claimless<L> {
+    fn value(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> f64 {
+        self.0.value(x, v, t)
+    }
+    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> (Vector<1>, Vector<1>) {
+        self.0.gradient(x, v, t)
+    }
+    fn hessian(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> varembed::Hessian<1> {
+        self.0.hessian(x, v, t)
+    }
+    fn is_forced(&self) -> bool {
+        self.0.is_forced()
+    }
+    fn force_jacobian(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> Option<ForceJacobian<1>> {
+        self.0.force_jacobian(x, v, t)
+    }
 }

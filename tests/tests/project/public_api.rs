@@ -54,9 +54,12 @@ use syn::{Attribute, ImplItem, Item, TraitItem, UseTree, Visibility};
 
 /// The public items at the crate root.
 const ROOT: &[&str] = &[
+    "CONSISTENCY_TOLERANCE",
     "CompareOptions",
     "ComparedSolution",
     "Comparison",
+    "ConstrainedSolution",
+    "Constraint",
     "Convergence",
     "Dependence",
     "DifferentialOperator",
@@ -79,6 +82,7 @@ const ROOT: &[&str] = &[
     "Grid",
     "Hessian",
     "HessianDependence",
+    "Holonomic",
     "IntoVector",
     "Lagrangian",
     "Level",
@@ -110,6 +114,7 @@ const ROOT: &[&str] = &[
     "max_error",
     "observed_order",
     "observed_orders",
+    "project_initial_data",
 ];
 
 /// The names generated code and the benchmarks reach through the hidden `__private` module:
