@@ -58,10 +58,12 @@
 //! - [solvers](guide::solvers): initial value problems (the starts, the step kernels, when a
 //!   step is explicit), boundary value problems (banded Newton; dense LU and FFT Newton–Krylov
 //!   for the fractional embeddings), large models, values at the nodes, the typed errors;
-//! - [generalised forces](guide::forces): damping, drives and hand-written forces
+//! - [forces and constraints](guide::forces): damping, drives and hand-written forces
 //!   ([`Forced`], [`Rayleigh`], [`Force`]), the equations each scheme solves under a force
 //!   (the discrete Lagrange–d'Alembert principle), which steps stay explicit, the forced
-//!   discrete Noether theorem and the energy balance, what is not supported;
+//!   discrete Noether theorem and the energy balance, what is not supported; holonomic
+//!   constraints by multipliers ([`Constraint`], [`Holonomic`]), consistent initial data, what
+//!   the constrained schemes conserve;
 //! - [the macro](guide::lagrangian_macro): what the [`lagrangian`](macro@lagrangian) attribute
 //!   accepts (loops, sums, helpers, run-time dimensions) and generates;
 //! - [architecture](guide::architecture): the workspace, the module graph, where the tests
@@ -113,10 +115,10 @@
 //! - Lagrangians: the [`Lagrangian`] trait, its [`Hessian`], what the Hessian blocks depend on
 //!   ([`HessianDependence`], [`Dependence`]), [`IntoVector`], [`Vector`], [`Matrix`], and the
 //!   [`lagrangian`](macro@lagrangian) attribute that derives an implementation from a function.
-//! - Generalised forces ([generalised forces](guide::forces)): [`Forced`], a Lagrangian under a
+//! - Generalised forces ([forces and constraints](guide::forces)): [`Forced`], a Lagrangian under a
 //!   force; the [`Force`] trait, its [`ForceJacobian`] and what its blocks depend on
 //!   ([`ForceDependence`]); [`Rayleigh`], the force `−∂R/∂v` of a dissipation function.
-//! - Holonomic constraints ([generalised forces](guide::forces) has them too): the
+//! - Holonomic constraints ([forces and constraints](guide::forces)): the
 //!   [`Constraint`] trait, [`Holonomic`] (one constraint written as a `#[lagrangian]` fn),
 //!   [`project_initial_data`] and its [`CONSISTENCY_TOLERANCE`];
 //!   `Problem::solve_constrained_ivp` returns a [`ConstrainedSolution`].
