@@ -25,6 +25,7 @@ use crate::lagrangian::{Lagrangian, Vector};
 use crate::options::NewtonOptions;
 use crate::regularity::check_initial_data;
 use crate::solve::ivp::Ivp;
+use crate::solve::newton::at_round_off;
 use crate::solve::solution::Solution;
 use crate::step::{Step, StepKind, StepTimes, residual_and_terms};
 
@@ -125,8 +126,9 @@ where
 /// Newton's method on `(y, μ)` for one constrained step (module docs); the iterations used.
 ///
 /// It stops when the step's rows are within the tolerance of their terms (`‖π‖∞`, the terms of
-/// `G_K(y)`, `‖G(c)ᵀμ‖∞`) and the constraint within the tolerance of `‖G(y)‖∞ ‖y‖∞`, or when an
-/// update is at round-off (`≤ 4ε` of the unknowns).
+/// `G_K(y)`, `‖G(c)ᵀμ‖∞`) and the constraint within the tolerance of `‖G(y)‖∞ ‖y‖∞`, or at the
+/// round-off floor of the unconstrained steps (`at_round_off`: within `64 ε` of the system's
+/// terms and no longer halving).
 fn constrained_step<L, C, const D: usize, const M: usize>(
     lagrangian: &L,
     constraint: &C,
@@ -166,12 +168,15 @@ where
                 }
             });
         }
-        last = residual;
+        let previous = std::mem::replace(&mut last, residual);
         let row_scale = size.max(step.momentum.amax()).max(force.amax());
         let constraint_scale = g_y.amax() * y.amax();
-        if r.amax() <= newton.tolerance * row_scale
-            && g.amax() <= newton.tolerance * constraint_scale
-        {
+        let within = r.amax() <= newton.tolerance * row_scale
+            && g.amax() <= newton.tolerance * constraint_scale;
+        // The floor of the unconstrained steps, with the saddle-point system's scale: each
+        // row's terms, and the Jacobian's blocks times the unknowns they multiply.
+        let terms = row_scale + constraint_scale + j.amax() * y.amax() + g_c.amax() * mu.amax();
+        if within || at_round_off(residual, previous, 1.0, terms) {
             return Ok((y, mu, iteration));
         }
         if iteration == newton.max_iterations {
@@ -196,10 +201,6 @@ where
         let (dy, dmu) = (update.rows(0, D), update.rows(D, M));
         y += dy;
         mu += dmu;
-        let round_off = |d: f64, x: f64| d <= 4.0 * f64::EPSILON * x;
-        if round_off(dy.amax(), y.amax()) && round_off(dmu.amax(), mu.amax()) {
-            return Ok((y, mu, iteration + 1));
-        }
     }
     Err(Error::NewtonDidNotConverge {
         at,
