@@ -16,29 +16,89 @@
 //! the saddle-point matrix `[[J − [c = y] Σ μ_i ∇²g_i, −G(c)ᵀ], [G(y), 0]]`. The first step is
 //! the discrete Legendre start with the same constraint force at `q(a)`.
 
-use nalgebra::{DMatrix, DVector, SVector};
+use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 
 use crate::constraint::{Constraint, check_consistent, check_rank};
 use crate::embedding::{EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::lagrangian::{Lagrangian, Vector};
+use crate::linalg::solve_small;
 use crate::options::NewtonOptions;
 use crate::regularity::check_initial_data;
 use crate::solve::ivp::Ivp;
 use crate::solve::newton::at_round_off;
+use crate::solve::nodes::{NodeValues, invert_momentum};
 use crate::solve::solution::Solution;
 use crate::step::{Step, StepKind, StepTimes, residual_and_terms};
 
 /// A solution under holonomic constraints: the nodes, and the multipliers of each step.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ConstrainedSolution<const D: usize, const M: usize> {
-    /// The nodes and the run's figures (as for an unconstrained run; its node values are the
-    /// unconstrained formulas at the nodes).
+    /// The nodes and the run's figures, as for an unconstrained run (its `node_values` are the
+    /// unconstrained formulas at the nodes; [`ConstrainedSolution::node_values`] projects them
+    /// onto the hidden constraint).
     pub solution: Solution<D>,
     /// `λ` of the step that computed `Q_n`, at index `n − 1` (`N` entries; the first is the
     /// start's): the constraint force `G(c)ᵀλ` at the node `c` of that step's row (module
     /// docs of the solver).
     pub multipliers: Vec<SVector<f64, M>>,
+}
+
+impl<const D: usize, const M: usize> ConstrainedSolution<D, M> {
+    /// Time, position, velocity, momentum and energy at every node, the momenta projected onto
+    /// the hidden constraint `G(Q_k) v_k = 0`.
+    ///
+    /// From the unconstrained node values `(v_k, p_k)` of [`Solution::node_values`] (for a
+    /// variational scheme the discrete Legendre transform `p_k^− = −D₁L_d(Q_k, Q_{k+1})`),
+    /// `p̂_k = p_k − G(Q_k)ᵀν` with `ν = (G M⁻¹ Gᵀ)⁻¹ G v_k`, `M = ∂²L/∂v²` at the node, and
+    /// `v̂_k` solving `∂L/∂v(Q_k, v̂_k, t_k) = p̂_k`. The correction lies along `Gᵀ`, so for a
+    /// symmetry `ξ` the constraint respects (`G ξ = 0`) the Noether momentum `p̂_k·ξ` is
+    /// `p_k·ξ`, conserved by the variational schemes; for `L` quadratic in `v`,
+    /// `G(Q_k) v̂_k = 0` holds exactly (otherwise to second order in the correction). The
+    /// energy is that of `(Q_k, v̂_k)`.
+    ///
+    /// `lagrangian` and `constraint` must be the ones the solution was computed with. Errors as
+    /// [`Solution::node_values`], and [`Error::RankDeficientConstraints`] at a node where
+    /// `G M⁻¹ Gᵀ` is singular.
+    pub fn node_values<L, C>(&self, lagrangian: &L, constraint: &C) -> Result<NodeValues<D>>
+    where
+        L: Lagrangian<D> + ?Sized,
+        C: Constraint<D, M> + ?Sized,
+    {
+        let mut nodes = self.solution.node_values(lagrangian)?;
+        for k in 0..nodes.len() {
+            let (q, t) = (nodes.q[k], nodes.t[k]);
+            let at = Location::Node(k);
+            let mass = lagrangian.hessian(&q, &nodes.v[k], t).vv;
+            let g = constraint.jacobian(&q);
+            // M⁻¹ Gᵀ column by column, then the M × M system for ν.
+            let mut spread = SMatrix::<f64, D, M>::zeros();
+            for i in 0..M {
+                let column = solve_small(&mass, &g.row(i).transpose())
+                    .ok_or(Error::SingularJacobian { at })?;
+                spread.set_column(i, &column);
+            }
+            let schur = g * spread;
+            let rhs = g * nodes.v[k];
+            let nu = DMatrix::from_column_slice(M, M, schur.as_slice())
+                .lu()
+                .solve(&DVector::from_column_slice(rhs.as_slice()))
+                .filter(|nu| nu.iter().all(|c| c.is_finite()))
+                .ok_or(Error::RankDeficientConstraints { at, ratio: 0.0 })?;
+            let nu = SVector::<f64, M>::from_column_slice(nu.as_slice());
+            let p = nodes.p[k] - g.transpose() * nu;
+            let guess = nodes.v[k] - spread * nu;
+            nodes.v[k] = invert_momentum(lagrangian, &q, t, &p, guess, k)?;
+            nodes.p[k] = p;
+        }
+        if let Some(energy) = nodes.energy.as_mut() {
+            for (k, e) in energy.iter_mut().enumerate() {
+                let (q, v, t) = (&nodes.q[k], &nodes.v[k], nodes.t[k]);
+                *e = v.dot(&nodes.p[k]) - lagrangian.value(q, v, t);
+            }
+        }
+        Ok(nodes)
+    }
 }
 
 /// Which node of a step's row carries the constraint force.
