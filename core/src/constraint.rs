@@ -47,6 +47,15 @@ pub trait Constraint<const D: usize, const M: usize> {
 
     /// `Σ_i λ_i ∂²g_i/∂x²`: the derivative of the constraint force `G(x)ᵀλ` in `x`.
     fn weighted_hessian(&self, x: &Vector<D>, lambda: &SVector<f64, M>) -> Matrix<D>;
+
+    /// Why these are not holonomic, scleronomic constraints, if they are not: a constraint
+    /// that reads the velocity or the time (which [`Holonomic`] would evaluate at `v = 0`,
+    /// `t = 0`). The solver refuses such a model with
+    /// [`Error::InvalidModel`](crate::Error::InvalidModel) before any step. The default finds
+    /// nothing.
+    fn not_holonomic(&self) -> Option<String> {
+        None
+    }
 }
 
 /// One constraint `g(x) = 0` given as a [`Lagrangian`] that reads only `x` (write `g` as a
@@ -83,6 +92,20 @@ impl<const D: usize, G: Lagrangian<D>> Constraint<D, 1> for Holonomic<G> {
     fn weighted_hessian(&self, x: &Vector<D>, lambda: &SVector<f64, 1>) -> Matrix<D> {
         self.0.hessian(x, &Vector::<D>::zeros(), 0.0).xx * lambda[0]
     }
+
+    /// The constraint's [`Lagrangian::dependence`] says it reads `v` or `t`.
+    fn not_holonomic(&self) -> Option<String> {
+        let dependence = self.0.dependence();
+        let reads = match (dependence.v, dependence.t) {
+            (false, false) => return None,
+            (true, false) => "the velocity v",
+            (false, true) => "the time t",
+            (true, true) => "the velocity v and the time t",
+        };
+        Some(format!(
+            "a Holonomic constraint must be a function of x alone, and this one reads {reads}"
+        ))
+    }
 }
 
 impl<const D: usize, A: Constraint<D, 1>, B: Constraint<D, 1>> Constraint<D, 2> for (A, B) {
@@ -100,6 +123,18 @@ impl<const D: usize, A: Constraint<D, 1>, B: Constraint<D, 1>> Constraint<D, 2> 
     fn weighted_hessian(&self, x: &Vector<D>, lambda: &SVector<f64, 2>) -> Matrix<D> {
         let one = |l: f64| SVector::<f64, 1>::new(l);
         self.0.weighted_hessian(x, &one(lambda[0])) + self.1.weighted_hessian(x, &one(lambda[1]))
+    }
+
+    fn not_holonomic(&self) -> Option<String> {
+        let first = self
+            .0
+            .not_holonomic()
+            .map(|why| format!("constraint 0: {why}"));
+        first.or_else(|| {
+            self.1
+                .not_holonomic()
+                .map(|why| format!("constraint 1: {why}"))
+        })
     }
 }
 
@@ -124,12 +159,16 @@ pub(crate) fn check_rank<const D: usize, const M: usize>(
 }
 
 /// Checks that `(q0, v0)` satisfy `g(q0) = 0` and `G(q0) v0 = 0` to [`CONSISTENCY_TOLERANCE`]
-/// relative to each constraint's terms, and that `G(q0)` has full rank.
+/// relative to each constraint's terms, that `G(q0)` has full rank, and that the constraint
+/// is holonomic ([`Constraint::not_holonomic`]).
 pub(crate) fn check_consistent<C: Constraint<D, M> + ?Sized, const D: usize, const M: usize>(
     constraint: &C,
     q0: &Vector<D>,
     v0: &Vector<D>,
 ) -> Result<()> {
+    if let Some(reason) = constraint.not_holonomic() {
+        return Err(Error::InvalidModel { reason });
+    }
     let (g, jacobian) = (constraint.value(q0), constraint.jacobian(q0));
     check_rank(&jacobian, Location::Step(0))?;
     let velocity = jacobian * v0;
@@ -159,7 +198,8 @@ pub(crate) fn check_consistent<C: Constraint<D, M> + ?Sized, const D: usize, con
 /// The initial data moved onto the constraints: `q` by Gauss–Newton along `Gᵀ` (the nearest
 /// point of `g = 0` for a small violation), then `v` projected orthogonally onto `G(q) v = 0`.
 ///
-/// Errors: [`Error::RankDeficientConstraints`] where `G` has dependent rows,
+/// Errors: [`Error::InvalidModel`] for a constraint that reads `v` or `t`
+/// ([`Constraint::not_holonomic`]), [`Error::RankDeficientConstraints`] where `G` has dependent rows,
 /// [`Error::NewtonDidNotConverge`] when 50 iterations do not reach the constraint to round-off.
 ///
 /// # Example
@@ -184,6 +224,9 @@ pub fn project_initial_data<C: Constraint<D, M> + ?Sized, const D: usize, const 
     q0: Vector<D>,
     v0: Vector<D>,
 ) -> Result<(Vector<D>, Vector<D>)> {
+    if let Some(reason) = constraint.not_holonomic() {
+        return Err(Error::InvalidModel { reason });
+    }
     let at = Location::Step(0);
     let mut q = q0;
     let mut converged = false;

@@ -429,3 +429,37 @@ fn projected_node_values_satisfy_the_hidden_constraint() {
         );
     }
 }
+
+/// A constraint written with the velocity or the time is not holonomic: `Holonomic` would
+/// evaluate it at `v = 0`, `t = 0`, a silent wrong answer; the solver refuses it, naming what
+/// it reads.
+#[test]
+fn a_constraint_that_reads_v_or_t_is_refused() {
+    #[lagrangian]
+    fn rolling(x: [f64; 3], v: [f64; 3]) -> f64 {
+        x[0] * v[1] - x[1] * v[0]
+    }
+    #[lagrangian]
+    fn shrinking(x: [f64; 3], _v: [f64; 3], t: f64) -> f64 {
+        0.5 * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2] - (1.0 + t).powi(2))
+    }
+    let problem = Problem::new(
+        &Falling,
+        Grid::new(0.0, 1.0, 20).unwrap(),
+        Embedding::midpoint(),
+    );
+    let (q0, v0) = initial();
+    for (constraint, reads) in [
+        (
+            &Holonomic(Rolling) as &dyn Constraint<3, 1>,
+            "the velocity v",
+        ),
+        (&Holonomic(Shrinking), "the time t"),
+    ] {
+        let refused = problem.solve_constrained_ivp(Scheme::Variational, constraint, q0, v0);
+        let Err(Error::InvalidModel { reason }) = refused else {
+            panic!("{refused:?}");
+        };
+        assert!(reason.contains(reads), "{reason}");
+    }
+}
