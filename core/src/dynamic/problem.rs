@@ -173,6 +173,35 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
         }
     }
 
+    /// The problem of `lagrangian` on `grid` with [`Embedding::recommended`] (midpoint), as
+    /// [`Problem::recommended`](crate::Problem::recommended): its variational scheme is
+    /// second order, symplectic and A-stable, each step a banded Newton solve.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{DynProblem, Embedding, Grid, Scheme, lagrangian};
+    ///
+    /// /// A ring of `n` pendula, each coupled to its neighbours.
+    /// #[lagrangian]
+    /// fn ring(x: &[f64], v: &[f64], n: usize) -> f64 {
+    ///     (0..n)
+    ///         .map(|i| 0.5 * v[i] * v[i] + x[i].cos() - 0.5 * (x[(i + 1) % n] - x[i]).powi(2))
+    ///         .sum()
+    /// }
+    ///
+    /// let (ring, grid) = (Ring { n: 64 }, Grid::new(0.0, 1.0, 100)?);
+    /// let q0: Vec<f64> = (0..64).map(|i| (i as f64 * 0.1).sin()).collect();
+    /// let run = DynProblem::recommended(&ring, grid).solve_ivp(Scheme::Variational, &q0, &vec![0.0; 64])?;
+    /// let midpoint = DynProblem::new(&ring, grid, Embedding::midpoint())
+    ///     .solve_ivp(Scheme::Variational, &q0, &vec![0.0; 64])?;
+    /// assert_eq!((run.len(), run.node(100)), (101, midpoint.node(100)));
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn recommended(lagrangian: &'l L, grid: Grid) -> Self {
+        DynProblem::new(lagrangian, grid, Embedding::recommended())
+    }
+
     /// With these Newton options for the implicit steps.
     pub fn with_newton(mut self, newton: NewtonOptions) -> Self {
         self.newton = newton;
