@@ -23,6 +23,7 @@ use crate::embedding::{EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::lagrangian::{Lagrangian, Vector};
 use crate::linalg::solve_small;
+use crate::memory::reserve;
 use crate::options::NewtonOptions;
 use crate::regularity::check_initial_data;
 use crate::solve::ivp::Ivp;
@@ -141,8 +142,8 @@ where
     let (_, pi0, _) = check_initial_data(lagrangian, &q0, &v0, grid.t(0))?;
     check_consistent(constraint, &q0, &v0)?;
     let (n_steps, h) = (grid.n(), grid.h());
-    let mut q = Vec::with_capacity(n_steps + 1);
-    let mut multipliers = Vec::with_capacity(n_steps);
+    let mut q = reserve(n_steps + 1, "the nodes Q_0..=Q_N")?;
+    let mut multipliers = reserve(n_steps, "the multipliers")?;
     q.push(q0);
     let mut iterations = 0;
     let mut mu = SVector::<f64, M>::zeros();
