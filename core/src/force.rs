@@ -19,6 +19,7 @@
 //! `p_N·ξ − p_0·ξ` is the sum of the discrete impulses `(f_d^− + f_d^+)·ξ` ([`Forced::impulses`]).
 //! The Gauss–Legendre integrators take the force at their stages the same way.
 
+use crate::dynamic::sparse::{SparseForceJacobian, SparseHessian};
 use crate::embedding::Scheme;
 use crate::error::{Error, Result};
 use crate::lagrangian::{
@@ -344,5 +345,141 @@ impl<const D: usize, F: Force<D> + ?Sized> Force<D> for &F {
     }
     fn constants(&self) -> Vec<(&'static str, f64)> {
         (**self).constants()
+    }
+}
+
+/// A generalised force `f(x, v, t)` on `R^d` with `d` known at run time and a sparse Jacobian:
+/// what [`Forced`] needs to be a [`DynLagrangian`] (solved by [`DynProblem`](crate::DynProblem)).
+///
+/// # Example
+///
+/// ```
+/// use varembed::{DynForce, SparseForceJacobian};
+///
+/// /// Linear friction `f = −γ v` on every component.
+/// struct Friction { gamma: f64 }
+///
+/// impl DynForce for Friction {
+///     fn add_force(&self, _x: &[f64], v: &[f64], _t: f64, f: &mut [f64]) {
+///         for (f, v) in f.iter_mut().zip(v) {
+///             *f -= self.gamma * v;
+///         }
+///     }
+///     fn jacobian(&self, x: &[f64], _v: &[f64], _t: f64, out: &mut SparseForceJacobian) {
+///         for i in 0..x.len() {
+///             out.v.add(i, i, -self.gamma);
+///         }
+///     }
+/// }
+/// let mut f = [1.0, 1.0];
+/// Friction { gamma: 0.5 }.add_force(&[0.0; 2], &[2.0, -2.0], 0.0, &mut f);
+/// assert_eq!(f, [0.0, 2.0]);
+/// ```
+pub trait DynForce {
+    /// Adds `f(x, v, t)` to `f`.
+    fn add_force(&self, x: &[f64], v: &[f64], t: f64, f: &mut [f64]);
+
+    /// Adds the entries of `∂f/∂x` and `∂f/∂v` at `(x, v, t)` to `out` (cleared by the caller).
+    fn jacobian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseForceJacobian);
+
+    /// What the Jacobian's blocks depend on, as [`Force::jacobian_dependence`].
+    fn jacobian_dependence(&self) -> ForceDependence {
+        ForceDependence {
+            x: Dependence::ALL,
+            v: Dependence::ALL,
+        }
+    }
+
+    /// The force's constants by name.
+    fn constants(&self) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
+}
+
+/// On the run-time path `f = −∂R/∂v` costs one buffer of length `d` per evaluation (the
+/// momentum of `R`, subtracted); a hand-written [`DynForce`] adds in place.
+impl<R: DynLagrangian> DynForce for Rayleigh<R> {
+    fn add_force(&self, x: &[f64], v: &[f64], t: f64, f: &mut [f64]) {
+        let mut momentum = vec![0.0; f.len()];
+        self.0.momentum(x, v, t, &mut momentum);
+        for (f, p) in f.iter_mut().zip(&momentum) {
+            *f -= p;
+        }
+    }
+
+    fn jacobian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseForceJacobian) {
+        let mut hessian = SparseHessian::new(self.0.dimension());
+        self.0.hessian(x, v, t, &mut hessian);
+        // ∂f/∂x = −(∂²R/∂x∂v)ᵀ, ∂f/∂v = −∂²R/∂v².
+        for &(i, j, value) in hessian.xv.entries() {
+            out.x.add(j, i, -value);
+        }
+        for &(i, j, value) in hessian.vv.entries() {
+            out.v.add(i, j, -value);
+        }
+    }
+
+    fn jacobian_dependence(&self) -> ForceDependence {
+        let blocks = self.0.hessian_dependence();
+        ForceDependence {
+            x: blocks.xv,
+            v: blocks.vv,
+        }
+    }
+
+    fn constants(&self) -> Vec<(&'static str, f64)> {
+        self.0.constants()
+    }
+}
+
+/// `L` under `f` on the run-time path: [`DynLagrangian::force`] writes `∂L/∂x + f`.
+impl<L: DynLagrangian, F: DynForce> DynLagrangian for Forced<L, F> {
+    fn dimension(&self) -> usize {
+        self.lagrangian.dimension()
+    }
+    fn value(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
+        self.lagrangian.value(x, v, t)
+    }
+    fn force(&self, x: &[f64], v: &[f64], t: f64, f: &mut [f64]) {
+        self.lagrangian.force(x, v, t, f);
+        self.force.add_force(x, v, t, f);
+    }
+    fn momentum(&self, x: &[f64], v: &[f64], t: f64, p: &mut [f64]) {
+        self.lagrangian.momentum(x, v, t, p)
+    }
+    fn hessian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseHessian) {
+        self.lagrangian.hessian(x, v, t, out)
+    }
+    fn hessian_dependence(&self) -> HessianDependence {
+        self.lagrangian.hessian_dependence()
+    }
+    /// `None`: the force's Jacobian may couple any two components (the solver reads the
+    /// pattern of both off their entries).
+    fn hessian_bandwidth(&self) -> Option<usize> {
+        None
+    }
+    fn dependence(&self) -> Dependence {
+        self.lagrangian.dependence()
+    }
+    fn invalid_dimension(&self) -> Option<String> {
+        self.lagrangian.invalid_dimension()
+    }
+    fn constants(&self) -> Vec<(&'static str, f64)> {
+        let mut constants = self.lagrangian.constants();
+        constants.extend(self.force.constants());
+        constants
+    }
+    fn energy(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
+        self.lagrangian.energy(x, v, t)
+    }
+    fn is_forced(&self) -> bool {
+        true
+    }
+    fn force_dependence(&self) -> Option<[Dependence; 2]> {
+        let force = self.force.jacobian_dependence();
+        Some([force.x, force.v])
+    }
+    fn force_jacobian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseForceJacobian) {
+        self.force.jacobian(x, v, t, out)
     }
 }

@@ -117,7 +117,8 @@
 //!   [`lagrangian`](macro@lagrangian) attribute that derives an implementation from a function.
 //! - Generalised forces ([forces and constraints](guide::forces)): [`Forced`], a Lagrangian under a
 //!   force; the [`Force`] trait, its [`ForceJacobian`] and what its blocks depend on
-//!   ([`ForceDependence`]); [`Rayleigh`], the force `−∂R/∂v` of a dissipation function.
+//!   ([`ForceDependence`]); [`Rayleigh`], the force `−∂R/∂v` of a dissipation function; on the
+//!   run-time path, [`DynForce`] and its [`SparseForceJacobian`].
 //! - Holonomic constraints ([forces and constraints](guide::forces)): the
 //!   [`Constraint`] trait, [`Holonomic`] (one constraint written as a `#[lagrangian]` fn),
 //!   [`project_initial_data`] and its [`CONSISTENCY_TOLERANCE`];
@@ -210,16 +211,16 @@ pub use constraint::{CONSISTENCY_TOLERANCE, Constraint, Holonomic, project_initi
 pub use dynamic::dense::DynState;
 pub use dynamic::ivp::{DynNode, DynRun};
 pub use dynamic::problem::{DynProblem, DynSolution};
-pub use dynamic::sparse::{SparseBlock, SparseHessian};
+pub use dynamic::sparse::{SparseBlock, SparseForceJacobian, SparseHessian};
 pub use embedding::kind::EmbeddingKind;
 pub use embedding::{Embedding, Scheme};
 pub use ensemble::Ensemble;
 pub use error::{Error, Location, Result};
-pub use force::{Force, ForceDependence, Forced, Rayleigh};
+pub use force::{DynForce, Force, ForceDependence, Forced, Rayleigh};
 pub use grid::Grid;
+pub use lagrangian::run_time::DynLagrangian;
 pub use lagrangian::{
-    Dependence, DynLagrangian, ForceJacobian, Hessian, HessianDependence, IntoVector, Lagrangian,
-    Matrix, Vector,
+    Dependence, ForceJacobian, Hessian, HessianDependence, IntoVector, Lagrangian, Matrix, Vector,
 };
 pub use ode::{DifferentialOperator, DirectEmbedding};
 pub use options::{FractionalSolver, NewtonOptions, RUN_TIME_FROM};

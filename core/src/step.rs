@@ -534,8 +534,8 @@ fn equation_term<const D: usize, L: Lagrangian<D> + ?Sized>(
 pub(crate) mod terms;
 mod update;
 
-pub(crate) use update::jacobian_is_constant;
 pub use update::{Update, is_affine};
+pub(crate) use update::{jacobian_is_constant, reads_force, with_force};
 
 #[cfg(test)]
 mod tests;

@@ -42,6 +42,10 @@ impl<L: DynLagrangian + ?Sized> Compares for Comparer<'_, '_, L> {
         self.0.lagrangian.dependence().t
     }
 
+    fn is_forced(&self) -> bool {
+        self.0.lagrangian.is_forced()
+    }
+
     /// One evaluation of `scheme`'s rows gives both: the rows need `V` and `p = ∂L/∂v` at the
     /// quadrature nodes, which is what the energy reads.
     fn energy_and_residual(

@@ -145,6 +145,13 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn solve_bvp_from(&self, scheme: Scheme, guess: &[f64]) -> Result<DynSolution> {
+        if self.lagrangian.is_forced() {
+            // The global Jacobian of the run-time path is assembled from L's blocks alone.
+            return Err(Error::Unsupported {
+                operation: "a boundary value problem of run-time dimension under a force",
+                embedding: self.embedding.to_string(),
+            });
+        }
         let rows = DynRows::new(self.lagrangian, self.grid, self.embedding, scheme)?;
         check_input(&rows, guess)?;
         let Converged {

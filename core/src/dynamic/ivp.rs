@@ -135,7 +135,8 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
 
         let mut solver = StepSolver::new(self.lagrangian, kind, h, self.newton, (q0, v0, t0));
         let drifts = matches!(kind, StepKind::DirectBackward | StepKind::DirectForward);
-        let enabled = self.blow_up_guard && !self.lagrangian.dependence().t;
+        let enabled =
+            self.blow_up_guard && !self.lagrangian.dependence().t && !self.lagrangian.is_forced();
         let mut guard = BlowUpGuard::watching(drifts, grid.n(), enabled);
         let stride = guard.stride();
         let inv_h = 1.0 / h;

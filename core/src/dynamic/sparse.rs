@@ -234,3 +234,35 @@ impl SparseHessian {
         })
     }
 }
+
+/// The Jacobian of a generalised force on the run-time path: `x.add(i, j, ∂f_i/∂x_j)`,
+/// `v.add(i, j, ∂f_i/∂v_j)` (see [`DynLagrangian::force_jacobian`](crate::DynLagrangian)).
+///
+/// ```
+/// let mut j = varembed::SparseForceJacobian::new(2);
+/// j.v.add(1, 1, -0.5);
+/// assert_eq!((j.v.get(1, 1), j.x.entries().len()), (-0.5, 0));
+/// ```
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct SparseForceJacobian {
+    /// `∂f/∂x`.
+    pub x: SparseBlock,
+    /// `∂f/∂v`.
+    pub v: SparseBlock,
+}
+
+impl SparseForceJacobian {
+    /// Two zero `d × d` blocks.
+    pub fn new(d: usize) -> Self {
+        SparseForceJacobian {
+            x: SparseBlock::new(d),
+            v: SparseBlock::new(d),
+        }
+    }
+
+    /// Removes every entry, keeping the allocations.
+    pub fn clear(&mut self) {
+        self.x.clear();
+        self.v.clear();
+    }
+}

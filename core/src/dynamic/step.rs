@@ -10,13 +10,13 @@
 use crate::error::{Error, Location, Result};
 use crate::options::NewtonOptions;
 use crate::solve::newton::{StepIteration, newton};
-use crate::step::terms::{BlockWeights, Point, Terms, equation_terms, momentum_terms};
-use crate::step::{StepKind, is_affine, jacobian_is_constant};
+use crate::step::terms::{Point, Terms, equation_terms, momentum_terms};
+use crate::step::{StepKind, is_affine, jacobian_is_constant, reads_force, with_force};
 
 use super::DynLagrangian;
 use super::band::{BandSystem, OutsideBand};
 use super::slices::{accumulate, axpy, dot, max_norm};
-use super::sparse::{SparseBlock, SparseHessian};
+use super::sparse::{SparseBlock, SparseForceJacobian, SparseHessian};
 
 /// How the newest node of a step is found.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -123,6 +123,11 @@ pub(crate) struct StepSolver<'l, L: ?Sized> {
     factored: bool,
     system: BandSystem,
     hessian: SparseHessian,
+    /// The Jacobian of a generalised force at a term's point, where the step equation reads
+    /// the force (entries listed; unused without a force).
+    force: SparseForceJacobian,
+    /// Whether the step equation's Jacobian has a force's blocks.
+    forced: bool,
     points: Points,
     /// A zero velocity, and force, momentum and residual buffers (length `d`).
     zero: Vec<f64>,
@@ -148,21 +153,30 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         let (momentum, equation) = (momentum_terms(kind), equation_terms(kind));
         let mut hessian = SparseHessian::new(d);
         lagrangian.hessian(x, v, t, &mut hessian);
-        let system = BandSystem::plan(
-            d,
-            lagrangian.hessian_bandwidth(),
-            &jacobian_blocks(&equation, h, &hessian),
+        let forced = lagrangian.is_forced() && reads_force(kind);
+        let mut force = SparseForceJacobian::new(d);
+        let mut blocks = jacobian_blocks(&equation, h, &hessian);
+        if forced {
+            lagrangian.force_jacobian(x, v, t, &mut force);
+            blocks.extend(force_blocks(&equation, h, &force));
+        }
+        let system = BandSystem::plan(d, lagrangian.hessian_bandwidth(), &blocks);
+        let dependence = with_force(
+            lagrangian.hessian_dependence(),
+            kind,
+            lagrangian.force_dependence(),
         );
-        let dependence = lagrangian.hessian_dependence();
         let update = if !is_affine(kind, &dependence) {
             Update::Newton
         } else if jacobian_is_constant(kind, &dependence) {
-            if scaled_jacobian_is_identity(&equation, h, &hessian) {
+            if !forced && scaled_jacobian_is_identity(&equation, h, &hessian) {
                 let variational = matches!(
                     kind,
                     StepKind::VariationalBackward | StepKind::VariationalForward
                 );
-                if variational && !lagrangian.dependence().t {
+                // The Störmer–Verlet step fuses the momentum, reading `∂L/∂x` at rest: not
+                // under a force, which may depend on the velocity.
+                if variational && !lagrangian.dependence().t && !lagrangian.is_forced() {
                     Update::Verlet
                 } else {
                     Update::Identity
@@ -175,6 +189,7 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         };
         // In the model's own order, the blocks are summed in place in band storage and the
         // Jacobian is combined row by row; a reordered system reads the listed entries.
+        drop(blocks);
         drop(hessian);
         let blocks = if system.is_reordered() || matches!(update, Update::Identity | Update::Verlet)
         {
@@ -199,6 +214,8 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
             factored: false,
             system,
             hessian: blocks,
+            force,
+            forced,
             points: Points::new(d, &[momentum, equation]),
             zero: vec![0.0; d],
             f: vec![0.0; d],
@@ -404,7 +421,7 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
     fn assemble(&mut self, nodes: (&[f64], &[f64]), times: (f64, f64), at: Location) -> Result<()> {
         if self.try_assemble(nodes, times).is_err() {
             let d = self.lagrangian.dimension();
-            let listed: Vec<SparseHessian> = self
+            let listed: Vec<(SparseHessian, SparseForceJacobian)> = self
                 .equation_terms
                 .as_slice()
                 .iter()
@@ -412,12 +429,21 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
                     let (x, v, t) = self.points.at(term.point, nodes, times);
                     let mut hessian = SparseHessian::new(d);
                     self.lagrangian.hessian(x, v, t, &mut hessian);
-                    hessian
+                    let mut force = SparseForceJacobian::new(d);
+                    if self.forced {
+                        self.lagrangian.force_jacobian(x, v, t, &mut force);
+                    }
+                    (hessian, force)
                 })
                 .collect();
+            let (terms, h) = (&self.equation_terms, self.h);
             let blocks: Vec<&SparseBlock> = listed
                 .iter()
-                .flat_map(|hessian| jacobian_blocks(&self.equation_terms, self.h, hessian))
+                .flat_map(|(hessian, force)| {
+                    let mut blocks = jacobian_blocks(terms, h, hessian);
+                    blocks.extend(force_blocks(terms, h, force));
+                    blocks
+                })
                 .collect();
             self.system = BandSystem::plan(d, None, &blocks);
             self.hessian = SparseHessian::new(d);
@@ -439,6 +465,19 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
             self.lagrangian.hessian(x, v, t, &mut self.hessian);
             let weights = term.block_weights(self.h);
             add_blocks(&mut self.system, &self.hessian, weights, k == 0)?;
+            if self.forced && term.f != 0.0 {
+                // The force joins `∂L/∂x`: its `∂f/∂x` where `L_xx` stands, its `∂f/∂v` where
+                // `L_xv` does (never `L_vx`, which differentiates `p`).
+                self.force.clear();
+                self.lagrangian.force_jacobian(x, v, t, &mut self.force);
+                for (weight, block) in [(weights.xx, &self.force.x), (weights.xv, &self.force.v)] {
+                    if weight != 0.0 {
+                        for &(i, j, value) in block.entries() {
+                            self.system.add(i, j, weight * value)?;
+                        }
+                    }
+                }
+            }
         }
         Ok(())
     }
@@ -495,77 +534,6 @@ impl<L: DynLagrangian + ?Sized> StepIteration for SliceStep<'_, '_, '_, L> {
     }
 }
 
-/// `xx L_xx + xv L_xv + vx L_xvᵀ + vv L_vv` from `hessian`'s blocks into (`fresh`) or onto the
-/// system.
-fn add_blocks(
-    system: &mut BandSystem,
-    hessian: &SparseHessian,
-    w: BlockWeights,
-    fresh: bool,
-) -> std::result::Result<(), OutsideBand> {
-    let SparseHessian { xx, xv, vv } = hessian;
-    if vv.band().is_some() || xx.band().is_some() || xv.band().is_some() {
-        return system.add_bands([(w.vv, vv), (w.xx, xx), (w.xv, xv)], (w.vx, xv), fresh);
-    }
-    if fresh {
-        system.clear();
-    }
-    for (weight, block) in [(w.vv, vv), (w.xx, xx), (w.xv, xv)] {
-        if weight != 0.0 {
-            for &(i, j, value) in block.entries() {
-                system.add(i, j, weight * value)?;
-            }
-        }
-    }
-    if w.vx != 0.0 {
-        for &(i, j, value) in xv.entries() {
-            system.add(j, i, w.vx * value)?;
-        }
-    }
-    Ok(())
-}
+mod blocks;
 
-/// The blocks that enter the step Jacobian of the equation `terms` with step `h`: those with a
-/// nonzero weight in some term. The system is planned on their pattern alone: a long-range
-/// `L_xx` does not widen the band of a step whose Jacobian does not read it.
-fn jacobian_blocks<'a>(terms: &Terms, h: f64, hessian: &'a SparseHessian) -> Vec<&'a SparseBlock> {
-    let reads = |weight: fn(&BlockWeights) -> f64| terms.reads(h, weight);
-    let mut blocks = Vec::new();
-    if reads(|w| w.vv) {
-        blocks.push(&hessian.vv);
-    }
-    if reads(|w| w.xv.abs() + w.vx.abs()) {
-        blocks.push(&hessian.xv);
-    }
-    if reads(|w| w.xx) {
-        blocks.push(&hessian.xx);
-    }
-    blocks
-}
-
-/// Whether `h J` is exactly the identity for the constant blocks in `hessian`: one term with
-/// `L_vv = I` and no other block of `J` with a nonzero entry. The closed form is then
-/// `y = b − h (G(b) − π)`, with no rounding beyond the hand-written Störmer–Verlet loop's.
-fn scaled_jacobian_is_identity(terms: &Terms, h: f64, hessian: &SparseHessian) -> bool {
-    let [term] = terms.as_slice() else {
-        return false;
-    };
-    let w = term.block_weights(h);
-    let d = hessian.vv.dimension();
-    let mut diagonal = vec![0.0; d];
-    let mut off_diagonal = false;
-    for &(i, j, value) in hessian.vv.entries() {
-        if i == j {
-            diagonal[i] += value;
-        } else {
-            off_diagonal |= value != 0.0;
-        }
-    }
-    let zero = |block: &SparseBlock| block.entries().iter().all(|e| e.2 == 0.0);
-    h.is_finite()
-        && w.vv == 1.0
-        && !off_diagonal
-        && diagonal.iter().all(|&c| c == 1.0)
-        && (w.xv == 0.0 && w.vx == 0.0 || zero(&hessian.xv))
-        && (w.xx == 0.0 || zero(&hessian.xx))
-}
+use blocks::{add_blocks, force_blocks, jacobian_blocks, scaled_jacobian_is_identity};

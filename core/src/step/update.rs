@@ -132,12 +132,29 @@ fn step_dependence<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
     kind: StepKind,
 ) -> HessianDependence {
-    let mut dependence = lagrangian.hessian_dependence();
-    let reads_force = equation_terms(kind)
+    with_force(
+        lagrangian.hessian_dependence(),
+        kind,
+        lagrangian.force_dependence(),
+    )
+}
+
+/// Whether the step equation of `kind` reads `∂L/∂x` (and so a force folded into it).
+pub(crate) fn reads_force(kind: StepKind) -> bool {
+    equation_terms(kind)
         .as_slice()
         .iter()
-        .any(|term| term.f != 0.0);
-    if let (true, Some([x, v])) = (reads_force, lagrangian.force_dependence()) {
+        .any(|term| term.f != 0.0)
+}
+
+/// `dependence` with a force's blocks (`[∂f/∂x, ∂f/∂v]`, if any) joined to `L_xx` and `L_xv`
+/// where the step equation of `kind` reads the force (both storages' plans).
+pub(crate) fn with_force(
+    mut dependence: HessianDependence,
+    kind: StepKind,
+    force: Option<[Dependence; 2]>,
+) -> HessianDependence {
+    if let (true, Some([x, v])) = (reads_force(kind), force) {
         let either = |a: Dependence, b: Dependence| Dependence {
             x: a.x || b.x,
             v: a.v || b.v,

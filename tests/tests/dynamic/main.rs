@@ -3,6 +3,7 @@
 mod bvp;
 mod compare;
 mod every_embedding;
+mod forces;
 mod ill_posed;
 mod ivp;
 mod resolution;

@@ -1,0 +1,180 @@
+//! The [`DynLagrangian`] trait: a Lagrangian whose dimension is a run-time value, with sparse
+//! second derivatives. A child of the lagrangian module, which re-exports it.
+
+use super::{Dependence, HessianDependence};
+use crate::dynamic::sparse::{SparseForceJacobian, SparseHessian};
+
+/// A Lagrangian `L(x, v, t)` on `R^d × R^d × R` with `d` known at run time, and sparse second
+/// derivatives.
+///
+/// `#[lagrangian]` implements it for every model written with loops (a named dimension
+/// `[f64; N]`, or slices `x: &[f64]` whose length is a `usize` model constant); a hand-written
+/// implementation provides [`dimension`](Self::dimension), [`value`](Self::value),
+/// [`force`](Self::force), [`momentum`](Self::momentum) and [`hessian`](Self::hessian).
+///
+/// # Example
+///
+/// ```
+/// use varembed::{DynLagrangian, SparseHessian};
+///
+/// /// A chain of `n` unit masses, neighbours joined by unit springs, ends free.
+/// struct Chain { n: usize }
+///
+/// impl DynLagrangian for Chain {
+///     fn dimension(&self) -> usize { self.n }
+///     fn value(&self, x: &[f64], v: &[f64], _t: f64) -> f64 {
+///         let kinetic: f64 = v.iter().map(|v| 0.5 * v * v).sum();
+///         let springs: f64 = x.windows(2).map(|w| 0.5 * (w[1] - w[0]).powi(2)).sum();
+///         kinetic - springs
+///     }
+///     fn force(&self, x: &[f64], _v: &[f64], _t: f64, f: &mut [f64]) {
+///         f.fill(0.0);
+///         for i in 0..self.n - 1 {
+///             let s = x[i + 1] - x[i];
+///             f[i] += s;
+///             f[i + 1] -= s;
+///         }
+///     }
+///     fn momentum(&self, _x: &[f64], v: &[f64], _t: f64, p: &mut [f64]) {
+///         p.copy_from_slice(v);
+///     }
+///     fn hessian(&self, _x: &[f64], _v: &[f64], _t: f64, out: &mut SparseHessian) {
+///         for i in 0..self.n {
+///             out.vv.add(i, i, 1.0);
+///         }
+///         for i in 0..self.n - 1 {
+///             out.xx.add(i, i, -1.0);
+///             out.xx.add(i + 1, i + 1, -1.0);
+///             out.xx.add(i, i + 1, 1.0);
+///             out.xx.add(i + 1, i, 1.0);
+///         }
+///     }
+///     fn hessian_bandwidth(&self) -> Option<usize> { Some(1) }
+/// }
+///
+/// let chain = Chain { n: 3 };
+/// let mut f = [0.0; 3];
+/// chain.force(&[0.0, 1.0, 3.0], &[0.0; 3], 0.0, &mut f);
+/// assert_eq!(f, [1.0, 1.0, -2.0]);
+/// ```
+pub trait DynLagrangian {
+    /// The dimension `d`: the length of `x` and `v`.
+    fn dimension(&self) -> usize;
+
+    /// `L(x, v, t)`.
+    fn value(&self, x: &[f64], v: &[f64], t: f64) -> f64;
+
+    /// Writes `∂L/∂x` at `(x, v, t)` into `f` (every entry is overwritten).
+    fn force(&self, x: &[f64], v: &[f64], t: f64, f: &mut [f64]);
+
+    /// Writes `∂L/∂v` at `(x, v, t)` into `p` (every entry is overwritten).
+    fn momentum(&self, x: &[f64], v: &[f64], t: f64, p: &mut [f64]);
+
+    /// Adds the entries of the three second-derivative blocks at `(x, v, t)` to `out`, which
+    /// the caller has cleared: `out.xx.add(i, j, ∂²L/∂x_i∂x_j)`, `out.xv.add(i, j, ∂²L/∂x_i∂v_j)`,
+    /// `out.vv.add(i, j, ∂²L/∂v_i∂v_j)`. An entry may be added to more than once
+    /// (the contributions sum); an entry never added is zero.
+    fn hessian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseHessian);
+
+    /// What each second-derivative block depends on (see
+    /// [`Lagrangian::hessian_dependence`](crate::Lagrangian::hessian_dependence)). The default
+    /// claims nothing; a step whose Jacobian is constant is factorised once per run.
+    fn hessian_dependence(&self) -> HessianDependence {
+        HessianDependence::ALL
+    }
+
+    /// The structural half-bandwidth of the second derivatives, as in
+    /// [`Lagrangian::hessian_bandwidth`](crate::Lagrangian::hessian_bandwidth). `None` (the
+    /// default) makes the solver order the unknowns by the pattern it reads off
+    /// [`hessian`](Self::hessian) (reverse Cuthill–McKee): a periodic chain becomes a band of
+    /// half-width 2.
+    fn hessian_bandwidth(&self) -> Option<usize> {
+        None
+    }
+
+    /// On which of `x`, `v`, `t` the Lagrangian depends (see
+    /// [`Lagrangian::dependence`](crate::Lagrangian::dependence)).
+    fn dependence(&self) -> Dependence {
+        Dependence::ALL
+    }
+
+    /// Why this model cannot be evaluated at its dimension, if it cannot: a component read
+    /// beyond it, or a loop whose range needs more components than there are. The solvers ask
+    /// before the first step and report it as [`Error::InvalidModel`](crate::Error). The
+    /// default finds nothing; `#[lagrangian]` checks, at run time, what it checks at compile
+    /// time for a named dimension.
+    fn invalid_dimension(&self) -> Option<String> {
+        None
+    }
+
+    /// The model's constants by name, so that a non-finite one is reported by its name.
+    fn constants(&self) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
+
+    /// Whether [`force`](Self::force) writes `∂L/∂x + f` with `f` a generalised force (a
+    /// [`Forced`](crate::Forced) model), as [`Lagrangian::is_forced`](crate::Lagrangian). The
+    /// default: `false`.
+    fn is_forced(&self) -> bool {
+        false
+    }
+
+    /// What `∂f/∂x` and `∂f/∂v` of that force depend on, as
+    /// [`Lagrangian::force_dependence`](crate::Lagrangian). The default: `None`.
+    fn force_dependence(&self) -> Option<[Dependence; 2]> {
+        None
+    }
+
+    /// Adds the entries of `∂f/∂x` and `∂f/∂v` of that force at `(x, v, t)` to `out`, which the
+    /// caller has cleared. The default adds nothing.
+    fn force_jacobian(&self, _x: &[f64], _v: &[f64], _t: f64, _out: &mut SparseForceJacobian) {}
+
+    /// The energy `E = v·∂L/∂v − L` (allocates one buffer of length `d`).
+    fn energy(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
+        let mut p = vec![0.0; x.len()];
+        self.momentum(x, v, t, &mut p);
+        v.iter().zip(&p).map(|(v, p)| v * p).sum::<f64>() - self.value(x, v, t)
+    }
+}
+
+impl<L: DynLagrangian + ?Sized> DynLagrangian for &L {
+    fn dimension(&self) -> usize {
+        (**self).dimension()
+    }
+    fn value(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
+        (**self).value(x, v, t)
+    }
+    fn force(&self, x: &[f64], v: &[f64], t: f64, f: &mut [f64]) {
+        (**self).force(x, v, t, f)
+    }
+    fn momentum(&self, x: &[f64], v: &[f64], t: f64, p: &mut [f64]) {
+        (**self).momentum(x, v, t, p)
+    }
+    fn hessian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseHessian) {
+        (**self).hessian(x, v, t, out)
+    }
+    fn hessian_dependence(&self) -> HessianDependence {
+        (**self).hessian_dependence()
+    }
+    fn hessian_bandwidth(&self) -> Option<usize> {
+        (**self).hessian_bandwidth()
+    }
+    fn dependence(&self) -> Dependence {
+        (**self).dependence()
+    }
+    fn invalid_dimension(&self) -> Option<String> {
+        (**self).invalid_dimension()
+    }
+    fn constants(&self) -> Vec<(&'static str, f64)> {
+        (**self).constants()
+    }
+    fn is_forced(&self) -> bool {
+        (**self).is_forced()
+    }
+    fn force_dependence(&self) -> Option<[Dependence; 2]> {
+        (**self).force_dependence()
+    }
+    fn force_jacobian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseForceJacobian) {
+        (**self).force_jacobian(x, v, t, out)
+    }
+}

@@ -1,0 +1,122 @@
+//! Generalised forces on the run-time path: a `#[lagrangian]` chain with loops under Rayleigh
+//! dissipation written with loops (both are models of both kinds, so `Forced` is a
+//! `Lagrangian<N>` and a `DynLagrangian`) gives the same nodes on `DynProblem` as on the
+//! const-generic `Problem`, for every three-point embedding and both schemes; the dissipation
+//! couples neighbouring velocities, so the force's Jacobian joins the band of the step
+//! Jacobian. The energy balance holds to the scheme's order; a boundary value problem under a
+//! force is refused.
+
+use varembed::{
+    DynProblem, Embedding, Error, Forced, Grid, Problem, Rayleigh, Scheme, Side, lagrangian,
+};
+
+const N: usize = 12;
+
+/// An α-FPUT chain with fixed ends.
+#[lagrangian]
+fn chain(x: [f64; N], v: [f64; N]) -> f64 {
+    let kinetic: f64 = (0..N).map(|i| 0.5 * v[i] * v[i]).sum();
+    let springs: f64 = (0..N - 1)
+        .map(|i| {
+            let s = x[i + 1] - x[i];
+            0.5 * s * s + 0.25 * s * s * s
+        })
+        .sum();
+    kinetic - springs - 0.5 * x[0] * x[0] - 0.5 * x[N - 1] * x[N - 1]
+}
+
+/// Dissipation between neighbours, quadratic and cubic in the relative velocity, and a
+/// position-dependent drag on each site: every block of the force's Jacobian varies.
+#[lagrangian]
+fn dashpots(x: [f64; N], v: [f64; N], gamma: f64) -> f64 {
+    let between: f64 = (0..N - 1)
+        .map(|i| {
+            let w = v[i + 1] - v[i];
+            0.5 * gamma * w * w + 0.1 * w * w * w * w
+        })
+        .sum();
+    let sites: f64 = (0..N)
+        .map(|i| 0.05 * (1.0 + x[i] * x[i]) * v[i] * v[i])
+        .sum();
+    between + sites
+}
+
+fn initial() -> ([f64; N], [f64; N]) {
+    let mut q = [0.0; N];
+    let mut v = [0.0; N];
+    for i in 0..N {
+        q[i] = 0.4 * (std::f64::consts::PI * (i + 1) as f64 / (N + 1) as f64).sin();
+        v[i] = 0.2 * ((i as f64) * 0.7).cos();
+    }
+    (q, v)
+}
+
+fn embeddings() -> Vec<Embedding> {
+    vec![
+        Embedding::finite_difference(Side::Backward),
+        Embedding::finite_difference(Side::Forward),
+        Embedding::asymmetric(Side::Backward),
+        Embedding::midpoint(),
+        Embedding::trapezoidal(),
+    ]
+}
+
+#[test]
+fn forced_runs_of_run_time_dimension_are_the_const_generic_runs() {
+    let forced = Forced::new(Chain, Rayleigh(Dashpots { gamma: 0.3 }));
+    let (q0, v0) = initial();
+    let grid = Grid::new(0.0, 4.0, 200).unwrap();
+    for embedding in embeddings() {
+        for scheme in [Scheme::Direct, Scheme::Variational] {
+            let reference = Problem::new(&forced, grid, embedding)
+                .solve_ivp(scheme, q0, v0)
+                .unwrap();
+            let run = DynProblem::new(&forced, grid, embedding)
+                .solve_ivp(scheme, &q0, &v0)
+                .unwrap();
+            let mut gap = 0.0f64;
+            for (k, node) in reference.q.iter().enumerate() {
+                for i in 0..N {
+                    gap = gap.max((run.node(k)[i] - node[i]).abs());
+                }
+            }
+            assert!(gap <= 1e-12, "{embedding} {scheme}: {gap:e}");
+            // Newton's iterations as many as on the const-generic path, whose dense Jacobian
+            // has the force's blocks: a band Jacobian without them would converge linearly.
+            let (dyn_iterations, const_iterations) =
+                (run.run.newton_iterations, reference.newton_iterations);
+            assert!(
+                dyn_iterations.abs_diff(const_iterations) <= const_iterations / 50,
+                "{embedding} {scheme}: {dyn_iterations} against {const_iterations} iterations"
+            );
+            assert_eq!(
+                run.run.explicit_steps, reference.explicit_steps,
+                "{embedding} {scheme}"
+            );
+            // The force does work of order one: a run that ignored it would be far off.
+            let unforced = DynProblem::new(&Chain, grid, embedding)
+                .solve_ivp(scheme, &q0, &v0)
+                .unwrap();
+            let moved = (0..N)
+                .map(|i| (unforced.node(200)[i] - run.node(200)[i]).abs())
+                .fold(0.0, f64::max);
+            assert!(moved > 1e-2, "{embedding} {scheme}: {moved:e}");
+        }
+    }
+}
+
+#[test]
+fn a_run_time_boundary_value_problem_under_a_force_is_refused() {
+    let forced = Forced::new(Chain, Rayleigh(Dashpots { gamma: 0.3 }));
+    let (q0, _) = initial();
+    let grid = Grid::new(0.0, 1.0, 20).unwrap();
+    let refused = DynProblem::new(&forced, grid, Embedding::midpoint()).solve_bvp(
+        Scheme::Variational,
+        &q0,
+        &q0,
+    );
+    assert!(
+        matches!(refused, Err(Error::Unsupported { .. })),
+        "{refused:?}"
+    );
+}
