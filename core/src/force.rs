@@ -197,6 +197,10 @@ impl<L, F> Forced<L, F> {
     /// invariant, the variational scheme's node momenta satisfy
     /// `p_{k+1}·ξ − p_k·ξ = impulse_k·ξ` to round-off (the forced discrete Noether theorem).
     ///
+    /// Only this `Forced`'s force counts: for several forces on one model, attach their sum
+    /// (a pair `(f1, f2)` is a [`Force`]) rather than nesting `Forced` (whose schemes are
+    /// right, but whose inner force these sums leave out).
+    ///
     /// [`Error::Unsupported`] for the Gauss–Legendre integrators (their impulse is a sum over
     /// the stages, which the solution does not keep) and the fractional embeddings.
     pub fn impulses<const D: usize>(&self, solution: &Solution<D>) -> Result<Vec<Vector<D>>>
@@ -295,9 +299,10 @@ impl<const D: usize, L: Lagrangian<D>, F: Force<D>> Lagrangian<D> for Forced<L, 
         self.lagrangian.hessian_dependence()
     }
 
+    /// The force's, joined to those of a force `L` itself carries (a nested `Forced`).
     fn force_dependence(&self) -> Option<[Dependence; 2]> {
-        let force = self.force.jacobian_dependence();
-        Some([force.x, force.v])
+        let own = self.force.jacobian_dependence();
+        Some(joined([own.x, own.v], self.lagrangian.force_dependence()))
     }
 
     /// `None`: the force's Jacobian may couple any two components.
@@ -327,9 +332,69 @@ impl<const D: usize, L: Lagrangian<D>, F: Force<D>> Lagrangian<D> for Forced<L, 
         true
     }
 
+    /// The force's, plus that of a force `L` itself carries (a nested `Forced`).
     #[inline]
     fn force_jacobian(&self, x: &Vector<D>, v: &Vector<D>, t: f64) -> Option<ForceJacobian<D>> {
-        Some(self.force.jacobian(x, v, t))
+        let mut jacobian = self.force.jacobian(x, v, t);
+        if let Some(inner) = self.lagrangian.force_jacobian(x, v, t) {
+            jacobian.x += inner.x;
+            jacobian.v += inner.v;
+        }
+        Some(jacobian)
+    }
+}
+
+/// `own` joined to `inner`, block by block.
+fn joined(own: [Dependence; 2], inner: Option<[Dependence; 2]>) -> [Dependence; 2] {
+    let either = |a: Dependence, b: Dependence| Dependence {
+        x: a.x || b.x,
+        v: a.v || b.v,
+        t: a.t || b.t,
+    };
+    match inner {
+        Some([x, v]) => [either(own[0], x), either(own[1], v)],
+        None => own,
+    }
+}
+
+/// The sum of two forces: how to put friction and a drive on one model (its
+/// [`Forced::work`] and [`Forced::impulses`] count both).
+///
+/// ```
+/// use varembed::{Force, Rayleigh, Vector, lagrangian};
+///
+/// #[lagrangian]
+/// fn friction(_x: f64, v: f64, gamma: f64) -> f64 {
+///     0.5 * gamma * v * v
+/// }
+/// #[lagrangian]
+/// fn well(x: f64, _v: f64) -> f64 {
+///     0.5 * x * x
+/// }
+/// // −0.5 v, and −∂(½x²)/∂v = 0.
+/// let both = (Rayleigh(Friction { gamma: 0.5 }), Rayleigh(Well));
+/// assert_eq!(both.force(&Vector::<1>::new(3.0), &Vector::<1>::new(2.0), 0.0)[0], -1.0);
+/// ```
+impl<const D: usize, A: Force<D>, B: Force<D>> Force<D> for (A, B) {
+    fn force(&self, x: &Vector<D>, v: &Vector<D>, t: f64) -> Vector<D> {
+        self.0.force(x, v, t) + self.1.force(x, v, t)
+    }
+    fn jacobian(&self, x: &Vector<D>, v: &Vector<D>, t: f64) -> ForceJacobian<D> {
+        let (a, b) = (self.0.jacobian(x, v, t), self.1.jacobian(x, v, t));
+        ForceJacobian {
+            x: a.x + b.x,
+            v: a.v + b.v,
+        }
+    }
+    fn jacobian_dependence(&self) -> ForceDependence {
+        let (a, b) = (self.0.jacobian_dependence(), self.1.jacobian_dependence());
+        let [x, v] = joined([a.x, a.v], Some([b.x, b.v]));
+        ForceDependence { x, v }
+    }
+    fn constants(&self) -> Vec<(&'static str, f64)> {
+        let mut constants = self.0.constants();
+        constants.extend(self.1.constants());
+        constants
     }
 }
 
@@ -476,10 +541,12 @@ impl<L: DynLagrangian, F: DynForce> DynLagrangian for Forced<L, F> {
         true
     }
     fn force_dependence(&self) -> Option<[Dependence; 2]> {
-        let force = self.force.jacobian_dependence();
-        Some([force.x, force.v])
+        let own = self.force.jacobian_dependence();
+        Some(joined([own.x, own.v], self.lagrangian.force_dependence()))
     }
+    /// The force's entries, and those of a force `L` itself carries (a nested `Forced`).
     fn force_jacobian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseForceJacobian) {
+        self.lagrangian.force_jacobian(x, v, t, out);
         self.force.jacobian(x, v, t, out)
     }
 }

@@ -490,3 +490,63 @@ impl<L: Lagrangian<1>> Lagrangian<1> for Claimless<L> {
         self.0.force_jacobian(x, v, t)
     }
 }
+
+/// A drive `0.4 cos(1.3 t)`: a force of `t` alone.
+struct Drive;
+
+impl Force<1> for Drive {
+    fn force(&self, _x: &Vector<1>, _v: &Vector<1>, t: f64) -> Vector<1> {
+        Vector::<1>::new(0.4 * (1.3 * t).cos())
+    }
+    fn jacobian(&self, _x: &Vector<1>, _v: &Vector<1>, _t: f64) -> ForceJacobian<1> {
+        ForceJacobian {
+            x: Matrix::<1>::zeros(),
+            v: Matrix::<1>::zeros(),
+        }
+    }
+    fn jacobian_dependence(&self) -> ForceDependence {
+        ForceDependence {
+            x: Dependence::NONE,
+            v: Dependence::NONE,
+        }
+    }
+}
+
+/// Two forces on one model, as a pair `(f1, f2)` and as nested `Forced`: the same nodes under
+/// every classical embedding and scheme (a nested model that lost its inner force's Jacobian
+/// took wrong closed-form steps), and the pair's work counts both forces.
+#[test]
+fn two_forces_as_a_pair_or_nested_give_the_same_nodes() {
+    let friction = Rayleigh(QuadraticDrag);
+    let pair = Forced::new(Oscillator, (friction, Drive));
+    let nested = Forced::new(Forced::new(Oscillator, friction), Drive);
+    let grid = Grid::new(0.0, 6.0, 200).unwrap();
+    for (embedding, scheme) in classical() {
+        let solve = |model: &dyn Lagrangian<1>| {
+            Problem::new(model, grid, embedding)
+                .with_newton(tight())
+                .solve_ivp(scheme, 1.0, 0.0)
+                .unwrap()
+        };
+        let (a, b) = (solve(&pair), solve(&nested));
+        let gap = a.max_distance(&b.q).unwrap();
+        assert!(gap <= 1e-12, "{embedding} {scheme}: {gap:e}");
+        assert_eq!(a.explicit_steps, b.explicit_steps, "{embedding} {scheme}");
+        assert!(
+            b.newton_iterations <= a.newton_iterations + 2,
+            "{embedding} {scheme}: {} against {}",
+            b.newton_iterations,
+            a.newton_iterations
+        );
+    }
+    // The pair's energy balance counts the drive and the drag.
+    let run = Problem::new(&pair, grid, Embedding::midpoint())
+        .solve_ivp(Scheme::Variational, 1.0, 0.0)
+        .unwrap();
+    let energy = run.node_values(&pair).unwrap().energy.unwrap();
+    let work = pair.work(&run).unwrap();
+    let balance = (0..=200)
+        .map(|k| (energy[k] - energy[0] - work[k]).abs())
+        .fold(0.0, f64::max);
+    assert!(balance <= 1e-3, "{balance:e}");
+}
