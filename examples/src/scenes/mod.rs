@@ -3,6 +3,7 @@
 
 pub mod damped;
 pub mod double_pendulum;
+pub mod duffing;
 pub mod fput;
 pub mod fractional;
 pub mod harmonic;
@@ -19,7 +20,7 @@ use crate::scene::{Context, SceneReport};
 pub type Run = fn(&Context) -> varembed::Result<SceneReport>;
 
 /// Every scene, in the order of the report.
-pub const ALL: [(&str, Run); 11] = [
+pub const ALL: [(&str, Run); 12] = [
     ("harmonic oscillator", harmonic::run),
     ("pendulum", pendulum::run),
     ("Kepler, e = 0.9", kepler::run),
@@ -27,6 +28,7 @@ pub const ALL: [(&str, Run); 11] = [
     ("parametric oscillator", parametric::run),
     ("q̈ + q̇ + q = 0", damped::run),
     ("spherical pendulum", spherical_pendulum::run),
+    ("driven Duffing", duffing::run),
     ("FPUT recurrence", fput::run),
     ("stiff FPU", stiff_fpu::run),
     ("large chain", large_chain::run),

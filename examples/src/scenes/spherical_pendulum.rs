@@ -397,7 +397,7 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
              {}, variational FDE− {}, direct FDE− {}; angles {}). On this `L`, whose potential \
              is linear in `x`, the midpoint and trapezoidal discrete Lagrangians coincide and the \
              direct midpoint recurrence is the variational one: the three second-order \
-             constrained lines compute the same nodes (to {:.0e}). Every node is on the sphere: \
+             constrained lines compute the same nodes ({}). Every node is on the sphere: \
              `max_k |g(Q_k)|` is {residual:.1e} over the constrained runs at N = {n} (each step \
              solves the constraint at its newest node by Newton's method; figure \
              `{NAME}-constraint.svg`).",
@@ -407,7 +407,11 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
             order("constrained: variational FDE−"),
             order("constrained: direct FDE−"),
             order("angles: variational midpoint"),
-            same_nodes,
+            if same_nodes == 0.0 {
+                "bit for bit".to_string()
+            } else {
+                format!("to {same_nodes:.0e}")
+            },
         ),
         format!(
             "The vertical angular momentum `L_z = x p_y − y p_x` (figure `{NAME}-lz.svg`, the \
@@ -470,7 +474,7 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
     ];
     Ok(SceneReport {
         name: NAME,
-        title: "spherical pendulum under |x| = 1".to_string(),
+        title: "Spherical pendulum under |x| = 1".to_string(),
         notes,
         tables: vec![table(n, &runs)],
         reference: format!("angle form by {}", reference.name),
