@@ -27,8 +27,9 @@ const LEGEND_SAMPLE: u32 = 56;
 const LEGEND_LEFT: i32 = 90;
 const LEGEND_WIDTH: u32 = SIZE.0 - 100;
 
-/// The line colours, in legend order: distinct up to the eleven lines a scene may sweep.
-const PALETTE: [RGBColor; 11] = [
+/// The line colours, in legend order: distinct up to the twenty lines a scene may sweep (the
+/// damped oscillator sweeps eighteen: three routes to one equation).
+const PALETTE: [RGBColor; 20] = [
     RGBColor(0, 0, 0),
     RGBColor(214, 39, 40),
     RGBColor(31, 119, 180),
@@ -40,6 +41,16 @@ const PALETTE: [RGBColor; 11] = [
     RGBColor(227, 119, 194),
     RGBColor(127, 127, 127),
     RGBColor(188, 189, 34),
+    // The lighter tones of the same hues, for the lines after the eleventh.
+    RGBColor(174, 199, 232),
+    RGBColor(255, 152, 150),
+    RGBColor(152, 223, 138),
+    RGBColor(197, 176, 213),
+    RGBColor(255, 187, 120),
+    RGBColor(196, 156, 148),
+    RGBColor(158, 218, 229),
+    RGBColor(247, 182, 210),
+    RGBColor(219, 219, 141),
 ];
 
 fn colour(i: usize) -> RGBColor {

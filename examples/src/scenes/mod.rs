@@ -3,6 +3,7 @@
 
 pub mod damped;
 pub mod double_pendulum;
+pub mod duffing;
 pub mod fput;
 pub mod fractional;
 pub mod harmonic;
@@ -10,6 +11,7 @@ pub mod kepler;
 pub mod large_chain;
 pub mod parametric;
 pub mod pendulum;
+pub mod spherical_pendulum;
 pub mod stiff_fpu;
 
 use crate::scene::{Context, SceneReport};
@@ -18,13 +20,15 @@ use crate::scene::{Context, SceneReport};
 pub type Run = fn(&Context) -> varembed::Result<SceneReport>;
 
 /// Every scene, in the order of the report.
-pub const ALL: [(&str, Run); 10] = [
+pub const ALL: [(&str, Run); 12] = [
     ("harmonic oscillator", harmonic::run),
     ("pendulum", pendulum::run),
     ("Kepler, e = 0.9", kepler::run),
     ("double pendulum", double_pendulum::run),
     ("parametric oscillator", parametric::run),
     ("q̈ + q̇ + q = 0", damped::run),
+    ("spherical pendulum", spherical_pendulum::run),
+    ("driven Duffing", duffing::run),
     ("FPUT recurrence", fput::run),
     ("stiff FPU", stiff_fpu::run),
     ("large chain", large_chain::run),
