@@ -103,7 +103,9 @@ impl<const D: usize, G: Lagrangian<D>> Constraint<D, 1> for Holonomic<G> {
             (true, true) => "the velocity v and the time t",
         };
         Some(format!(
-            "a Holonomic constraint must be a function of x alone, and this one reads {reads}"
+            "a Holonomic constraint must be a function of x alone, and this one reads {reads} \
+             (its `dependence()` says so; a hand-written Lagrangian used as a constraint must \
+             declare that it depends on x only, or implement `Constraint` directly)"
         ))
     }
 }
@@ -149,6 +151,13 @@ pub(crate) fn check_rank<const D: usize, const M: usize>(
     g: &SMatrix<f64, M, D>,
     at: Location,
 ) -> Result<()> {
+    if M == 0 {
+        return Ok(());
+    }
+    if !g.iter().all(|c| c.is_finite()) {
+        // Before the SVD, whose iteration need not end on a NaN.
+        return Err(Error::NotFinite { at });
+    }
     let sigma = DMatrix::from_column_slice(M, D, g.as_slice()).singular_values();
     let (min, max) = (sigma.min(), sigma.max());
     let ratio: f64 = if max > 0.0 { min / max } else { 0.0 };
@@ -234,7 +243,7 @@ pub fn project_initial_data<C: Constraint<D, M> + ?Sized, const D: usize, const 
         let (g, jacobian) = (constraint.value(&q), constraint.jacobian(&q));
         check_rank(&jacobian, at)?;
         let Some(multipliers) = gram_solve(&jacobian, &g) else {
-            return Err(Error::RankDeficientConstraints { at, ratio: 0.0 });
+            return Err(Error::NotFinite { at });
         };
         let step = jacobian.transpose() * multipliers;
         q -= step;
@@ -252,8 +261,9 @@ pub fn project_initial_data<C: Constraint<D, M> + ?Sized, const D: usize, const 
         });
     }
     let jacobian = constraint.jacobian(&q);
+    check_rank(&jacobian, at)?;
     let Some(multipliers) = gram_solve(&jacobian, &(jacobian * v0)) else {
-        return Err(Error::RankDeficientConstraints { at, ratio: 0.0 });
+        return Err(Error::NotFinite { at });
     };
     Ok((q, v0 - jacobian.transpose() * multipliers))
 }

@@ -459,6 +459,13 @@ pub trait DynForce {
     fn constants(&self) -> Vec<(&'static str, f64)> {
         Vec::new()
     }
+
+    /// Why this force cannot act on a model of dimension `d`, if it cannot (checked with the
+    /// model's [`DynLagrangian::invalid_dimension`] before any step). The default finds
+    /// nothing.
+    fn invalid_dimension(&self, _d: usize) -> Option<String> {
+        None
+    }
 }
 
 /// On the run-time path `f = −∂R/∂v` costs one buffer of length `d` per evaluation (the
@@ -495,6 +502,16 @@ impl<R: DynLagrangian> DynForce for Rayleigh<R> {
     fn constants(&self) -> Vec<(&'static str, f64)> {
         self.0.constants()
     }
+
+    fn invalid_dimension(&self, d: usize) -> Option<String> {
+        let own = self.0.dimension();
+        if own != d {
+            return Some(format!(
+                "the dissipation function has dimension {own}, the model it acts on {d}"
+            ));
+        }
+        self.0.invalid_dimension()
+    }
 }
 
 /// `L` under `f` on the run-time path: [`DynLagrangian::force`] writes `∂L/∂x + f`.
@@ -527,7 +544,8 @@ impl<L: DynLagrangian, F: DynForce> DynLagrangian for Forced<L, F> {
         self.lagrangian.dependence()
     }
     fn invalid_dimension(&self) -> Option<String> {
-        self.lagrangian.invalid_dimension()
+        let d = self.lagrangian.dimension();
+        (self.lagrangian.invalid_dimension()).or_else(|| self.force.invalid_dimension(d))
     }
     fn constants(&self) -> Vec<(&'static str, f64)> {
         let mut constants = self.lagrangian.constants();

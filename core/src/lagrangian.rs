@@ -363,9 +363,10 @@ pub trait Lagrangian<const D: usize> {
         false
     }
 
-    /// What `∂f/∂x` and `∂f/∂v` of a [`Forced`](crate::Forced) model's force depend on: the
-    /// steps whose equation reads the force are affine only if these are constants (joined to
-    /// `L_xx` and `L_xv`'s in that decision). The default: `None`.
+    /// What `∂f/∂x` and `∂f/∂v` of a [`Forced`](crate::Forced) model's force depend on, joined
+    /// to `L_xx`'s and `L_xv`'s where a step's equation reads the force when the solvers decide
+    /// which steps are affine. The default, `None`, claims nothing: for a model that
+    /// [`is_forced`](Self::is_forced), the blocks may depend on everything.
     fn force_dependence(&self) -> Option<[Dependence; 2]> {
         None
     }

@@ -164,6 +164,7 @@ impl<'l, L: DynLagrangian + ?Sized> StepSolver<'l, L> {
         let dependence = with_force(
             lagrangian.hessian_dependence(),
             kind,
+            lagrangian.is_forced(),
             lagrangian.force_dependence(),
         );
         let update = if !is_affine(kind, &dependence) {

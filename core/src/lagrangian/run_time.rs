@@ -120,7 +120,7 @@ pub trait DynLagrangian {
     }
 
     /// What `∂f/∂x` and `∂f/∂v` of that force depend on, as
-    /// [`Lagrangian::force_dependence`](crate::Lagrangian). The default: `None`.
+    /// [`Lagrangian::force_dependence`](crate::Lagrangian). The default, `None`, claims nothing.
     fn force_dependence(&self) -> Option<[Dependence; 2]> {
         None
     }

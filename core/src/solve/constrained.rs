@@ -39,9 +39,13 @@ pub struct ConstrainedSolution<const D: usize, const M: usize> {
     /// unconstrained formulas at the nodes; [`ConstrainedSolution::node_values`] projects them
     /// onto the hidden constraint).
     pub solution: Solution<D>,
-    /// `λ` of the step that computed `Q_n`, at index `n − 1` (`N` entries; the first is the
-    /// start's): the constraint force `G(c)ᵀλ` at the node `c` of that step's row (module
-    /// docs of the solver).
+    /// `λ` of the row of the step that computed `Q_n`, for `n = 2..=N`, at index `n − 2`
+    /// (`N − 1` entries): the multiplier of the constraint force `G(Q_c)ᵀλ` at the node `c`
+    /// of that row, `c = n − 1` for the variational steps and the direct midpoint and
+    /// trapezoidal steps, `n` for the direct Gauss-FDE− step, `n − 2` for the direct
+    /// Gauss-FDE+ step: `λ(t_c)` to the scheme's order. (The start, the discrete Legendre
+    /// transform at `q(a)`, takes the constraint's impulse over its first half-step, which is
+    /// not a value of `λ`.)
     pub multipliers: Vec<SVector<f64, M>>,
 }
 
@@ -84,8 +88,11 @@ impl<const D: usize, const M: usize> ConstrainedSolution<D, M> {
             let nu = DMatrix::from_column_slice(M, M, schur.as_slice())
                 .lu()
                 .solve(&DVector::from_column_slice(rhs.as_slice()))
-                .filter(|nu| nu.iter().all(|c| c.is_finite()))
-                .ok_or(Error::RankDeficientConstraints { at, ratio: 0.0 })?;
+                .filter(|nu| nu.iter().all(|c| c.is_finite()));
+            let Some(nu) = nu else {
+                check_rank(&g, at)?;
+                return Err(Error::SingularJacobian { at });
+            };
             let nu = SVector::<f64, M>::from_column_slice(nu.as_slice());
             let p = nodes.p[k] - g.transpose() * nu;
             let guess = nodes.v[k] - spread * nu;
@@ -143,7 +150,7 @@ where
     check_consistent(constraint, &q0, &v0)?;
     let (n_steps, h) = (grid.n(), grid.h());
     let mut q = reserve(n_steps + 1, "the nodes Q_0..=Q_N")?;
-    let mut multipliers = reserve(n_steps, "the multipliers")?;
+    let mut multipliers = reserve(n_steps.saturating_sub(1), "the multipliers")?;
     q.push(q0);
     let mut iterations = 0;
     let mut mu = SVector::<f64, M>::zeros();
@@ -167,7 +174,9 @@ where
         iterations += used;
         mu = next_mu;
         q.push(y);
-        multipliers.push(mu / h);
+        if n >= 2 {
+            multipliers.push(mu / h);
+        }
     }
     Ok(ConstrainedSolution {
         solution: Solution {
@@ -257,6 +266,7 @@ where
         let solved = kkt.lu().solve(&rhs);
         let Some(update) = solved.filter(|u| u.iter().all(|c| c.is_finite())) else {
             check_rank(&g_y, at)?;
+            check_rank(&g_c, at)?;
             return Err(Error::SingularJacobian { at });
         };
         let (dy, dmu) = (update.rows(0, D), update.rows(D, M));

@@ -135,6 +135,7 @@ fn step_dependence<const D: usize, L: Lagrangian<D> + ?Sized>(
     with_force(
         lagrangian.hessian_dependence(),
         kind,
+        lagrangian.is_forced(),
         lagrangian.force_dependence(),
     )
 }
@@ -147,14 +148,18 @@ pub(crate) fn reads_force(kind: StepKind) -> bool {
         .any(|term| term.f != 0.0)
 }
 
-/// `dependence` with a force's blocks (`[∂f/∂x, ∂f/∂v]`, if any) joined to `L_xx` and `L_xv`
-/// where the step equation of `kind` reads the force (both storages' plans).
+/// `dependence` with a force's blocks (`[∂f/∂x, ∂f/∂v]`) joined to `L_xx` and `L_xv` where the
+/// step equation of `kind` reads the force (both storages' plans). A forced model that
+/// declares nothing about its force's blocks (`None`) claims nothing: they may depend on
+/// everything.
 pub(crate) fn with_force(
     mut dependence: HessianDependence,
     kind: StepKind,
+    forced: bool,
     force: Option<[Dependence; 2]>,
 ) -> HessianDependence {
-    if let (true, Some([x, v])) = (reads_force(kind), force) {
+    if forced && reads_force(kind) {
+        let [x, v] = force.unwrap_or([Dependence::ALL; 2]);
         let either = |a: Dependence, b: Dependence| Dependence {
             x: a.x || b.x,
             v: a.v || b.v,

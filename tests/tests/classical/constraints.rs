@@ -119,7 +119,7 @@ fn spherical_pendulum_keeps_every_order_on_the_sphere() {
                 residual <= 1e-12,
                 "{embedding} {scheme}: |g| = {residual:e}"
             );
-            assert_eq!(run.multipliers.len(), n);
+            assert_eq!(run.multipliers.len(), n - 1);
             (run.solution.last() - reference).amax()
         };
         let (coarse, fine) = (error(400), error(800));
@@ -461,5 +461,39 @@ fn a_constraint_that_reads_v_or_t_is_refused() {
             panic!("{refused:?}");
         };
         assert!(reason.contains(reads), "{reason}");
+    }
+}
+
+/// The multipliers: on the spherical pendulum `ẍ = −e_z + λx` with `|x| = 1` gives
+/// `λ = z − |v|² = 3z − 2E` (energy `E = ½|v|² + z`). Each row's `λ` against `3z − 2E₀` at its
+/// row node (`n − 1`, `n` for the direct Gauss-FDE− step, `n − 2` for the direct Gauss-FDE+
+/// step), falling with the scheme's order: a multiplier of the wrong sign, scale or node
+/// fails.
+#[test]
+fn the_multipliers_are_the_constraint_force() {
+    let (q0, v0) = initial();
+    let energy = 0.5 * v0.norm_squared() + q0[2];
+    for (embedding, scheme) in runs() {
+        let row_node = |n: usize| match (embedding.kind(), embedding.side(), scheme) {
+            (EmbeddingKind::FiniteDifference, Side::Backward, Scheme::Direct) => n,
+            (EmbeddingKind::FiniteDifference, Side::Forward, Scheme::Direct) => n - 2,
+            _ => n - 1,
+        };
+        let gap = |steps: usize| {
+            let run = solve(embedding, scheme, steps);
+            (2..=steps)
+                .map(|n| {
+                    let z = run.solution.q[row_node(n)][2];
+                    (run.multipliers[n - 2][0] - (3.0 * z - 2.0 * energy)).abs()
+                })
+                .fold(0.0, f64::max)
+        };
+        let (coarse, fine) = (gap(400), gap(800));
+        let order = (coarse / fine).log2();
+        let expected = embedding.order(scheme).unwrap() as f64;
+        assert!(
+            order >= expected - 0.3 && fine < 0.1,
+            "{embedding} {scheme}: λ off by {coarse:e}, {fine:e} (order {order:.2})"
+        );
     }
 }

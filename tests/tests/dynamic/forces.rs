@@ -3,8 +3,8 @@
 //! `Lagrangian<N>` and a `DynLagrangian`) gives the same nodes on `DynProblem` as on the
 //! const-generic `Problem`, for every three-point embedding and both schemes; the dissipation
 //! couples neighbouring velocities, so the force's Jacobian joins the band of the step
-//! Jacobian. The energy balance holds to the scheme's order; a boundary value problem under a
-//! force is refused.
+//! Jacobian, with as many Newton iterations. A boundary value problem under a force is
+//! refused.
 
 use varembed::{
     DynProblem, Embedding, Error, Forced, Grid, Problem, Rayleigh, Scheme, Side, lagrangian,
@@ -119,4 +119,31 @@ fn a_run_time_boundary_value_problem_under_a_force_is_refused() {
         matches!(refused, Err(Error::Unsupported { .. })),
         "{refused:?}"
     );
+}
+
+/// Dissipation on a run-time number of sites.
+#[lagrangian]
+fn damping(_x: &[f64], v: &[f64], n: usize, gamma: f64) -> f64 {
+    (0..n).map(|i| 0.5 * gamma * v[i] * v[i]).sum()
+}
+
+#[test]
+fn a_force_of_another_dimension_is_refused() {
+    let mismatched = Forced::new(Chain, Rayleigh(Damping { n: 8, gamma: 0.3 }));
+    let (q0, v0) = initial();
+    let grid = Grid::new(0.0, 1.0, 20).unwrap();
+    let refused = DynProblem::new(&mismatched, grid, Embedding::midpoint()).solve_ivp(
+        Scheme::Variational,
+        &q0,
+        &v0,
+    );
+    let Err(Error::InvalidModel { reason }) = refused else {
+        panic!("{refused:?}");
+    };
+    assert!(reason.contains("dimension 8"), "{reason}");
+    // The same dissipation at the model's dimension runs.
+    let matched = Forced::new(Chain, Rayleigh(Damping { n: N, gamma: 0.3 }));
+    DynProblem::new(&matched, grid, Embedding::midpoint())
+        .solve_ivp(Scheme::Variational, &q0, &v0)
+        .unwrap();
 }
