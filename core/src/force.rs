@@ -37,6 +37,18 @@ pub struct ForceDependence {
     pub v: Dependence,
 }
 
+impl ForceDependence {
+    /// Both blocks may depend on everything (nothing is known).
+    ///
+    /// ```
+    /// assert_eq!(varembed::ForceDependence::ALL.v, varembed::Dependence::ALL);
+    /// ```
+    pub const ALL: ForceDependence = ForceDependence {
+        x: Dependence::ALL,
+        v: Dependence::ALL,
+    };
+}
+
 /// A generalised force `f(x, v, t)` on `R^D`, with its Jacobian (Newton's method on an implicit
 /// step needs it: a force that depends on `v` makes implicit the steps whose equation reads it).
 ///
@@ -75,10 +87,7 @@ pub trait Force<const D: usize> {
     /// What the Jacobian's blocks depend on. The default claims nothing; a constant Jacobian
     /// (linear damping, a drive in `t` alone) keeps the closed-form steps of the model.
     fn jacobian_dependence(&self) -> ForceDependence {
-        ForceDependence {
-            x: Dependence::ALL,
-            v: Dependence::ALL,
-        }
+        ForceDependence::ALL
     }
 
     /// The force's constants by name, checked for finiteness before a run with the model's.
@@ -346,13 +355,8 @@ impl<const D: usize, L: Lagrangian<D>, F: Force<D>> Lagrangian<D> for Forced<L, 
 
 /// `own` joined to `inner`, block by block.
 fn joined(own: [Dependence; 2], inner: Option<[Dependence; 2]>) -> [Dependence; 2] {
-    let either = |a: Dependence, b: Dependence| Dependence {
-        x: a.x || b.x,
-        v: a.v || b.v,
-        t: a.t || b.t,
-    };
     match inner {
-        Some([x, v]) => [either(own[0], x), either(own[1], v)],
+        Some([x, v]) => [own[0].joined(x), own[1].joined(v)],
         None => own,
     }
 }
@@ -449,10 +453,7 @@ pub trait DynForce {
 
     /// What the Jacobian's blocks depend on, as [`Force::jacobian_dependence`].
     fn jacobian_dependence(&self) -> ForceDependence {
-        ForceDependence {
-            x: Dependence::ALL,
-            v: Dependence::ALL,
-        }
+        ForceDependence::ALL
     }
 
     /// The force's constants by name.

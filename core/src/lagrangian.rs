@@ -143,6 +143,15 @@ impl Dependence {
         v: false,
         t: false,
     };
+
+    /// Depends on whatever `self` or `other` depends on.
+    pub(crate) const fn joined(self, other: Dependence) -> Dependence {
+        Dependence {
+            x: self.x || other.x,
+            v: self.v || other.v,
+            t: self.t || other.t,
+        }
+    }
 }
 
 /// What each second-derivative block of a Lagrangian depends on (see [`Hessian`]).

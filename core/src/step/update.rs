@@ -160,13 +160,8 @@ pub(crate) fn with_force(
 ) -> HessianDependence {
     if forced && reads_force(kind) {
         let [x, v] = force.unwrap_or([Dependence::ALL; 2]);
-        let either = |a: Dependence, b: Dependence| Dependence {
-            x: a.x || b.x,
-            v: a.v || b.v,
-            t: a.t || b.t,
-        };
-        dependence.xx = either(dependence.xx, x);
-        dependence.xv = either(dependence.xv, v);
+        dependence.xx = dependence.xx.joined(x);
+        dependence.xv = dependence.xv.joined(v);
     }
     dependence
 }

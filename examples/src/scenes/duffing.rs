@@ -1,7 +1,7 @@
 //! The driven Duffing oscillator in its chaotic regime, `q̈ + δq̇ + αq + βq³ = γ cos ωt` with
 //! the classic `δ = 0.3`, `α = −1`, `β = 1`, `γ = 0.5`, `ω = 1.2`: the double-well Lagrangian
 //! `L = ½v² − ½αx² − ¼βx⁴` under the friction `−δq̇` ([`varembed::Rayleigh`]) and the drive
-//! `γ cos ωt`, a hand-written [`Force`] of `t` alone, summed into one force ([`Both`]).
+//! `γ cos ωt`, a hand-written [`Force`] of `t` alone, summed into one force (a pair of forces is a [`Force`]).
 //!
 //! A short sweep against DOP853 (the equation written by hand) shows the orders; a long run of
 //! 10⁵ midpoint variational steps shows the energy balance `E_k − E_0 − W_k`, with `W_k` the
@@ -68,41 +68,6 @@ impl Force<1> for Drive {
     }
 }
 
-/// The sum of two forces, with the sum of their Jacobians (a model takes one force: two are
-/// summed into one, not nested, so that both Jacobians reach the solver).
-#[derive(Clone, Copy, Debug)]
-pub struct Both<A, B>(pub A, pub B);
-
-impl<const D: usize, A: Force<D>, B: Force<D>> Force<D> for Both<A, B> {
-    fn force(&self, x: &Vector<D>, v: &Vector<D>, t: f64) -> Vector<D> {
-        self.0.force(x, v, t) + self.1.force(x, v, t)
-    }
-    fn jacobian(&self, x: &Vector<D>, v: &Vector<D>, t: f64) -> ForceJacobian<D> {
-        let (a, b) = (self.0.jacobian(x, v, t), self.1.jacobian(x, v, t));
-        ForceJacobian {
-            x: a.x + b.x,
-            v: a.v + b.v,
-        }
-    }
-    fn jacobian_dependence(&self) -> ForceDependence {
-        let (a, b) = (self.0.jacobian_dependence(), self.1.jacobian_dependence());
-        let join = |p: Dependence, q: Dependence| Dependence {
-            x: p.x || q.x,
-            v: p.v || q.v,
-            t: p.t || q.t,
-        };
-        ForceDependence {
-            x: join(a.x, b.x),
-            v: join(a.v, b.v),
-        }
-    }
-    fn constants(&self) -> Vec<(&'static str, f64)> {
-        let mut constants = self.0.constants();
-        constants.extend(self.1.constants());
-        constants
-    }
-}
-
 /// The Lagrangian.
 pub const MODEL: Duffing = Duffing {
     alpha: ALPHA,
@@ -116,8 +81,8 @@ pub const DRIVE: Drive = Drive {
     omega: OMEGA,
 };
 /// The driven, damped Duffing oscillator.
-pub const DRIVEN: Forced<Duffing, Both<Rayleigh<Friction>, Drive>> =
-    Forced::new(MODEL, Both(FRICTION, DRIVE));
+pub const DRIVEN: Forced<Duffing, (Rayleigh<Friction>, Drive)> =
+    Forced::new(MODEL, (FRICTION, DRIVE));
 
 /// The scene's file-name stem.
 pub const NAME: &str = "duffing";
