@@ -181,8 +181,6 @@ pub(crate) fn check_consistent<C: Constraint<D, M> + ?Sized, const D: usize, con
     let (g, jacobian) = (constraint.value(q0), constraint.jacobian(q0));
     check_rank(&jacobian, Location::Step(0))?;
     let velocity = jacobian * v0;
-    // False for a NaN residual too.
-    let within = |residual: f64, bound: f64| residual.abs() <= bound;
     for i in 0..M {
         let row = jacobian.row(i).amax();
         let position_scale = row * q0.amax().max(1.0);
@@ -237,9 +235,23 @@ pub fn project_initial_data<C: Constraint<D, M> + ?Sized, const D: usize, const 
         return Err(Error::InvalidModel { reason });
     }
     let at = Location::Step(0);
-    let mut q = q0;
-    let mut converged = false;
-    for _ in 0..50 {
+    let q = project_position(constraint, q0, at)?;
+    let jacobian = constraint.jacobian(&q);
+    check_rank(&jacobian, at)?;
+    let Some(multipliers) = gram_solve(&jacobian, &(jacobian * v0)) else {
+        return Err(Error::NotFinite { at });
+    };
+    Ok((q, v0 - jacobian.transpose() * multipliers))
+}
+
+/// `q` moved onto `g = 0` by Gauss–Newton along `Gᵀ` (the nearest point of the constraints
+/// for a small violation); errors located at `at` as [`project_initial_data`]'s.
+pub(crate) fn project_position<C: Constraint<D, M> + ?Sized, const D: usize, const M: usize>(
+    constraint: &C,
+    mut q: Vector<D>,
+    at: Location,
+) -> Result<Vector<D>> {
+    for _ in 0..PROJECTION_ITERATIONS {
         let (g, jacobian) = (constraint.value(&q), constraint.jacobian(&q));
         check_rank(&jacobian, at)?;
         let Some(multipliers) = gram_solve(&jacobian, &g) else {
@@ -248,24 +260,46 @@ pub fn project_initial_data<C: Constraint<D, M> + ?Sized, const D: usize, const 
         let step = jacobian.transpose() * multipliers;
         q -= step;
         if step.amax() <= 4.0 * f64::EPSILON * q.amax().max(f64::MIN_POSITIVE) {
-            converged = true;
-            break;
+            return Ok(q);
         }
     }
-    if !converged {
-        let residual = constraint.value(&q).amax();
-        return Err(Error::NewtonDidNotConverge {
-            at,
-            iterations: 50,
-            residual,
-        });
-    }
-    let jacobian = constraint.jacobian(&q);
+    Err(Error::NewtonDidNotConverge {
+        at,
+        iterations: PROJECTION_ITERATIONS,
+        residual: constraint.value(&q).amax(),
+    })
+}
+
+/// Gauss–Newton converges quadratically from a small violation; 50 iterations that do not
+/// reach round-off mean a point far from the constraints or a constraint without a root near.
+const PROJECTION_ITERATIONS: usize = 50;
+
+/// Checks that the end value `q` (at the end `end`, `"a"` or `"b"`) satisfies `g(q) = 0` to
+/// [`CONSISTENCY_TOLERANCE`] relative to each constraint's terms, and that `G(q)` has full rank.
+pub(crate) fn check_end_value<C: Constraint<D, M> + ?Sized, const D: usize, const M: usize>(
+    constraint: &C,
+    q: &Vector<D>,
+    end: &'static str,
+    at: Location,
+) -> Result<()> {
+    let (g, jacobian) = (constraint.value(q), constraint.jacobian(q));
     check_rank(&jacobian, at)?;
-    let Some(multipliers) = gram_solve(&jacobian, &(jacobian * v0)) else {
-        return Err(Error::NotFinite { at });
-    };
-    Ok((q, v0 - jacobian.transpose() * multipliers))
+    for i in 0..M {
+        let scale = jacobian.row(i).amax() * q.amax().max(1.0);
+        if !within(g[i], CONSISTENCY_TOLERANCE * scale) {
+            return Err(Error::InconsistentBoundaryData {
+                end,
+                constraint: i,
+                residual: g[i],
+            });
+        }
+    }
+    Ok(())
+}
+
+/// `|residual| ≤ bound`; false for a NaN residual too.
+fn within(residual: f64, bound: f64) -> bool {
+    residual.abs() <= bound
 }
 
 /// `(G Gᵀ)⁻¹ b`; `None` when `G Gᵀ` is singular.

@@ -324,6 +324,19 @@ pub enum Error {
         /// `g_i(q(a))` or `G_i(q(a)) q̇(a)`.
         residual: f64,
     },
+    /// An end value of a boundary value problem violates a holonomic constraint `g(q) = 0`
+    /// beyond the tolerance `1e-10` relative to the constraint's terms (`|G_i(q)| |q|`).
+    #[error(
+        "the end value at {end} violates constraint {constraint}: residual {residual:.3e}; give end values on the constraints (`project_initial_data` projects a position)"
+    )]
+    InconsistentBoundaryData {
+        /// `"a"` (`Q_0`) or `"b"` (`Q_N`).
+        end: &'static str,
+        /// The index `i` of the violated constraint.
+        constraint: usize,
+        /// `g_i` at the end value.
+        residual: f64,
+    },
     /// The constraint Jacobian `G = ∂g/∂x` has dependent rows at a node: the ratio of its
     /// smallest to its largest singular value is below `1e-12`, so the multipliers are not
     /// determined (two constraints that say the same thing, or a singular point of the

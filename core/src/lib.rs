@@ -122,7 +122,8 @@
 //! - Holonomic constraints ([forces and constraints](guide::forces)): the
 //!   [`Constraint`] trait, [`Holonomic`] (one constraint written as a `#[lagrangian]` fn),
 //!   [`project_initial_data`] and its [`CONSISTENCY_TOLERANCE`];
-//!   `Problem::solve_constrained_ivp` returns a [`ConstrainedSolution`].
+//!   `Problem::solve_constrained_ivp` and `Problem::solve_constrained_bvp` return a
+//!   [`ConstrainedSolution`].
 //! - Models of run-time dimension with sparse second derivatives (chains, lattices, discretised
 //!   fields): [`DynLagrangian`], [`SparseHessian`], [`SparseBlock`]; solved by
 //!   [`DynProblem`] into a [`DynSolution`] (its state between the nodes: [`DynState`]) or,

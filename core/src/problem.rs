@@ -13,6 +13,7 @@ use crate::solve::solution::Solution;
 use std::ops::RangeInclusive;
 
 mod comparisons;
+mod constrained;
 mod ensembles;
 mod initial_value;
 

@@ -2,20 +2,18 @@
 //! solver.
 
 use super::Problem;
-use crate::constraint::Constraint;
 use crate::dynamic::problem::DynProblem;
 use crate::embedding::{EmbeddingKind, Scheme};
 use crate::error::Result;
 use crate::lagrangian::{IntoVector, Lagrangian, Vector};
 use crate::options::RUN_TIME_FROM;
-use crate::solve::constrained::{self, ConstrainedSolution};
 use crate::solve::ivp::Ivp;
 use crate::solve::solution::Solution;
 use crate::solve::start::Start;
 
 impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// The parts of this problem an initial value problem needs.
-    fn ivp(&self) -> Ivp<'_, L, D> {
+    pub(super) fn ivp(&self) -> Ivp<'_, L, D> {
         Ivp::new(&self.discretisation, &self.options)
     }
 
@@ -201,63 +199,5 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     ) -> Result<Solution<D>> {
         self.ivp()
             .solve_from_nodes(scheme, q0.into_vector(), q1.into_vector())
-    }
-    /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` under the holonomic
-    /// constraints `g(q) = 0` of `constraint`: the system
-    /// `d/dt ∂L/∂v − ∂L/∂x = G(q)ᵀλ`, `g(q) = 0`, `G = ∂g/∂q`.
-    ///
-    /// Each step of `scheme` gains the constraint force `G(c)ᵀλ` at the node `c` where its row
-    /// reads `∂L/∂x`, and the newest node satisfies `g(Q_n) = 0` (for the variational schemes,
-    /// the constrained discrete Euler–Lagrange equations
-    /// `D₂L_d(Q_{n−2}, Q_{n−1}) + D₁L_d(Q_{n−1}, Q_n) + h G(Q_{n−1})ᵀλ = 0`); each step is one
-    /// Newton solve of the `D + M` unknowns `(Q_n, hλ)`, from the discrete Legendre start with
-    /// the constraint force at `q(a)`. Every classical embedding but Gauss–Legendre (whose
-    /// stages would need the constraint at every stage to keep their order), both schemes;
-    /// combined with a [`Forced`](crate::Forced) model, forces and constraints together.
-    ///
-    /// Errors: [`Error::InconsistentInitialData`](crate::Error::InconsistentInitialData) when
-    /// `g(q0) ≠ 0` or `G(q0) v0 ≠ 0` beyond `1e-10` relative (naming the constraint; see
-    /// [`project_initial_data`](crate::project_initial_data)),
-    /// [`Error::RankDeficientConstraints`](crate::Error::RankDeficientConstraints) where `G`
-    /// has dependent rows, [`Error::Unsupported`](crate::Error::Unsupported) for Gauss–Legendre
-    /// and the fractional embeddings, and the step errors of
-    /// [`solve_ivp`](Self::solve_ivp) (no blow-up guard or stability check runs).
-    ///
-    /// # Example
-    ///
-    /// ```
-    /// use varembed::{Embedding, Grid, Holonomic, Problem, Scheme, lagrangian};
-    ///
-    /// /// A unit mass in the plane under gravity.
-    /// #[lagrangian]
-    /// fn mass(x: [f64; 2], v: [f64; 2]) -> f64 {
-    ///     0.5 * (v[0] * v[0] + v[1] * v[1]) - x[1]
-    /// }
-    /// /// On a rod of unit length from the origin: a pendulum in Cartesian coordinates.
-    /// #[lagrangian]
-    /// fn rod(x: [f64; 2], _v: [f64; 2]) -> f64 {
-    ///     0.5 * (x[0] * x[0] + x[1] * x[1] - 1.0)
-    /// }
-    ///
-    /// let problem = Problem::new(&Mass, Grid::new(0.0, 10.0, 1000)?, Embedding::midpoint());
-    /// let run = problem.solve_constrained_ivp(Scheme::Variational, &Holonomic(Rod), [1.0, 0.0], [0.0, 0.0])?;
-    /// let on_rod = run.solution.q.iter().map(|q| (q.norm() - 1.0).abs()).fold(0.0, f64::max);
-    /// assert!(on_rod < 1e-12);
-    /// # Ok::<(), varembed::Error>(())
-    /// ```
-    pub fn solve_constrained_ivp<C: Constraint<D, M> + ?Sized, const M: usize>(
-        &self,
-        scheme: Scheme,
-        constraint: &C,
-        q0: impl IntoVector<D>,
-        v0: impl IntoVector<D>,
-    ) -> Result<ConstrainedSolution<D, M>> {
-        constrained::solve(
-            &self.ivp(),
-            constraint,
-            scheme,
-            q0.into_vector(),
-            v0.into_vector(),
-        )
     }
 }

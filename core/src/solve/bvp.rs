@@ -68,7 +68,7 @@ pub(crate) fn straight_line<const D: usize>(
 /// The checks before a boundary value problem is solved: finite constants, finite ends (each
 /// named as the end it belongs to), a finite guess, every guess node inside the Lagrangian's
 /// domain and `∂²L/∂v²` not degenerate there.
-fn check_input<L: Lagrangian<D> + ?Sized, const D: usize>(
+pub(crate) fn check_input<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     guess: &[Vector<D>],
 ) -> Result<()> {
@@ -93,7 +93,7 @@ fn check_input<L: Lagrangian<D> + ?Sized, const D: usize>(
 /// `∂²L/∂v²` not degenerate at the quadrature nodes of `q` (with its discrete velocity),
 /// measured against its largest pivot over those nodes; for an initial `guess`, each node also
 /// inside the Lagrangian's domain ([`Error::OutsideDomain`]).
-fn check_nodes<L: Lagrangian<D> + ?Sized, const D: usize>(
+pub(crate) fn check_nodes<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     q: &[Vector<D>],
     guess: bool,

@@ -16,6 +16,11 @@
 //! the saddle-point matrix `[[J − [c = y] Σ μ_i ∇²g_i, −G(c)ᵀ], [G(y), 0]]`. The first step is
 //! the discrete Legendre start with the same constraint force at `q(a)`.
 
+mod bvp;
+mod gauss;
+
+pub(crate) use bvp::solve as solve_bvp;
+
 use nalgebra::{DMatrix, DVector, SMatrix, SVector};
 
 use crate::constraint::{Constraint, check_consistent, check_rank};
@@ -137,12 +142,15 @@ where
     L: Lagrangian<D> + ?Sized,
     C: Constraint<D, M> + ?Sized,
 {
-    if let EmbeddingKind::GaussLegendre { .. } = ivp.embedding.kind() {
-        // Its stages would need the constraint at every stage (SPARK methods) to keep order 2s.
-        return Err(Error::Unsupported {
-            operation: "an initial value problem under constraints",
-            embedding: ivp.embedding.to_string(),
-        });
+    if let EmbeddingKind::GaussLegendre { stages } = ivp.embedding.kind() {
+        if scheme == Scheme::Direct {
+            return Err(Error::Unsupported {
+                operation: "the direct scheme (a Gauss–Legendre integrator is variational only)",
+                embedding: ivp.embedding.to_string(),
+            });
+        }
+        let run = (ivp.grid, ivp.embedding, stages);
+        return gauss::solve(ivp.lagrangian, constraint, run, &ivp.newton, q0, v0);
     }
     let kind = ivp.step_kind(scheme)?;
     let (grid, lagrangian) = (ivp.grid, ivp.lagrangian);
@@ -195,16 +203,19 @@ where
 
 /// Newton's method on `(y, μ)` for one constrained step (module docs); the iterations used.
 ///
-/// It stops when the step's rows are within the tolerance of their terms (`‖π‖∞`, the terms of
-/// `G_K(y)`, `‖G(c)ᵀμ‖∞`) and the constraint within the tolerance of `‖G(y)‖∞ ‖y‖∞`, or at the
-/// round-off floor of the unconstrained steps (`at_round_off`: within `64 ε` of the system's
-/// terms and no longer halving).
+/// The unknowns are `y` and `ν = μ / w`, and the constraint rows are `w g(y)`, with `w` the
+/// scale of the step's rows over that of the constraint (`‖G(y)‖∞ ‖y‖∞`) at the guess: the
+/// whole system then scales with `L`, so `c L` takes the same iterates, and partial pivoting
+/// compares entries of one unit. It stops when the step's rows are within the tolerance of their
+/// terms (`‖π‖∞`, the terms of `G_K(y)`, `‖G(c)ᵀμ‖∞`) and the constraint within the tolerance
+/// of `‖G(y)‖∞ ‖y‖∞`, or at the round-off floor of the unconstrained steps (`at_round_off`:
+/// within `64 ε` of the system's terms and no longer halving).
 fn constrained_step<L, C, const D: usize, const M: usize>(
     lagrangian: &L,
     constraint: &C,
     step: &Step<D>,
     mut y: Vector<D>,
-    mut mu: SVector<f64, M>,
+    mu: SVector<f64, M>,
     newton: &NewtonOptions,
     n: usize,
 ) -> Result<(Vector<D>, SVector<f64, M>, usize)>
@@ -214,6 +225,13 @@ where
 {
     let at = Location::Step(n);
     let node = row_node(step.kind);
+    let constraint_scale = |y: &Vector<D>| constraint.jacobian(y).amax() * y.amax();
+    let weight = {
+        let (_, _, size) = residual_and_terms(lagrangian, step, &y);
+        let w = size.max(step.momentum.amax()) / constraint_scale(&y);
+        if w.is_finite() && w > 0.0 { w } else { 1.0 }
+    };
+    let mut nu = mu / weight;
     let mut last = f64::INFINITY;
     for iteration in 0..=newton.max_iterations {
         let (r, j, size) = residual_and_terms(lagrangian, step, &y);
@@ -222,10 +240,14 @@ where
             RowNode::Middle => step.b,
             RowNode::Newest => y,
         };
+        let mu = nu * weight;
         let g_c = constraint.jacobian(&c);
         let force = g_c.transpose() * mu;
         let r = r - force;
-        let (g, g_y) = (constraint.value(&y), constraint.jacobian(&y));
+        let (g, g_y) = (
+            constraint.value(&y) * weight,
+            constraint.jacobian(&y) * weight,
+        );
         let residual = r.amax().max(g.amax());
         if !residual.is_finite() || !j.iter().all(|c| c.is_finite()) {
             return Err(if iteration == 0 {
@@ -240,12 +262,13 @@ where
         }
         let previous = std::mem::replace(&mut last, residual);
         let row_scale = size.max(step.momentum.amax()).max(force.amax());
-        let constraint_scale = g_y.amax() * y.amax();
+        let constraint_scale = weight * constraint_scale(&y);
         let within = r.amax() <= newton.tolerance * row_scale
             && g.amax() <= newton.tolerance * constraint_scale;
         // The floor of the unconstrained steps, with the saddle-point system's scale: each
         // row's terms, and the Jacobian's blocks times the unknowns they multiply.
-        let terms = row_scale + constraint_scale + j.amax() * y.amax() + g_c.amax() * mu.amax();
+        let terms =
+            row_scale + constraint_scale + j.amax() * y.amax() + weight * g_c.amax() * nu.amax();
         if within || at_round_off(residual, previous, 1.0, terms) {
             return Ok((y, mu, iteration));
         }
@@ -258,7 +281,8 @@ where
             top_left -= constraint.weighted_hessian(&y, &mu);
         }
         kkt.view_mut((0, 0), (D, D)).copy_from(&top_left);
-        kkt.view_mut((0, D), (D, M)).copy_from(&(-g_c.transpose()));
+        kkt.view_mut((0, D), (D, M))
+            .copy_from(&(-g_c.transpose() * weight));
         kkt.view_mut((D, 0), (M, D)).copy_from(&g_y);
         let mut rhs = DVector::<f64>::zeros(D + M);
         rhs.rows_mut(0, D).copy_from(&(-r));
@@ -269,9 +293,9 @@ where
             check_rank(&g_c, at)?;
             return Err(Error::SingularJacobian { at });
         };
-        let (dy, dmu) = (update.rows(0, D), update.rows(D, M));
+        let (dy, dnu) = (update.rows(0, D), update.rows(D, M));
         y += dy;
-        mu += dmu;
+        nu += dnu;
     }
     Err(Error::NewtonDidNotConverge {
         at,

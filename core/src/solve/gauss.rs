@@ -132,22 +132,22 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GaussIvp<'_, L, D> {
 }
 
 /// The stage system of one step and its Newton solve, with buffers kept from step to step.
-struct StageSystem<const D: usize> {
-    tableau: GaussTableau,
-    h: f64,
+pub(crate) struct StageSystem<const D: usize> {
+    pub(crate) tableau: GaussTableau,
+    pub(crate) h: f64,
     /// The unknowns `V_i`: the initial guess on entry to a solve, the solution after it.
-    v: Vec<Vector<D>>,
+    pub(crate) v: Vec<Vector<D>>,
     /// `Q_i`, `Ṗ_i = ∂L/∂x`, `P_i = ∂L/∂v` and the Hessian blocks at the current `V`.
     q: Vec<Vector<D>>,
-    f: Vec<Vector<D>>,
-    p: Vec<Vector<D>>,
+    pub(crate) f: Vec<Vector<D>>,
+    pub(crate) p: Vec<Vector<D>>,
     hessian: Vec<Hessian<D>>,
     /// The Jacobian of a generalised force at every stage (empty without one): its blocks join
     /// `L_xx` and `L_xv` where the stage equations differentiate `Ṗ_i`.
     force: Vec<ForceJacobian<D>>,
     /// The `s·d × s·d` Jacobian row by row, and the residual (then the Newton update).
-    jacobian: Vec<f64>,
-    rhs: Vec<f64>,
+    pub(crate) jacobian: Vec<f64>,
+    pub(crate) rhs: Vec<f64>,
     /// `ℓ_j(1 + c_i)` row by row: the Lagrange basis of the nodes at the next step's nodes,
     /// which carries the stage velocities of one step to the guess of the next.
     extrapolation: Vec<f64>,
@@ -156,7 +156,7 @@ struct StageSystem<const D: usize> {
 }
 
 impl<const D: usize> StageSystem<D> {
-    fn new(tableau: GaussTableau, h: f64, v0: Vector<D>) -> Self {
+    pub(crate) fn new(tableau: GaussTableau, h: f64, v0: Vector<D>) -> Self {
         let s = tableau.stages();
         let zero = Vector::<D>::zeros();
         let no_hessian = Hessian {
@@ -190,7 +190,12 @@ impl<const D: usize> StageSystem<D> {
     }
 
     /// `Q_i`, then `f`, `p` and the Hessian at every stage; whether all are finite.
-    fn evaluate<L: Lagrangian<D> + ?Sized>(&mut self, l: &L, qk: &Vector<D>, tk: f64) -> bool {
+    pub(crate) fn evaluate<L: Lagrangian<D> + ?Sized>(
+        &mut self,
+        l: &L,
+        qk: &Vector<D>,
+        tk: f64,
+    ) -> bool {
         let (s, h) = (self.tableau.stages(), self.h);
         let mut finite = true;
         for i in 0..s {
@@ -215,7 +220,7 @@ impl<const D: usize> StageSystem<D> {
     }
 
     /// The residual `R_i = P_i − p_k − h Σ_j a_ij Ṗ_j` into `rhs`; its max-norm.
-    fn residual(&mut self, pk: &Vector<D>) -> f64 {
+    pub(crate) fn residual(&mut self, pk: &Vector<D>) -> f64 {
         let (s, h) = (self.tableau.stages(), self.h);
         let mut norm = 0.0f64;
         for i in 0..s {
@@ -231,7 +236,7 @@ impl<const D: usize> StageSystem<D> {
 
     /// The Jacobian `∂R_i/∂V_m` into `jacobian` (see the module docs); its max-norm (largest
     /// absolute row sum).
-    fn assemble_jacobian(&mut self) -> f64 {
+    pub(crate) fn assemble_jacobian(&mut self) -> f64 {
         let (s, h) = (self.tableau.stages(), self.h);
         let width = s * D;
         for i in 0..s {
@@ -333,7 +338,7 @@ impl<const D: usize> StageSystem<D> {
     /// this step's collocation polynomial (degree `s − 1` in `V`, through `(c_j, V_j)`)
     /// extrapolated to the next step's stages, `V_i ← Σ_j ℓ_j(1 + c_i) V_j`, an `O(hˢ)` guess
     /// (for s = 1, the previous velocity).
-    fn extrapolate_guess(&mut self) {
+    pub(crate) fn extrapolate_guess(&mut self) {
         let s = self.tableau.stages();
         self.solved.copy_from_slice(&self.v);
         for (i, v) in self.v.iter_mut().enumerate() {
@@ -344,7 +349,7 @@ impl<const D: usize> StageSystem<D> {
     }
 
     /// `(q_{k+1}, p_{k+1}) = (q_k + h Σ b_i V_i, p_k + h Σ b_i Ṗ_i)` from the solved stages.
-    fn advance(&self, qk: &Vector<D>, pk: &Vector<D>) -> (Vector<D>, Vector<D>) {
+    pub(crate) fn advance(&self, qk: &Vector<D>, pk: &Vector<D>) -> (Vector<D>, Vector<D>) {
         let (mut q, mut p) = (*qk, *pk);
         for (i, b) in self.tableau.b.iter().enumerate() {
             q += self.v[i] * (self.h * b);

@@ -5,6 +5,8 @@ mod blow_up;
 mod bvp_returns_ivp;
 mod coherence;
 mod compare;
+mod constrained_bvp;
+mod constrained_gauss;
 mod constraints;
 mod dense_output;
 mod errors;
