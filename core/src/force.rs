@@ -200,19 +200,25 @@ impl<L, F> Forced<L, F> {
         Forced { lagrangian, force }
     }
 
-    /// The discrete impulse of the force over each interval `[t_k, t_{k+1}]`,
-    /// `f_d^−(Q_k, Q_{k+1}) + f_d^+(Q_k, Q_{k+1}) = h Σ_i w_i f(x_i, V_k, t_i)` by the quadrature
-    /// of the solution's embedding (`N` vectors). For a direction `ξ` along which `L` is
-    /// invariant, the variational scheme's node momenta satisfy
-    /// `p_{k+1}·ξ − p_k·ξ = impulse_k·ξ` to round-off (the forced discrete Noether theorem).
+    /// The discrete forces of each interval `[t_k, t_{k+1}]`, `(f_d^−, f_d^+)` with
+    /// `f_d^− = h Σ_i w_i (1 − θ_i) f(x_i, V_k, t_i)` and `f_d^+ = h Σ_i w_i θ_i f(x_i, V_k, t_i)`
+    /// over the quadrature points `x_i = (1 − θ_i) Q_k + θ_i Q_{k+1}` of the solution's
+    /// embedding (`N` pairs): the virtual work `f_d^−·δQ_k + f_d^+·δQ_{k+1}` of the discrete
+    /// Lagrange–d'Alembert principle, which the variational scheme solves. For a symmetry of `L`
+    /// with generator `ξ(q)` (a rotation too, not only a translation), its node momenta satisfy
+    /// the forced discrete Noether theorem
+    /// `p_{k+1}·ξ(Q_{k+1}) − p_k·ξ(Q_k) = f_d^−·ξ(Q_k) + f_d^+·ξ(Q_{k+1})` to round-off.
     ///
     /// Only this `Forced`'s force counts: for several forces on one model, attach their sum
     /// (a pair `(f1, f2)` is a [`Force`]) rather than nesting `Forced` (whose schemes are
     /// right, but whose inner force these sums leave out).
     ///
-    /// [`Error::Unsupported`] for the Gauss–Legendre integrators (their impulse is a sum over
-    /// the stages, which the solution does not keep) and the fractional embeddings.
-    pub fn impulses<const D: usize>(&self, solution: &Solution<D>) -> Result<Vec<Vector<D>>>
+    /// [`Error::Unsupported`] for the Gauss–Legendre integrators (their discrete forces are sums
+    /// over the stages, which the solution does not keep) and the fractional embeddings.
+    pub fn discrete_forces<const D: usize>(
+        &self,
+        solution: &Solution<D>,
+    ) -> Result<Vec<(Vector<D>, Vector<D>)>>
     where
         F: Force<D>,
     {
@@ -220,28 +226,44 @@ impl<L, F> Forced<L, F> {
             NodeFormula::DiscreteLegendre { points } => points,
             _ => {
                 return Err(Error::Unsupported {
-                    operation: "the discrete impulse of a force",
+                    operation: "the discrete forces of a force",
                     embedding: solution.embedding.to_string(),
                 });
             }
         };
         let (grid, q) = (&solution.grid, &solution.q);
         let h = grid.h();
+        let zero = (Vector::<D>::zeros(), Vector::<D>::zeros());
         Ok((0..grid.n())
             .map(|k| {
                 let v = (q[k + 1] - q[k]) / h;
-                points
-                    .iter()
-                    .fold(Vector::<D>::zeros(), |sum, &(theta, w)| {
-                        let x = q[k] * (1.0 - theta) + q[k + 1] * theta;
-                        let t = match theta {
-                            0.0 => grid.t(k),
-                            1.0 => grid.t(k + 1),
-                            _ => grid.t(k) + theta * h,
-                        };
-                        sum + self.force.force(&x, &v, t) * (h * w)
-                    })
+                points.iter().fold(zero, |(left, right), &(theta, w)| {
+                    let x = q[k] * (1.0 - theta) + q[k + 1] * theta;
+                    let t = match theta {
+                        0.0 => grid.t(k),
+                        1.0 => grid.t(k + 1),
+                        _ => grid.t(k) + theta * h,
+                    };
+                    let f = self.force.force(&x, &v, t) * (h * w);
+                    (left + f * (1.0 - theta), right + f * theta)
+                })
             })
+            .collect())
+    }
+
+    /// The discrete impulse of the force over each interval `[t_k, t_{k+1}]`,
+    /// `f_d^− + f_d^+ = h Σ_i w_i f(x_i, V_k, t_i)` ([`discrete_forces`](Self::discrete_forces);
+    /// `N` vectors). For a direction `ξ` along which `L` is invariant (a translation), the
+    /// variational scheme's node momenta satisfy `p_{k+1}·ξ − p_k·ξ = impulse_k·ξ` to
+    /// round-off (the forced discrete Noether theorem). Errors as `discrete_forces`.
+    pub fn impulses<const D: usize>(&self, solution: &Solution<D>) -> Result<Vec<Vector<D>>>
+    where
+        F: Force<D>,
+    {
+        let forces = self.discrete_forces(solution)?;
+        Ok(forces
+            .into_iter()
+            .map(|(left, right)| left + right)
             .collect())
     }
 
