@@ -4,8 +4,8 @@
 
 #[test]
 fn the_readme_quick_start_is_the_quick_start_example() {
-    let readme = include_str!("../../README.md");
-    let example = include_str!("../examples/quick_start.rs");
+    let readme = include_str!("../../../README.md");
+    let example = include_str!("../../examples/quick_start.rs");
     let section = readme
         .find("## Quick start")
         .expect("the README has a quick start");
@@ -28,7 +28,7 @@ fn the_readme_quick_start_is_the_quick_start_example() {
 /// Every example is listed in the README, so a reader finds it.
 #[test]
 fn every_example_is_named_in_the_readme() {
-    let readme = include_str!("../../README.md");
+    let readme = include_str!("../../../README.md");
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples");
     let mut count = 0;
     for entry in std::fs::read_dir(&dir).expect("examples/examples") {

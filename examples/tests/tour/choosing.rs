@@ -6,8 +6,8 @@ use varembed_examples::report;
 
 #[test]
 fn the_cost_table_of_choosing_md_is_read_off_the_committed_report() {
-    let page = include_str!("../../core/docs/choosing.md");
-    let committed = include_str!("../../report/README.md");
+    let page = include_str!("../../../core/docs/choosing.md");
+    let committed = include_str!("../../../report/README.md");
     let start = page.find(report::COST_START).expect("start marker") + report::COST_START.len() + 1;
     let end = page.find(report::COST_END).expect("end marker");
     let expected = report::cost_table(committed);
