@@ -72,7 +72,11 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// Solves the boundary value problem `Q_0 = qa`, `Q_N = qb` under the holonomic constraints
     /// `g(q) = 0` of `constraint`, from the straight line between the ends with each interior
     /// node projected onto the constraints (see
-    /// [`solve_constrained_bvp_from`](Self::solve_constrained_bvp_from)).
+    /// [`solve_constrained_bvp_from`](Self::solve_constrained_bvp_from)). Where that line
+    /// crosses a singular point of the constraints (the centre of a sphere between antipodal
+    /// ends), its projection fails with
+    /// [`Error::RankDeficientConstraints`](crate::Error::RankDeficientConstraints) at that
+    /// node: give a guess of the path with `solve_constrained_bvp_from`.
     ///
     /// # Example
     ///
