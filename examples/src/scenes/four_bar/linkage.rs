@@ -198,6 +198,21 @@ pub fn opening(q: &Vector<3>) -> f64 {
 mod tests {
     use super::*;
 
+    /// The macro's Lagrangian, written rod by rod, is `½ vᵀ M v − V` with the mass matrix and
+    /// potential the reference is written with, at generated states.
+    #[test]
+    fn the_model_is_the_reference_s_mass_matrix_and_potential() {
+        use varembed::Lagrangian;
+        for k in 0..20 {
+            let c = k as f64;
+            let q = Vector::<3>::new(0.3 * c, 1.0 - 0.2 * c, 0.7 * c.sin());
+            let v = Vector::<3>::new(c.cos(), 0.5 - 0.1 * c, 2.0 * (0.3 * c).sin());
+            let lagrangian = Linkage.value(&q, &v, 0.0);
+            let expected = energy(&q, &v) - 2.0 * potential(&q);
+            assert!((lagrangian - expected).abs() <= 1e-12 * energy(&q, &v).abs().max(1.0));
+        }
+    }
+
     /// The chart closes the loop, passes through the projected initial data, and the reduced
     /// dynamics conserve `½ m θ̇² + V`, the linkage's energy of the initial data: with a wrong
     /// tangent `J`, `m'` or `V'` the reference would not.
