@@ -4,7 +4,9 @@
 use indicatif::ProgressBar;
 use std::sync::{Mutex, PoisonError};
 use std::time::Duration;
-use varembed::{ComparedSolution, Convergence, Embedding, OrderStatus, Solution, observed_orders};
+use varembed::{
+    ComparedSolution, Convergence, Embedding, OrderStatus, Scheme, Solution, observed_orders,
+};
 
 /// How many times the full tour solves each grid it times; the time it reports is the median.
 /// One measurement on a shared machine can be several times too slow (a scheduler pause, a
@@ -212,6 +214,31 @@ impl Doubling {
 /// `n0, 2 n0, 4 n0, …` (`count` sizes).
 pub fn doubling(n0: usize, count: usize) -> Doubling {
     Doubling { n0, count }
+}
+
+/// A line that a scene sweeps itself: a scheme of an embedding, over its own `N`.
+#[derive(Clone, Copy, Debug)]
+pub struct SchemeLine {
+    /// Legend entry.
+    pub label: &'static str,
+    /// The embedding.
+    pub embedding: Embedding,
+    /// Direct or variational.
+    pub scheme: Scheme,
+    /// The `N` of the line.
+    pub sizes: Doubling,
+}
+
+impl SchemeLine {
+    /// `scheme` of `embedding` over `sizes`, shown as `label`.
+    pub fn new(label: &'static str, embedding: Embedding, scheme: Scheme, sizes: Doubling) -> Self {
+        SchemeLine {
+            label,
+            embedding,
+            scheme,
+            sizes,
+        }
+    }
 }
 
 /// One point of a work–precision sweep.

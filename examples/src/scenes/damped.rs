@@ -17,7 +17,7 @@
 
 use crate::ivp_scene::{Advice, HigherOrderSweeps, IvpScene, Trajectory, Units, all_variants};
 use crate::reference::ReferenceCurve;
-use crate::scene::{Context, Doubling, SceneReport, SweepLine, SweepPoint, doubling};
+use crate::scene::{Context, Doubling, SceneReport, SchemeLine, SweepLine, SweepPoint, doubling};
 use varembed::{
     CompareOptions, DifferentialOperator, Embedding, Forced, Grid, Problem, Rayleigh, Reference,
     Scheme, Side, Start, Vector, lagrangian, max_error,
@@ -108,34 +108,16 @@ pub fn general_embedding_sweep(
     })
 }
 
-/// One line of the route by forcing: a scheme of an embedding, swept over its own `N`.
-#[derive(Clone, Copy, Debug)]
-pub struct ForcedLine {
-    /// Legend entry.
-    pub label: &'static str,
-    /// The embedding.
-    pub embedding: Embedding,
-    /// Direct or variational.
-    pub scheme: Scheme,
-    /// The `N` of the line.
-    pub sizes: Doubling,
-}
-
 /// The lines of the route by forcing: both schemes of the midpoint and trapezoidal embeddings
 /// (second order), Gauss–Legendre `s = 2` (order 4), both schemes of Gauss-FDE− (first
 /// order), each over the sizes of the same embedding's line of `L = eᵗ(½v² − ½x²)`.
-pub fn forced_lines(cx: &Context) -> Vec<ForcedLine> {
+pub fn forced_lines(cx: &Context) -> Vec<SchemeLine> {
     let second_order = doubling(cx.pick(250, 100), cx.pick(7, 3));
     let first_order = doubling(cx.pick(500, 100), cx.pick(7, 4));
     let gauss2 = doubling(25, cx.pick(8, 3));
     let (midpoint, trapezoidal) = (Embedding::midpoint(), Embedding::trapezoidal());
     let fde = Embedding::finite_difference(Side::Backward);
-    let line = |label, embedding, scheme, sizes| ForcedLine {
-        label,
-        embedding,
-        scheme,
-        sizes,
-    };
+    let line = SchemeLine::new;
     vec![
         line(
             "forced: direct midpoint",

@@ -4,6 +4,7 @@
 pub mod damped;
 pub mod double_pendulum;
 pub mod duffing;
+pub mod four_bar;
 pub mod fput;
 pub mod fractional;
 pub mod harmonic;
@@ -20,7 +21,7 @@ use crate::scene::{Context, SceneReport};
 pub type Run = fn(&Context) -> varembed::Result<SceneReport>;
 
 /// Every scene, in the order of the report.
-pub const ALL: [(&str, Run); 12] = [
+pub const ALL: [(&str, Run); 13] = [
     ("harmonic oscillator", harmonic::run),
     ("pendulum", pendulum::run),
     ("Kepler, e = 0.9", kepler::run),
@@ -28,6 +29,7 @@ pub const ALL: [(&str, Run); 12] = [
     ("parametric oscillator", parametric::run),
     ("q̈ + q̇ + q = 0", damped::run),
     ("spherical pendulum", spherical_pendulum::run),
+    ("four-bar linkage", four_bar::run),
     ("driven Duffing", duffing::run),
     ("FPUT recurrence", fput::run),
     ("stiff FPU", stiff_fpu::run),
