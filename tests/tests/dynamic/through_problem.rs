@@ -4,8 +4,8 @@
 //! 2 MiB stack of a test thread.
 
 use varembed::{
-    DynProblem, Embedding, Grid, Lagrangian, Problem, RUN_TIME_FROM, Scheme, Side, Solution,
-    Vector, lagrangian,
+    DynProblem, Embedding, Error, Grid, Lagrangian, NewtonOptions, Problem, RUN_TIME_FROM, Scheme,
+    Side, Solution, Start, Vector, lagrangian,
 };
 use varembed_tests::models::dense::Dense;
 
@@ -128,5 +128,126 @@ fn at_the_threshold_problem_gives_the_const_generic_nodes() {
                 assert!(gap <= 1e-12 * size, "{embedding} {scheme:?}: {gap:e}");
             }
         }
+    });
+}
+
+/// The options of a `Problem` reach the run-time engine it hands a run to: Newton's (an
+/// iteration budget too small to converge gives the run-time path's own error), the
+/// resolution check (a step too coarse for the ring's fastest motion is warned about, and not
+/// when the check is off), and the start (the second-order start gives other nodes than the
+/// Legendre start), each equal to `DynProblem` with the same option.
+#[test]
+fn the_hand_off_keeps_the_problems_options() {
+    let model = SineGordon { c: 4.0 };
+    let (q0, v0) = displaced(RING);
+    let (x0, u0) = (
+        Vector::<RING>::from_column_slice(&q0),
+        Vector::<RING>::from_column_slice(&v0),
+    );
+    on_stack(2 << 20, || {
+        let midpoint = Embedding::midpoint();
+        let grid = Grid::new(0.0, 1.0, 40).unwrap();
+        let starved = NewtonOptions {
+            max_iterations: 1,
+            ..NewtonOptions::default()
+        };
+        let routed = Problem::new(&model, grid, midpoint)
+            .with_newton(starved)
+            .solve_ivp(Scheme::Variational, x0, u0)
+            .unwrap_err();
+        let direct = DynProblem::new(&model, grid, midpoint)
+            .with_newton(starved)
+            .solve_ivp(Scheme::Variational, &q0, &v0)
+            .unwrap_err();
+        assert!(
+            matches!(routed, Error::NewtonDidNotConverge { .. }),
+            "{routed:?}"
+        );
+        assert_eq!(routed, direct);
+
+        let coarse = Grid::new(0.0, 20.0, 20).unwrap();
+        for check in [true, false] {
+            let routed = Problem::new(&model, coarse, midpoint)
+                .with_resolution_check(check)
+                .solve_ivp(Scheme::Variational, x0, u0)
+                .unwrap();
+            let direct = DynProblem::new(&model, coarse, midpoint)
+                .with_resolution_check(check)
+                .solve_ivp(Scheme::Variational, &q0, &v0)
+                .unwrap();
+            assert_eq!(routed.warnings, direct.warnings, "check {check}");
+            assert_eq!(routed.warnings.is_empty(), !check, "{:?}", routed.warnings);
+        }
+
+        let backward = Embedding::finite_difference(Side::Backward);
+        let legendre = Problem::new(&model, grid, backward)
+            .solve_ivp_with(Scheme::Variational, x0, u0, Start::Legendre)
+            .unwrap();
+        let second = Problem::new(&model, grid, backward)
+            .solve_ivp_with(Scheme::Variational, x0, u0, Start::SecondOrder)
+            .unwrap();
+        let reference = DynProblem::new(&model, grid, backward)
+            .with_start(Start::SecondOrder)
+            .solve_ivp(Scheme::Variational, &q0, &v0)
+            .unwrap();
+        assert_ne!(legendre.q[1], second.q[1]);
+        for (k, node) in second.q.iter().enumerate() {
+            assert_eq!(node.as_slice(), reference.node(k), "node {k}");
+        }
+    });
+}
+
+/// A model whose run-time form has another dimension (a hand-written pairing gone wrong) is
+/// not handed to it: `Problem` solves what its `Lagrangian<D>` methods say, the const-generic
+/// path's nodes.
+#[test]
+fn a_run_time_form_of_another_dimension_is_not_used() {
+    struct Mismatched {
+        model: SmallRing,
+        other: SineGordon,
+    }
+    impl Lagrangian<SMALL> for Mismatched {
+        fn value(&self, x: &Vector<SMALL>, v: &Vector<SMALL>, t: f64) -> f64 {
+            self.model.value(x, v, t)
+        }
+        fn gradient(
+            &self,
+            x: &Vector<SMALL>,
+            v: &Vector<SMALL>,
+            t: f64,
+        ) -> (Vector<SMALL>, Vector<SMALL>) {
+            self.model.gradient(x, v, t)
+        }
+        fn hessian(
+            &self,
+            x: &Vector<SMALL>,
+            v: &Vector<SMALL>,
+            t: f64,
+        ) -> varembed::Hessian<SMALL> {
+            self.model.hessian(x, v, t)
+        }
+        fn run_time(&self) -> Option<&dyn varembed::DynLagrangian> {
+            Some(&self.other)
+        }
+    }
+    let model = Mismatched {
+        model: SmallRing { c: 4.0 },
+        other: SineGordon { c: 4.0 },
+    };
+    let grid = Grid::new(0.0, 1.0, 20).unwrap();
+    let (q0, v0) = displaced(SMALL);
+    let (x0, u0) = (
+        Vector::<SMALL>::from_column_slice(&q0),
+        Vector::<SMALL>::from_column_slice(&v0),
+    );
+    on_stack(64 << 20, || {
+        let embedding = Embedding::midpoint();
+        let run = Problem::new(&model, grid, embedding)
+            .solve_ivp(Scheme::Variational, x0, u0)
+            .unwrap();
+        let reference = Problem::new(&Dense(&model.model), grid, embedding)
+            .solve_ivp(Scheme::Variational, x0, u0)
+            .unwrap();
+        assert_eq!(run.q, reference.q);
     });
 }
