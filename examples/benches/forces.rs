@@ -10,6 +10,12 @@
 //!   conservative; under linear drag `f = −γ v`. The drag's Jacobian is constant, so every step
 //!   stays in closed form (the step's equation `p@right = π` does not read the force; the
 //!   force enters the momentum `π`).
+//! - the FPUT chain of run-time dimension `d = 1024` and `4096` (`DynProblem`), 100 midpoint
+//!   variational steps: conservative; under dashpots between neighbours (Rayleigh
+//!   `R = Σ ½ γ (v_{i+1} − v_i)²`, velocity-dependent, its Jacobian tridiagonal like the
+//!   chain's Hessian). The force's pattern joins the band of the step Jacobian, so the forced
+//!   run costs what the conservative one does and both grow linearly in `d`; a dense solve
+//!   would cost `d³`.
 //!
 //! `cargo bench -p varembed-examples --bench forces`; figures in BENCHMARKS.md.
 
@@ -17,10 +23,10 @@ use std::hint::black_box;
 
 use criterion::Criterion;
 use varembed::{
-    Embedding, Force, ForceDependence, ForceJacobian, Forced, Grid, Matrix, Problem, Rayleigh,
-    Scheme, Side, Vector, lagrangian,
+    DynProblem, Embedding, Force, ForceDependence, ForceJacobian, Forced, Grid, Matrix, Problem,
+    Rayleigh, Scheme, Side, Vector, lagrangian,
 };
-use varembed_tests::models::generated::{DoublePendulum, Kepler};
+use varembed_tests::models::generated::{DoublePendulum, FputChain, Kepler};
 
 const PARAMS: DoublePendulum = varembed_tests::bench::DOUBLE_PENDULUM;
 const Q0: [f64; 2] = varembed_tests::bench::DOUBLE_PENDULUM_START.0;
@@ -30,6 +36,17 @@ const V0: [f64; 2] = varembed_tests::bench::DOUBLE_PENDULUM_START.1;
 #[lagrangian]
 fn friction(_x: [f64; 2], v: [f64; 2], gamma: f64) -> f64 {
     0.5 * gamma * (v[0] * v[0] + v[1] * v[1])
+}
+
+/// `R = Σ ½ γ (v_{i+1} − v_i)²` over the `n` sites of a chain of run-time dimension.
+#[lagrangian]
+fn dashpots(_x: &[f64], v: &[f64], n: usize, gamma: f64) -> f64 {
+    let mut r = 0.0;
+    for i in 0..n - 1 {
+        let w = v[i + 1] - v[i];
+        r += 0.5 * gamma * w * w;
+    }
+    r
 }
 
 /// A torque `−0.5 sin θ₁` on each joint: position-dependent, its Jacobian not constant in `x`.
@@ -124,4 +141,46 @@ fn forces(c: &mut Criterion) {
     g.finish();
 }
 
-varembed_tests::bench_main!(varembed_tests::bench::runs(); forces);
+/// The chain of run-time dimension, conservative and under dashpots, at two sizes.
+fn chain_forces(c: &mut Criterion) {
+    let mut g = c.benchmark_group("chain_midpoint_100_steps");
+    for d in [1024, 4096] {
+        let chain = FputChain {
+            n: d,
+            alpha: 0.25,
+            beta: 0.7,
+        };
+        let damped = Forced::new(chain, Rayleigh(Dashpots { n: d, gamma: 0.3 }));
+        let q0: Vec<f64> = (0..d)
+            .map(|i| 0.8 * ((i as f64 + 1.0) * 0.05).sin())
+            .collect();
+        let v0: Vec<f64> = q0.iter().map(|q| -0.3 * q).collect();
+        let grid = Grid::new(0.0, 5.0, 100).unwrap();
+        let conservative = DynProblem::new(&chain, grid, Embedding::midpoint());
+        let forced = DynProblem::new(&damped, grid, Embedding::midpoint());
+        for (name, run) in [
+            (
+                "conservative",
+                conservative.solve_ivp(Scheme::Variational, &q0, &v0),
+            ),
+            ("dashpots", forced.solve_ivp(Scheme::Variational, &q0, &v0)),
+        ] {
+            let run = run.unwrap();
+            println!(
+                "d = {d} {name}: {:.2} Newton iterations per step, band {}, reordered {}",
+                run.run.newton_iterations as f64 / 100.0,
+                run.run.band,
+                run.run.reordered
+            );
+        }
+        g.bench_function(format!("conservative_d{d}"), |b| {
+            b.iter(|| conservative.solve_ivp(Scheme::Variational, black_box(&q0), &v0))
+        });
+        g.bench_function(format!("dashpots_d{d}"), |b| {
+            b.iter(|| forced.solve_ivp(Scheme::Variational, black_box(&q0), &v0))
+        });
+    }
+    g.finish();
+}
+
+varembed_tests::bench_main!(varembed_tests::bench::runs(); forces, chain_forces);
