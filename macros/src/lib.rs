@@ -168,6 +168,8 @@ pub fn lagrangian(args: TokenStream, item: TokenStream) -> TokenStream {
 ///
 /// # Example
 ///
+/// This example is compiled and run in `tests/tests/macros/doc_example.rs`.
+///
 /// ```ignore
 /// use varembed::{Force, Vector, force};
 ///
@@ -202,6 +204,8 @@ pub fn force(args: TokenStream, item: TokenStream) -> TokenStream {
 /// `#[force]` body may be.
 ///
 /// # Example
+///
+/// This example is compiled and run in `tests/tests/macros/doc_example.rs`.
 ///
 /// ```ignore
 /// use varembed::{Constraint, Vector, constraint};
