@@ -198,7 +198,7 @@ impl Parser {
                 self.error(item, "an item inside the body is not supported");
             }
             Stmt::Macro(m) => {
-                self.error(&m.mac, "a macro is not supported in a #[lagrangian] body");
+                self.error(&m.mac, format!("a macro is not supported in a {} body", self.attr.name()));
             }
         }
     }

@@ -81,7 +81,7 @@ impl Parser {
                 "a closure is supported only in `(a..b).map(|i| …).sum::<f64>()`",
             ),
             Expr::Macro(m) => {
-                self.error(&m.mac, "a macro is not supported in a #[lagrangian] body")
+                self.error(&m.mac, format!("a macro is not supported in a {} body", self.attr.name()))
             }
             Expr::Reference(r) => self.error(
                 r.and_token,
@@ -108,7 +108,7 @@ impl Parser {
             ),
             other => self.error(
                 other,
-                "this expression is not supported in a #[lagrangian] body",
+                format!("this expression is not supported in a {} body", self.attr.name()),
             ),
         }
     }

@@ -71,8 +71,8 @@ pub struct Signature {
     /// Name of the generated struct.
     pub struct_name: Ident,
     /// The number of components a vector-valued fn returns (`#[force]`: `D`, `#[constraint]`:
-    /// `M`); 1 for a Lagrangian.
-    pub outputs: usize,
+    /// `M`); `None` when its return type is in error; `Some(1)` for a Lagrangian.
+    pub outputs: Option<usize>,
 }
 
 /// Checks the attribute arguments and the signature of `item`, a fn for `attr`; the errors go
@@ -273,7 +273,7 @@ pub fn check(
     }
 
     let outputs = match attr {
-        Attr::Lagrangian => 1,
+        Attr::Lagrangian => Some(1),
         Attr::Force | Attr::Constraint => {
             let x_ty = names.first().map(|(_, ty)| ty);
             super::vector::check_outputs(sig, attr, x_ty, (shapes[0], dim), errors)

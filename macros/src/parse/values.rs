@@ -183,11 +183,16 @@ impl Parser {
             if self.is_unknown(last, env) {
                 return placeholder(self, kind, count);
             }
-            let what = want.map_or("values".to_string(), |(_, k, n)| written(k, n));
-            self.error(
-                last,
-                format!("the body must end with {what}, e.g. `(a, b)` or `[a, b]`"),
-            );
+            let msg = match want {
+                None => "the body must end with values, e.g. `(a, b)` or `[a, b]`".to_string(),
+                Some((_, Kind::Tuple, n)) => {
+                    format!("the body must end with `{}`, e.g. `(a, b)`", written(Kind::Tuple, n))
+                }
+                Some((_, Kind::Array, n)) => {
+                    format!("the body must end with `{}`, e.g. `[a, b]`", written(Kind::Array, n))
+                }
+            };
+            self.error(last, msg);
             return placeholder(self, kind, count);
         }
         let values = self.values(last, env);

@@ -57,12 +57,22 @@ impl Parser {
     /// `x: f64`: the one value).
     pub fn vector_body(&mut self, block: &syn::Block, sig: &Signature, name: &Ident) -> Vec<Id> {
         let mut env = self.signature_env(sig);
-        let outputs = if self.attr == Attr::Force && sig.scalar {
-            vec![self.block(block, &mut env)]
-        } else {
-            let want = (name.to_string(), Kind::Array, sig.outputs);
-            let values = self.values_block(block, &mut env, Some((&want.0, want.1, want.2)));
-            values.ids
+        let outputs = match sig.outputs {
+            Some(_) if self.attr == Attr::Force && sig.scalar => vec![self.block(block, &mut env)],
+            Some(n) => {
+                let name = name.to_string();
+                let values = self.values_block(block, &mut env, Some((&name, Kind::Array, n)));
+                values.ids
+            }
+            None => {
+                // The return type was reported: the body's statements are still checked, and
+                // not its value against a type that is not there.
+                let n = block.stmts.len();
+                for stmt in block.stmts.iter().take(n.saturating_sub(1)) {
+                    self.statement(stmt, &mut env);
+                }
+                return Vec::new();
+            }
         };
         // A loop over a range that is not a literal (a `const`) stays a sum, which the entry by
         // entry derivatives do not take.
@@ -173,20 +183,25 @@ pub fn states_only(names: &mut Vec<(Ident, Type)>, errors: &mut Vec<syn::Error>)
 
 /// The number of components of a force or constraint, from its return type, and the errors of
 /// its signature that a Lagrangian's does not have: a dimension that is not a literal, a
-/// return type that is not `[f64; D]` (a force on `x: f64`: `f64`) or `[f64; M]`.
+/// return type that is not `[f64; D]` (a force on `x: f64`: `f64`) or `[f64; M]`. `None` when
+/// the return type is not one of them (reported) or a dimension in error leaves `D` unknown.
 pub fn check_outputs(
     sig: &syn::Signature,
     attr: Attr,
     x_ty: Option<&Type>,
     (shape, dim): (Shape, usize),
     errors: &mut Vec<syn::Error>,
-) -> usize {
+) -> Option<usize> {
     let name = attr.name();
     if let (Some(ty), Shape::Slice | Shape::Array(Length::Named)) = (x_ty, shape) {
         errors.push(syn::Error::new_spanned(
             ty,
             format!("a {name} fn takes `x: [f64; D]` with `D` an integer literal, or `x: f64`: its derivatives are written out entry by entry"),
         ));
+    }
+    let known = matches!(shape, Shape::Scalar | Shape::Array(Length::Known(_)));
+    if attr == Attr::Force && !known {
+        return None;
     }
     let want = match (attr, shape) {
         (Attr::Force, Shape::Scalar) => "`f64`, like `x`".to_string(),
@@ -200,24 +215,22 @@ pub fn check_outputs(
                 &sig.ident,
                 format!("a {name} fn must return {want}"),
             ));
-            return dim;
+            return None;
         }
     };
-    let got = returns(&sig.output);
-    let outputs = match (attr, got) {
+    let outputs = match (attr, returns(&sig.output)) {
         (Attr::Force, Some(Returns::Scalar)) if shape == Shape::Scalar => Some(1),
         (Attr::Force, Some(Returns::Values(Kind::Array, n))) if shape != Shape::Scalar => {
-            // A length that is not known was reported with `x`.
-            (n == dim || !matches!(shape, Shape::Array(Length::Known(_)))).then_some(dim)
+            (n == dim).then_some(dim)
         }
         (Attr::Constraint, Some(Returns::Values(Kind::Array, m))) => Some(m),
         _ => None,
     };
-    outputs.unwrap_or_else(|| {
+    if outputs.is_none() {
         errors.push(syn::Error::new_spanned(
             ty,
             format!("a {name} fn must return {want}"),
         ));
-        if attr == Attr::Force { dim } else { 1 }
-    })
+    }
+    outputs
 }
