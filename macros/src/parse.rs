@@ -55,7 +55,16 @@ pub fn parse_with_helpers(
         )
     })?;
     let mut errors = Vec::new();
-    let sig = signature::check(&args, &item, attr, &mut errors);
+    let mut sig = signature::check(&args, &item, attr, &mut errors);
+    if attr != Attr::Lagrangian {
+        let x_ty = item.sig.inputs.iter().find_map(|arg| match arg {
+            syn::FnArg::Typed(pt) => Some(&*pt.ty),
+            syn::FnArg::Receiver(_) => None,
+        });
+        let x_shape = sig.states.first().map_or(signature::Shape::Scalar, |s| s.1);
+        let facts = (x_shape, sig.dim);
+        sig.outputs = vector::check_outputs(&item.sig, attr, x_ty, facts, &mut errors);
+    }
     let mut parser = body::Parser::new(errors, helpers);
     parser.attr = attr;
     let (root, outputs) = match attr {

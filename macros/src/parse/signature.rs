@@ -157,7 +157,7 @@ pub fn check(
         }
     }
     if attr == Attr::Constraint {
-        super::vector::states_only(&mut names, errors);
+        states_only(&mut names, errors);
     }
     let mut dim = 1;
     let mut dim_name = None;
@@ -272,13 +272,6 @@ pub fn check(
         ));
     }
 
-    let outputs = match attr {
-        Attr::Lagrangian => Some(1),
-        Attr::Force | Attr::Constraint => {
-            let x_ty = names.first().map(|(_, ty)| ty);
-            super::vector::check_outputs(sig, attr, x_ty, (shapes[0], dim), errors)
-        }
-    };
     // A constraint's `v` is the copy of `x` that [`states_only`] made: not bound in the body.
     let states = names
         .iter()
@@ -295,9 +288,31 @@ pub fn check(
         runtime_dim,
         scalar,
         struct_name,
-        outputs,
+        // A force's or constraint's, from its return type: `vector::check_outputs`.
+        outputs: Some(1),
     }
 }
+
+/// A constraint's parameters: `v` and `t` are errors (removed), and a copy of `x` stands
+/// where `v` is in a Lagrangian's, so that the checks of `x` and the constants are the same.
+fn states_only(names: &mut Vec<(Ident, Type)>, errors: &mut Vec<syn::Error>) {
+    names.retain(|(n, _)| {
+        let what = match bare(n).as_str() {
+            "v" => "the velocity",
+            "t" => "the time",
+            _ => return true,
+        };
+        errors.push(syn::Error::new_spanned(
+            n,
+            format!("a #[constraint] depends on `x` alone: `{n}` ({what}) cannot be a parameter"),
+        ));
+        false
+    });
+    if let Some((x, ty)) = names.first().cloned() {
+        names.insert(1, (Ident::new("v", x.span()), ty));
+    }
+}
+
 
 /// The run-time dimension: with slices `x: &[f64]`, `v: &[f64]`, the one `usize` model
 /// constant. The errors: slices without one, two of them, one without slices.
@@ -352,7 +367,7 @@ fn is_usize(ty: &Type) -> bool {
 }
 
 /// A parameter name without the leading `_` that silences "unused" warnings.
-pub(super) fn bare(name: &Ident) -> String {
+fn bare(name: &Ident) -> String {
     let s = name.to_string();
     s.strip_prefix('_').map(str::to_string).unwrap_or(s)
 }

@@ -9,7 +9,7 @@ use syn::{BinOp, Expr, Ident, ReturnType, Type};
 
 use super::body::{Parser, is_compound};
 use super::scope::{Binding, Env, Kind, Returns, State, returns, strip};
-use super::signature::{Length, Shape, Signature, bare};
+use super::signature::{Length, Shape, Signature};
 use crate::ir::{Attr, Id, Node, Var};
 
 impl Parser {
@@ -158,26 +158,6 @@ impl Parser {
         Some(format!(
             "a #[constraint] depends on `x` alone and cannot read {what}"
         ))
-    }
-}
-
-/// A constraint's parameters: `v` and `t` are errors (removed), and a copy of `x` stands
-/// where `v` is in a Lagrangian's, so that the checks of `x` and the constants are the same.
-pub fn states_only(names: &mut Vec<(Ident, Type)>, errors: &mut Vec<syn::Error>) {
-    names.retain(|(n, _)| {
-        let what = match bare(n).as_str() {
-            "v" => "the velocity",
-            "t" => "the time",
-            _ => return true,
-        };
-        errors.push(syn::Error::new_spanned(
-            n,
-            format!("a #[constraint] depends on `x` alone: `{n}` ({what}) cannot be a parameter"),
-        ));
-        false
-    });
-    if let Some((x, ty)) = names.first().cloned() {
-        names.insert(1, (Ident::new("v", x.span()), ty));
     }
 }
 
