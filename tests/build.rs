@@ -2135,7 +2135,10 @@ fn vector_program(rng: &mut Rng, id: usize, level: Level) -> String {
             }
             let _ = writeln!(text, "let c = [{}];", names.join(", "));
             let _ = writeln!(text, "let mut out = [0.0; {m}];");
-            let _ = writeln!(text, "for k in 0..{m} {{\n    out[k] = 2.0 * c[k];\n    out[k] -= c[k];\n}}");
+            let _ = writeln!(
+                text,
+                "for k in 0..{m} {{\n    out[k] = 2.0 * c[k];\n    out[k] -= c[k];\n}}"
+            );
             let _ = writeln!(text, "out");
         }
     }
@@ -2152,13 +2155,20 @@ fn vector_program(rng: &mut Rng, id: usize, level: Level) -> String {
         }
     }
     params.extend((0..consts.len()).map(|j| format!("k{j}: f64")));
-    let struct_name = if force { "ForceModel" } else { "ConstraintModel" };
+    let struct_name = if force {
+        "ForceModel"
+    } else {
+        "ConstraintModel"
+    };
     let macro_fn = format!(
-        "#[{attr}]\n#[allow(unused_variables, clippy::needless_range_loop, reason = \"a program need not read every parameter; the loop is a form the macro takes\")]\npub fn {name}({}) -> [f64; {m}] {{\n{}}}\n",
+        "#[{attr}]\n#[allow(unused_variables, clippy::needless_range_loop, clippy::eq_op, reason = \"a program need not read every parameter; the loop is a form the macro takes; components drawn apart may name one entry at a literal dimension (`x[1 - 1] - x[0]`)\")]\npub fn {name}({}) -> [f64; {m}] {{\n{}}}\n",
         params.join(", "),
         indent(&text, "    ")
     );
-    let oracle_components: Vec<String> = components.iter().map(|e| render(e, Lang::Oracle).0).collect();
+    let oracle_components: Vec<String> = components
+        .iter()
+        .map(|e| render(e, Lang::Oracle).0)
+        .collect();
     let oracle = format!(
         "#[allow(unused_variables, reason = \"a program need not read `v`, `t`, `k` or `n`\")]\n\
          pub fn oracle<T: DualNum<Primitive = f64> + Copy>(x: &[T], v: &[T], t: f64, k: &[f64]) -> Vec<T> {{\n\
@@ -2172,25 +2182,44 @@ fn vector_program(rng: &mut Rng, id: usize, level: Level) -> String {
     let t_arg = "t";
     let (value, jacobian, weighted) = if force {
         (
-            format!("&|x, v, {t_arg}| model.force(&Vector::<{d}>::from_column_slice(x), &Vector::<{d}>::from_column_slice(v), {t_arg}).iter().copied().collect()"),
-            format!("&|x, v, {t_arg}| {{ let j = model.jacobian(&Vector::<{d}>::from_column_slice(x), &Vector::<{d}>::from_column_slice(v), {t_arg}); (0..{m}).map(|i| (0..{d}).map(|c| j.x[(i, c)]).chain((0..{d}).map(|c| j.v[(i, c)])).collect()).collect() }}"),
+            format!(
+                "&|x, v, {t_arg}| model.force(&Vector::<{d}>::from_column_slice(x), &Vector::<{d}>::from_column_slice(v), {t_arg}).iter().copied().collect()"
+            ),
+            format!(
+                "&|x, v, {t_arg}| {{ let j = model.jacobian(&Vector::<{d}>::from_column_slice(x), &Vector::<{d}>::from_column_slice(v), {t_arg}); (0..{m}).map(|i| (0..{d}).map(|c| j.x[(i, c)]).chain((0..{d}).map(|c| j.v[(i, c)])).collect()).collect() }}"
+            ),
             "None".to_string(),
         )
     } else {
         (
-            format!("&|x, _v, _t| model.value(&Vector::<{d}>::from_column_slice(x)).iter().copied().collect()"),
-            format!("&|x, _v, _t| {{ let g = model.jacobian(&Vector::<{d}>::from_column_slice(x)); (0..{m}).map(|i| (0..{d}).map(|c| g[(i, c)]).chain((0..{d}).map(|_| 0.0)).collect()).collect() }}"),
-            format!("Some(&|x, lambda| {{ let h = model.weighted_hessian(&Vector::<{d}>::from_column_slice(x), &nalgebra::SVector::<f64, {m}>::from_column_slice(lambda)); (0..{d}).map(|a| (0..{d}).map(|b| h[(a, b)]).collect()).collect() }})"),
+            format!(
+                "&|x, _v, _t| model.value(&Vector::<{d}>::from_column_slice(x)).iter().copied().collect()"
+            ),
+            format!(
+                "&|x, _v, _t| {{ let g = model.jacobian(&Vector::<{d}>::from_column_slice(x)); (0..{m}).map(|i| (0..{d}).map(|c| g[(i, c)]).chain((0..{d}).map(|_| 0.0)).collect()).collect() }}"
+            ),
+            format!(
+                "Some(&|x, lambda| {{ let h = model.weighted_hessian(&Vector::<{d}>::from_column_slice(x), &nalgebra::SVector::<f64, {m}>::from_column_slice(lambda)); (0..{d}).map(|a| (0..{d}).map(|b| h[(a, b)]).collect()).collect() }})"
+            ),
         )
     };
     let mut out = String::new();
     let _ = writeln!(out, "pub mod vf{id:04} {{");
     let _ = writeln!(out, "    use super::*;");
-    let _ = writeln!(out, "    const K: [f64; {}] = [{}];", consts.len(), k_list.join(", "));
+    let _ = writeln!(
+        out,
+        "    const K: [f64; {}] = [{}];",
+        consts.len(),
+        k_list.join(", ")
+    );
     out.push_str(&indent(&macro_fn, "    "));
     out.push_str(&indent(&oracle, "    "));
     let _ = writeln!(out, "    pub fn run(report: &mut Report) {{");
-    let _ = writeln!(out, "        let model = {struct_name} {{ {} }};", fields.join(", "));
+    let _ = writeln!(
+        out,
+        "        let model = {struct_name} {{ {} }};",
+        fields.join(", ")
+    );
     let _ = writeln!(
         out,
         "        check_vector(report, &VectorProgram {{ id: {id}, force: {force}, d: {d}, m: {m}, text: {macro_fn:?}, value: {value}, jacobian: {jacobian}, weighted: {weighted}, oracle: &|x, v, t| oracle(x, v, t, &K) }});"

@@ -239,8 +239,8 @@ pub use varembed_macros::{constraint, force, lagrangian};
 /// internals the benchmarks and integration tests reach into. Not part of the public API: it changes without notice.
 #[doc(hidden)]
 pub mod __private {
-    pub use crate::dynamic::sparse::SparseHessian;
     pub use crate::constraint::Constraint;
+    pub use crate::dynamic::sparse::SparseHessian;
     pub use crate::force::{Force, ForceDependence};
     pub use crate::lagrangian::{
         Dependence, DynLagrangian, ForceJacobian, Hessian, HessianDependence, Lagrangian, Matrix,

@@ -48,7 +48,10 @@ pub fn emit(model: &mut Model, with_item: bool) -> TokenStream {
 
 /// The nonzero entries of `ids`.
 fn nonzero(g: &Graph, ids: &[Id]) -> Vec<Id> {
-    ids.iter().copied().filter(|&id| !g.is_num(id, 0.0)).collect()
+    ids.iter()
+        .copied()
+        .filter(|&id| !g.is_num(id, 0.0))
+        .collect()
 }
 
 /// `let [mut] name = zeros; name[(i, j)] = …;` for the nonzero entries of the row-major
@@ -151,7 +154,12 @@ fn constraint(model: &Model, dx: &[Id], second: &[Id], with_item: bool) -> Token
     let r = Render::new(g, &plan, &leaf);
     let (temps, entries) = (r.temps(), model.outputs.iter().map(|&id| r.root(id)));
     let body = quote!(#temps #svector::<f64, #mm>::from([#(#entries),*]));
-    let value = on_x((quote!(value), quote!(#svector<f64, #mm>)), body, quote!(), &d);
+    let value = on_x(
+        (quote!(value), quote!(#svector<f64, #mm>)),
+        body,
+        quote!(),
+        &d,
+    );
 
     let plan = Plan::new(g, &nonzero(g, dx));
     let r = Render::new(g, &plan, &leaf);

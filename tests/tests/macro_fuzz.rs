@@ -720,6 +720,13 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
         .unwrap_or_else(|| "a panic without a message".into())
 }
 
+/// A vector program's components, or rows of derivatives, at `(x, v, t)`.
+type VectorFn<'a, R> = dyn Fn(&[f64], &[f64], f64) -> R + 'a;
+/// A constraint's weighted Hessian at `(x, λ)`, row by row.
+type WeightedFn<'a> = dyn Fn(&[f64], &[f64]) -> Vec<Vec<f64>> + 'a;
+/// A vector program's oracle: its components on hyper-dual numbers.
+type VectorOracleFn<'a> = dyn Fn(&[HyperDual64], &[HyperDual64], f64) -> Vec<HyperDual64> + 'a;
+
 /// A generated `#[force]` or `#[constraint]` fn, as [`check_vector`] sees it.
 pub struct VectorProgram<'a> {
     pub id: usize,
@@ -730,13 +737,13 @@ pub struct VectorProgram<'a> {
     /// The fn, as written.
     pub text: &'static str,
     /// `f` or `g` at `(x, v, t)`.
-    pub value: &'a dyn Fn(&[f64], &[f64], f64) -> Vec<f64>,
+    pub value: &'a VectorFn<'a, Vec<f64>>,
     /// Row `i`: `[∂f_i/∂x | ∂f_i/∂v]` (a constraint: `[G_i | 0]`).
-    pub jacobian: &'a dyn Fn(&[f64], &[f64], f64) -> Vec<Vec<f64>>,
+    pub jacobian: &'a VectorFn<'a, Vec<Vec<f64>>>,
     /// A constraint's `Σ_k λ_k ∂²g_k/∂x²` at `(x, λ)`.
-    pub weighted: Option<&'a dyn Fn(&[f64], &[f64]) -> Vec<Vec<f64>>>,
+    pub weighted: Option<&'a WeightedFn<'a>>,
     /// The components on hyper-dual numbers.
-    pub oracle: &'a dyn Fn(&[HyperDual64], &[HyperDual64], f64) -> Vec<HyperDual64>,
+    pub oracle: &'a VectorOracleFn<'a>,
 }
 
 /// Checks a vector program at random points against its oracle: the components, every

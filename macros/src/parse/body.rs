@@ -198,7 +198,10 @@ impl Parser {
                 self.error(item, "an item inside the body is not supported");
             }
             Stmt::Macro(m) => {
-                self.error(&m.mac, format!("a macro is not supported in a {} body", self.attr.name()));
+                self.error(
+                    &m.mac,
+                    format!("a macro is not supported in a {} body", self.attr.name()),
+                );
             }
         }
     }

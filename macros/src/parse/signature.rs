@@ -15,8 +15,7 @@ const FORCE_SIGNATURE: &str = "expected `fn name(x: T, v: T, [t: f64,] constants
      with `T` either `f64` or `[f64; D]` (`D` an integer literal)";
 
 /// The signature of a `#[constraint]` fn, quoted in its signature errors.
-const CONSTRAINT_SIGNATURE: &str =
-    "expected `fn name(x: T, constants: f64...) -> [f64; M]` with `T` either `f64` or \
+const CONSTRAINT_SIGNATURE: &str = "expected `fn name(x: T, constants: f64...) -> [f64; M]` with `T` either `f64` or \
      `[f64; D]` (`D` and `M` integer literals)";
 
 /// The accepted signature of a fn for `attr`.
@@ -88,8 +87,12 @@ pub fn check(
     let name = attr.name();
     if !args.is_empty() {
         let msg = match attr {
-            Attr::Lagrangian => "#[lagrangian] takes no arguments (or `helper`, on a helper fn): model constants are the fn's parameters after `x`, `v` (and `t`)",
-            Attr::Force | Attr::Constraint => "this attribute takes no arguments: the constants are the fn's parameters after the state",
+            Attr::Lagrangian => {
+                "#[lagrangian] takes no arguments (or `helper`, on a helper fn): model constants are the fn's parameters after `x`, `v` (and `t`)"
+            }
+            Attr::Force | Attr::Constraint => {
+                "this attribute takes no arguments: the constants are the fn's parameters after the state"
+            }
         };
         errors.push(syn::Error::new_spanned(args, msg));
     }
@@ -312,7 +315,6 @@ fn states_only(names: &mut Vec<(Ident, Type)>, errors: &mut Vec<syn::Error>) {
         names.insert(1, (Ident::new("v", x.span()), ty));
     }
 }
-
 
 /// The run-time dimension: with slices `x: &[f64]`, `v: &[f64]`, the one `usize` model
 /// constant. The errors: slices without one, two of them, one without slices.

@@ -186,10 +186,16 @@ impl Parser {
             let msg = match want {
                 None => "the body must end with values, e.g. `(a, b)` or `[a, b]`".to_string(),
                 Some((_, Kind::Tuple, n)) => {
-                    format!("the body must end with `{}`, e.g. `(a, b)`", written(Kind::Tuple, n))
+                    format!(
+                        "the body must end with `{}`, e.g. `(a, b)`",
+                        written(Kind::Tuple, n)
+                    )
                 }
                 Some((_, Kind::Array, n)) => {
-                    format!("the body must end with `{}`, e.g. `[a, b]`", written(Kind::Array, n))
+                    format!(
+                        "the body must end with `{}`, e.g. `[a, b]`",
+                        written(Kind::Array, n)
+                    )
                 }
             };
             self.error(last, msg);

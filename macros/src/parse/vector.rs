@@ -125,7 +125,10 @@ impl Parser {
             let Some(k) = usize::try_from(k).ok().filter(|&k| k < values.ids.len()) else {
                 self.error(
                     &ix.index,
-                    format!("index {k} is out of bounds: the array has {} values", values.ids.len()),
+                    format!(
+                        "index {k} is out of bounds: the array has {} values",
+                        values.ids.len()
+                    ),
                 );
                 return true;
             };

@@ -48,15 +48,20 @@ fn a_generated_force_gives_the_nodes_of_the_hand_written_one() {
             .with_newton(tight())
             .solve_ivp(scheme, [0.4, -0.2], [1.0, -0.5])
             .unwrap();
-        let gap = a
-            .q
-            .iter()
-            .zip(&b.q)
-            .map(|(p, q)| (p - q).amax())
-            .fold(0.0, f64::max);
-        assert!(gap <= 1e-12, "{embedding} {scheme}: nodes differ by {gap:e}");
+        let gap =
+            a.q.iter()
+                .zip(&b.q)
+                .map(|(p, q)| (p - q).amax())
+                .fold(0.0, f64::max);
+        assert!(
+            gap <= 1e-12,
+            "{embedding} {scheme}: nodes differ by {gap:e}"
+        );
         let moved = (a.q[a.q.len() - 1] - a.q[0]).amax();
-        assert!(moved > 0.1, "{embedding} {scheme}: the pair moved by {moved}");
+        assert!(
+            moved > 0.1,
+            "{embedding} {scheme}: the pair moved by {moved}"
+        );
         worst = worst.max(gap);
     }
     println!("generated vs hand-written force: largest node difference {worst:e}");

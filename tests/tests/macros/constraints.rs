@@ -132,10 +132,9 @@ fn constraints_match_num_dual_and_central_differences() {
             check(
                 "linkage",
                 &linkage,
-                (
-                    &|x| linkage_dual(x, &linkage),
-                    &|x| linkage_dual(x, &linkage),
-                ),
+                (&|x| linkage_dual(x, &linkage), &|x| {
+                    linkage_dual(x, &linkage)
+                }),
                 11,
             ),
         ),
@@ -144,10 +143,9 @@ fn constraints_match_num_dual_and_central_differences() {
             check(
                 "sphere_plane",
                 &sphere,
-                (
-                    &|x| sphere_plane_dual(x, &sphere),
-                    &|x| sphere_plane_dual(x, &sphere),
-                ),
+                (&|x| sphere_plane_dual(x, &sphere), &|x| {
+                    sphere_plane_dual(x, &sphere)
+                }),
                 12,
             ),
         ),

@@ -51,7 +51,10 @@ mod constraint_example {
     #[constraint]
     fn rods(x: [f64; 4], a: f64, b: f64) -> [f64; 2] {
         let d = [x[2] - x[0], x[3] - x[1]];
-        [x[0] * x[0] + x[1] * x[1] - a * a, d[0] * d[0] + d[1] * d[1] - b * b]
+        [
+            x[0] * x[0] + x[1] * x[1] - a * a,
+            d[0] * d[0] + d[1] * d[1] - b * b,
+        ]
     }
 
     #[test]

@@ -77,7 +77,12 @@ fn anharmonic(x: [f64; 2], v: [f64; 2], k: f64, c: f64) -> [f64; 2] {
     ]
 }
 
-fn anharmonic_dual<T: DualNum<Primitive = f64> + Copy>(x: &[T], v: &[T], _t: T, m: &Anharmonic) -> Vec<T> {
+fn anharmonic_dual<T: DualNum<Primitive = f64> + Copy>(
+    x: &[T],
+    v: &[T],
+    _t: T,
+    m: &Anharmonic,
+) -> Vec<T> {
     let d = x[0] - x[1];
     let p = d * m.k + d * d * d * m.k;
     vec![
@@ -101,7 +106,12 @@ fn chain_drag(x: [f64; 4], v: [f64; 4], c: f64) -> [f64; 4] {
     f
 }
 
-fn chain_drag_dual<T: DualNum<Primitive = f64> + Copy>(x: &[T], v: &[T], _t: T, m: &ChainDrag) -> Vec<T> {
+fn chain_drag_dual<T: DualNum<Primitive = f64> + Copy>(
+    x: &[T],
+    v: &[T],
+    _t: T,
+    m: &ChainDrag,
+) -> Vec<T> {
     let mut f: Vec<T> = (0..4).map(|i| -v[i] * (x[i] * x[i] + 1.0) * m.c).collect();
     for i in 0..3 {
         let s = (x[i + 1] - x[i]).sin();
@@ -117,7 +127,12 @@ fn damping(x: [f64; 2], v: [f64; 2], c: f64) -> [f64; 2] {
     [-c * v[0], -c * v[1] - 0.5 * x[0]]
 }
 
-fn damping_dual<T: DualNum<Primitive = f64> + Copy>(x: &[T], v: &[T], _t: T, m: &Damping) -> Vec<T> {
+fn damping_dual<T: DualNum<Primitive = f64> + Copy>(
+    x: &[T],
+    v: &[T],
+    _t: T,
+    m: &Damping,
+) -> Vec<T> {
     vec![-v[0] * m.c, -v[1] * m.c - x[0] * 0.5]
 }
 
@@ -127,7 +142,12 @@ fn van_der_pol(x: f64, v: f64, mu: f64) -> f64 {
     mu * (1.0 - x * x) * v
 }
 
-fn van_der_pol_dual<T: DualNum<Primitive = f64> + Copy>(x: &[T], v: &[T], _t: T, m: &VanDerPol) -> Vec<T> {
+fn van_der_pol_dual<T: DualNum<Primitive = f64> + Copy>(
+    x: &[T],
+    v: &[T],
+    _t: T,
+    m: &VanDerPol,
+) -> Vec<T> {
     vec![(-x[0] * x[0] + 1.0) * v[0] * m.mu]
 }
 
@@ -166,7 +186,10 @@ fn check<const D: usize>(name: &str, f: &impl Force<D>, oracle: Oracle<'_>, seed
                     c => (j.v[(i, c - D)], out[i].eps),
                 };
                 let err = (got - want).abs() / want.abs().max(1.0);
-                assert!(err <= 1e-12, "{name} column {c} row {i}: {got:e} vs {want:e}");
+                assert!(
+                    err <= 1e-12,
+                    "{name} column {c} row {i}: {got:e} vs {want:e}"
+                );
                 errors.dual = errors.dual.max(err);
             }
         }
@@ -185,7 +208,11 @@ fn check<const D: usize>(name: &str, f: &impl Force<D>, oracle: Oracle<'_>, seed
             for i in 0..D {
                 let got = if c < D { j.x[(i, c)] } else { j.v[(i, c - D)] };
                 let err = (got - diff[i]).abs() / diff[i].abs().max(1.0);
-                assert!(err <= 1e-7, "{name} central {c} row {i}: {got:e} vs {:e}", diff[i]);
+                assert!(
+                    err <= 1e-7,
+                    "{name} central {c} row {i}: {got:e} vs {:e}",
+                    diff[i]
+                );
                 errors.central = errors.central.max(err);
             }
         }
@@ -228,42 +255,50 @@ fn forces_match_num_dual_and_central_differences() {
     let damping = Damping { c: 0.25 };
     let vdp = VanDerPol { mu: 1.5 };
     let results = [
-        ("twist", check(
+        (
             "twist",
-            &twist,
-            &|x, v, t| twist_dual(x, v, t, &twist),
-            1,
-        )),
-        ("drive", check(
+            check("twist", &twist, &|x, v, t| twist_dual(x, v, t, &twist), 1),
+        ),
+        (
             "drive",
-            &drive,
-            &|x, v, t| drive_dual(x, v, t, &drive),
-            2,
-        )),
-        ("anharmonic", check(
+            check("drive", &drive, &|x, v, t| drive_dual(x, v, t, &drive), 2),
+        ),
+        (
             "anharmonic",
-            &anharmonic,
-            &|x, v, t| anharmonic_dual(x, v, t, &anharmonic),
-            3,
-        )),
-        ("chain_drag", check(
+            check(
+                "anharmonic",
+                &anharmonic,
+                &|x, v, t| anharmonic_dual(x, v, t, &anharmonic),
+                3,
+            ),
+        ),
+        (
             "chain_drag",
-            &chain,
-            &|x, v, t| chain_drag_dual(x, v, t, &chain),
-            4,
-        )),
-        ("damping", check(
+            check(
+                "chain_drag",
+                &chain,
+                &|x, v, t| chain_drag_dual(x, v, t, &chain),
+                4,
+            ),
+        ),
+        (
             "damping",
-            &damping,
-            &|x, v, t| damping_dual(x, v, t, &damping),
-            5,
-        )),
-        ("van_der_pol", check(
+            check(
+                "damping",
+                &damping,
+                &|x, v, t| damping_dual(x, v, t, &damping),
+                5,
+            ),
+        ),
+        (
             "van_der_pol",
-            &vdp,
-            &|x, v, t| van_der_pol_dual(x, v, t, &vdp),
-            6,
-        )),
+            check(
+                "van_der_pol",
+                &vdp,
+                &|x, v, t| van_der_pol_dual(x, v, t, &vdp),
+                6,
+            ),
+        ),
     ];
     for (name, e) in &results {
         println!(
@@ -308,11 +343,26 @@ fn forces_claim_what_their_blocks_read() {
 fn forces_list_their_constants_and_derivatives() {
     let drive = Drive { a: 0.8, omega: 2.1 };
     assert_eq!(drive.constants(), vec![("a", 0.8), ("omega", 2.1)]);
-    assert!(Damping::DERIVATIVES.contains("∂f[1]/∂x[0] = -0.5"), "{}", Damping::DERIVATIVES);
-    assert!(VanDerPol::DERIVATIVES.starts_with("f = "), "{}", VanDerPol::DERIVATIVES);
-    assert!(!Twist::DERIVATIVES.contains("∂f[2]/∂v[0]"), "{}", Twist::DERIVATIVES);
+    assert!(
+        Damping::DERIVATIVES.contains("∂f[1]/∂x[0] = -0.5"),
+        "{}",
+        Damping::DERIVATIVES
+    );
+    assert!(
+        VanDerPol::DERIVATIVES.starts_with("f = "),
+        "{}",
+        VanDerPol::DERIVATIVES
+    );
+    assert!(
+        !Twist::DERIVATIVES.contains("∂f[2]/∂v[0]"),
+        "{}",
+        Twist::DERIVATIVES
+    );
     // The fn stays callable and agrees with the struct.
     let (x, v) = ([0.3, -0.2], [0.5, 0.1]);
     let f = drive.force(&Vector::<2>::from(x), &Vector::<2>::from(v), 0.7);
-    assert_eq!(f, Vector::<2>::from(super::forces::drive(x, v, 0.7, 0.8, 2.1)));
+    assert_eq!(
+        f,
+        Vector::<2>::from(super::forces::drive(x, v, 0.7, 0.8, 2.1))
+    );
 }

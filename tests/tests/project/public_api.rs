@@ -19,8 +19,8 @@ use varembed::{
     DirectEmbedding, DynSolution, DynState, Embedding, EmbeddingKind, Ensemble, Error,
     FractionalSolver, Grid, Hessian, HessianDependence, IntoVector, Lagrangian, Level, Location,
     Matrix, NewtonOptions, NodeFormula, NodeRule, NodeState, NodeValues, OrderStatus, Problem,
-    Reference, Result, Scheme, SchemeReport, Side, Solution, Start, Vector, Warning,
-    constraint, curve_from_flat, force, lagrangian, max_error, observed_order, observed_orders,
+    Reference, Result, Scheme, SchemeReport, Side, Solution, Start, Vector, Warning, constraint,
+    curve_from_flat, force, lagrangian, max_error, observed_order, observed_orders,
 };
 
 /// Compiles only while the public types keep their auto traits.
