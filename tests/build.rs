@@ -804,7 +804,26 @@ struct Gen<'a> {
     positions_only: bool,
 }
 
-impl Gen<'_> {
+impl<'a> Gen<'a> {
+    /// A generator at dimension `d` with `consts` model constants, `t` if `time`.
+    fn new(
+        rng: &'a mut Rng,
+        level: Level,
+        (d, consts, time): (usize, usize, bool),
+        positions_only: bool,
+    ) -> Self {
+        Gen {
+            rng,
+            level,
+            d,
+            consts,
+            time,
+            forms: Vec::new(),
+            fresh: 0,
+            positions_only,
+        }
+    }
+
     fn form(&mut self, name: &'static str) {
         debug_assert!(FORMS.contains(&name));
         if !self.forms.contains(&name) {
@@ -1708,16 +1727,7 @@ fn draw(rng: &mut Rng, id: usize, level: Level) -> Program {
     let literal = d >= 2 && rng.chance(0.35);
     let consts = rng.below(3);
     let time = rng.chance(0.35);
-    let mut g = Gen {
-        rng,
-        level,
-        d,
-        consts,
-        time,
-        forms: Vec::new(),
-        fresh: 0,
-        positions_only: false,
-    };
+    let mut g = Gen::new(rng, level, (d, consts, time), false);
     let nparts = g.rng.pick(&[1, 1, 1, 1, 1, 1, 1, 2, 2, 2]);
     let mut parts = Vec::new();
     let mut looped = false;
@@ -2099,16 +2109,7 @@ fn vector_program(rng: &mut Rng, id: usize, level: Level) -> String {
     let m = if force { d } else { 1 + rng.below(3) };
     let consts = rng.below(3);
     let time = force && rng.chance(0.5);
-    let mut g = Gen {
-        rng,
-        level,
-        d,
-        consts,
-        time,
-        forms: Vec::new(),
-        fresh: 0,
-        positions_only: !force,
-    };
+    let mut g = Gen::new(rng, level, (d, consts, time), !force);
     let components: Vec<E> = (0..m).map(|_| g.body(&[])).collect();
     let form = g.rng.below(3);
     let consts: Vec<f64> = (0..consts).map(|_| rng_const(g.rng)).collect();

@@ -159,12 +159,22 @@ pub struct Errors {
     pub central: f64,
 }
 
+impl Errors {
+    /// The line the tests print for `name` (run with `--nocapture`).
+    pub fn print(&self, name: &str) {
+        println!(
+            "{name}: {POINTS} points, max relative error vs num-dual {:e}, vs central differences {:e}",
+            self.dual, self.central
+        );
+    }
+}
+
 /// The oracle of a force: `f(x, v, t)` on dual numbers.
 type Oracle<'a> = &'a dyn Fn(&[Dual64], &[Dual64], Dual64) -> Vec<Dual64>;
 
 /// Checks `f` against `oracle` at [`POINTS`] points drawn from `seed`, and its claimed
-/// dependence by redrawing what a block claims not to read.
-fn check<const D: usize>(name: &str, f: &impl Force<D>, oracle: Oracle<'_>, seed: u64) -> Errors {
+/// dependence by redrawing what a block claims not to read; prints the largest errors.
+fn check<const D: usize>(name: &str, f: &impl Force<D>, oracle: Oracle<'_>, seed: u64) {
     let mut rng = Rng(seed);
     let mut errors = Errors::default();
     let claimed = f.jacobian_dependence();
@@ -239,7 +249,7 @@ fn check<const D: usize>(name: &str, f: &impl Force<D>, oracle: Oracle<'_>, seed
             }
         }
     }
-    errors
+    errors.print(name);
 }
 
 fn dep(x: bool, v: bool, t: bool) -> Dependence {
@@ -249,63 +259,33 @@ fn dep(x: bool, v: bool, t: bool) -> Dependence {
 #[test]
 fn forces_match_num_dual_and_central_differences() {
     let twist = Twist { k: 1.3, w: 0.7 };
+    check("twist", &twist, &|x, v, t| twist_dual(x, v, t, &twist), 1);
     let drive = Drive { a: 0.8, omega: 2.1 };
+    check("drive", &drive, &|x, v, t| drive_dual(x, v, t, &drive), 2);
     let anharmonic = Anharmonic { k: 0.9, c: 0.4 };
+    let oracle = |x: &[Dual64], v: &[Dual64], t| anharmonic_dual(x, v, t, &anharmonic);
+    check("anharmonic", &anharmonic, &oracle, 3);
     let chain = ChainDrag { c: 0.6 };
+    check(
+        "chain_drag",
+        &chain,
+        &|x, v, t| chain_drag_dual(x, v, t, &chain),
+        4,
+    );
     let damping = Damping { c: 0.25 };
+    check(
+        "damping",
+        &damping,
+        &|x, v, t| damping_dual(x, v, t, &damping),
+        5,
+    );
     let vdp = VanDerPol { mu: 1.5 };
-    let results = [
-        (
-            "twist",
-            check("twist", &twist, &|x, v, t| twist_dual(x, v, t, &twist), 1),
-        ),
-        (
-            "drive",
-            check("drive", &drive, &|x, v, t| drive_dual(x, v, t, &drive), 2),
-        ),
-        (
-            "anharmonic",
-            check(
-                "anharmonic",
-                &anharmonic,
-                &|x, v, t| anharmonic_dual(x, v, t, &anharmonic),
-                3,
-            ),
-        ),
-        (
-            "chain_drag",
-            check(
-                "chain_drag",
-                &chain,
-                &|x, v, t| chain_drag_dual(x, v, t, &chain),
-                4,
-            ),
-        ),
-        (
-            "damping",
-            check(
-                "damping",
-                &damping,
-                &|x, v, t| damping_dual(x, v, t, &damping),
-                5,
-            ),
-        ),
-        (
-            "van_der_pol",
-            check(
-                "van_der_pol",
-                &vdp,
-                &|x, v, t| van_der_pol_dual(x, v, t, &vdp),
-                6,
-            ),
-        ),
-    ];
-    for (name, e) in &results {
-        println!(
-            "{name}: {POINTS} points, max relative error vs num-dual {:e}, vs central differences {:e}",
-            e.dual, e.central
-        );
-    }
+    check(
+        "van_der_pol",
+        &vdp,
+        &|x, v, t| van_der_pol_dual(x, v, t, &vdp),
+        6,
+    );
 }
 
 /// What each force's blocks read, exactly: the macro finds no dependence that is not there and
