@@ -315,30 +315,44 @@ fn hessian_blocks(
     let blocks = [&d.xx, &d.xv, &d.vv]
         .into_iter()
         .zip(&names)
-        .map(|(entries, name)| matrix(g, r, name, entries, types));
+        .map(|(entries, name)| {
+            let zeros = &types.matrix_expr;
+            matrix(
+                r,
+                g,
+                (quote!(#name), quote!(#zeros::zeros())),
+                entries,
+                types.size,
+            )
+        });
     let hessian = private("Hessian");
     let [xx, xv, vv] = &names;
     (quote!(#(#blocks)*), quote!(#hessian { #xx, #xv, #vv }))
 }
 
-/// `let [mut] name = Matrix::zeros(); name[(i, j)] = …;` for the nonzero entries.
-fn matrix(g: &Graph, r: &Render<'_>, name: &Ident, entries: &[Id], types: &Types) -> TokenStream {
-    let matrix = &types.matrix_expr;
-    let dim = types.size;
+/// `let [mut] name = zeros; name[(i, j)] = …;` for the nonzero entries of the row-major
+/// `entries` with `cols` columns (a Hessian block, a force's Jacobian block, a constraint's
+/// `G`).
+pub fn matrix(
+    r: &Render<'_>,
+    g: &Graph,
+    (name, zeros): (TokenStream, TokenStream),
+    entries: &[Id],
+    cols: usize,
+) -> TokenStream {
     let sets: Vec<TokenStream> = entries
         .iter()
         .enumerate()
         .filter(|&(_, &id)| !g.is_num(id, 0.0))
         .map(|(k, &id)| {
-            let (i, j) = (index(k / dim), index(k % dim));
-            let e = r.root(id);
+            let (i, j, e) = (index(k / cols), index(k % cols), r.root(id));
             quote!(#name[(#i, #j)] = #e;)
         })
         .collect();
     if sets.is_empty() {
-        quote!(let #name = #matrix::zeros();)
+        quote!(let #name = #zeros;)
     } else {
-        quote!(let mut #name = #matrix::zeros(); #(#sets)*)
+        quote!(let mut #name = #zeros; #(#sets)*)
     }
 }
 

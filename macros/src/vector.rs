@@ -12,7 +12,9 @@ use quote::quote;
 
 use crate::cse::Plan;
 use crate::diff::{self, Differentiator};
-use crate::emit::{constants, dependence_value, head, index, leaf, mentions, param, private};
+use crate::emit::{
+    constants, dependence_value, head, index, leaf, matrix, mentions, param, private,
+};
 use crate::ir::{Attr, Graph, Id, Model, Prec, Var};
 use crate::render::Render;
 use crate::text;
@@ -52,31 +54,6 @@ fn nonzero(g: &Graph, ids: &[Id]) -> Vec<Id> {
         .copied()
         .filter(|&id| !g.is_num(id, 0.0))
         .collect()
-}
-
-/// `let [mut] name = zeros; name[(i, j)] = …;` for the nonzero entries of the row-major
-/// `entries` with `cols` columns.
-fn matrix(
-    r: &Render<'_>,
-    g: &Graph,
-    (name, zeros): (TokenStream, TokenStream),
-    entries: &[Id],
-    cols: usize,
-) -> TokenStream {
-    let sets: Vec<TokenStream> = entries
-        .iter()
-        .enumerate()
-        .filter(|&(_, &id)| !g.is_num(id, 0.0))
-        .map(|(k, &id)| {
-            let (i, j, e) = (index(k / cols), index(k % cols), r.root(id));
-            quote!(#name[(#i, #j)] = #e;)
-        })
-        .collect();
-    if sets.is_empty() {
-        quote!(let #name = #zeros;)
-    } else {
-        quote!(let mut #name = #zeros; #(#sets)*)
-    }
 }
 
 /// `Force<D>`: `force`, `jacobian`, `jacobian_dependence`, `constants`.

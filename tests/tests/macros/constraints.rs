@@ -13,11 +13,11 @@
 )]
 
 use nalgebra::SVector;
-use num_dual::{Dual64, DualNum, HyperDual64};
+use num_dual::{Dual64, HyperDual64};
 use varembed::{Constraint, Vector, constraint};
 use varembed_tests::rng::Rng;
 
-use super::forces::{Errors, POINTS};
+use super::forces::{Errors, POINTS, Real};
 
 /// A planar two-link mechanism: two rod lengths and an angle relation; `let` bindings, a
 /// local array, constants, `atan2`.
@@ -31,7 +31,7 @@ fn linkage(x: [f64; 4], a: f64, b: f64) -> [f64; 3] {
     ]
 }
 
-fn linkage_dual<T: DualNum<Primitive = f64> + Copy>(x: &[T], c: &Linkage) -> Vec<T> {
+fn linkage_dual<T: Real>(x: &[T], c: &Linkage) -> Vec<T> {
     let (d0, d1) = (x[2] - x[0], x[3] - x[1]);
     vec![
         x[0] * x[0] + x[1] * x[1] - c.a * c.a,
@@ -52,7 +52,7 @@ fn sphere_plane(x: [f64; 3], r: f64) -> [f64; 2] {
     g
 }
 
-fn sphere_plane_dual<T: DualNum<Primitive = f64> + Copy>(x: &[T], c: &SpherePlane) -> Vec<T> {
+fn sphere_plane_dual<T: Real>(x: &[T], c: &SpherePlane) -> Vec<T> {
     let sphere = x[0] * x[0] + x[1] * x[1] + x[2] * x[2] - c.r * c.r;
     let plane = x[0] + x[1] * 2.0 + x[2] * 3.0;
     vec![sphere, plane]

@@ -18,6 +18,11 @@ use num_dual::{Dual64, DualNum};
 use varembed::{Dependence, Force, ForceDependence, Vector, force, lagrangian};
 use varembed_tests::rng::Rng;
 
+/// The numbers the oracles run on: num-dual's, over `f64`.
+pub trait Real: DualNum<Primitive = f64> + Copy {}
+
+impl<T: DualNum<Primitive = f64> + Copy> Real for T {}
+
 /// Points per force.
 pub const POINTS: usize = 300;
 
@@ -34,7 +39,7 @@ fn twist(x: [f64; 3], v: [f64; 3], k: f64, w: f64) -> [f64; 3] {
     ]
 }
 
-fn twist_dual<T: DualNum<Primitive = f64> + Copy>(x: &[T], v: &[T], _t: T, c: &Twist) -> Vec<T> {
+fn twist_dual<T: Real>(x: &[T], v: &[T], _t: T, c: &Twist) -> Vec<T> {
     let s = (x[0] * x[0] + x[1] * x[1] + x[2] * x[2] + 1.0).sqrt();
     vec![
         -x[0] / s * c.k + x[1] * v[2] * c.w,
@@ -53,7 +58,7 @@ fn drive(x: [f64; 2], v: [f64; 2], t: f64, a: f64, omega: f64) -> [f64; 2] {
     ]
 }
 
-fn drive_dual<T: DualNum<Primitive = f64> + Copy>(x: &[T], v: &[T], t: T, c: &Drive) -> Vec<T> {
+fn drive_dual<T: Real>(x: &[T], v: &[T], t: T, c: &Drive) -> Vec<T> {
     let phase = t * c.omega;
     vec![
         phase.cos() * x[1].tanh() * c.a - v[0] * t,
@@ -77,12 +82,7 @@ fn anharmonic(x: [f64; 2], v: [f64; 2], k: f64, c: f64) -> [f64; 2] {
     ]
 }
 
-fn anharmonic_dual<T: DualNum<Primitive = f64> + Copy>(
-    x: &[T],
-    v: &[T],
-    _t: T,
-    m: &Anharmonic,
-) -> Vec<T> {
+fn anharmonic_dual<T: Real>(x: &[T], v: &[T], _t: T, m: &Anharmonic) -> Vec<T> {
     let d = x[0] - x[1];
     let p = d * m.k + d * d * d * m.k;
     vec![
@@ -106,12 +106,7 @@ fn chain_drag(x: [f64; 4], v: [f64; 4], c: f64) -> [f64; 4] {
     f
 }
 
-fn chain_drag_dual<T: DualNum<Primitive = f64> + Copy>(
-    x: &[T],
-    v: &[T],
-    _t: T,
-    m: &ChainDrag,
-) -> Vec<T> {
+fn chain_drag_dual<T: Real>(x: &[T], v: &[T], _t: T, m: &ChainDrag) -> Vec<T> {
     let mut f: Vec<T> = (0..4).map(|i| -v[i] * (x[i] * x[i] + 1.0) * m.c).collect();
     for i in 0..3 {
         let s = (x[i + 1] - x[i]).sin();
@@ -127,12 +122,7 @@ fn damping(x: [f64; 2], v: [f64; 2], c: f64) -> [f64; 2] {
     [-c * v[0], -c * v[1] - 0.5 * x[0]]
 }
 
-fn damping_dual<T: DualNum<Primitive = f64> + Copy>(
-    x: &[T],
-    v: &[T],
-    _t: T,
-    m: &Damping,
-) -> Vec<T> {
+fn damping_dual<T: Real>(x: &[T], v: &[T], _t: T, m: &Damping) -> Vec<T> {
     vec![-v[0] * m.c, -v[1] * m.c - x[0] * 0.5]
 }
 
@@ -142,12 +132,7 @@ fn van_der_pol(x: f64, v: f64, mu: f64) -> f64 {
     mu * (1.0 - x * x) * v
 }
 
-fn van_der_pol_dual<T: DualNum<Primitive = f64> + Copy>(
-    x: &[T],
-    v: &[T],
-    _t: T,
-    m: &VanDerPol,
-) -> Vec<T> {
+fn van_der_pol_dual<T: Real>(x: &[T], v: &[T], _t: T, m: &VanDerPol) -> Vec<T> {
     vec![(-x[0] * x[0] + 1.0) * v[0] * m.mu]
 }
 
