@@ -163,8 +163,8 @@ pub fn lagrangian(args: TokenStream, item: TokenStream) -> TokenStream {
 /// `let mut f = [0.0; 2]; for i in 0..2 { f[i] = …; } f` (also `f[i] += …`). Every loop runs
 /// over a literal range and is unrolled, so that `x` and `v` are read at constant indices; a
 /// loop over a `const`, a run-time dimension (`&[f64]`) or a named dimension (`[f64; N]`) is
-/// a compile error. No `DynForce` is generated. Reading the fn's other forms is a compile
-/// error on the offending tokens.
+/// a compile error, as is anything else a `#[lagrangian]` body may not hold, each on its
+/// tokens. No `DynForce` is generated (a force on the run-time path is written by hand).
 ///
 /// # Example
 ///
