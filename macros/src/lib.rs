@@ -161,7 +161,8 @@ pub fn lagrangian(args: TokenStream, item: TokenStream) -> TokenStream {
 /// The body is what a `#[lagrangian]` body may be, ending with an array `[f0, f1, …]` (after
 /// any `let`s), a helper's array, or a local array set element by element:
 /// `let mut f = [0.0; 2]; for i in 0..2 { f[i] = …; } f` (also `f[i] += …`). Every loop runs
-/// over a literal range and is unrolled, so that `x` and `v` are read at constant indices; a
+/// over a literal range and is unrolled, so that `x` and `v` are read at constant indices
+/// (`x[(i + 1) % D]` included); a
 /// loop over a `const`, a run-time dimension (`&[f64]`) or a named dimension (`[f64; N]`) is
 /// a compile error, as is anything else a `#[lagrangian]` body may not hold, each on its
 /// tokens. No `DynForce` is generated (a force on the run-time path is written by hand).

@@ -116,6 +116,22 @@ fn chain_drag_dual<T: Real>(x: &[T], v: &[T], _t: T, m: &ChainDrag) -> Vec<T> {
     f
 }
 
+/// A ring: periodic indices `x[(i + 1) % 4]` in an unrolled loop, resolved to components.
+#[force]
+fn ring(x: [f64; 4], v: [f64; 4], k: f64) -> [f64; 4] {
+    let mut f = [0.0; 4];
+    for i in 0..4 {
+        f[i] = k * (x[(i + 1) % 4] - x[i]).sin() - 0.1 * v[(i + 3) % 4];
+    }
+    f
+}
+
+fn ring_dual<T: Real>(x: &[T], v: &[T], _t: T, m: &Ring) -> Vec<T> {
+    (0..4)
+        .map(|i| (x[(i + 1) % 4] - x[i]).sin() * m.k - v[(i + 3) % 4] * 0.1)
+        .collect()
+}
+
 /// Linear damping with a position coupling: constant blocks.
 #[force]
 fn damping(x: [f64; 2], v: [f64; 2], c: f64) -> [f64; 2] {
@@ -257,6 +273,8 @@ fn forces_match_num_dual_and_central_differences() {
         &|x, v, t| chain_drag_dual(x, v, t, &chain),
         4,
     );
+    let ring = Ring { k: 0.7 };
+    check("ring", &ring, &|x, v, t| ring_dual(x, v, t, &ring), 7);
     let damping = Damping { c: 0.25 };
     check(
         "damping",
