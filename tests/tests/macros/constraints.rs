@@ -58,12 +58,13 @@ fn sphere_plane_dual<T: Real>(x: &[T], c: &SpherePlane) -> Vec<T> {
     vec![sphere, plane]
 }
 
-type Oracle<'a, T> = &'a dyn Fn(&[T]) -> Vec<T>;
+/// The oracle of a constraint `C` on numbers `T`: `g(x)` with the constraint's constants.
+type Oracle<T, C> = fn(&[T], &C) -> Vec<T>;
 
-fn check<const D: usize, const M: usize>(
+fn check<const D: usize, const M: usize, C: Constraint<D, M>>(
     name: &str,
-    g: &impl Constraint<D, M>,
-    (first, second): (Oracle<'_, Dual64>, Oracle<'_, HyperDual64>),
+    g: &C,
+    (first, second): (Oracle<Dual64, C>, Oracle<HyperDual64, C>),
     seed: u64,
 ) {
     let mut rng = Rng(seed);
@@ -86,7 +87,7 @@ fn check<const D: usize, const M: usize>(
             let z: Vec<Dual64> = (0..D)
                 .map(|k| Dual64::new(x[k], f64::from(u8::from(k == j))))
                 .collect();
-            let out = first(&z);
+            let out = first(&z, g);
             for k in 0..M {
                 record("g", value[k], out[k].re, 1e-12, false);
                 record("G", jac[(k, j)], out[k].eps, 1e-12, false);
@@ -100,7 +101,7 @@ fn check<const D: usize, const M: usize>(
                         HyperDual64::new(x[k], f64::from(e1), f64::from(e2), 0.0)
                     })
                     .collect();
-                let out = second(&z);
+                let out = second(&z, g);
                 let want: f64 = (0..M).map(|k| lambda[k] * out[k].eps1eps2).sum();
                 record("Σλ∇²g", h[(a, b)], want, 1e-12, false);
             }
@@ -124,18 +125,15 @@ fn check<const D: usize, const M: usize>(
 
 #[test]
 fn constraints_match_num_dual_and_central_differences() {
-    let linkage = Linkage { a: 1.0, b: 1.5 };
-    let oracles: (Oracle<'_, Dual64>, Oracle<'_, HyperDual64>) = (
-        &|x: &[Dual64]| linkage_dual(x, &linkage),
-        &|x: &[HyperDual64]| linkage_dual(x, &linkage),
+    let (linkage, sphere) = (Linkage { a: 1.0, b: 1.5 }, SpherePlane { r: 0.8 });
+    check(
+        "linkage (M = 3)",
+        &linkage,
+        (linkage_dual, linkage_dual),
+        11,
     );
-    check("linkage (M = 3)", &linkage, oracles, 11);
-    let sphere = SpherePlane { r: 0.8 };
-    let oracles: (Oracle<'_, Dual64>, Oracle<'_, HyperDual64>) = (
-        &|x: &[Dual64]| sphere_plane_dual(x, &sphere),
-        &|x: &[HyperDual64]| sphere_plane_dual(x, &sphere),
-    );
-    check("sphere_plane (M = 2)", &sphere, oracles, 12);
+    let plane = "sphere_plane (M = 2)";
+    check(plane, &sphere, (sphere_plane_dual, sphere_plane_dual), 12);
 }
 
 #[test]

@@ -170,12 +170,12 @@ impl Errors {
     }
 }
 
-/// The oracle of a force: `f(x, v, t)` on dual numbers.
-type Oracle<'a> = &'a dyn Fn(&[Dual64], &[Dual64], Dual64) -> Vec<Dual64>;
+/// The oracle of a force `F`: `f(x, v, t)` on dual numbers, with the force's constants.
+type Oracle<F> = fn(&[Dual64], &[Dual64], Dual64, &F) -> Vec<Dual64>;
 
 /// Checks `f` against `oracle` at [`POINTS`] points drawn from `seed`, and its claimed
 /// dependence by redrawing what a block claims not to read; prints the largest errors.
-fn check<const D: usize>(name: &str, f: &impl Force<D>, oracle: Oracle<'_>, seed: u64) {
+fn check<const D: usize, F: Force<D>>(name: &str, f: &F, oracle: Oracle<F>, seed: u64) {
     let mut rng = Rng(seed);
     let mut errors = Errors::default();
     let claimed = f.jacobian_dependence();
@@ -189,7 +189,7 @@ fn check<const D: usize>(name: &str, f: &impl Force<D>, oracle: Oracle<'_>, seed
             let seed = |k: usize, a: f64| Dual64::new(a, f64::from(u8::from(k == c)));
             let xd: Vec<Dual64> = (0..D).map(|k| seed(k, x[k])).collect();
             let vd: Vec<Dual64> = (0..D).map(|k| seed(D + k, v[k])).collect();
-            let out = oracle(&xd, &vd, Dual64::from(t));
+            let out = oracle(&xd, &vd, Dual64::from(t), f);
             for i in 0..D {
                 let (got, want) = match c {
                     c if c == 2 * D => (value[i], out[i].re),
@@ -259,36 +259,18 @@ fn dep(x: bool, v: bool, t: bool) -> Dependence {
 
 #[test]
 fn forces_match_num_dual_and_central_differences() {
-    let twist = Twist { k: 1.3, w: 0.7 };
-    check("twist", &twist, &|x, v, t| twist_dual(x, v, t, &twist), 1);
-    let drive = Drive { a: 0.8, omega: 2.1 };
-    check("drive", &drive, &|x, v, t| drive_dual(x, v, t, &drive), 2);
-    let anharmonic = Anharmonic { k: 0.9, c: 0.4 };
-    let oracle = |x: &[Dual64], v: &[Dual64], t| anharmonic_dual(x, v, t, &anharmonic);
-    check("anharmonic", &anharmonic, &oracle, 3);
-    let chain = ChainDrag { c: 0.6 };
+    check("twist", &Twist { k: 1.3, w: 0.7 }, twist_dual, 1);
+    check("drive", &Drive { a: 0.8, omega: 2.1 }, drive_dual, 2);
     check(
-        "chain_drag",
-        &chain,
-        &|x, v, t| chain_drag_dual(x, v, t, &chain),
-        4,
+        "anharmonic",
+        &Anharmonic { k: 0.9, c: 0.4 },
+        anharmonic_dual,
+        3,
     );
-    let ring = Ring { k: 0.7 };
-    check("ring", &ring, &|x, v, t| ring_dual(x, v, t, &ring), 7);
-    let damping = Damping { c: 0.25 };
-    check(
-        "damping",
-        &damping,
-        &|x, v, t| damping_dual(x, v, t, &damping),
-        5,
-    );
-    let vdp = VanDerPol { mu: 1.5 };
-    check(
-        "van_der_pol",
-        &vdp,
-        &|x, v, t| van_der_pol_dual(x, v, t, &vdp),
-        6,
-    );
+    check("chain_drag", &ChainDrag { c: 0.6 }, chain_drag_dual, 4);
+    check("damping", &Damping { c: 0.25 }, damping_dual, 5);
+    check("van_der_pol", &VanDerPol { mu: 1.5 }, van_der_pol_dual, 6);
+    check("ring", &Ring { k: 0.7 }, ring_dual, 7);
 }
 
 /// What each force's blocks read, exactly: the macro finds no dependence that is not there and
