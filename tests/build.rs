@@ -1,5 +1,7 @@
 //! Writes the programs of the differential fuzzer of `#[lagrangian]` (`tests/macro_fuzz.rs`)
-//! into `OUT_DIR/macro_fuzz.rs`, from a fixed seed.
+//! into `OUT_DIR/macro_fuzz.rs`, from a fixed seed; and, from a generator of their own (so
+//! that a seed's Lagrangians do not change), one `#[force]` or `#[constraint]` program for
+//! every four ([`vector_program`]).
 //!
 //! Each program is one Lagrangian written three times: as a `#[lagrangian]` fn of arrays
 //! `[f64; N]` (the dimension a `const` or a literal), as a `#[lagrangian]` fn of slices with a
@@ -798,9 +800,30 @@ struct Gen<'a> {
     time: bool,
     forms: Vec<&'static str>,
     fresh: usize,
+    /// Components of `x` only (a constraint's body).
+    positions_only: bool,
 }
 
-impl Gen<'_> {
+impl<'a> Gen<'a> {
+    /// A generator at dimension `d` with `consts` model constants, `t` if `time`.
+    fn new(
+        rng: &'a mut Rng,
+        level: Level,
+        (d, consts, time): (usize, usize, bool),
+        positions_only: bool,
+    ) -> Self {
+        Gen {
+            rng,
+            level,
+            d,
+            consts,
+            time,
+            forms: Vec::new(),
+            fresh: 0,
+            positions_only,
+        }
+    }
+
     fn form(&mut self, name: &'static str) {
         debug_assert!(FORMS.contains(&name));
         if !self.forms.contains(&name) {
@@ -873,7 +896,7 @@ impl Gen<'_> {
 
     fn component(&mut self, vars: &[LoopVar]) -> E {
         let ix = self.index(vars);
-        if self.rng.chance(0.5) {
+        if self.positions_only || self.rng.chance(0.5) {
             E::X(ix)
         } else {
             E::V(ix)
@@ -1704,15 +1727,7 @@ fn draw(rng: &mut Rng, id: usize, level: Level) -> Program {
     let literal = d >= 2 && rng.chance(0.35);
     let consts = rng.below(3);
     let time = rng.chance(0.35);
-    let mut g = Gen {
-        rng,
-        level,
-        d,
-        consts,
-        time,
-        forms: Vec::new(),
-        fresh: 0,
-    };
+    let mut g = Gen::new(rng, level, (d, consts, time), false);
     let nparts = g.rng.pick(&[1, 1, 1, 1, 1, 1, 1, 2, 2, 2]);
     let mut parts = Vec::new();
     let mut looped = false;
@@ -2056,11 +2071,161 @@ fn generate(count: usize, seed: u64, level: Level) -> String {
         out.push_str(&program(&p));
         runs.push(format!("p{id:04}::run"));
     }
+    // The vector-valued programs draw from a generator of their own, so that the Lagrangians
+    // of a seed stay what they were.
+    let mut vector_rng = Rng(seed ^ 0x5EC7_0A00_F0AC_E000);
+    let mut vector_runs = Vec::new();
+    for id in 0..count.div_ceil(4) {
+        out.push('\n');
+        out.push_str(&vector_program(&mut vector_rng, id, level));
+        vector_runs.push(format!("vf{id:04}::run"));
+    }
+    let _ = writeln!(
+        out,
+        "\n/// Every `#[force]` and `#[constraint]` program's check, in order."
+    );
+    let _ = writeln!(
+        out,
+        "pub const VECTOR_PROGRAMS: &[fn(&mut Report)] = &[{}];",
+        vector_runs.join(", ")
+    );
     let _ = writeln!(out, "\n/// Every program's check, in order.");
     let _ = writeln!(
         out,
         "pub const PROGRAMS: &[fn(&mut Report)] = &[{}];",
         runs.join(", ")
     );
+    out
+}
+
+/// A `#[force]` (even `id`) or `#[constraint]` (odd `id`) program of literal dimension
+/// `D = 1..=4`: each component one loop-free body of the Lagrangians' language (components
+/// at literal indices, the functions where they are defined, branches, helpers, constants,
+/// `t`; a constraint reads `x` only), bound to `let`s or written in the array, or set element
+/// by element in a loop over `0..M`; and the oracle, the same components on dual numbers.
+fn vector_program(rng: &mut Rng, id: usize, level: Level) -> String {
+    let force = id.is_multiple_of(2);
+    let d = 1 + rng.below(4);
+    let m = if force { d } else { 1 + rng.below(3) };
+    let consts = rng.below(3);
+    let time = force && rng.chance(0.5);
+    let mut g = Gen::new(rng, level, (d, consts, time), !force);
+    let components: Vec<E> = (0..m).map(|_| g.body(&[])).collect();
+    let form = g.rng.below(3);
+    let consts: Vec<f64> = (0..consts).map(|_| rng_const(g.rng)).collect();
+    let dim = Lang::Macro(Dim::Literal(d));
+    let rendered: Vec<String> = components.iter().map(|e| render(e, dim).0).collect();
+    // Three ways to write the value: the array itself, `let`s then the array, or a local
+    // array set in a loop over `0..M` (unrolled by the macro) from the `let`s.
+    let mut text = String::new();
+    match form {
+        0 => {
+            let _ = writeln!(text, "[{}]", rendered.join(", "));
+        }
+        1 => {
+            for (k, r) in rendered.iter().enumerate() {
+                let _ = writeln!(text, "let c{k} = {r};");
+            }
+            let names: Vec<String> = (0..m).map(|k| format!("c{k}")).collect();
+            let _ = writeln!(text, "[{}]", names.join(", "));
+        }
+        _ => {
+            let names: Vec<String> = (0..m).map(|k| format!("c{k}")).collect();
+            for (k, r) in rendered.iter().enumerate() {
+                let _ = writeln!(text, "let c{k} = {r};");
+            }
+            let _ = writeln!(text, "let c = [{}];", names.join(", "));
+            let _ = writeln!(text, "let mut out = [0.0; {m}];");
+            let _ = writeln!(
+                text,
+                "for k in 0..{m} {{\n    out[k] = 2.0 * c[k];\n    out[k] -= c[k];\n}}"
+            );
+            let _ = writeln!(text, "out");
+        }
+    }
+    let (attr, name) = if force {
+        ("force", "force_model")
+    } else {
+        ("constraint", "constraint_model")
+    };
+    let mut params = vec![format!("x: [f64; {d}]")];
+    if force {
+        params.push(format!("v: [f64; {d}]"));
+        if time {
+            params.push("t: f64".into());
+        }
+    }
+    params.extend((0..consts.len()).map(|j| format!("k{j}: f64")));
+    let struct_name = if force {
+        "ForceModel"
+    } else {
+        "ConstraintModel"
+    };
+    let macro_fn = format!(
+        "#[{attr}]\n#[allow(unused_variables, clippy::needless_range_loop, clippy::eq_op, reason = \"a program need not read every parameter; the loop is a form the macro takes; components drawn apart may name one entry at a literal dimension (`x[1 - 1] - x[0]`)\")]\npub fn {name}({}) -> [f64; {m}] {{\n{}}}\n",
+        params.join(", "),
+        indent(&text, "    ")
+    );
+    let oracle_components: Vec<String> = components
+        .iter()
+        .map(|e| render(e, Lang::Oracle).0)
+        .collect();
+    let oracle = format!(
+        "#[allow(unused_variables, reason = \"a program need not read `v`, `t`, `k` or `n`\")]\n\
+         pub fn oracle<T: DualNum<Primitive = f64> + Copy>(x: &[T], v: &[T], t: f64, k: &[f64]) -> Vec<T> {{\n\
+         \x20   let n = x.len();\n\
+         \x20   let c = |a: f64| T::from(a);\n\
+         \x20   vec![{}]\n}}\n",
+        oracle_components.join(", ")
+    );
+    let fields: Vec<String> = (0..consts.len()).map(|j| format!("k{j}: K[{j}]")).collect();
+    let k_list: Vec<String> = consts.iter().map(|c| format!("{c:?}")).collect();
+    let t_arg = "t";
+    let (value, jacobian, weighted) = if force {
+        (
+            format!(
+                "&|x, v, {t_arg}| model.force(&Vector::<{d}>::from_column_slice(x), &Vector::<{d}>::from_column_slice(v), {t_arg}).iter().copied().collect()"
+            ),
+            format!(
+                "&|x, v, {t_arg}| {{ let j = model.jacobian(&Vector::<{d}>::from_column_slice(x), &Vector::<{d}>::from_column_slice(v), {t_arg}); (0..{m}).map(|i| (0..{d}).map(|c| j.x[(i, c)]).chain((0..{d}).map(|c| j.v[(i, c)])).collect()).collect() }}"
+            ),
+            "None".to_string(),
+        )
+    } else {
+        (
+            format!(
+                "&|x, _v, _t| model.value(&Vector::<{d}>::from_column_slice(x)).iter().copied().collect()"
+            ),
+            format!(
+                "&|x, _v, _t| {{ let g = model.jacobian(&Vector::<{d}>::from_column_slice(x)); (0..{m}).map(|i| (0..{d}).map(|c| g[(i, c)]).chain((0..{d}).map(|_| 0.0)).collect()).collect() }}"
+            ),
+            format!(
+                "Some(&|x, lambda| {{ let h = model.weighted_hessian(&Vector::<{d}>::from_column_slice(x), &nalgebra::SVector::<f64, {m}>::from_column_slice(lambda)); (0..{d}).map(|a| (0..{d}).map(|b| h[(a, b)]).collect()).collect() }})"
+            ),
+        )
+    };
+    let mut out = String::new();
+    let _ = writeln!(out, "pub mod vf{id:04} {{");
+    let _ = writeln!(out, "    use super::*;");
+    let _ = writeln!(
+        out,
+        "    const K: [f64; {}] = [{}];",
+        consts.len(),
+        k_list.join(", ")
+    );
+    out.push_str(&indent(&macro_fn, "    "));
+    out.push_str(&indent(&oracle, "    "));
+    let _ = writeln!(out, "    pub fn run(report: &mut Report) {{");
+    let _ = writeln!(
+        out,
+        "        let model = {struct_name} {{ {} }};",
+        fields.join(", ")
+    );
+    let _ = writeln!(
+        out,
+        "        check_vector(report, &VectorProgram {{ id: {id}, force: {force}, d: {d}, m: {m}, text: {macro_fn:?}, value: {value}, jacobian: {jacobian}, weighted: {weighted}, oracle: &|x, v, t| oracle(x, v, t, &K) }});"
+    );
+    let _ = writeln!(out, "    }}");
+    let _ = writeln!(out, "}}");
     out
 }

@@ -13,8 +13,10 @@ use crate::lagrangian::{Lagrangian, Matrix, Vector};
 
 /// `M` holonomic constraints `g(x) = 0` on `R^D`, with their Jacobian and second derivatives.
 ///
-/// Implement it by hand, or write each constraint as a `#[lagrangian]` fn and wrap it in
-/// [`Holonomic`]; a pair `(A, B)` of single constraints is a constraint with `M = 2`.
+/// Implement it by hand, generate it from a fn `g(x) -> [f64; M]` with
+/// [`#[constraint]`](macro@crate::constraint), or write each constraint as a `#[lagrangian]` fn
+/// and wrap it in [`Holonomic`]; a pair `(A, B)` of single constraints is a constraint with
+/// `M = 2`.
 ///
 /// # Example
 ///

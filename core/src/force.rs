@@ -55,7 +55,8 @@ impl ForceDependence {
 /// A generalised force `f(x, v, t)` on `R^D`, with its Jacobian (Newton's method on an implicit
 /// step needs it: a force that depends on `v` makes implicit the steps whose equation reads it).
 ///
-/// Implement it by hand, or make one from a dissipation function with [`Rayleigh`].
+/// Implement it by hand, generate it from a vector-valued fn with
+/// [`#[force]`](macro@crate::force), or make one from a dissipation function with [`Rayleigh`].
 ///
 /// # Example
 ///

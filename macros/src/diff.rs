@@ -204,13 +204,34 @@ impl Differentiator {
     }
 }
 
+/// `∂roots[i]/∂vars[j]`, row-major (one row per root): the derivative of a vector-valued
+/// function (a force's `∂f/∂x`, a constraint's `G`), and of a Lagrangian's gradient.
+pub fn jacobian(d: &mut Differentiator, g: &mut Graph, roots: &[Id], vars: &[Var]) -> Vec<Id> {
+    roots
+        .iter()
+        .flat_map(|&r| vars.iter().map(move |&var| (r, var)))
+        .map(|(r, var)| d.diff(g, r, var))
+        .collect()
+}
+
+/// The position variables `x_0 … x_{dim−1}`.
+pub fn positions(dim: usize) -> Vec<Var> {
+    (0..dim).map(Var::X).collect()
+}
+
+/// The velocity variables `v_0 … v_{dim−1}`.
+pub fn velocities(dim: usize) -> Vec<Var> {
+    (0..dim).map(Var::V).collect()
+}
+
 /// Differentiates `root`, a Lagrangian of dimension `dim` in `graph`, twice, and finds what
 /// each second-derivative block depends on.
 pub fn differentiate(graph: &mut Graph, root: Id, dim: usize) -> Derivatives {
     let g = graph;
     let mut d = Differentiator::new();
-    let fx: Vec<Id> = (0..dim).map(|i| d.diff(g, root, Var::X(i))).collect();
-    let fv: Vec<Id> = (0..dim).map(|i| d.diff(g, root, Var::V(i))).collect();
+    let (xs, vs) = (positions(dim), velocities(dim));
+    let fx = jacobian(&mut d, g, &[root], &xs);
+    let fv = jacobian(&mut d, g, &[root], &vs);
     let mut xx = vec![0; dim * dim];
     let mut vv = vec![0; dim * dim];
     let mut xv = vec![0; dim * dim];

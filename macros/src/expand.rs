@@ -13,14 +13,16 @@
 //! (its terms and their derivatives), [`text::loops_text`], [`scatter::emit`] (loops that add
 //! each term's derivatives into their entries, with scoped temporaries: the `Lagrangian<N>`
 //! impl) and [`dynamic::emit`] (the same loops on slices: the `DynLagrangian` impl, alone for a
-//! run-time dimension `x: &[f64]`, `n: usize`). Helper fns are
-//! gathered first ([`helpers`]). On error, [`fallback`] replaces the output.
+//! run-time dimension `x: &[f64]`, `n: usize`). A `#[force]` or `#[constraint]` fn takes
+//! [`vector::emit`] after the parse (its components differentiated by the same
+//! [`diff::jacobian`]). Helper fns are gathered first ([`helpers`]). On error, [`fallback`]
+//! replaces the output.
 
 use proc_macro2::TokenStream;
 
-use crate::ir::{Model, Node, Var};
+use crate::ir::{Attr, Model, Node, Var};
 use crate::{
-    assemble, cse, diff, dynamic, emit, fallback, helpers, loop_impl, parse, scatter, text,
+    assemble, cse, diff, dynamic, emit, fallback, helpers, loop_impl, parse, scatter, text, vector,
 };
 
 /// The errors of a rejected fn, with the fn's tokens, which the fallback output keeps.
@@ -39,20 +41,65 @@ impl Rejected {
 
 /// Expands `#[lagrangian(args)] item`. Errors are spanned on the offending tokens.
 pub fn expand(args: TokenStream, item: TokenStream) -> Result<TokenStream, Rejected> {
-    if helpers::is_helper(&args) {
+    expand_as(Attr::Lagrangian, args, item)
+}
+
+/// Expands `item` under the attribute `attr` with the arguments `args`.
+pub fn expand_as(
+    attr: Attr,
+    args: TokenStream,
+    item: TokenStream,
+) -> Result<TokenStream, Rejected> {
+    if attr == Attr::Lagrangian && helpers::is_helper(&args) {
         return Ok(helpers::define(item));
     }
-    if let Some(relay) = helpers::start(&args, &item) {
+    // The relay hands the arguments back: a force's or constraint's carry its attribute.
+    if let Some(relay) = helpers::start(&marked(attr, args.clone()), &item) {
         return Ok(relay);
     }
-    expand_with(args, item, Vec::new(), true)
+    expand_with(attr, args, item, Vec::new(), true)
+}
+
+/// The marker a vector-valued fn's arguments carry through the helper relay.
+fn marker(attr: Attr) -> Option<&'static str> {
+    match attr {
+        Attr::Lagrangian => None,
+        Attr::Force => Some("__varembed_force"),
+        Attr::Constraint => Some("__varembed_constraint"),
+    }
+}
+
+/// `args` with the marker of `attr` in front.
+fn marked(attr: Attr, args: TokenStream) -> TokenStream {
+    match marker(attr) {
+        Some(m) => {
+            let m = proc_macro2::Ident::new(m, proc_macro2::Span::call_site());
+            quote::quote!(#m #args)
+        }
+        None => args,
+    }
+}
+
+/// The attribute of relayed arguments, and the arguments without its marker.
+fn unmarked(args: TokenStream) -> (Attr, TokenStream) {
+    let mut it = args.clone().into_iter();
+    if let Some(proc_macro2::TokenTree::Ident(first)) = it.next() {
+        for attr in [Attr::Force, Attr::Constraint] {
+            if marker(attr).is_some_and(|m| first == m) {
+                return (attr, it.collect());
+            }
+        }
+    }
+    (Attr::Lagrangian, args)
 }
 
 /// `lagrangian_helpers! { … }`: the next helper relay, or the expansion with the helpers.
 pub fn expand_gathered(input: TokenStream) -> TokenStream {
     match helpers::gather(input) {
         Ok((args, item, helpers)) => {
-            expand_with(args, item, helpers, false).unwrap_or_else(|r| r.errors.to_compile_error())
+            let (attr, args) = unmarked(args);
+            expand_with(attr, args, item, helpers, false)
+                .unwrap_or_else(|r| r.errors.to_compile_error())
         }
         Err(next) => next,
     }
@@ -60,16 +107,19 @@ pub fn expand_gathered(input: TokenStream) -> TokenStream {
 
 /// Expands `item` with the helper fns `helpers`; `with_item`: emit the fn itself too.
 fn expand_with(
+    attr: Attr,
     args: TokenStream,
     item: TokenStream,
     helpers: Vec<syn::ItemFn>,
     with_item: bool,
 ) -> Result<TokenStream, Rejected> {
-    let mut model = match parse::parse_with_helpers(args, item.clone(), helpers) {
+    let mut model = match parse::parse_with_helpers(attr, args, item.clone(), helpers) {
         Ok(model) => model,
         Err(errors) => return Err(Rejected { item, errors }),
     };
-    let out = if has_loops(&model) {
+    let out = if attr != Attr::Lagrangian {
+        vector::emit(&mut model, with_item)
+    } else if has_loops(&model) {
         let assembly = match assemble::assemble(&mut model.graph, model.root) {
             Ok(a) => a,
             Err(msg) => {

@@ -471,8 +471,34 @@ impl Dependence {
     };
 }
 
-/// A parsed `#[lagrangian]` fn: the facts of its signature and `L` as a node of its graph.
+/// Which attribute a fn is expanded by: what its body's value is and which trait the struct
+/// implements.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Attr {
+    /// `#[lagrangian]`: a scalar `L(x, v, t)`, `Lagrangian<D>`.
+    Lagrangian,
+    /// `#[force]`: a vector `f(x, v, t)` of `D` components, `Force<D>`.
+    Force,
+    /// `#[constraint]`: a vector `g(x)` of `M` components, `Constraint<D, M>`.
+    Constraint,
+}
+
+impl Attr {
+    /// The attribute as written, for the errors.
+    pub fn name(self) -> &'static str {
+        match self {
+            Attr::Lagrangian => "#[lagrangian]",
+            Attr::Force => "#[force]",
+            Attr::Constraint => "#[constraint]",
+        }
+    }
+}
+
+/// A parsed fn: the facts of its signature and its value (`L`, or the components of a force
+/// or constraint) as nodes of its graph.
 pub struct Model {
+    /// The attribute the fn is expanded by.
+    pub attr: Attr,
     /// The user's fn, emitted unchanged.
     pub item: ItemFn,
     /// Name of the generated struct.
@@ -494,8 +520,11 @@ pub struct Model {
     pub consts: Vec<Ident>,
     /// The expression graph.
     pub graph: Graph,
-    /// `L` in `graph`.
+    /// `L` in `graph` (a vector-valued fn: the number 0, unused).
     pub root: Id,
+    /// The components of a vector-valued fn (`#[force]`, `#[constraint]`) in `graph`; empty
+    /// for a Lagrangian.
+    pub outputs: Vec<Id>,
 }
 
 /// The first and second derivatives of `L`, as nodes of the model's graph, with what each

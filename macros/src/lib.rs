@@ -1,4 +1,5 @@
-//! `#[lagrangian]`: compile-time symbolic differentiation of a Lagrangian.
+//! `#[lagrangian]`: compile-time symbolic differentiation of a Lagrangian; `#[force]` and
+//! `#[constraint]`: the same for a vector-valued force or constraint.
 //!
 //! A pipeline, one module per stage, each a function from one typed value to the next
 //! (strung together in `expand.rs`): `parse.rs` (syn → the IR, spanned errors, all collected) →
@@ -16,7 +17,9 @@
 //! relays `#[lagrangian(helper)]` fns to the Lagrangians that call them. `dynamic.rs` emits
 //! the `DynLagrangian` impl of a model with loops (the same loop nests on slices), `checks.rs`
 //! the run-time index checks of a model whose dimension is a `usize` constant. `readable.rs`
-//! is the normal form `DERIVATIVES` prints.
+//! is the normal form `DERIVATIVES` prints. A `#[force]` or `#[constraint]` fn is parsed the
+//! same way (`parse/vector.rs`: its signature and the array its body ends with) and takes
+//! `vector.rs` after the parse: `diff.rs`'s `jacobian`, `cse.rs`'s plans, `render.rs`.
 
 mod assemble;
 mod checks;
@@ -39,6 +42,7 @@ mod rewrite;
 mod scatter;
 mod simplify;
 mod text;
+mod vector;
 
 #[cfg(test)]
 mod tests;
@@ -130,6 +134,100 @@ use proc_macro::TokenStream;
 #[proc_macro_attribute]
 pub fn lagrangian(args: TokenStream, item: TokenStream) -> TokenStream {
     expand::expand(args.into(), item.into())
+        .unwrap_or_else(expand::Rejected::into_tokens)
+        .into()
+}
+
+/// Turns `fn name(x, v, [t: f64,] constants: f64...) -> [f64; D] { body }` into a struct that
+/// implements `varembed::Force<D>`, its Jacobian computed at compile time.
+///
+/// The fn is a generalised force `f(x, v, t)`, one component per degree of freedom; the
+/// signature is a `#[lagrangian]` fn's with `x`, `v` either `f64` (the force then returns
+/// `f64`) or `[f64; D]` with `D` an integer literal (the derivatives are written out entry by
+/// entry). The macro keeps the fn and adds `struct CamelCaseName { pub constant: f64, … }`
+/// implementing `Force<D>`:
+///
+/// - `force`, and `jacobian` (`∂f/∂x`, `∂f/∂v`, every entry differentiated on its own: the
+///   blocks of a force are in general not symmetric), each with its common subexpressions
+///   computed once;
+/// - `jacobian_dependence`: which of `x`, `v`, `t` each block reads, from the symbolic
+///   derivatives (a linear damping has constant blocks, which keeps the model's closed-form
+///   steps);
+/// - `constants`, and `NAME::DERIVATIVES`, the components and Jacobian entries as text.
+///
+/// A force that shares constants with the model is constructed with the same values: its
+/// struct and the model's are separate values, and nothing ties their fields.
+///
+/// The body is what a `#[lagrangian]` body may be, ending with an array `[f0, f1, …]` (after
+/// any `let`s), a helper's array, or a local array set element by element:
+/// `let mut f = [0.0; 2]; for i in 0..2 { f[i] = …; } f` (also `f[i] += …`). Every loop runs
+/// over a literal range and is unrolled, so that `x` and `v` are read at constant indices
+/// (`x[(i + 1) % D]` included); a
+/// loop over a `const`, a run-time dimension (`&[f64]`) or a named dimension (`[f64; N]`) is
+/// a compile error, as is anything else a `#[lagrangian]` body may not hold, each on its
+/// tokens. No `DynForce` is generated (a force on the run-time path is written by hand).
+///
+/// # Example
+///
+/// This example is compiled and run in `tests/tests/macros/doc_example.rs`.
+///
+/// ```ignore
+/// use varembed::{Force, Vector, force};
+///
+/// /// A drag `f = −c |v| v` and a spring toward the origin that turns (not a gradient).
+/// #[force]
+/// fn drag(x: [f64; 2], v: [f64; 2], c: f64, w: f64) -> [f64; 2] {
+///     let speed = v[0].hypot(v[1]);
+///     [-c * speed * v[0] - w * x[1], -c * speed * v[1] + w * x[0]]
+/// }
+/// let f = Drag { c: 0.5, w: 2.0 };
+/// let (x, v) = (Vector::<2>::new(1.0, 0.0), Vector::<2>::new(0.0, 2.0));
+/// assert_eq!(f.force(&x, &v, 0.0)[1], -0.5 * 2.0 * 2.0 + 2.0);
+/// let j = f.jacobian(&x, &v, 0.0);
+/// assert_eq!((j.x[(0, 1)], j.x[(1, 0)]), (-2.0, 2.0));
+/// ```
+#[proc_macro_attribute]
+pub fn force(args: TokenStream, item: TokenStream) -> TokenStream {
+    expand::expand_as(ir::Attr::Force, args.into(), item.into())
+        .unwrap_or_else(expand::Rejected::into_tokens)
+        .into()
+}
+
+/// Turns `fn name(x, constants: f64...) -> [f64; M] { body }` into a struct that implements
+/// `varembed::Constraint<D, M>`: `M` holonomic constraints `g(x) = 0`.
+///
+/// `x` is `f64` or `[f64; D]` (`D` an integer literal), then any number of `f64` constants.
+/// A constraint depends on `x` alone: a parameter `v` or `t`, or a body that reads them, is a
+/// compile error naming it. The macro keeps the fn and adds a struct (named and built like a
+/// `#[lagrangian]` fn's) implementing `Constraint<D, M>`: `value` (`g`), `jacobian` (`G`, row
+/// `k` the gradient of `g_k`) and `weighted_hessian` (`Σ_k λ_k ∂²g_k/∂x²`, symmetric, each
+/// entry written once), from symbolic derivatives; and `NAME::DERIVATIVES`. The body is what a
+/// `#[force]` body may be.
+///
+/// # Example
+///
+/// This example is compiled and run in `tests/tests/macros/doc_example.rs`.
+///
+/// ```ignore
+/// use varembed::{Constraint, Vector, constraint};
+/// use nalgebra::SVector;
+///
+/// /// Two rods: the first point at distance `a` from the origin, the second at `b` from it.
+/// #[constraint]
+/// fn rods(x: [f64; 4], a: f64, b: f64) -> [f64; 2] {
+///     let d = [x[2] - x[0], x[3] - x[1]];
+///     [x[0] * x[0] + x[1] * x[1] - a * a, d[0] * d[0] + d[1] * d[1] - b * b]
+/// }
+/// let g = Rods { a: 1.0, b: 2.0 };
+/// let x = Vector::<4>::new(1.0, 0.0, 1.0, 2.0);
+/// assert_eq!(g.value(&x), SVector::<f64, 2>::zeros());
+/// assert_eq!(g.jacobian(&x)[(1, 3)], 4.0);
+/// let h = g.weighted_hessian(&x, &SVector::<f64, 2>::new(1.0, 0.5));
+/// assert_eq!((h[(0, 0)], h[(0, 2)], h[(2, 2)]), (3.0, -1.0, 1.0));
+/// ```
+#[proc_macro_attribute]
+pub fn constraint(args: TokenStream, item: TokenStream) -> TokenStream {
+    expand::expand_as(ir::Attr::Constraint, args.into(), item.into())
         .unwrap_or_else(expand::Rejected::into_tokens)
         .into()
 }

@@ -10,16 +10,17 @@ mod index;
 mod scope;
 pub mod signature;
 mod values;
+mod vector;
 
 use proc_macro2::TokenStream;
 use syn::ItemFn;
 
-use crate::ir::Model;
+use crate::ir::{Attr, Model};
 
 /// Parses the attribute arguments and the fn into a [`Model`] (no helper fns).
 #[cfg(test)]
 pub fn parse(args: TokenStream, item: TokenStream) -> syn::Result<Model> {
-    parse_with_helpers(args, item, Vec::new())
+    parse_with_helpers(Attr::Lagrangian, args, item, Vec::new())
 }
 
 pub use scope::{Returns, returns};
@@ -36,8 +37,9 @@ pub fn check_helper_body(
     parser.finish().1
 }
 
-/// Parses the fn with the `#[lagrangian(helper)]` fns it may call.
+/// Parses the fn, for `attr`, with the `#[lagrangian(helper)]` fns it may call.
 pub fn parse_with_helpers(
+    attr: Attr,
     args: TokenStream,
     item: TokenStream,
     helpers: Vec<ItemFn>,
@@ -46,15 +48,32 @@ pub fn parse_with_helpers(
         syn::Error::new(
             e.span(),
             format!(
-                "{e}: #[lagrangian] applies to a `fn`; {}",
-                signature::SIGNATURE
+                "{e}: {} applies to a `fn`; {}",
+                attr.name(),
+                signature::expected(attr)
             ),
         )
     })?;
     let mut errors = Vec::new();
-    let sig = signature::check(&args, &item, &mut errors);
+    let mut sig = signature::check(&args, &item, attr, &mut errors);
+    if attr != Attr::Lagrangian {
+        let x_ty = item.sig.inputs.iter().find_map(|arg| match arg {
+            syn::FnArg::Typed(pt) => Some(&*pt.ty),
+            syn::FnArg::Receiver(_) => None,
+        });
+        let x_shape = sig.states.first().map_or(signature::Shape::Scalar, |s| s.1);
+        let facts = (x_shape, sig.dim);
+        sig.outputs = vector::check_outputs(&item.sig, attr, x_ty, facts, &mut errors);
+    }
     let mut parser = body::Parser::new(errors, helpers);
-    let root = parser.body(&item.block, &sig);
+    parser.attr = attr;
+    let (root, outputs) = match attr {
+        Attr::Lagrangian => (parser.body(&item.block, &sig), Vec::new()),
+        Attr::Force | Attr::Constraint => {
+            let outputs = parser.vector_body(&item.block, &sig, &item.sig.ident);
+            (parser.graph.num(0.0), outputs)
+        }
+    };
     let (graph, errors) = parser.finish();
 
     let mut errors = errors.into_iter();
@@ -71,6 +90,7 @@ pub fn parse_with_helpers(
         .cloned()
         .collect();
     Ok(Model {
+        attr,
         vis: item.vis.clone(),
         struct_name: sig.struct_name,
         docs,
@@ -81,6 +101,7 @@ pub fn parse_with_helpers(
         consts: sig.consts,
         graph,
         root,
+        outputs,
         item,
     })
 }

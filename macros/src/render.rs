@@ -55,7 +55,8 @@ impl<'a> Render<'a> {
         }
     }
 
-    fn wrapped(&self, id: Id, need: Prec) -> TokenStream {
+    /// The expression of `id`, parenthesised if it binds less tightly than `need`.
+    pub fn wrapped(&self, id: Id, need: Prec) -> TokenStream {
         let (ts, prec) = self.operand(id);
         if prec < need { quote!((#ts)) } else { ts }
     }

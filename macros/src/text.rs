@@ -105,6 +105,29 @@ pub fn loops_text(model: &Model, a: &Assembly) -> String {
     lines.join("\n")
 }
 
+/// `label = formula` per line, for the nodes `lines` of the model's graph (a force's or a
+/// constraint's components and derivatives, labelled by `vector.rs`).
+pub fn lines_text(model: &Model, lines: &[(String, Id)]) -> String {
+    let p = Printer {
+        g: &model.graph,
+        model,
+    };
+    let lines: Vec<String> = lines
+        .iter()
+        .map(|(label, id)| format!("{label} = {}", p.print(*id)))
+        .collect();
+    lines.join("\n")
+}
+
+/// The name of a state variable in the text: `x[i]`, or `x` for a model on `x: f64`.
+pub fn state_name(model: &Model, v: Var) -> String {
+    Printer {
+        g: &model.graph,
+        model,
+    }
+    .var(v)
+}
+
 /// Prints a node as a formula in Rust syntax, expanding shared nodes.
 struct Printer<'a> {
     g: &'a Graph,

@@ -1,5 +1,9 @@
 //! A differential fuzzer of `#[lagrangian]`: random Lagrangians, each differentiated by the
-//! macro and by num-dual, must agree.
+//! macro and by num-dual, must agree. A second test does the same for `#[force]` and
+//! `#[constraint]` fns (one for every four Lagrangians, of dimension 1–4, each component a
+//! loop-free body of the same language, written as an array, through `let`s, or set element
+//! by element in an unrolled loop): the components, every Jacobian entry and a constraint's
+//! `Σ_k λ_k ∂²g_k/∂x²` against hyper-dual numbers ([`check_vector`]).
 //!
 //! `tests/build.rs` draws the programs from a fixed seed (100 by default, the 500 of the
 //! figures below where the environment variable `CI` is set, as `.ci/run` sets it; e.g.
@@ -66,8 +70,8 @@ use std::panic::{self, AssertUnwindSafe};
 
 use num_dual::{DualNum, HyperDual64};
 use varembed::{
-    Dependence, DynLagrangian, Hessian, HessianDependence, Lagrangian, SparseHessian, Vector,
-    lagrangian,
+    Constraint, Dependence, DynLagrangian, Force, Hessian, HessianDependence, Lagrangian,
+    SparseHessian, Vector, constraint, force, lagrangian,
 };
 use varembed_tests::rng::Rng;
 
@@ -716,15 +720,109 @@ fn panic_message(payload: &(dyn std::any::Any + Send)) -> String {
         .unwrap_or_else(|| "a panic without a message".into())
 }
 
-/// Every generated program against num-dual; one message lists every mismatch.
+/// A vector program's components, or rows of derivatives, at `(x, v, t)`.
+type VectorFn<'a, R> = dyn Fn(&[f64], &[f64], f64) -> R + 'a;
+/// A constraint's weighted Hessian at `(x, λ)`, row by row.
+type WeightedFn<'a> = dyn Fn(&[f64], &[f64]) -> Vec<Vec<f64>> + 'a;
+/// A vector program's oracle: its components on hyper-dual numbers.
+type VectorOracleFn<'a> = dyn Fn(&[HyperDual64], &[HyperDual64], f64) -> Vec<HyperDual64> + 'a;
+
+/// A generated `#[force]` or `#[constraint]` fn, as [`check_vector`] sees it.
+pub struct VectorProgram<'a> {
+    pub id: usize,
+    pub force: bool,
+    /// The dimension `D` and the number of components `M` (a force: `D`).
+    pub d: usize,
+    pub m: usize,
+    /// The fn, as written.
+    pub text: &'static str,
+    /// `f` or `g` at `(x, v, t)`.
+    pub value: &'a VectorFn<'a, Vec<f64>>,
+    /// Row `i`: `[∂f_i/∂x | ∂f_i/∂v]` (a constraint: `[G_i | 0]`).
+    pub jacobian: &'a VectorFn<'a, Vec<Vec<f64>>>,
+    /// A constraint's `Σ_k λ_k ∂²g_k/∂x²` at `(x, λ)`.
+    pub weighted: Option<&'a WeightedFn<'a>>,
+    /// The components on hyper-dual numbers.
+    pub oracle: &'a VectorOracleFn<'a>,
+}
+
+/// Checks a vector program at random points against its oracle: the components, every
+/// Jacobian entry (one dual direction per column) and, for a constraint, every entry of
+/// `Σ_k λ_k ∂²g_k/∂x²` at random `λ` (one hyper-dual evaluation per pair), each within
+/// `TOLERANCE · max(|oracle|, 1)` (a component is a single expression of bounded terms); and
+/// the weighted Hessian symmetric, bit for bit.
+pub fn check_vector(out: &mut Report, p: &VectorProgram<'_>) {
+    out.dimension = p.d;
+    out.text = p.text;
+    out.forms = if p.force { &["force"] } else { &["constraint"] };
+    let (d, m) = (p.d, p.m);
+    let mut rng = Rng(0xF0AC_E000 ^ p.id as u64);
+    for _ in 0..points() {
+        let x: Vec<f64> = (0..d).map(|_| rng.uniform(-1.0, 1.0)).collect();
+        let v: Vec<f64> = (0..d).map(|_| rng.uniform(-1.0, 1.0)).collect();
+        let t = rng.uniform(0.0, 2.0);
+        let lambda: Vec<f64> = (0..m).map(|_| rng.uniform(-1.0, 1.0)).collect();
+        let z: Vec<f64> = x.iter().chain(&v).copied().collect();
+        let eval = |a: usize, b: usize| -> Vec<HyperDual64> {
+            let w: Vec<HyperDual64> = (0..2 * d)
+                .map(|k| {
+                    let (e1, e2) = (u8::from(k == a), u8::from(k == b));
+                    HyperDual64::new(z[k], f64::from(e1), f64::from(e2), 0.0)
+                })
+                .collect();
+            (p.oracle)(&w[..d], &w[d..], t)
+        };
+        let near = |out: &mut Report, kind, what: String, got: f64, want: f64| {
+            compare(out, kind, || what, got, (want, want.abs()), 1.0);
+        };
+        let value = (p.value)(&x, &v, t);
+        let base = eval(2 * d, 2 * d);
+        for i in 0..m {
+            near(out, "value", format!("component {i}"), value[i], base[i].re);
+        }
+        let jacobian = (p.jacobian)(&x, &v, t);
+        for c in 0..2 * d {
+            let column = eval(c, 2 * d);
+            for i in 0..m {
+                let what = format!("∂[{i}]/∂z[{c}] at x = {x:?}, v = {v:?}, t = {t}");
+                near(out, "jacobian", what, jacobian[i][c], column[i].eps1);
+            }
+        }
+        if let Some(weighted) = p.weighted {
+            let h = weighted(&x, &lambda);
+            for a in 0..d {
+                for b in a..d {
+                    let e = eval(a, b);
+                    let want: f64 = (0..m).map(|k| lambda[k] * e[k].eps1eps2).sum();
+                    let what = format!("Σλ∇²g[({a}, {b})] at x = {x:?}, λ = {lambda:?}");
+                    near(out, "weighted hessian", what, h[a][b], want);
+                    same(out, "symmetry", || format!("({a}, {b})"), h[a][b], h[b][a]);
+                }
+            }
+        }
+    }
+}
+
+/// Every generated Lagrangian against num-dual; one message lists every mismatch.
 #[test]
 fn generated_lagrangians_match_num_dual() {
+    run_all(PROGRAMS, "programs");
+}
+
+/// Every generated `#[force]` and `#[constraint]` fn against num-dual, the same way.
+#[test]
+fn generated_forces_and_constraints_match_num_dual() {
+    run_all(VECTOR_PROGRAMS, "force and constraint programs");
+}
+
+/// Runs `programs` and fails with one message that lists every mismatch.
+fn run_all(programs: &[fn(&mut Report)], noun: &str) {
     let mut reports = Vec::new();
     // A panicking model (an entry outside its dimension, an index out of bounds) is a
     // mismatch like the others: keep the default hook from printing each one.
     let hook = panic::take_hook();
     panic::set_hook(Box::new(|_| {}));
-    for (k, run) in PROGRAMS.iter().enumerate() {
+    for (k, run) in programs.iter().enumerate() {
         let mut report = Report {
             id: k,
             ..Report::default()
@@ -744,7 +842,7 @@ fn generated_lagrangians_match_num_dual() {
     let mut msg = String::new();
     let _ = writeln!(
         msg,
-        "{} programs (seed {SEED:#x}, level `{LEVEL}`, {} points each): {total} mismatches in {} programs",
+        "{} {noun} (seed {SEED:#x}, level `{LEVEL}`, {} points each): {total} mismatches in {} programs",
         reports.len(),
         points(),
         failing.len()

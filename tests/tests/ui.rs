@@ -1,4 +1,4 @@
-//! Compile-fail cases of `#[lagrangian]`, one per file, grouped by kind, with `.stderr`
+//! Compile-fail cases of `#[lagrangian]`, `#[force]` and `#[constraint]` (`ui/vector`), one per file, grouped by kind, with `.stderr`
 //! snapshots (regenerate with `TRYBUILD=overwrite`, then review).
 //!
 //! Ignored by default: trybuild builds every case in a project of its own, with the
@@ -14,4 +14,5 @@ fn ui() {
     t.compile_fail("ui/body/*.rs");
     t.compile_fail("ui/function/*.rs");
     t.compile_fail("ui/loops/*.rs");
+    t.compile_fail("ui/vector/*.rs");
 }

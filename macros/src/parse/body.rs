@@ -10,9 +10,9 @@ use std::collections::{HashMap, HashSet};
 
 use syn::{BinOp, Expr, Ident, Pat, Stmt};
 
-use super::scope::{Binding, Env, Fact, Returns, State, strip};
-use super::signature::{Length, Shape, Signature, is_f64};
-use crate::ir::{Affine, Graph, Id, IndexVar, Var};
+use super::scope::{Binding, Env, Fact, Returns, strip};
+use super::signature::{Signature, is_f64};
+use crate::ir::{Affine, Attr, Graph, Id, IndexVar, Var};
 
 /// One open loop: what it adds to the accumulators declared outside it.
 struct Frame {
@@ -44,6 +44,9 @@ pub struct Parser {
     /// What the conditions of the branches being read say of the loop variables, outermost
     /// first (`branch.rs`).
     pub(super) facts: Vec<Fact>,
+    /// The attribute the fn is expanded by (a vector-valued fn unrolls every loop over a
+    /// literal range, and a constraint's body cannot read `v` or `t`).
+    pub(super) attr: Attr,
 }
 
 impl Parser {
@@ -63,6 +66,7 @@ impl Parser {
             recursion: false,
             branch_vars: Vec::new(),
             facts: Vec::new(),
+            attr: Attr::Lagrangian,
         }
     }
 
@@ -103,41 +107,13 @@ impl Parser {
 
     /// `L` as a node of the graph: the value of `block` with the parameters of `sig` bound.
     pub fn body(&mut self, block: &syn::Block, sig: &Signature) -> Id {
-        let mut env = Env::new();
-        let states = [State::Position, State::Velocity];
-        for ((name, shape), state) in sig.states.iter().zip(states) {
-            let binding = match *shape {
-                Shape::Scalar => Binding::Scalar(self.graph.var(state.component(0))),
-                Shape::Array(len) => Binding::Array { state, len },
-                Shape::Slice => Binding::Array {
-                    state,
-                    len: Length::Named,
-                },
-            };
-            env.insert(name.to_string(), binding);
-        }
-        if let Some(Length::Known(d)) = sig.states.first().and_then(|s| match s.1 {
-            Shape::Array(len) => Some(len),
-            Shape::Scalar | Shape::Slice => None,
-        }) {
-            self.dim = Some(d);
-        }
-        if let Some(name) = sig.dim_name.as_ref().and_then(|p| p.get_ident()) {
-            env.insert(name.to_string(), Binding::Dim);
-        }
-        if let Some(n) = &sig.runtime_dim {
-            env.insert(n.to_string(), Binding::Dim);
-        }
-        if let Some(t) = &sig.time {
-            env.insert(t.to_string(), Binding::Scalar(self.graph.var(Var::T)));
-        }
-        for (k, c) in sig.consts.iter().enumerate() {
-            env.insert(
-                c.to_string(),
-                Binding::Scalar(self.graph.var(Var::Const(k))),
-            );
-        }
+        let mut env = self.signature_env(sig);
         self.block(block, &mut env)
+    }
+
+    /// Whether a loop that is a sum is open (not an unrolled one).
+    pub(super) fn frames_open(&self) -> bool {
+        !self.frames.is_empty()
     }
 
     /// The graph built and the errors collected.
@@ -197,6 +173,7 @@ impl Parser {
                 self.let_binding(&local.pat, &init.expr, env);
             }
             Stmt::Expr(Expr::ForLoop(f), _) => self.for_loop(f, env),
+            Stmt::Expr(e, Some(_)) if self.sets_element(e, env) => {}
             Stmt::Expr(Expr::Binary(b), Some(_)) if is_compound(b.op) => {
                 self.compound(&b.left, b.op, &b.right, env)
             }
@@ -221,7 +198,10 @@ impl Parser {
                 self.error(item, "an item inside the body is not supported");
             }
             Stmt::Macro(m) => {
-                self.error(&m.mac, "a macro is not supported in a #[lagrangian] body");
+                self.error(
+                    &m.mac,
+                    format!("a macro is not supported in a {} body", self.attr.name()),
+                );
             }
         }
     }
@@ -570,7 +550,7 @@ impl Parser {
 }
 
 /// `+=`, `-=`, `*=`, `/=`.
-fn is_compound(op: BinOp) -> bool {
+pub(super) fn is_compound(op: BinOp) -> bool {
     matches!(
         op,
         BinOp::AddAssign(_) | BinOp::SubAssign(_) | BinOp::MulAssign(_) | BinOp::DivAssign(_)

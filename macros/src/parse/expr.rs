@@ -81,7 +81,7 @@ impl Parser {
                 "a closure is supported only in `(a..b).map(|i| …).sum::<f64>()`",
             ),
             Expr::Macro(m) => {
-                self.error(&m.mac, "a macro is not supported in a #[lagrangian] body")
+                self.error(&m.mac, format!("a macro is not supported in a {} body", self.attr.name()))
             }
             Expr::Reference(r) => self.error(
                 r.and_token,
@@ -108,7 +108,7 @@ impl Parser {
             ),
             other => self.error(
                 other,
-                "this expression is not supported in a #[lagrangian] body",
+                format!("this expression is not supported in a {} body", self.attr.name()),
             ),
         }
     }
@@ -175,10 +175,10 @@ impl Parser {
                 None => match constant_value(name) {
                     // `use std::f64::consts::PI;` at the top of the module.
                     Some(c) => self.graph.num(c),
-                    None => self.error(
-                        p,
-                        format!("unknown name `{name}`: the body may use the parameters, its own `let` bindings and `std::f64::consts`"),
-                    ),
+                    None => {
+                        let msg = self.not_a_state(name).unwrap_or_else(|| format!("unknown name `{name}`: the body may use the parameters, its own `let` bindings and `std::f64::consts`"));
+                        self.error(p, msg)
+                    }
                 },
             };
         }
@@ -220,10 +220,11 @@ impl Parser {
                 );
             }
             _ => {
-                return self.error(
-                    &ix.expr,
-                    "only `x`, `v` and arrays of values (`let a = [e0, e1];`) can be indexed",
-                );
+                let msg = name.as_deref().and_then(|n| self.not_a_state(n));
+                let msg = msg.unwrap_or_else(|| {
+                    "only `x`, `v` and arrays of values (`let a = [e0, e1];`) can be indexed".into()
+                });
+                return self.error(&ix.expr, msg);
             }
         };
         if let Expr::Lit(syn::ExprLit {

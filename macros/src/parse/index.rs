@@ -185,7 +185,13 @@ impl Parser {
             let is_dim = r.affine.is_some_and(|a| {
                 a == Affine::dim() || Some(a) == self.dim.map(|d| Affine::constant(d as i64))
             });
+            let unrolled = self.attr != crate::ir::Attr::Lagrangian;
             return match (l.affine, is_dim, l.wrap) {
+                // A force's or constraint's loops are unrolled: a constant index wraps now.
+                (Some(a), true, false) if unrolled && a.as_constant().is_some() => {
+                    let (k, d) = (a.as_constant()?, self.dim? as i64);
+                    Some(self.constant(k.rem_euclid(d)))
+                }
                 (Some(a), true, false) => Some(Int {
                     affine: Some(a),
                     wrap: true,

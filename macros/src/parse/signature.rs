@@ -1,11 +1,31 @@
 //! The signature of a `#[lagrangian]` fn: `x`, `v`, an optional `t`, the model constants.
 
 use proc_macro2::TokenStream;
+use quote::ToTokens;
 use syn::{Expr, FnArg, Ident, ItemFn, Lit, Pat, ReturnType, Type};
+
+use crate::ir::Attr;
 
 /// The accepted signature, quoted in the signature errors.
 pub const SIGNATURE: &str = "expected `fn name(x: T, v: T, [t: f64,] constants: f64...) -> f64` \
      with `T` either `f64` or `[f64; D]` (or `&[f64]`, its length one constant `n: usize`)";
+
+/// The signature of a `#[force]` fn, quoted in its signature errors.
+const FORCE_SIGNATURE: &str = "expected `fn name(x: T, v: T, [t: f64,] constants: f64...) -> T` \
+     with `T` either `f64` or `[f64; D]` (`D` an integer literal)";
+
+/// The signature of a `#[constraint]` fn, quoted in its signature errors.
+const CONSTRAINT_SIGNATURE: &str = "expected `fn name(x: T, constants: f64...) -> [f64; M]` with `T` either `f64` or \
+     `[f64; D]` (`D` and `M` integer literals)";
+
+/// The accepted signature of a fn for `attr`.
+pub fn expected(attr: Attr) -> &'static str {
+    match attr {
+        Attr::Lagrangian => SIGNATURE,
+        Attr::Force => FORCE_SIGNATURE,
+        Attr::Constraint => CONSTRAINT_SIGNATURE,
+    }
+}
 
 /// The declared type of `x` or `v`.
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -49,76 +69,84 @@ pub struct Signature {
     pub scalar: bool,
     /// Name of the generated struct.
     pub struct_name: Ident,
+    /// The number of components a vector-valued fn returns (`#[force]`: `D`, `#[constraint]`:
+    /// `M`); `None` when its return type is in error; `Some(1)` for a Lagrangian.
+    pub outputs: Option<usize>,
 }
 
-/// Checks the attribute arguments and the signature of `item`; the errors go to `errors`,
-/// in source order, and the declared facts are returned as far as they could be read.
-pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) -> Signature {
+/// Checks the attribute arguments and the signature of `item`, a fn for `attr`; the errors go
+/// to `errors`, in source order, and the declared facts are returned as far as they could be
+/// read.
+pub fn check(
+    args: &TokenStream,
+    item: &ItemFn,
+    attr: Attr,
+    errors: &mut Vec<syn::Error>,
+) -> Signature {
     let sig = &item.sig;
+    let name = attr.name();
     if !args.is_empty() {
-        errors.push(syn::Error::new_spanned(
-            args,
-            "#[lagrangian] takes no arguments (or `helper`, on a helper fn): model constants are the fn's parameters after `x`, `v` (and `t`)",
-        ));
+        let msg = match attr {
+            Attr::Lagrangian => {
+                "#[lagrangian] takes no arguments (or `helper`, on a helper fn): model constants are the fn's parameters after `x`, `v` (and `t`)"
+            }
+            Attr::Force | Attr::Constraint => {
+                "this attribute takes no arguments: the constants are the fn's parameters after the state"
+            }
+        };
+        errors.push(syn::Error::new_spanned(args, msg));
     }
-    if let Some(c) = &sig.constness {
-        errors.push(syn::Error::new_spanned(
-            c,
-            "a #[lagrangian] fn cannot be `const`",
-        ));
-    }
-    if let Some(a) = &sig.asyncness {
-        errors.push(syn::Error::new_spanned(
-            a,
-            "a #[lagrangian] fn cannot be `async`",
-        ));
-    }
-    if let Some(u) = &sig.unsafety {
-        errors.push(syn::Error::new_spanned(
-            u,
-            "a #[lagrangian] fn cannot be `unsafe`",
-        ));
-    }
-    if let Some(abi) = &sig.abi {
-        errors.push(syn::Error::new_spanned(
-            abi,
-            "a #[lagrangian] fn cannot have an ABI",
-        ));
+    let qualifiers: [(Option<&dyn ToTokens>, &str); 4] = [
+        (sig.constness.as_ref().map(|c| c as _), "be `const`"),
+        (sig.asyncness.as_ref().map(|a| a as _), "be `async`"),
+        (sig.unsafety.as_ref().map(|u| u as _), "be `unsafe`"),
+        (sig.abi.as_ref().map(|a| a as _), "have an ABI"),
+    ];
+    for (tokens, what) in qualifiers {
+        if let Some(tokens) = tokens {
+            errors.push(syn::Error::new_spanned(
+                tokens,
+                format!("a {name} fn cannot {what}"),
+            ));
+        }
     }
     if !sig.generics.params.is_empty() || sig.generics.where_clause.is_some() {
         errors.push(syn::Error::new_spanned(
             &sig.generics,
-            "a #[lagrangian] fn cannot be generic: its variables are `f64` or `[f64; N]` with `N` a literal or a `const` item",
+            format!("a {name} fn cannot be generic: its variables are `f64` or `[f64; N]` with `N` a literal or a `const` item"),
         ));
     }
     if let Some(var) = &sig.variadic {
         errors.push(syn::Error::new_spanned(
             var,
-            "a #[lagrangian] fn cannot be variadic",
+            format!("a {name} fn cannot be variadic"),
         ));
     }
-    match &sig.output {
-        ReturnType::Default => errors.push(syn::Error::new_spanned(
-            &sig.ident,
-            "a #[lagrangian] fn must return `f64`: add `-> f64`",
-        )),
-        ReturnType::Type(_, ty) => {
-            if !is_f64(ty) {
-                errors.push(syn::Error::new_spanned(
-                    ty,
-                    "a #[lagrangian] fn must return `f64`",
-                ));
+    if attr == Attr::Lagrangian {
+        match &sig.output {
+            ReturnType::Default => errors.push(syn::Error::new_spanned(
+                &sig.ident,
+                "a #[lagrangian] fn must return `f64`: add `-> f64`",
+            )),
+            ReturnType::Type(_, ty) => {
+                if !is_f64(ty) {
+                    errors.push(syn::Error::new_spanned(
+                        ty,
+                        "a #[lagrangian] fn must return `f64`",
+                    ));
+                }
             }
         }
     }
 
     // Parameters: x, v, optional t, constants.
+    let signature = expected(attr);
     let mut names: Vec<(Ident, Type)> = Vec::new();
     for arg in &sig.inputs {
         match arg {
             FnArg::Receiver(r) => errors.push(syn::Error::new_spanned(
                 r,
-                format!("`self` is not allowed; {SIGNATURE}"),
+                format!("`self` is not allowed; {signature}"),
             )),
             FnArg::Typed(pt) => match &*pt.pat {
                 Pat::Ident(pi) if pi.by_ref.is_none() && pi.subpat.is_none() => {
@@ -126,10 +154,13 @@ pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) ->
                 }
                 other => errors.push(syn::Error::new_spanned(
                     other,
-                    "parameters of a #[lagrangian] fn must be plain names",
+                    format!("parameters of a {name} fn must be plain names"),
                 )),
             },
         }
+    }
+    if attr == Attr::Constraint {
+        states_only(&mut names, errors);
     }
     let mut dim = 1;
     let mut dim_name = None;
@@ -141,14 +172,14 @@ pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) ->
     if names.len() < 2 {
         errors.push(syn::Error::new_spanned(
             &sig.inputs,
-            format!("missing parameters: {SIGNATURE}"),
+            format!("missing parameters: {signature}"),
         ));
         if sig.inputs.is_empty() {
             // An empty list has no tokens of its own: point at the fn name instead.
             errors.pop();
             errors.push(syn::Error::new_spanned(
                 &sig.ident,
-                format!("missing parameters: {SIGNATURE}"),
+                format!("missing parameters: {signature}"),
             ));
         }
     } else {
@@ -157,7 +188,7 @@ pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) ->
                 errors.push(syn::Error::new_spanned(
                     &names[k].0,
                     format!(
-                        "parameter {} must be named `{expected}` (or `_{expected}`); {SIGNATURE}",
+                        "parameter {} must be named `{expected}` (or `_{expected}`); {signature}",
                         k + 1
                     ),
                 ));
@@ -244,9 +275,10 @@ pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) ->
         ));
     }
 
+    // A constraint's `v` is the copy of `x` that [`states_only`] made: not bound in the body.
     let states = names
         .iter()
-        .take(2)
+        .take(if attr == Attr::Constraint { 1 } else { 2 })
         .zip(shapes)
         .map(|((name, _), shape)| (name.clone(), shape))
         .collect();
@@ -259,6 +291,28 @@ pub fn check(args: &TokenStream, item: &ItemFn, errors: &mut Vec<syn::Error>) ->
         runtime_dim,
         scalar,
         struct_name,
+        // A force's or constraint's, from its return type: `vector::check_outputs`.
+        outputs: Some(1),
+    }
+}
+
+/// A constraint's parameters: `v` and `t` are errors (removed), and a copy of `x` stands
+/// where `v` is in a Lagrangian's, so that the checks of `x` and the constants are the same.
+fn states_only(names: &mut Vec<(Ident, Type)>, errors: &mut Vec<syn::Error>) {
+    names.retain(|(n, _)| {
+        let what = match bare(n).as_str() {
+            "v" => "the velocity",
+            "t" => "the time",
+            _ => return true,
+        };
+        errors.push(syn::Error::new_spanned(
+            n,
+            format!("a #[constraint] depends on `x` alone: `{n}` ({what}) cannot be a parameter"),
+        ));
+        false
+    });
+    if let Some((x, ty)) = names.first().cloned() {
+        names.insert(1, (Ident::new("v", x.span()), ty));
     }
 }
 

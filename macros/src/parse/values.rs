@@ -183,11 +183,22 @@ impl Parser {
             if self.is_unknown(last, env) {
                 return placeholder(self, kind, count);
             }
-            let what = want.map_or("values".to_string(), |(_, k, n)| written(k, n));
-            self.error(
-                last,
-                format!("the body must end with {what}, e.g. `(a, b)` or `[a, b]`"),
-            );
+            let msg = match want {
+                None => "the body must end with values, e.g. `(a, b)` or `[a, b]`".to_string(),
+                Some((_, Kind::Tuple, n)) => {
+                    format!(
+                        "the body must end with `{}`, e.g. `(a, b)`",
+                        written(Kind::Tuple, n)
+                    )
+                }
+                Some((_, Kind::Array, n)) => {
+                    format!(
+                        "the body must end with `{}`, e.g. `[a, b]`",
+                        written(Kind::Array, n)
+                    )
+                }
+            };
+            self.error(last, msg);
             return placeholder(self, kind, count);
         }
         let values = self.values(last, env);
@@ -305,7 +316,7 @@ impl Parser {
 
     /// The value of an index of values: a literal, or an index expression of constants (the
     /// variable of an unrolled loop); `None` after reporting an error.
-    fn constant_index(&mut self, e: &Expr, env: &Env) -> Option<i64> {
+    pub(super) fn constant_index(&mut self, e: &Expr, env: &Env) -> Option<i64> {
         if let Expr::Lit(syn::ExprLit {
             lit: Lit::Int(i), ..
         }) = strip(e)
@@ -391,7 +402,9 @@ impl Parser {
     ) -> Option<(i64, i64)> {
         let (start, end) = ends?;
         let range = (start.as_constant()?, end.as_constant()?);
-        reads_values_at_variable(body.to_token_stream(), env).then_some(range)
+        // A force or constraint is differentiated entry by entry: every such loop unrolls.
+        let vector = self.attr != crate::ir::Attr::Lagrangian;
+        (vector || reads_values_at_variable(body.to_token_stream(), env)).then_some(range)
     }
 
     /// `Σ body` over `start..end`, the sum unrolled as a `for` loop is ([`Parser::unrolled`]).
@@ -430,9 +443,9 @@ impl Parser {
                 if let Stmt::Local(local) = stmt {
                     // The outer accumulator named again: what it received so far is its value.
                     for declared in pattern_names(&local.pat) {
-                        if matches!(env.get(&declared), Some(Binding::Mut { .. }))
+                        if env.get(&declared).is_some_and(carried)
                             && shadowed.insert(declared.clone())
-                            && let Some(b @ Binding::Mut { .. }) = inner.get(&declared)
+                            && let Some(b) = inner.get(&declared).filter(|b| carried(b))
                         {
                             env.insert(declared, b.clone());
                         }
@@ -447,11 +460,11 @@ impl Parser {
             }
             let outer: Vec<String> = env
                 .iter()
-                .filter(|(n, b)| matches!(b, Binding::Mut { .. }) && !shadowed.contains(*n))
+                .filter(|(n, b)| carried(b) && !shadowed.contains(*n))
                 .map(|(n, _)| n.clone())
                 .collect();
             for n in outer {
-                if let Some(b @ Binding::Mut { .. }) = inner.get(&n) {
+                if let Some(b) = inner.get(&n).filter(|b| carried(b)) {
                     env.insert(n, b.clone());
                 }
             }
@@ -466,6 +479,12 @@ impl Parser {
             value: Some(self.graph.num(k as f64)),
         }
     }
+}
+
+/// Whether an unrolled copy of a loop body hands a binding on to the next copy and to the
+/// code after the loop: an accumulator, and values (a local array set element by element).
+fn carried(b: &Binding) -> bool {
+    matches!(b, Binding::Mut { .. } | Binding::Values(_))
 }
 
 /// `a` for a name, `the value` for anything else: how an error names the values it reads.

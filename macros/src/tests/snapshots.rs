@@ -1,11 +1,12 @@
-//! Expansion snapshots: the pretty-printed output for three models, so that a change to the
-//! emitted code shows in review.
+//! Expansion snapshots: the pretty-printed output for three models, a force and a constraint,
+//! so that a change to the emitted code shows in review.
 
 use proc_macro2::TokenStream;
 use quote::quote;
 
 use super::{double_pendulum_item, kepler_item, pendulum_item};
-use crate::expand::expand;
+use crate::expand::expand_as;
+use crate::ir::Attr;
 
 fn pretty(ts: TokenStream) -> String {
     let file: syn::File = syn::parse2(ts).expect("the expansion is a valid file");
@@ -15,7 +16,12 @@ fn pretty(ts: TokenStream) -> String {
 /// Compares the pretty-printed expansion of `item` with `macros/tests/expand/<name>.expanded.rs`;
 /// with `UPDATE_EXPAND=1` rewrites the file first (review the diff).
 pub(super) fn check_snapshot(name: &str, item: TokenStream) {
-    let out = pretty(expand(quote!(), item).expect("the model expands"));
+    check_snapshot_as(name, Attr::Lagrangian, item);
+}
+
+/// [`check_snapshot`] of a fn under the attribute `attr`.
+fn check_snapshot_as(name: &str, attr: Attr, item: TokenStream) {
+    let out = pretty(expand_as(attr, quote!(), item).expect("the model expands"));
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join(format!("tests/expand/{name}.expanded.rs"));
     if std::env::var_os("UPDATE_EXPAND").is_some() {
@@ -47,4 +53,38 @@ fn double_pendulum_expansion_snapshot() {
 #[test]
 fn kepler_expansion_snapshot() {
     check_snapshot("kepler", kepler_item());
+}
+
+/// A force's generated code: `∂f/∂x` not symmetric, `∂f/∂v` reading `v`, temporaries shared
+/// by the entries of the Jacobian, a `jacobian_dependence` per block.
+#[test]
+fn force_expansion_snapshot() {
+    check_snapshot_as(
+        "drag_force",
+        Attr::Force,
+        quote! {
+            /// Quadratic drag and a turning spring.
+            fn drag(x: [f64; 2], v: [f64; 2], c: f64, w: f64) -> [f64; 2] {
+                let speed = v[0].hypot(v[1]);
+                [-c * speed * v[0] - w * x[1], -c * speed * v[1] + w * x[0]]
+            }
+        },
+    );
+}
+
+/// A constraint's generated code: `G` row by row, `Σ_k λ_k ∂²g_k/∂x²` written once for
+/// `i ≤ j` and mirrored.
+#[test]
+fn constraint_expansion_snapshot() {
+    check_snapshot_as(
+        "rods_constraint",
+        Attr::Constraint,
+        quote! {
+            /// Two rods from the origin and between the points.
+            fn rods(x: [f64; 4], a: f64, b: f64) -> [f64; 2] {
+                let d = [x[2] - x[0], x[3] - x[1]];
+                [x[0] * x[0] + x[1] * x[1] - a * a, d[0] * d[0] + d[1] * d[1] - b * b]
+            }
+        },
+    );
 }

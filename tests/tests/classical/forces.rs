@@ -38,7 +38,7 @@ fn damped_exact(t: f64) -> f64 {
 }
 
 /// Every classical embedding with the schemes it has.
-fn classical() -> Vec<(Embedding, Scheme)> {
+pub(crate) fn classical() -> Vec<(Embedding, Scheme)> {
     let mut runs = Vec::new();
     for side in [Side::Backward, Side::Forward] {
         for scheme in [Scheme::Direct, Scheme::Variational] {
@@ -67,7 +67,7 @@ fn max_error(q: &[Vector<1>], grid: &Grid) -> f64 {
         .fold(0.0, f64::max)
 }
 
-fn tight() -> NewtonOptions {
+pub(crate) fn tight() -> NewtonOptions {
     NewtonOptions {
         tolerance: 1e-15,
         ..Default::default()
@@ -131,14 +131,14 @@ fn damped_boundary_value_problems_keep_their_order() {
 /// Two bodies joined by a non-linear spring: invariant under a common translation
 /// `ξ = (1, 1)`, so its momentum `m₀v₀ + m₁v₁` is conserved without a force.
 #[lagrangian]
-fn pair(x: [f64; 2], v: [f64; 2]) -> f64 {
+pub(crate) fn pair(x: [f64; 2], v: [f64; 2]) -> f64 {
     let stretch = x[0] - x[1];
     0.5 * v[0] * v[0] + v[1] * v[1] - 0.5 * stretch * stretch - 0.1 * stretch.powi(4)
 }
 
 /// Quadratic drag on the first body with a drive, a position-dependent pull on the second:
 /// `f = (−0.3 v₀|v₀| + 0.2 sin t, −0.1 v₁ + 0.05 x₀)`.
-struct Drag;
+pub(crate) struct Drag;
 
 impl Force<2> for Drag {
     fn force(&self, x: &Vector<2>, v: &Vector<2>, t: f64) -> Vector<2> {

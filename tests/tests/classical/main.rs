@@ -13,6 +13,7 @@ mod errors;
 mod forces;
 mod gauss_legendre;
 mod general_embedding;
+mod generated_forces;
 mod hard_input;
 mod hard_long_runs;
 mod harmonic_exact;

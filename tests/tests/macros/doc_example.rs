@@ -1,5 +1,5 @@
-//! The example of the `#[lagrangian]` docs, compiled and run (the proc-macro crate cannot run
-//! doctests that use `varembed`).
+//! The examples of the `#[lagrangian]`, `#[force]` and `#[constraint]` docs, compiled and run
+//! (the proc-macro crate cannot run doctests that use `varembed`).
 
 use varembed::{Lagrangian, Vector, lagrangian};
 
@@ -18,4 +18,53 @@ fn doc_example() {
     assert_eq!(p[0], -4.0);
     assert_eq!(pendulum(0.3, -1.0, 9.81, 2.0), lag.value(&x, &v, 0.0));
     println!("{}", Pendulum::DERIVATIVES);
+}
+
+/// The example of the `#[force]` docs.
+mod force_example {
+    use varembed::{Force, Vector, force};
+
+    /// A drag `f = −c |v| v` and a spring toward the origin that turns (not a gradient).
+    #[force]
+    fn drag(x: [f64; 2], v: [f64; 2], c: f64, w: f64) -> [f64; 2] {
+        let speed = v[0].hypot(v[1]);
+        [-c * speed * v[0] - w * x[1], -c * speed * v[1] + w * x[0]]
+    }
+
+    #[test]
+    fn doc_example() {
+        let f = Drag { c: 0.5, w: 2.0 };
+        let (x, v) = (Vector::<2>::new(1.0, 0.0), Vector::<2>::new(0.0, 2.0));
+        assert_eq!(f.force(&x, &v, 0.0)[1], -0.5 * 2.0 * 2.0 + 2.0);
+        let j = f.jacobian(&x, &v, 0.0);
+        assert_eq!((j.x[(0, 1)], j.x[(1, 0)]), (-2.0, 2.0));
+        assert_eq!(drag([1.0, 0.0], [0.0, 2.0], 0.5, 2.0)[1], 0.0);
+    }
+}
+
+/// The example of the `#[constraint]` docs.
+mod constraint_example {
+    use nalgebra::SVector;
+    use varembed::{Constraint, Vector, constraint};
+
+    /// Two rods: the first point at distance `a` from the origin, the second at `b` from it.
+    #[constraint]
+    fn rods(x: [f64; 4], a: f64, b: f64) -> [f64; 2] {
+        let d = [x[2] - x[0], x[3] - x[1]];
+        [
+            x[0] * x[0] + x[1] * x[1] - a * a,
+            d[0] * d[0] + d[1] * d[1] - b * b,
+        ]
+    }
+
+    #[test]
+    fn doc_example() {
+        let g = Rods { a: 1.0, b: 2.0 };
+        let x = Vector::<4>::new(1.0, 0.0, 1.0, 2.0);
+        assert_eq!(g.value(&x), SVector::<f64, 2>::zeros());
+        assert_eq!(g.jacobian(&x)[(1, 3)], 4.0);
+        let h = g.weighted_hessian(&x, &SVector::<f64, 2>::new(1.0, 0.5));
+        assert_eq!((h[(0, 0)], h[(0, 2)], h[(2, 2)]), (3.0, -1.0, 1.0));
+        assert_eq!(rods([1.0, 0.0, 1.0, 2.0], 1.0, 2.0), [0.0, 0.0]);
+    }
 }

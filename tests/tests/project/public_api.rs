@@ -19,8 +19,8 @@ use varembed::{
     DirectEmbedding, DynSolution, DynState, Embedding, EmbeddingKind, Ensemble, Error,
     FractionalSolver, Grid, Hessian, HessianDependence, IntoVector, Lagrangian, Level, Location,
     Matrix, NewtonOptions, NodeFormula, NodeRule, NodeState, NodeValues, OrderStatus, Problem,
-    Reference, Result, Scheme, SchemeReport, Side, Solution, Start, Vector, Warning,
-    curve_from_flat, lagrangian, max_error, observed_order, observed_orders,
+    Reference, Result, Scheme, SchemeReport, Side, Solution, Start, Vector, Warning, constraint,
+    curve_from_flat, force, lagrangian, max_error, observed_order, observed_orders,
 };
 
 /// Compiles only while the public types keep their auto traits.
@@ -110,7 +110,9 @@ const ROOT: &[&str] = &[
     "Start",
     "Vector",
     "Warning",
+    "constraint",
     "curve_from_flat",
+    "force",
     "guide",
     "lagrangian",
     "max_error",
@@ -122,12 +124,18 @@ const ROOT: &[&str] = &[
 /// The names generated code and the benchmarks reach through the hidden `__private` module:
 /// not public API, but the macro's output depends on them.
 const PRIVATE: &[&str] = &[
+    "Constraint",
     "Dependence",
     "DynLagrangian",
+    "Force",
+    "ForceDependence",
+    "ForceJacobian",
     "Hessian",
     "HessianDependence",
     "Lagrangian",
     "Matrix",
+    "SMatrix",
+    "SVector",
     "SparseHessian",
     "Vector",
     "fft_operator",

@@ -1,0 +1,9 @@
+use varembed::force;
+
+#[force]
+fn drag(x: [f64; 2], v: [f64; 2], c: f64) -> [f64; 2] {
+    println!("{}", x[0]);
+    [-c * v[0], -c * v[1]]
+}
+
+fn main() {}
