@@ -39,7 +39,7 @@ pub trait DynForce {
     /// Adds the entries of `∂f/∂x` and `∂f/∂v` at `(x, v, t)` to `out` (cleared by the caller).
     fn jacobian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseForceJacobian);
 
-    /// What the Jacobian's blocks depend on, as [`Force::jacobian_dependence`].
+    /// What the Jacobian's blocks depend on, as [`Force::jacobian_dependence`](super::Force::jacobian_dependence).
     fn jacobian_dependence(&self) -> ForceDependence {
         ForceDependence::ALL
     }
