@@ -19,7 +19,7 @@
 //! `p_N·ξ − p_0·ξ` is the sum of the discrete impulses `(f_d^− + f_d^+)·ξ` ([`Forced::impulses`]).
 //! The Gauss–Legendre integrators take the force at their stages the same way.
 
-mod run_time;
+pub(crate) mod run_time;
 
 pub use run_time::DynForce;
 

@@ -220,7 +220,8 @@ pub use embedding::kind::EmbeddingKind;
 pub use embedding::{Embedding, Scheme};
 pub use ensemble::Ensemble;
 pub use error::{Error, Location, Result};
-pub use force::{DynForce, Force, ForceDependence, Forced, Rayleigh};
+pub use force::run_time::DynForce;
+pub use force::{Force, ForceDependence, Forced, Rayleigh};
 pub use grid::Grid;
 pub use lagrangian::run_time::DynLagrangian;
 pub use lagrangian::{
