@@ -1,4 +1,4 @@
-//! The README's quick start, verbatim (`examples/tests/readme.rs` keeps the two equal):
+//! The README's quick start, verbatim (`examples/tests/tour/readme.rs` keeps the two equal):
 //! `cargo run --example quick_start`.
 
 use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
