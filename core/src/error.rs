@@ -325,7 +325,8 @@ pub enum Error {
         residual: f64,
     },
     /// An end value of a boundary value problem violates a holonomic constraint `g(q) = 0`
-    /// beyond the tolerance `1e-10` relative to the constraint's terms (`|G_i(q)| |q|`).
+    /// beyond the tolerance `1e-10` relative to the constraint's terms
+    /// (`|G_i(q)| max(|q|, 1)`).
     #[error(
         "the end value at {end} violates constraint {constraint}: residual {residual:.3e}; give end values on the constraints (`project_initial_data` projects a position)"
     )]

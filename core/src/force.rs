@@ -209,9 +209,12 @@ impl<L, F> Forced<L, F> {
     /// over the quadrature points `x_i = (1 − θ_i) Q_k + θ_i Q_{k+1}` of the solution's
     /// embedding (`N` pairs): the virtual work `f_d^−·δQ_k + f_d^+·δQ_{k+1}` of the discrete
     /// Lagrange–d'Alembert principle, which the variational scheme solves. For a symmetry of `L`
-    /// with generator `ξ(q)` (a rotation too, not only a translation), its node momenta satisfy
-    /// the forced discrete Noether theorem
-    /// `p_{k+1}·ξ(Q_{k+1}) − p_k·ξ(Q_k) = f_d^−·ξ(Q_k) + f_d^+·ξ(Q_{k+1})` to round-off.
+    /// acting linearly, with generator `ξ(q) = A q` (a rotation too, not only a translation),
+    /// that the discrete Lagrangian inherits (see the guide to forces and constraints), the
+    /// node momenta of [`Solution::node_values`] called with this `Forced` model (the forced
+    /// discrete Legendre transforms; `L`'s own would not do) satisfy the forced discrete
+    /// Noether theorem `p_{k+1}·ξ(Q_{k+1}) − p_k·ξ(Q_k) = f_d^−·ξ(Q_k) + f_d^+·ξ(Q_{k+1})` to
+    /// round-off.
     ///
     /// Only this `Forced`'s force counts: for several forces on one model, attach their sum
     /// (a pair `(f1, f2)` is a [`Force`]) rather than nesting `Forced` (whose schemes are

@@ -162,20 +162,35 @@ fn constraint(model: &Model, dx: &[Id], second: &[Id], with_item: bool) -> Token
         .iter()
         .enumerate()
         .filter_map(|(p, &(i, j))| {
-            let terms: Vec<TokenStream> = (0..m)
+            // `λ_k · e`, with a second derivative of ±1 written as `±λ_k` (what clippy asks
+            // of generated code too): each term with the sign it enters the sum with.
+            let terms: Vec<(bool, TokenStream)> = (0..m)
                 .map(|k| (k, second[k * pairs.len() + p]))
                 .filter(|&(_, id)| !g.is_num(id, 0.0))
                 .map(|(k, id)| {
-                    let (k, e) = (index(k), r.wrapped(id, Prec::Neg));
-                    quote!(lambda[#k] * #e)
+                    let k = index(k);
+                    match (g.is_num(id, 1.0), g.is_num(id, -1.0)) {
+                        (true, _) => (false, quote!(lambda[#k])),
+                        (_, true) => (true, quote!(lambda[#k])),
+                        _ => {
+                            let e = r.wrapped(id, Prec::Neg);
+                            (false, quote!(lambda[#k] * #e))
+                        }
+                    }
                 })
                 .collect();
-            if terms.is_empty() {
-                return None;
-            }
+            let (first, rest) = terms.split_first()?;
+            let first = match first {
+                (true, t) => quote!(-#t),
+                (false, t) => quote!(#t),
+            };
+            let rest = rest.iter().map(|(negative, t)| match negative {
+                true => quote!(- #t),
+                false => quote!(+ #t),
+            });
             let (ii, jj) = (index(i), index(j));
             let mirror = (i != j).then(|| quote!(h[(#jj, #ii)] = h[(#ii, #jj)];));
-            Some(quote!(h[(#ii, #jj)] = #(#terms)+*; #mirror))
+            Some(quote!(h[(#ii, #jj)] = #first #(#rest)*; #mirror))
         })
         .collect();
     let zeros = quote!(#matrix_ty::<#d>::zeros());

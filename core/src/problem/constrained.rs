@@ -19,17 +19,18 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// the constrained discrete Euler–Lagrange equations
     /// `D₂L_d(Q_{n−2}, Q_{n−1}) + D₁L_d(Q_{n−1}, Q_n) + h G(Q_{n−1})ᵀλ = 0`); each step is one
     /// Newton solve of the `D + M` unknowns `(Q_n, hλ)`, from the discrete Legendre start with
-    /// the constraint force at `q(a)`. Every classical embedding but Gauss–Legendre (whose
-    /// stages would need the constraint at every stage to keep their order), both schemes;
+    /// the constraint force at `q(a)`. Every classical embedding, both schemes; Gauss–Legendre
+    /// variational only, with the constraint at the nodes (its stages are not constrained, so
+    /// it is order 2 for every `s`: see [forces and constraints](crate::guide::forces));
     /// combined with a [`Forced`](crate::Forced) model, forces and constraints together.
     ///
     /// Errors: [`Error::InconsistentInitialData`](crate::Error::InconsistentInitialData) when
     /// `g(q0) ≠ 0` or `G(q0) v0 ≠ 0` beyond `1e-10` relative (naming the constraint; see
     /// [`project_initial_data`](crate::project_initial_data)),
     /// [`Error::RankDeficientConstraints`](crate::Error::RankDeficientConstraints) where `G`
-    /// has dependent rows, [`Error::Unsupported`](crate::Error::Unsupported) for Gauss–Legendre
-    /// and the fractional embeddings, and the step errors of
-    /// [`solve_ivp`](Self::solve_ivp) (no blow-up guard or stability check runs).
+    /// has dependent rows, [`Error::Unsupported`](crate::Error::Unsupported) for the direct
+    /// scheme of Gauss–Legendre and the fractional embeddings, and the step errors of
+    /// [`solve_ivp`](Self::solve_ivp) (no blow-up guard, stability or resolution check runs).
     ///
     /// # Example
     ///

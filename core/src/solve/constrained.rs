@@ -226,15 +226,15 @@ where
     let at = Location::Step(n);
     let node = row_node(step.kind);
     let constraint_scale = |y: &Vector<D>| constraint.jacobian(y).amax() * y.amax();
-    let weight = {
-        let (_, _, size) = residual_and_terms(lagrangian, step, &y);
-        let w = size.max(step.momentum.amax()) / constraint_scale(&y);
-        if w.is_finite() && w > 0.0 { w } else { 1.0 }
-    };
-    let mut nu = mu / weight;
+    let (mut weight, mut nu) = (1.0, mu);
     let mut last = f64::INFINITY;
     for iteration in 0..=newton.max_iterations {
         let (r, j, size) = residual_and_terms(lagrangian, step, &y);
+        if iteration == 0 {
+            let w = size.max(step.momentum.amax()) / constraint_scale(&y);
+            weight = if w.is_finite() && w > 0.0 { w } else { 1.0 };
+            nu = mu / weight;
+        }
         let c = match node {
             RowNode::Oldest => step.a,
             RowNode::Middle => step.b,

@@ -14,7 +14,8 @@
 
 use varembed::{
     ConstrainedSolution, Constraint, Embedding, EmbeddingKind, Error, Forced, Grid, Holonomic,
-    Lagrangian, Problem, Rayleigh, Scheme, Side, Vector, lagrangian, project_initial_data,
+    Lagrangian, Location, Problem, Rayleigh, Scheme, Side, Vector, lagrangian,
+    project_initial_data,
 };
 use varembed_tests::models::scaled::Scaled;
 use varembed_tests::rng::Rng;
@@ -262,4 +263,87 @@ fn constrained_bvp_errors_are_typed() {
             "{embedding}: {error:?}"
         );
     }
+}
+
+/// The smallest grids (`N = 1`: no unknowns; `N = 2`: one row, whose constraint force sits on
+/// an end under the direct Gauss-FDE∓ schemes) solve, with one multiplier per row; a guess of
+/// the path (`solve_constrained_bvp_from`) gives the straight line's solution; ends whose
+/// straight line crosses the sphere's centre are `RankDeficientConstraints` at that node, and
+/// solve from a guess of the path.
+#[test]
+fn constrained_bvp_edge_cases() {
+    let sphere = Holonomic(Sphere);
+    let (bottom, side) = (
+        Vector::<3>::new(0.0, 0.0, -1.0),
+        Vector::<3>::new(1.0, 0.0, 0.0),
+    );
+    for n in [1, 2] {
+        for (embedding, scheme) in runs() {
+            let problem = Problem::new(
+                &Falling,
+                Grid::new(0.0, 0.1 * n as f64, n).unwrap(),
+                embedding,
+            );
+            let run = problem
+                .solve_constrained_bvp(scheme, &sphere, bottom, side)
+                .unwrap_or_else(|e| panic!("N = {n}, {embedding} {scheme}: {e}"));
+            assert_eq!(run.solution.q.len(), n + 1);
+            assert_eq!(
+                run.multipliers.len(),
+                n - 1,
+                "N = {n}, {embedding} {scheme}"
+            );
+            let off = run
+                .solution
+                .q
+                .iter()
+                .map(|q| sphere.value(q).amax())
+                .fold(0.0, f64::max);
+            assert!(off <= 1e-12, "N = {n}, {embedding} {scheme}: |g| = {off:e}");
+        }
+    }
+    let grid = Grid::new(0.0, 1.0, 20).unwrap();
+    let problem = Problem::new(&Falling, grid, Embedding::midpoint());
+    let straight = problem
+        .solve_constrained_bvp(Scheme::Variational, &sphere, bottom, side)
+        .unwrap();
+    // A guess along the great circle through the ends, slightly off it.
+    let arc: Vec<Vector<3>> = (0..=20)
+        .map(|k| {
+            let angle = std::f64::consts::FRAC_PI_2 * k as f64 / 20.0;
+            let wobble = if k == 0 || k == 20 { 0.0 } else { 0.05 };
+            Vector::<3>::new(angle.sin(), wobble, -angle.cos())
+        })
+        .collect();
+    let from_arc = problem
+        .solve_constrained_bvp_from(Scheme::Variational, &sphere, &arc)
+        .unwrap();
+    let (nodes, multipliers) = differences(&straight, &from_arc);
+    assert!(
+        nodes <= 1e-12 && multipliers <= 1e-10,
+        "{nodes:e}, {multipliers:e}"
+    );
+    let antipodal = problem.solve_constrained_bvp(Scheme::Variational, &sphere, bottom, -bottom);
+    assert!(
+        matches!(
+            antipodal,
+            Err(Error::RankDeficientConstraints {
+                at: Location::Node(10),
+                ..
+            })
+        ),
+        "{antipodal:?}"
+    );
+    let over_the_side: Vec<Vector<3>> = (0..=20)
+        .map(|k| {
+            let angle = std::f64::consts::PI * k as f64 / 20.0;
+            Vector::<3>::new(angle.sin(), 0.0, -angle.cos())
+        })
+        .collect();
+    let run = problem
+        .solve_constrained_bvp_from(Scheme::Variational, &sphere, &over_the_side)
+        .unwrap();
+    // The guess's end values are the problem's (the top of the sphere, to round-off).
+    assert_eq!(run.solution.last(), over_the_side[20]);
+    assert!((run.solution.last() + bottom).amax() < 1e-15);
 }

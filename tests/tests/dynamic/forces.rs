@@ -93,6 +93,13 @@ fn forced_runs_of_run_time_dimension_are_the_const_generic_runs() {
                 run.run.explicit_steps, reference.explicit_steps,
                 "{embedding} {scheme}"
             );
+            // The chain and the dashpots both declare a half-band of 1 (`Forced` the wider of
+            // the two): the step Jacobian is factorised on it in the model's own order.
+            assert_eq!(
+                (run.run.band, run.run.reordered),
+                (1, false),
+                "{embedding} {scheme}"
+            );
             // The force does work of order one: a run that ignored it would be far off.
             let unforced = DynProblem::new(&Chain, grid, embedding)
                 .solve_ivp(scheme, &q0, &v0)

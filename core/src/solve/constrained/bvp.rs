@@ -12,8 +12,8 @@
 //! (see the parent module), so a boundary value problem whose ends come from a constrained run
 //! returns that run's nodes and multipliers. Node `j`'s unknowns and equations form one block
 //! `[Q_j, λ of row j − 1]`, `[row j − 1, g(Q_j)]` (row counted from the first), so the Jacobian
-//! is block-tridiagonal with blocks of `D + M`, factorised as a band matrix in
-//! `O(N (D + M)³)`. The constraint rows are weighted, and the multipliers measured, in units of
+//! is block-tridiagonal with blocks of `D + M` (half-bandwidth `2D + M − 1`), factorised as a
+//! band matrix in `O(N (D + M)³)`. The constraint rows are weighted, and the multipliers measured, in units of
 //! the scheme's rows (`w` below), so that the system scales with `L` as a whole: `c L` gives the
 //! same Newton iterates and multipliers `c λ`.
 
@@ -58,11 +58,15 @@ impl<const D: usize, const M: usize> Iterate for Unknowns<D, M> {
 }
 
 /// The system at one iterate: its rows flat in block order, the pointwise values they came
-/// from, and the scale of the scheme's rows with their constraint forces.
+/// from, and the largest residual and the scale of each kind of row.
 struct Evaluation<const D: usize> {
     rows: Vec<f64>,
     pointwise: Pointwise<D>,
-    scale: f64,
+    /// The scheme's rows with their constraint forces: `max |r_k + G(Q_k)ᵀλ_k|` and the row
+    /// scale plus the largest constraint force.
+    scheme: (f64, f64),
+    /// The weighted constraints: `max |w g(Q_j)|` and `w · max ‖G(Q_j)‖∞ · max ‖Q_j‖∞`.
+    constraints: (f64, f64),
 }
 
 /// The constrained boundary value problem of `scheme` from `guess` (its first and last nodes
@@ -115,7 +119,6 @@ where
         mu: vec![SVector::<f64, M>::zeros(); n - 1],
     };
     let (q, mu, iterations) = system.newton(&mut x, options)?;
-    let q: Vec<Vector<D>> = q;
     check_nodes(disc, &q, false)?;
     let solution = Solution {
         scheme,
@@ -167,13 +170,20 @@ where
         let r = self.disc.residual_from(self.scheme, &pointwise);
         let block = D + M;
         let mut rows = vec![0.0; r.len() * block];
-        let mut forces = 0.0f64;
+        let (mut forces, mut scheme, mut constraints) = (0.0f64, 0.0f64, 0.0f64);
+        let (mut gradients, mut size) = (0.0f64, 0.0f64);
         for (i, (row, mu)) in r.iter().zip(&x.mu).enumerate() {
             let force =
                 self.constraint.jacobian(&x.q[self.start + i]).transpose() * (mu * self.weight);
             forces = forces.max(force.amax());
-            let g = self.constraint.value(&x.q[i + 1]) * self.weight;
-            rows[i * block..i * block + D].copy_from_slice((row + force).as_slice());
+            let node = &x.q[i + 1];
+            let g = self.constraint.value(node) * self.weight;
+            gradients = gradients.max(self.constraint.jacobian(node).amax());
+            size = size.max(node.amax());
+            let row = row + force;
+            scheme = scheme.max(row.amax());
+            constraints = constraints.max(g.amax());
+            rows[i * block..i * block + D].copy_from_slice(row.as_slice());
             rows[i * block + D..(i + 1) * block].copy_from_slice(g.as_slice());
         }
         if !rows.iter().all(|c| c.is_finite()) {
@@ -183,7 +193,8 @@ where
         Ok(Evaluation {
             rows,
             pointwise,
-            scale,
+            scheme: (scheme, scale),
+            constraints: (constraints, self.weight * gradients * size),
         })
     }
 
@@ -191,7 +202,9 @@ where
     fn jacobian(&self, x: &Unknowns<D, M>, pointwise: &Pointwise<D>) -> BandedMatrix {
         let block = D + M;
         let n = x.q.len() - 1;
-        let mut jac = BandedMatrix::zeros((n - 1) * block, 2 * block - 1, 2 * block - 1);
+        // A scheme row of block i reaches `Q` of blocks i ± 1; a constraint row, block i alone.
+        let band = 2 * D + M - 1;
+        let mut jac = BandedMatrix::zeros((n - 1) * block, band, band);
         self.disc
             .assemble_jacobian(self.scheme, &x.q, pointwise, |i, j, b| {
                 for r in 0..D {
@@ -261,7 +274,8 @@ where
                     .map(|q| q.amax())
                     .chain(x.mu.iter().map(|m| m.amax()))
                     .fold(0.0f64, f64::max);
-            let done = res <= newton.tolerance * evaluation.scale
+            let within = |(residual, scale): (f64, f64)| residual <= newton.tolerance * scale;
+            let done = (within(evaluation.scheme) && within(evaluation.constraints))
                 || at_round_off(res, previous, norms.inf, size);
             if jac.factorize_scaled(norms.largest).is_err() {
                 // A rank-deficient `G` at some node is the cause to name; otherwise the
