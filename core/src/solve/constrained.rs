@@ -225,29 +225,29 @@ where
 {
     let at = Location::Step(n);
     let node = row_node(step.kind);
-    let constraint_scale = |y: &Vector<D>| constraint.jacobian(y).amax() * y.amax();
+    // `G` at a row node other than the newest is the same at every iteration.
+    let fixed = match node {
+        RowNode::Oldest => Some(constraint.jacobian(&step.a)),
+        RowNode::Middle => Some(constraint.jacobian(&step.b)),
+        RowNode::Newest => None,
+    };
     let (mut weight, mut nu) = (1.0, mu);
     let mut last = f64::INFINITY;
     for iteration in 0..=newton.max_iterations {
         let (r, j, size) = residual_and_terms(lagrangian, step, &y);
+        let jacobian_y = constraint.jacobian(&y);
+        // `‖G(y)‖∞ ‖y‖∞`, the scale of the constraint's terms.
+        let terms_of_g = jacobian_y.amax() * y.amax();
         if iteration == 0 {
-            let w = size.max(step.momentum.amax()) / constraint_scale(&y);
+            let w = size.max(step.momentum.amax()) / terms_of_g;
             weight = if w.is_finite() && w > 0.0 { w } else { 1.0 };
             nu = mu / weight;
         }
-        let c = match node {
-            RowNode::Oldest => step.a,
-            RowNode::Middle => step.b,
-            RowNode::Newest => y,
-        };
         let mu = nu * weight;
-        let g_c = constraint.jacobian(&c);
+        let g_c = fixed.unwrap_or(jacobian_y);
         let force = g_c.transpose() * mu;
         let r = r - force;
-        let (g, g_y) = (
-            constraint.value(&y) * weight,
-            constraint.jacobian(&y) * weight,
-        );
+        let (g, g_y) = (constraint.value(&y) * weight, jacobian_y * weight);
         let residual = r.amax().max(g.amax());
         if !residual.is_finite() || !j.iter().all(|c| c.is_finite()) {
             return Err(if iteration == 0 {
@@ -262,7 +262,7 @@ where
         }
         let previous = std::mem::replace(&mut last, residual);
         let row_scale = size.max(step.momentum.amax()).max(force.amax());
-        let constraint_scale = weight * constraint_scale(&y);
+        let constraint_scale = weight * terms_of_g;
         let within = r.amax() <= newton.tolerance * row_scale
             && g.amax() <= newton.tolerance * constraint_scale;
         // The floor of the unconstrained steps, with the saddle-point system's scale: each
