@@ -50,6 +50,15 @@ impl ForceDependence {
         x: Dependence::ALL,
         v: Dependence::ALL,
     };
+
+    /// The blocks of `f = −∂R/∂v` from what `R`'s Hessian blocks depend on: `∂f/∂x = −R_xvᵀ`,
+    /// `∂f/∂v = −R_vv` (for [`Rayleigh`] on both paths).
+    pub(crate) fn of_dissipation(blocks: HessianDependence) -> Self {
+        ForceDependence {
+            x: blocks.xv,
+            v: blocks.vv,
+        }
+    }
 }
 
 /// A generalised force `f(x, v, t)` on `R^D`, with its Jacobian (Newton's method on an implicit
@@ -137,11 +146,7 @@ impl<const D: usize, R: Lagrangian<D>> Force<D> for Rayleigh<R> {
     }
 
     fn jacobian_dependence(&self) -> ForceDependence {
-        let blocks = self.0.hessian_dependence();
-        ForceDependence {
-            x: blocks.xv,
-            v: blocks.vv,
-        }
+        ForceDependence::of_dissipation(self.0.hessian_dependence())
     }
 
     fn constants(&self) -> Vec<(&'static str, f64)> {

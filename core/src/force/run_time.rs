@@ -91,11 +91,7 @@ impl<R: DynLagrangian> DynForce for Rayleigh<R> {
     }
 
     fn jacobian_dependence(&self) -> ForceDependence {
-        let blocks = self.0.hessian_dependence();
-        ForceDependence {
-            x: blocks.xv,
-            v: blocks.vv,
-        }
+        ForceDependence::of_dissipation(self.0.hessian_dependence())
     }
 
     fn constants(&self) -> Vec<(&'static str, f64)> {
