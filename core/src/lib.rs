@@ -242,7 +242,8 @@ pub use varembed_macros::{constraint, force, lagrangian};
 #[doc(hidden)]
 pub mod __private {
     pub use crate::constraint::Constraint;
-    pub use crate::dynamic::sparse::SparseHessian;
+    pub use crate::dynamic::sparse::{SparseForceJacobian, SparseHessian};
+    pub use crate::force::run_time::DynForce;
     pub use crate::force::{Force, ForceDependence};
     pub use crate::lagrangian::{
         Dependence, DynLagrangian, ForceJacobian, Hessian, HessianDependence, Lagrangian, Matrix,

@@ -70,6 +70,10 @@ pub enum Block {
     Zs,
     /// Two lifted sums.
     Ss,
+    /// `∂f/∂x` of a force with loops: a weight of its virtual work (row) and a position.
+    Fx,
+    /// `∂f/∂v` of a force with loops: a weight (row) and a velocity.
+    Fv,
 }
 
 /// `block[(row, col)] += id`, and `block[(col, row)] += id` too when `mirror`.
@@ -434,4 +438,94 @@ fn dense_blocks(terms: &[Term], sums: &[Vec<Term>]) -> [bool; 3] {
     let pair =
         |r: usize, c: usize| (0..sums.len()).any(|k| (u[k][r] && w[k][c]) || (w[k][r] && u[k][c]));
     [pair(0, 0), pair(0, 1), pair(1, 1)]
+}
+
+/// A `#[force]` with loops, read as its virtual work `W = Σ_k w_k f_k` (see
+/// `parse/looped_force.rs`): each term's force entries `(w_k, ∂W/∂w_k)` in `gradient`, its
+/// Jacobian entries `∂²W/∂w_k∂x_j`, `∂²W/∂w_k∂v_j` in `hessian` (blocks [`Block::Fx`],
+/// [`Block::Fv`], never mirrored: a force's Jacobian is in general not symmetric).
+pub struct ForceAssembly {
+    /// The terms, as an [`Assembly`] without lifted sums, for the loop path's emitters.
+    pub assembly: Assembly,
+    /// What `∂f/∂x` and `∂f/∂v` depend on.
+    pub dependence: [Dependence; 2],
+}
+
+/// Writes the virtual work `root` as terms and differentiates each with respect to its
+/// weights, then each force entry with respect to the state.
+pub fn assemble_force(g: &mut Graph, root: Id) -> Result<ForceAssembly, String> {
+    let has = sum_inside(g);
+    if !lifted_sums(g, &has, root)?.is_empty() {
+        return Err(
+            "a sum inside a function, a divisor or a condition is not supported in a \
+                    #[force]: a force component may hold sums only through `+`, `−`, products \
+                    and small powers (`powi`), which give its Jacobian's entries term by term"
+                .into(),
+        );
+    }
+    let ts = terms(g, &has, root)?;
+    let ts = merged(g, ts);
+    let mut d = Differentiator::new();
+    let mut out = Vec::new();
+    let (mut on_x, mut on_v) = (Vec::new(), Vec::new());
+    for (loops, value) in ts {
+        let mut weights = Vec::new();
+        for id in g.reachable(&[value]) {
+            if let Node::Var(w @ (Var::F(_) | Var::FAt(_))) = g.node(id) {
+                weights.push(w);
+            }
+        }
+        let [xs, vs, _] = components(g, value);
+        let mut gradient = Vec::new();
+        let mut hessian = Vec::new();
+        for &w in &weights {
+            let f = d.diff(g, value, w);
+            if g.is_num(f, 0.0) {
+                continue;
+            }
+            gradient.push((w, f));
+            for (block, states) in [(Block::Fx, &xs), (Block::Fv, &vs)] {
+                for &col in states {
+                    let id = d.diff(g, f, col);
+                    if !g.is_num(id, 0.0) {
+                        match block {
+                            Block::Fx => on_x.push(id),
+                            _ => on_v.push(id),
+                        }
+                        hessian.push(Entry {
+                            block,
+                            row: w,
+                            col,
+                            id,
+                            mirror: false,
+                        });
+                    }
+                }
+            }
+        }
+        if !gradient.is_empty() {
+            out.push(Term {
+                loops,
+                value,
+                gradient,
+                hessian,
+                weighted: None,
+            });
+        }
+    }
+    let none = Dependence::NONE;
+    Ok(ForceAssembly {
+        assembly: Assembly {
+            terms: out,
+            sums: Vec::new(),
+            dense_blocks: [false; 3],
+            hessian_dependence: HessianDependence {
+                xx: none,
+                xv: none,
+                vv: none,
+            },
+            dependence: g.dependence(&[root]),
+        },
+        dependence: [g.dependence(&on_x), g.dependence(&on_v)],
+    })
 }

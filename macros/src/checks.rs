@@ -17,6 +17,17 @@ use crate::names::Names;
 
 /// `fn invalid_dimension(&self) -> Option<String>` of a run-time dimension model.
 pub fn invalid_dimension(model: &Model, names: &Names<'_>) -> TokenStream {
+    let checks = index_checks(model, names);
+    quote! {
+        #[inline]
+        fn invalid_dimension(&self) -> ::core::option::Option<::std::string::String> {
+            #checks
+        }
+    }
+}
+
+/// The statements of [`invalid_dimension`], ending with `None` when every check passes.
+pub fn index_checks(model: &Model, names: &Names<'_>) -> TokenStream {
     let g = &model.graph;
     let mut checker = Checker {
         g,
@@ -97,7 +108,7 @@ pub fn invalid_dimension(model: &Model, names: &Names<'_>) -> TokenStream {
     // Literal components: the largest one read.
     let literal = (0..g.len())
         .filter_map(|id| match g.node(id) {
-            Node::Var(Var::X(k) | Var::V(k)) => Some(k),
+            Node::Var(Var::X(k) | Var::V(k) | Var::F(k)) => Some(k),
             _ => None,
         })
         .max();
@@ -113,6 +124,7 @@ pub fn invalid_dimension(model: &Model, names: &Names<'_>) -> TokenStream {
         let (state, c) = match g.node(id) {
             Node::Var(Var::XAt(c)) => ("x", c),
             Node::Var(Var::VAt(c)) => ("v", c),
+            Node::Var(Var::FAt(c)) => ("f", c),
             _ => continue,
         };
         if seen.insert((state, c)) {
@@ -122,11 +134,8 @@ pub fn invalid_dimension(model: &Model, names: &Names<'_>) -> TokenStream {
 
     let stmts = &checker.stmts;
     quote! {
-        #[inline]
-        fn invalid_dimension(&self) -> ::core::option::Option<::std::string::String> {
-            #(#stmts)*
-            ::core::option::Option::None
-        }
+        #(#stmts)*
+        ::core::option::Option::None
     }
 }
 

@@ -455,6 +455,9 @@ pub fn leaf(consts: &[Ident]) -> impl Fn(Var) -> TokenStream + '_ {
             let c = &consts[k];
             quote!(self.#c)
         }
+        Var::F(_) | Var::FAt(_) => {
+            unreachable!("the weights of a force's virtual work are differentiated away")
+        }
         Var::XAt(_)
         | Var::VAt(_)
         | Var::Index(_)

@@ -22,7 +22,8 @@ use proc_macro2::TokenStream;
 
 use crate::ir::{Attr, Model, Node, Var};
 use crate::{
-    assemble, cse, diff, dynamic, emit, fallback, helpers, loop_impl, parse, scatter, text, vector,
+    assemble, cse, diff, dynamic, emit, fallback, helpers, loop_impl, looped_force, parse, scatter,
+    text, vector,
 };
 
 /// The errors of a rejected fn, with the fn's tokens, which the fallback output keeps.
@@ -117,7 +118,19 @@ fn expand_with(
         Ok(model) => model,
         Err(errors) => return Err(Rejected { item, errors }),
     };
-    let out = if attr != Attr::Lagrangian {
+    let looped = model.dim_name.is_some() || model.runtime_dim.is_some();
+    let out = if attr == Attr::Force && looped {
+        let force = match assemble::assemble_force(&mut model.graph, model.root) {
+            Ok(f) => f,
+            Err(msg) => {
+                let errors = syn::Error::new_spanned(&model.item.sig.ident, msg);
+                return Err(Rejected { item, errors });
+            }
+        };
+        let text = text::loops_text(&model, &force.assembly);
+        let loops = scatter::Loops::new(&model, &force.assembly);
+        looped_force::emit(&model, &force, &loops, &text, with_item)
+    } else if attr != Attr::Lagrangian {
         vector::emit(&mut model, with_item)
     } else if has_loops(&model) {
         let assembly = match assemble::assemble(&mut model.graph, model.root) {

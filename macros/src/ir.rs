@@ -49,6 +49,13 @@ pub enum Var {
     XAt(Component),
     /// Velocity component at an index that names a loop variable or the dimension.
     VAt(Component),
+    /// The weight of component `k` of a `#[force]` with loops, `k` a literal: the force is
+    /// parsed as its virtual work `Σ_k w_k f_k`, linear in these leaves, so that `f_k` is the
+    /// derivative with respect to `w_k` (`assemble::assemble_force`). Never emitted.
+    F(usize),
+    /// The weight of a force component at an index that names a loop variable or the
+    /// dimension.
+    FAt(Component),
     /// The value of a loop variable, as a number.
     Index(IndexVar),
     /// The dimension `N` as a number, when it is a named constant.

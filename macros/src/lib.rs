@@ -34,6 +34,7 @@ mod indices;
 mod ir;
 mod lifted;
 mod loop_impl;
+mod looped_force;
 mod names;
 mod parse;
 mod readable;

@@ -41,7 +41,8 @@ impl<'a> Names<'a> {
                         > 1
                 });
                 let reserved = [
-                    "x", "v", "t", "fx", "fv", "xx", "xv", "vv", "value", "out", "row", "col",
+                    "x", "v", "t", "fx", "fv", "xx", "xv", "vv", "value", "out", "row", "col", "f",
+                    "jx", "jv",
                 ]
                 .contains(&r.name.as_str())
                     || r.name.starts_with('e')
@@ -102,7 +103,7 @@ impl<'a> Names<'a> {
     pub fn guard(&self, vars: &[Var]) -> Option<TokenStream> {
         let mut conds: Vec<TokenStream> = Vec::new();
         for &v in vars {
-            let (Var::XAt(c) | Var::VAt(c)) = v else {
+            let (Var::XAt(c) | Var::VAt(c) | Var::FAt(c)) = v else {
                 continue;
             };
             let Some(i) = c.at.var else {
@@ -204,12 +205,12 @@ impl<'a> Names<'a> {
     /// The index of a state component.
     pub fn position(&self, v: Var) -> TokenStream {
         match v {
-            Var::X(k) | Var::V(k) => {
+            Var::X(k) | Var::V(k) | Var::F(k) => {
                 let k = Literal::usize_unsuffixed(k);
                 quote!(#k)
             }
-            Var::XAt(c) | Var::VAt(c) => self.component(c),
-            _ => unreachable!("only state components are differentiated"),
+            Var::XAt(c) | Var::VAt(c) | Var::FAt(c) => self.component(c),
+            _ => unreachable!("only state and force components are differentiated"),
         }
     }
 
@@ -248,6 +249,9 @@ impl<'a> Names<'a> {
             }
             Var::Lifted(k) => lifted(k),
             Var::Adjoint(k) => adjoint(k),
+            Var::F(_) | Var::FAt(_) => {
+                unreachable!("the weights of a force's virtual work are differentiated away")
+            }
         }
     }
 

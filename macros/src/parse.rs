@@ -7,6 +7,7 @@ mod body;
 mod branch;
 mod expr;
 mod index;
+mod looped_force;
 mod scope;
 pub mod signature;
 mod values;
@@ -62,13 +63,20 @@ pub fn parse_with_helpers(
             syn::FnArg::Receiver(_) => None,
         });
         let x_shape = sig.states.first().map_or(signature::Shape::Scalar, |s| s.1);
-        let facts = (x_shape, sig.dim);
+        let facts = (x_shape, sig.dim, sig.dim_name.as_ref());
         sig.outputs = vector::check_outputs(&item.sig, attr, x_ty, facts, &mut errors);
     }
     let mut parser = body::Parser::new(errors, helpers);
     parser.attr = attr;
     let (root, outputs) = match attr {
         Attr::Lagrangian => (parser.body(&item.block, &sig), Vec::new()),
+        // A force with loops is its virtual work, a scalar like `L` (`looped_force.rs`).
+        Attr::Force if sig.dim_name.is_some() || sig.runtime_dim.is_some() => {
+            parser.looped_force = true;
+            let mut env = parser.signature_env(&sig);
+            let work = parser.looped_force_body(&item.block, &sig, &mut env);
+            (work, Vec::new())
+        }
         Attr::Force | Attr::Constraint => {
             let outputs = parser.vector_body(&item.block, &sig, &item.sig.ident);
             (parser.graph.num(0.0), outputs)

@@ -21,7 +21,7 @@ pub fn free_vars(g: &Graph) -> Vec<Vec<IndexVar>> {
     let mut free: Vec<Vec<IndexVar>> = Vec::with_capacity(g.len());
     for id in 0..g.len() {
         let mut vars: Vec<IndexVar> = match g.node(id) {
-            Node::Var(Var::XAt(c) | Var::VAt(c)) => c.at.var.into_iter().collect(),
+            Node::Var(Var::XAt(c) | Var::VAt(c) | Var::FAt(c)) => c.at.var.into_iter().collect(),
             Node::Var(Var::Index(i)) => vec![i],
             Node::Sum(i, body) => {
                 let r = &g.ranges[i.0 as usize];
@@ -147,6 +147,7 @@ pub fn rename(g: &mut Graph, id: Id, map: &HashMap<IndexVar, IndexVar>) -> Id {
         let node = match g.node(n) {
             Node::Var(Var::XAt(c)) => Node::Var(Var::XAt(at(c))),
             Node::Var(Var::VAt(c)) => Node::Var(Var::VAt(at(c))),
+            Node::Var(Var::FAt(c)) => Node::Var(Var::FAt(at(c))),
             Node::Var(Var::Index(i)) => Node::Var(Var::Index(*map.get(&i).unwrap_or(&i))),
             node @ (Node::Num(_) | Node::Var(_)) => node,
             Node::Add(a, b) => Node::Add(m(a), m(b)),

@@ -269,14 +269,24 @@ pub fn bandwidth(a: &Assembly) -> Option<usize> {
     if a.dense_blocks.iter().any(|&d| d) {
         return None;
     }
+    let state = |e: &&crate::assemble::Entry| matches!(e.block, Block::Xx | Block::Xv | Block::Vv);
+    band(a.terms.iter().flat_map(|t| &t.hessian).filter(state))
+}
+
+/// [`bandwidth`] of a force with loops: over the entries of its Jacobian.
+pub fn force_bandwidth(terms: &[Term]) -> Option<usize> {
+    band(terms.iter().flat_map(|t| &t.hessian))
+}
+
+/// The largest `|row − col|` over `entries`, `None` when one is not a constant.
+fn band<'e>(entries: impl Iterator<Item = &'e crate::assemble::Entry>) -> Option<usize> {
     let at = |u: Var| match u {
-        Var::X(k) | Var::V(k) => Some(Affine::constant(k as i64)),
-        Var::XAt(c) | Var::VAt(c) if !c.wrap => Some(c.at),
+        Var::X(k) | Var::V(k) | Var::F(k) => Some(Affine::constant(k as i64)),
+        Var::XAt(c) | Var::VAt(c) | Var::FAt(c) if !c.wrap => Some(c.at),
         _ => None,
     };
     let mut band = 0;
-    let state = |e: &&crate::assemble::Entry| matches!(e.block, Block::Xx | Block::Xv | Block::Vv);
-    for e in a.terms.iter().flat_map(|t| &t.hessian).filter(state) {
+    for e in entries {
         let (row, col) = (at(e.row)?, at(e.col)?);
         let difference = row.add_scaled(col, -1)?.as_constant()?;
         band = band.max(difference.unsigned_abs() as usize);
@@ -313,20 +323,25 @@ fn scope(
                 }
                 Target::Gradient(u) => {
                     let i = names.position(u);
-                    let (k, name) = if matches!(u, Var::X(_) | Var::XAt(_)) {
-                        (1, quote!(fx))
-                    } else {
-                        (2, quote!(fv))
+                    // A force's component goes where `∂L/∂x` would (`used[1]`).
+                    let (k, name) = match u {
+                        Var::X(_) | Var::XAt(_) => (1, quote!(fx)),
+                        Var::F(_) | Var::FAt(_) => (1, quote!(f)),
+                        _ => (2, quote!(fv)),
                     };
                     used[k] = true;
                     quote!(#name[#i] += #e;)
                 }
                 Target::Hessian(block, row, col) => {
                     let (i, j) = (names.position(row), names.position(col));
-                    let (k, name) = match block {
-                        Block::Xx => (3, quote!(xx)),
-                        Block::Xv => (4, quote!(xv)),
-                        Block::Vv => (5, quote!(vv)),
+                    // A force's Jacobian blocks go where `xx` and `xv` would (`used[3]`, `[4]`),
+                    // into `out.x`, `out.v` of a `SparseForceJacobian`.
+                    let (k, name, field) = match block {
+                        Block::Xx => (3, quote!(xx), quote!(xx)),
+                        Block::Xv => (4, quote!(xv), quote!(xv)),
+                        Block::Vv => (5, quote!(vv), quote!(vv)),
+                        Block::Fx => (3, quote!(jx), quote!(x)),
+                        Block::Fv => (4, quote!(jv), quote!(v)),
                         Block::Zs | Block::Ss => {
                             unreachable!("the lifted sums' blocks are picked into vectors")
                         }
@@ -334,7 +349,7 @@ fn scope(
                     used[k] = true;
                     match style {
                         Style::Dense => quote!(#name[(#i, #j)] += #e;),
-                        Style::Sparse => quote!(out.#name.add(#i, #j, #e);),
+                        Style::Sparse => quote!(out.#field.add(#i, #j, #e);),
                     }
                 }
             };

@@ -59,7 +59,13 @@ pub fn loops_text(model: &Model, a: &Assembly) -> String {
         g: &model.graph,
         model,
     };
-    let mut lines = vec![format!("L = {}", p.print(model.root))];
+    // A force with loops: its components and Jacobian entries, without its virtual work.
+    let force = model.attr == crate::ir::Attr::Force;
+    let mut lines = if force {
+        Vec::new()
+    } else {
+        vec![format!("L = {}", p.print(model.root))]
+    };
     let head = |term: &crate::assemble::Term| -> String {
         term.loops
             .iter()
@@ -84,7 +90,12 @@ pub fn loops_text(model: &Model, a: &Assembly) -> String {
         let head = head(term);
         for &(u, id) in &term.gradient {
             let guard = p.guard(&[u]);
-            lines.push(format!("{head}{guard}∂L/∂{} += {}", p.var(u), p.print(id)));
+            let of = if force {
+                String::new()
+            } else {
+                "∂L/∂".into()
+            };
+            lines.push(format!("{head}{guard}{of}{} += {}", p.var(u), p.print(id)));
         }
         for e in &term.hessian {
             let sym = if e.mirror {
@@ -94,12 +105,12 @@ pub fn loops_text(model: &Model, a: &Assembly) -> String {
             };
             let _ = Block::Xx;
             let guard = p.guard(&[e.row, e.col]);
-            lines.push(format!(
-                "{head}{guard}∂²L/∂{}∂{} += {}{sym}",
-                p.var(e.row),
-                p.var(e.col),
-                p.print(e.id)
-            ));
+            let (row, col, id) = (p.var(e.row), p.var(e.col), p.print(e.id));
+            lines.push(if force {
+                format!("{head}{guard}∂{row}/∂{col} += {id}")
+            } else {
+                format!("{head}{guard}∂²L/∂{row}∂{col} += {id}{sym}")
+            });
         }
     }
     lines.join("\n")
@@ -309,7 +320,7 @@ impl Printer<'_> {
     fn guard(&self, vars: &[Var]) -> String {
         let mut conds: Vec<String> = Vec::new();
         for &v in vars {
-            let (Var::XAt(c) | Var::VAt(c)) = v else {
+            let (Var::XAt(c) | Var::VAt(c) | Var::FAt(c)) = v else {
                 continue;
             };
             let (Some(i), false) = (c.at.var, c.guard.is_none()) else {
@@ -338,8 +349,13 @@ impl Printer<'_> {
             Var::V(_) if self.model.scalar => "v".into(),
             Var::X(i) => format!("x[{i}]"),
             Var::V(i) => format!("v[{i}]"),
-            Var::XAt(c) | Var::VAt(c) => {
-                let n = if matches!(v, Var::XAt(_)) { "x" } else { "v" };
+            Var::F(i) => format!("f[{i}]"),
+            Var::XAt(c) | Var::VAt(c) | Var::FAt(c) => {
+                let n = match v {
+                    Var::XAt(_) => "x",
+                    Var::VAt(_) => "v",
+                    _ => "f",
+                };
                 let at = self.affine(c.at);
                 if c.wrap {
                     format!("{n}[({at}) % {}]", self.dim())

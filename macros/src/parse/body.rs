@@ -47,6 +47,9 @@ pub struct Parser {
     /// The attribute the fn is expanded by (a vector-valued fn unrolls every loop over a
     /// literal range, and a constraint's body cannot read `v` or `t`).
     pub(super) attr: Attr,
+    /// A `#[force]` over a named or run-time dimension: its body declares the force and adds
+    /// to its components (`looped_force.rs`).
+    pub(super) looped_force: bool,
 }
 
 impl Parser {
@@ -67,6 +70,7 @@ impl Parser {
             branch_vars: Vec::new(),
             facts: Vec::new(),
             attr: Attr::Lagrangian,
+            looped_force: false,
         }
     }
 
@@ -170,9 +174,12 @@ impl Parser {
                         "`let … else` is not supported: write `let name = expression;`",
                     );
                 }
-                self.let_binding(&local.pat, &init.expr, env);
+                if !self.declares_force(&local.pat, &init.expr, env) {
+                    self.let_binding(&local.pat, &init.expr, env);
+                }
             }
             Stmt::Expr(Expr::ForLoop(f), _) => self.for_loop(f, env),
+            Stmt::Expr(e, Some(_)) if self.adds_to_force(e, env) => {}
             Stmt::Expr(e, Some(_)) if self.sets_element(e, env) => {}
             Stmt::Expr(Expr::Binary(b), Some(_)) if is_compound(b.op) => {
                 self.compound(&b.left, b.op, &b.right, env)
@@ -378,7 +385,7 @@ impl Parser {
     /// Records `name += value`: in the binding itself when `name` was declared at the current
     /// loop depth (an accumulator declared inside this loop's body, or outside every loop),
     /// otherwise in the innermost loop, which sums it over its index when it closes.
-    fn add_to(&mut self, name: &str, value: Id, env: &mut Env) {
+    pub(super) fn add_to(&mut self, name: &str, value: Id, env: &mut Env) {
         let declared_here = match env.get(name) {
             Some(&Binding::Mut { depth, .. }) => depth >= self.frames.len(),
             _ => return,

@@ -14,6 +14,9 @@ const METHODS: &str = "the f64 methods are sin cos tan asin acos atan atan2 sinh
      exp_m1 ln ln_1p log10 sqrt cbrt recip abs signum powi powf hypot max min";
 
 /// The functions of one argument besides the receiver.
+/// Why the force of a `#[force]` with loops cannot be read.
+const FORCE_NOT_READ: &str = "the force is only added to (`f[i] += …;`) and returned: its components are not read; bind what two of them share to a `let`";
+
 const BINARY: [&str; 6] = ["powi", "powf", "hypot", "atan2", "max", "min"];
 
 impl Parser {
@@ -163,6 +166,7 @@ impl Parser {
                     Kind::Tuple => self.error(p, format!("`{name}` is a tuple: read its values, `{name}.0`, or bind them, `let (a, b) = {name};`")),
                 },
                 Some(Binding::Unknown) => self.graph.num(0.0),
+                Some(Binding::Output) => self.error(p, FORCE_NOT_READ),
                 Some(Binding::Index(_) | Binding::Dim) => {
                     self.error(p, format!("`{name}` is an index: use it as a number with `{name} as f64`"))
                 }
@@ -210,6 +214,7 @@ impl Parser {
         };
         let (state, len) = match name.as_ref().and_then(|n| env.get(n)) {
             Some(&Binding::Array { state, len }) => (state, len),
+            Some(Binding::Output) => return self.error(ix, FORCE_NOT_READ),
             Some(Binding::Scalar(_)) => {
                 let n = name.unwrap_or_default();
                 return self.error(

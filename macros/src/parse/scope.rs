@@ -29,6 +29,9 @@ pub enum Binding {
     /// The value of a call of another helper, while a helper is checked on its own (its shape
     /// is not known there): every use of it is accepted.
     Unknown,
+    /// The force a `#[force]` with loops declares and adds to (`looped_force.rs`): only its
+    /// components are updated, and it is never read.
+    Output,
 }
 
 /// Values bound together: a tuple `(a, b)` (read as `r.0`) or an array `[a, b]` (read as

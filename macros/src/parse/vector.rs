@@ -9,7 +9,7 @@ use syn::{BinOp, Expr, Ident, ReturnType, Type};
 
 use super::body::{Parser, is_compound};
 use super::scope::{Binding, Env, Kind, Returns, State, returns, strip};
-use super::signature::{Length, Shape, Signature};
+use super::signature::{Length, Shape, Signature, is_f64};
 use crate::ir::{Attr, Id, Node, Var};
 
 impl Parser {
@@ -172,10 +172,13 @@ pub fn check_outputs(
     sig: &syn::Signature,
     attr: Attr,
     x_ty: Option<&Type>,
-    (shape, dim): (Shape, usize),
+    (shape, dim, dim_name): (Shape, usize, Option<&syn::Path>),
     errors: &mut Vec<syn::Error>,
 ) -> Option<usize> {
     let name = attr.name();
+    if attr == Attr::Force && matches!(shape, Shape::Slice | Shape::Array(Length::Named)) {
+        return looped_force_output(sig, shape, dim_name, errors);
+    }
     if let (Some(ty), Shape::Slice | Shape::Array(Length::Named)) = (x_ty, shape) {
         errors.push(syn::Error::new_spanned(
             ty,
@@ -216,4 +219,47 @@ pub fn check_outputs(
         ));
     }
     outputs
+}
+
+/// The return type of a force over a named dimension, `[f64; N]` (`N` the dimension), or over
+/// slices, `Vec<f64>`; `Some(1)` when it is that (the force is then one value, its virtual
+/// work), `None` when it is not (reported).
+fn looped_force_output(
+    sig: &syn::Signature,
+    shape: Shape,
+    dim_name: Option<&syn::Path>,
+    errors: &mut Vec<syn::Error>,
+) -> Option<usize> {
+    let same_path = |e: &Expr| match (strip(e), dim_name) {
+        (Expr::Path(p), Some(n)) => p.path == *n,
+        _ => false,
+    };
+    let (ok, want) = match (&sig.output, shape) {
+        (ReturnType::Type(_, ty), Shape::Slice) => (
+            matches!(&**ty, Type::Path(p) if p.qself.is_none() && p.path.segments.last().is_some_and(|s| {
+                s.ident == "Vec" && matches!(&s.arguments, syn::PathArguments::AngleBracketed(a)
+                    if a.args.len() == 1 && matches!(a.args.first(), Some(syn::GenericArgument::Type(t)) if is_f64(t)))
+            })),
+            "`Vec<f64>`, one component per degree of freedom (slices `x: &[f64]`)".to_string(),
+        ),
+        (ReturnType::Type(_, ty), _) => (
+            matches!(&**ty, Type::Array(a) if is_f64(&a.elem) && same_path(&a.len)),
+            format!(
+                "`[f64; {}]`, one component per degree of freedom",
+                dim_name.map_or("N".into(), |n| quote::ToTokens::to_token_stream(n)
+                    .to_string())
+            ),
+        ),
+        (ReturnType::Default, Shape::Slice) => (false, "`Vec<f64>`".to_string()),
+        (ReturnType::Default, _) => (false, "`[f64; N]`".to_string()),
+    };
+    if !ok {
+        let msg = format!("a #[force] fn must return {want}");
+        match &sig.output {
+            ReturnType::Type(_, ty) => errors.push(syn::Error::new_spanned(ty, msg)),
+            ReturnType::Default => errors.push(syn::Error::new_spanned(&sig.ident, msg)),
+        }
+        return None;
+    }
+    Some(1)
 }

@@ -88,3 +88,45 @@ fn constraint_expansion_snapshot() {
         },
     );
 }
+
+/// A force over a named dimension: its virtual work's terms scattered by a loop into `f`,
+/// `jx`, `jv` (`Force<N>`) and into a `SparseForceJacobian` (`DynForce`), with the declared
+/// band.
+#[test]
+fn looped_force_expansion_snapshot() {
+    check_snapshot_as(
+        "dashpots_force",
+        Attr::Force,
+        quote! {
+            /// Dashpots and cubic springs between neighbours.
+            fn dashpots(x: [f64; N], v: [f64; N], c: f64, k: f64) -> [f64; N] {
+                let mut f = [0.0; N];
+                for i in 0..N - 1 {
+                    let d = c * (v[i + 1] - v[i]) + k * (x[i + 1] - x[i]).powi(3);
+                    f[i] += d;
+                    f[i + 1] -= d;
+                }
+                f
+            }
+        },
+    );
+}
+
+/// A force on slices: `DynForce` alone, with the run-time index checks of its dimension.
+#[test]
+fn slice_force_expansion_snapshot() {
+    check_snapshot_as(
+        "ring_drag_force",
+        Attr::Force,
+        quote! {
+            /// Drag on each particle of a ring, against its next neighbour's velocity.
+            fn ring_drag(x: &[f64], v: &[f64], n: usize, c: f64) -> Vec<f64> {
+                let mut f = vec![0.0; n];
+                for i in 0..n {
+                    f[i] -= c * x[i] * (v[i] - v[(i + 1) % n]);
+                }
+                f
+            }
+        },
+    );
+}

@@ -7,6 +7,7 @@ mod forces;
 mod forms;
 mod functions;
 mod guards;
+mod looped_forces;
 mod loops;
 mod models;
 mod run_time;
