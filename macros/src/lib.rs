@@ -163,10 +163,31 @@ pub fn lagrangian(args: TokenStream, item: TokenStream) -> TokenStream {
 /// any `let`s), a helper's array, or a local array set element by element:
 /// `let mut f = [0.0; 2]; for i in 0..2 { f[i] = …; } f` (also `f[i] += …`). Every loop runs
 /// over a literal range and is unrolled, so that `x` and `v` are read at constant indices
-/// (`x[(i + 1) % D]` included); a
-/// loop over a `const`, a run-time dimension (`&[f64]`) or a named dimension (`[f64; N]`) is
-/// a compile error, as is anything else a `#[lagrangian]` body may not hold, each on its
-/// tokens. No `DynForce` is generated (a force on the run-time path is written by hand).
+/// (`x[(i + 1) % D]` included); a loop over a `const` range is a compile error, as is anything
+/// else a `#[lagrangian]` body may not hold, each on its tokens.
+///
+/// **With loops.** Over a named dimension (`x: [f64; N]`, returning `[f64; N]`) or slices
+/// (`x: &[f64]` with a `usize` constant `n`, returning `Vec<f64>`), the body starts from a zero
+/// force, `let mut f = [0.0; N];` (`vec![0.0; n]`), adds to its components, `f[i] += …;` or
+/// `f[i + 1] -= …;` in straight-line code or in loops, and ends with `f`. The force is
+/// differentiated as its virtual work `Σ_k w_k f_k`, term by term like a Lagrangian with loops
+/// (the generated code keeps the loops), and the macro implements `Force<N>` and
+/// `varembed::DynForce` (over slices, `DynForce` alone), with `bandwidth` read off the index
+/// expressions and `invalid_dimension` checking the indices at a run-time `n`
+/// (`core/docs/forces.md`, "A force with loops"):
+///
+/// ```ignore
+/// #[force]
+/// fn dashpots(_x: &[f64], v: &[f64], n: usize, c: f64) -> Vec<f64> {
+///     let mut f = vec![0.0; n];
+///     for i in 0..n - 1 {
+///         let pull = c * (v[i + 1] - v[i]);
+///         f[i] += pull;
+///         f[i + 1] -= pull;
+///     }
+///     f
+/// }
+/// ```
 ///
 /// # Example
 ///

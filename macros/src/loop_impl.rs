@@ -157,6 +157,6 @@ pub fn emit(
         #run_time
     };
     let shell = shell(model, text, dim, methods, properties, with_item);
-    let checks = names.bounds(&model.item.sig.ident);
+    let checks = names.bounds(model);
     quote!(#shell #bounds #checks)
 }

@@ -106,7 +106,7 @@ pub fn emit(
             }
             None => quote!(),
         };
-        let checks = names.bounds(&model.item.sig.ident);
+        let checks = names.bounds(model);
         quote! {
             impl #trait_<#dim> for #strukt {
                 #force_m

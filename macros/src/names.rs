@@ -180,7 +180,9 @@ impl<'a> Names<'a> {
 
     /// The index checks left to the compiler (see [`crate::ir::Bound`]), as `const`
     /// assertions spanned on the index they check.
-    pub fn bounds(&self, fn_name: &Ident) -> TokenStream {
+    pub fn bounds(&self, model: &Model) -> TokenStream {
+        let fn_name = &model.item.sig.ident;
+        let attr = model.attr.name();
         let checks = self.g.bounds.iter().map(|b| {
             let holds = self.less(b.lhs, b.rhs);
             let cond = match b.guard {
@@ -190,7 +192,7 @@ impl<'a> Names<'a> {
                 }
                 None => holds,
             };
-            let msg = format!("#[lagrangian] fn `{fn_name}`: {}", b.what);
+            let msg = format!("{attr} fn `{fn_name}`: {}", b.what);
             quote_spanned!(b.span=> const _: () = ::core::assert!(#cond, #msg);)
         });
         quote!(#(#checks)*)

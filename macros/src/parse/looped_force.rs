@@ -65,12 +65,17 @@ impl Parser {
                 };
             }
             (None, _) => {
-                self.errors.push(syn::Error::new(
-                    block.brace_token.span.join(),
-                    format!(
-                        "a force over a named or run-time dimension starts from zero, {want}, adds to its components (`f[i] += …;`) and ends with `f`"
-                    ),
-                ));
+                let msg = format!(
+                    "a force over a named or run-time dimension starts from zero, {want}, adds to its components (`f[i] += …;`) and ends with `f`"
+                );
+                match last {
+                    Some(e) => {
+                        self.error(e, msg);
+                    }
+                    None => self
+                        .errors
+                        .push(syn::Error::new(block.brace_token.span.join(), msg)),
+                }
             }
         }
         match env.get(WORK) {
@@ -111,11 +116,11 @@ impl Parser {
             _ => None,
         };
         if !is_zero || !is_dim {
+            // Reported, and `f` still bound as the force so that its uses report nothing more.
             self.error(
                 init,
                 "the force starts from zero over the dimension: `[0.0; N]` (slices: `vec![0.0; n]`)",
             );
-            return true;
         }
         let Some(name) = name else {
             self.error(pat, "the force is a `let mut` name: `let mut f = …;`");

@@ -3,12 +3,17 @@
 //! `Lagrangian<N>` and a `DynLagrangian`) gives the same nodes on `DynProblem` as on the
 //! const-generic `Problem`, for every three-point embedding and both schemes; the dissipation
 //! couples neighbouring velocities, so the force's Jacobian joins the band of the step
-//! Jacobian, with as many Newton iterations. A boundary value problem under a force is
-//! refused.
+//! Jacobian, with as many Newton iterations. The same dissipation written as a general
+//! `#[force]` with loops (its `Force<N>` and its generated `DynForce`) gives the Rayleigh
+//! route's nodes on both paths. `c L` under `c f` takes the nodes of `L` under `f` (the
+//! forced equations are the same). A boundary value problem under a force is refused.
 
 use varembed::{
-    DynProblem, Embedding, Error, Forced, Grid, Problem, Rayleigh, Scheme, Side, lagrangian,
+    DynForce, DynProblem, Embedding, Error, Forced, Grid, Problem, Rayleigh, Scheme, Side, force,
+    lagrangian,
 };
+use varembed_tests::models::scaled::Scaled;
+use varembed_tests::rng::Rng;
 
 const N: usize = 12;
 
@@ -39,6 +44,23 @@ fn dashpots(x: [f64; N], v: [f64; N], gamma: f64) -> f64 {
         .map(|i| 0.05 * (1.0 + x[i] * x[i]) * v[i] * v[i])
         .sum();
     between + sites
+}
+
+/// `−∂R/∂v` of [`dashpots`], written out as a general force: each link adds to both its
+/// ends, each site its own drag.
+#[force]
+fn dashpot_force(x: [f64; N], v: [f64; N], gamma: f64) -> [f64; N] {
+    let mut f = [0.0; N];
+    for i in 0..N - 1 {
+        let w = v[i + 1] - v[i];
+        let pull = gamma * w + 0.4 * w * w * w;
+        f[i] += pull;
+        f[i + 1] -= pull;
+    }
+    for i in 0..N {
+        f[i] -= 0.1 * (1.0 + x[i] * x[i]) * v[i];
+    }
+    f
 }
 
 fn initial() -> ([f64; N], [f64; N]) {
@@ -110,6 +132,96 @@ fn forced_runs_of_run_time_dimension_are_the_const_generic_runs() {
             assert!(moved > 1e-2, "{embedding} {scheme}: {moved:e}");
         }
     }
+}
+
+#[test]
+fn a_general_force_with_loops_gives_the_rayleigh_nodes_on_both_paths() {
+    let rayleigh = Forced::new(Chain, Rayleigh(Dashpots { gamma: 0.3 }));
+    let general = Forced::new(Chain, DashpotForce { gamma: 0.3 });
+    // The generated `DynForce` declares the links' band: the step stays on the chain's band.
+    assert_eq!(DynForce::bandwidth(&DashpotForce { gamma: 0.3 }), Some(1));
+    let (q0, v0) = initial();
+    let grid = Grid::new(0.0, 4.0, 200).unwrap();
+    for embedding in embeddings() {
+        for scheme in [Scheme::Direct, Scheme::Variational] {
+            let reference = Problem::new(&rayleigh, grid, embedding)
+                .solve_ivp(scheme, q0, v0)
+                .unwrap();
+            let on_const = Problem::new(&general, grid, embedding)
+                .solve_ivp(scheme, q0, v0)
+                .unwrap();
+            let on_run_time = DynProblem::new(&general, grid, embedding)
+                .solve_ivp(scheme, &q0, &v0)
+                .unwrap();
+            let mut gap = 0.0f64;
+            for (k, node) in reference.q.iter().enumerate() {
+                for i in 0..N {
+                    gap = gap
+                        .max((on_const.q[k][i] - node[i]).abs())
+                        .max((on_run_time.node(k)[i] - node[i]).abs());
+                }
+            }
+            assert!(gap <= 1e-12, "{embedding} {scheme}: {gap:e}");
+            assert_eq!(
+                on_const.newton_iterations, reference.newton_iterations,
+                "{embedding} {scheme}"
+            );
+            assert_eq!(
+                (on_run_time.run.band, on_run_time.run.reordered),
+                (1, false),
+                "{embedding} {scheme}"
+            );
+        }
+    }
+}
+
+/// 40 random cases: the chain `c L` under the dashpots `c R` (so the force `c f`) on the
+/// run-time path, `c = 10^u` with `u` uniform in `[−12, 12]` or (every fourth case) `c = 2^k`,
+/// `k` in `−39..39`, under a random three-point embedding and scheme: the nodes of `L` under
+/// `f` to 1e-9 relative, and for a power of two bit for bit with the same Newton iterations.
+#[test]
+fn c_l_under_c_f_takes_the_nodes_of_l_under_f() {
+    let mut rng = Rng(27);
+    let (q0, v0) = initial();
+    let grid = Grid::new(0.0, 2.0, 80).unwrap();
+    let plain = Forced::new(Chain, Rayleigh(Dashpots { gamma: 0.3 }));
+    let mut worst = 0.0f64;
+    for case in 0..40 {
+        let exact = case % 4 == 0;
+        let c = if exact {
+            2f64.powi(rng.below(79) as i32 - 39)
+        } else {
+            10f64.powf(rng.uniform(-12.0, 12.0))
+        };
+        let embedding = embeddings()[rng.below(5)];
+        let scheme = [Scheme::Direct, Scheme::Variational][rng.below(2)];
+        let scaled = Forced::new(
+            Scaled::new(c, Chain),
+            Rayleigh(Scaled::new(c, Dashpots { gamma: 0.3 })),
+        );
+        let a = DynProblem::new(&plain, grid, embedding)
+            .solve_ivp(scheme, &q0, &v0)
+            .unwrap();
+        let b = DynProblem::new(&scaled, grid, embedding)
+            .solve_ivp(scheme, &q0, &v0)
+            .unwrap();
+        let largest = a.q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let gap =
+            a.q.iter()
+                .zip(&b.q)
+                .fold(0.0f64, |m, (x, y)| m.max((x - y).abs()))
+                / largest;
+        assert!(gap <= 1e-9, "c = {c:e}, {embedding} {scheme}: {gap:e}");
+        if exact {
+            let iterations = (a.run.newton_iterations, b.run.newton_iterations);
+            assert!(
+                a.q == b.q && iterations.0 == iterations.1,
+                "c = {c:e} = 2^k, {embedding} {scheme}: {gap:e} apart, iterations {iterations:?}"
+            );
+        }
+        worst = worst.max(gap);
+    }
+    println!("forced c L: worst relative gap {worst:e}");
 }
 
 #[test]

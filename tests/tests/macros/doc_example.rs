@@ -68,3 +68,38 @@ mod constraint_example {
         assert_eq!(rods([1.0, 0.0, 1.0, 2.0], 1.0, 2.0), [0.0, 0.0]);
     }
 }
+
+/// The loop example of the `#[force]` docs: dashpots between neighbours on slices.
+mod looped_force_example {
+    use varembed::{DynForce, SparseForceJacobian, force};
+
+    #[force]
+    fn dashpots(_x: &[f64], v: &[f64], n: usize, c: f64) -> Vec<f64> {
+        let mut f = vec![0.0; n];
+        for i in 0..n - 1 {
+            let pull = c * (v[i + 1] - v[i]);
+            f[i] += pull;
+            f[i + 1] -= pull;
+        }
+        f
+    }
+
+    #[test]
+    fn doc_example() {
+        let force = Dashpots { n: 3, c: 2.0 };
+        let mut f = vec![0.0; 3];
+        force.add_force(&[0.0; 3], &[1.0, 0.0, 0.5], 0.0, &mut f);
+        // The links pull (−2, +1): the ends take one each, the middle both.
+        assert_eq!(f, [-2.0, 2.0 + 1.0, -1.0]);
+        assert_eq!(dashpots(&[0.0; 3], &[1.0, 0.0, 0.5], 3, 2.0), f);
+        let mut j = SparseForceJacobian::new(3);
+        force.jacobian(&[0.0; 3], &[0.0; 3], 0.0, &mut j);
+        assert_eq!(
+            (j.v.get(1, 1), j.v.get(1, 0), j.v.get(0, 2)),
+            (-4.0, 2.0, 0.0)
+        );
+        assert_eq!(force.bandwidth(), Some(1));
+        assert_eq!(force.invalid_dimension(3), None);
+        assert!(force.invalid_dimension(4).is_some());
+    }
+}
