@@ -234,31 +234,26 @@ impl<L, F> Forced<L, F> {
     where
         F: Force<D>,
     {
-        let points = match rule(&solution.embedding, Scheme::Variational)?.formula {
-            NodeFormula::DiscreteLegendre { points } => points,
-            _ => {
-                return Err(Error::Unsupported {
-                    operation: "the discrete forces of a force",
-                    embedding: solution.embedding.to_string(),
-                });
-            }
-        };
-        let (grid, q) = (&solution.grid, &solution.q);
-        let h = grid.h();
-        let zero = (Vector::<D>::zeros(), Vector::<D>::zeros());
-        Ok((0..grid.n())
-            .map(|k| {
-                let v = (q[k + 1] - q[k]) / h;
-                points.iter().fold(zero, |(left, right), &(theta, w)| {
-                    let x = q[k] * (1.0 - theta) + q[k + 1] * theta;
-                    let t = match theta {
-                        0.0 => grid.t(k),
-                        1.0 => grid.t(k + 1),
-                        _ => grid.t(k) + theta * h,
-                    };
-                    let f = self.force.force(&x, &v, t) * (h * w);
-                    (left + f * (1.0 - theta), right + f * theta)
-                })
+        let flat: Vec<f64> = solution.q.iter().flat_map(|q| q.iter().copied()).collect();
+        let pairs = discrete_force_pairs(
+            &solution.embedding,
+            &solution.grid,
+            (D, &flat),
+            |x, v, t, f| {
+                let (x, v) = (
+                    Vector::<D>::from_column_slice(x),
+                    Vector::<D>::from_column_slice(v),
+                );
+                f.copy_from_slice(self.force.force(&x, &v, t).as_slice());
+            },
+        )?;
+        Ok(pairs
+            .into_iter()
+            .map(|(left, right)| {
+                (
+                    Vector::<D>::from_column_slice(&left),
+                    Vector::<D>::from_column_slice(&right),
+                )
             })
             .collect())
     }
@@ -296,6 +291,55 @@ impl<L, F> Forced<L, F> {
         }
         Ok(work)
     }
+}
+
+/// The discrete forces `(f_d^−, f_d^+)` of every interval of a run of `embedding` on `grid`
+/// with the nodes `q` (flat, `d` values each), `force(x, v, t, f)` writing `f(x, v, t)` into
+/// `f`: the quadrature of [`Forced::discrete_forces`], for both paths.
+pub(crate) fn discrete_force_pairs(
+    embedding: &crate::embedding::Embedding,
+    grid: &crate::grid::Grid,
+    (d, q): (usize, &[f64]),
+    mut force: impl FnMut(&[f64], &[f64], f64, &mut [f64]),
+) -> Result<Vec<(Vec<f64>, Vec<f64>)>> {
+    let points = match rule(embedding, Scheme::Variational)?.formula {
+        NodeFormula::DiscreteLegendre { points } => points,
+        _ => {
+            return Err(Error::Unsupported {
+                operation: "the discrete forces of a force",
+                embedding: embedding.to_string(),
+            });
+        }
+    };
+    let h = grid.h();
+    let node = |k: usize| &q[k * d..(k + 1) * d];
+    let (mut x, mut v, mut f) = (vec![0.0; d], vec![0.0; d], vec![0.0; d]);
+    Ok((0..grid.n())
+        .map(|k| {
+            let (a, b) = (node(k), node(k + 1));
+            for i in 0..d {
+                v[i] = (b[i] - a[i]) / h;
+            }
+            let (mut left, mut right) = (vec![0.0; d], vec![0.0; d]);
+            for &(theta, w) in points {
+                for i in 0..d {
+                    x[i] = a[i] * (1.0 - theta) + b[i] * theta;
+                }
+                let t = match theta {
+                    0.0 => grid.t(k),
+                    1.0 => grid.t(k + 1),
+                    _ => grid.t(k) + theta * h,
+                };
+                force(&x, &v, t, &mut f);
+                for i in 0..d {
+                    let fi = f[i] * (h * w);
+                    left[i] += fi * (1.0 - theta);
+                    right[i] += fi * theta;
+                }
+            }
+            (left, right)
+        })
+        .collect())
 }
 
 impl<const D: usize, L: Lagrangian<D>, F: Force<D>> Lagrangian<D> for Forced<L, F> {

@@ -1,8 +1,10 @@
 //! Generalised forces on the run-time-dimension path: [`DynForce`], and what makes [`Rayleigh`]
 //! one and [`Forced`] a [`DynLagrangian`].
 
-use super::{ForceDependence, Forced, Rayleigh, joined};
+use super::{ForceDependence, Forced, Rayleigh, discrete_force_pairs, joined};
+use crate::dynamic::problem::DynSolution;
 use crate::dynamic::sparse::{SparseForceJacobian, SparseHessian};
+use crate::error::{Error, Result};
 use crate::lagrangian::{Dependence, DynLagrangian, HessianDependence};
 
 /// A generalised force `f(x, v, t)` on `R^d` with `d` known at run time and a sparse Jacobian:
@@ -167,5 +169,90 @@ impl<L: DynLagrangian, F: DynForce> DynLagrangian for Forced<L, F> {
     fn force_jacobian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseForceJacobian) {
         self.lagrangian.force_jacobian(x, v, t, out);
         self.force.jacobian(x, v, t, out)
+    }
+}
+
+/// The discrete forces, impulses and work of a run-time-dimension solution: those of
+/// [`Forced::discrete_forces`], [`Forced::impulses`] and [`Forced::work`], by the same
+/// quadrature, on a [`DynSolution`] that stores every node.
+impl<L, F: DynForce> Forced<L, F> {
+    /// [`Forced::discrete_forces`] of a [`DynSolution`]: `(f_d^−, f_d^+)` of each interval,
+    /// `d` values each. [`Error::WrongLength`] for a solution that does not store every node
+    /// (from [`DynProblem::solve_ivp_every`](crate::DynProblem::solve_ivp_every) with a stride
+    /// above 1); [`Error::Unsupported`] for the Gauss–Legendre and fractional embeddings.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{DynProblem, Embedding, Forced, Grid, Scheme, force, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn springs(x: &[f64], v: &[f64], n: usize) -> f64 {
+    ///     (0..n).map(|i| 0.5 * v[i] * v[i] - 0.5 * x[i] * x[i]).sum()
+    /// }
+    /// #[force]
+    /// fn friction(_x: &[f64], v: &[f64], n: usize, gamma: f64) -> Vec<f64> {
+    ///     let mut f = vec![0.0; n];
+    ///     for i in 0..n {
+    ///         f[i] -= gamma * v[i];
+    ///     }
+    ///     f
+    /// }
+    ///
+    /// let model = Forced::new(Springs { n: 3 }, Friction { n: 3, gamma: 0.1 });
+    /// let grid = Grid::new(0.0, 1.0, 100)?;
+    /// let run = DynProblem::new(&model, grid, Embedding::midpoint())
+    ///     .solve_ivp(Scheme::Variational, &[1.0, 0.0, -1.0], &[0.0; 3])?;
+    /// let forces = model.dyn_discrete_forces(&run)?;
+    /// assert_eq!((forces.len(), forces[0].0.len()), (100, 3));
+    /// // Friction takes energy out: its work is negative.
+    /// assert!(model.dyn_work(&run)?[100] < 0.0);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn dyn_discrete_forces(&self, solution: &DynSolution) -> Result<Vec<(Vec<f64>, Vec<f64>)>> {
+        let grid = solution.run.grid;
+        if solution.indices.len() != grid.n() + 1 {
+            return Err(Error::WrongLength {
+                what: "the stored nodes of the solution (the discrete forces read every node: solve_ivp, not solve_ivp_every)",
+                expected: grid.n() + 1,
+                found: solution.indices.len(),
+            });
+        }
+        discrete_force_pairs(
+            &solution.run.embedding,
+            &grid,
+            (solution.dimension, &solution.q),
+            |x, v, t, f| {
+                f.fill(0.0);
+                self.force.add_force(x, v, t, f);
+            },
+        )
+    }
+
+    /// [`Forced::impulses`] of a [`DynSolution`]: `f_d^− + f_d^+` of each interval. Errors as
+    /// [`dyn_discrete_forces`](Self::dyn_discrete_forces).
+    pub fn dyn_impulses(&self, solution: &DynSolution) -> Result<Vec<Vec<f64>>> {
+        Ok(self
+            .dyn_discrete_forces(solution)?
+            .into_iter()
+            .map(|(left, right)| left.iter().zip(&right).map(|(l, r)| l + r).collect())
+            .collect())
+    }
+
+    /// [`Forced::work`] of a [`DynSolution`]: `W_0 = 0`,
+    /// `W_{k+1} = W_k + impulse_k·(Q_{k+1} − Q_k)/h`. Errors as
+    /// [`dyn_discrete_forces`](Self::dyn_discrete_forces).
+    pub fn dyn_work(&self, solution: &DynSolution) -> Result<Vec<f64>> {
+        let impulses = self.dyn_impulses(solution)?;
+        let (h, d, q) = (solution.run.grid.h(), solution.dimension, &solution.q);
+        let mut work = Vec::with_capacity(impulses.len() + 1);
+        work.push(0.0);
+        for (k, impulse) in impulses.iter().enumerate() {
+            let step: f64 = (0..d)
+                .map(|i| impulse[i] * (q[(k + 1) * d + i] - q[k * d + i]))
+                .sum();
+            work.push(work[k] + step / h);
+        }
+        Ok(work)
     }
 }

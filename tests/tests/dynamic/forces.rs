@@ -6,7 +6,8 @@
 //! Jacobian, with as many Newton iterations. The same dissipation written as a general
 //! `#[force]` with loops (its `Force<N>` and its generated `DynForce`) gives the Rayleigh
 //! route's nodes on both paths. `c L` under `c f` takes the nodes of `L` under `f` (the
-//! forced equations are the same). A boundary value problem under a force is refused.
+//! forced equations are the same). The discrete forces and the work of a run-time solution
+//! are the const-generic run's. A boundary value problem under a force is refused.
 
 use varembed::{
     DynForce, DynProblem, Embedding, Error, Forced, Grid, Problem, Rayleigh, Scheme, Side, force,
@@ -222,6 +223,65 @@ fn c_l_under_c_f_takes_the_nodes_of_l_under_f() {
         worst = worst.max(gap);
     }
     println!("forced c L: worst relative gap {worst:e}");
+}
+
+/// `Forced::dyn_work` of the run-time run is `Forced::work` of the const-generic one (the same
+/// nodes, the same quadrature), under every three-point embedding; it moves by order one
+/// (the force does work); a solution that skips nodes is refused.
+#[test]
+fn the_work_of_a_run_time_solution_is_the_const_generic_work() {
+    let model = Forced::new(Chain, DashpotForce { gamma: 0.3 });
+    let (q0, v0) = initial();
+    let grid = Grid::new(0.0, 4.0, 200).unwrap();
+    for embedding in embeddings() {
+        let reference = Problem::new(&model, grid, embedding)
+            .solve_ivp(Scheme::Variational, q0, v0)
+            .unwrap();
+        let run = DynProblem::new(&model, grid, embedding)
+            .solve_ivp(Scheme::Variational, &q0, &v0)
+            .unwrap();
+        let (work, dyn_work) = (
+            model.work(&reference).unwrap(),
+            model.dyn_work(&run).unwrap(),
+        );
+        assert_eq!(dyn_work.len(), 201);
+        let gap = work
+            .iter()
+            .zip(&dyn_work)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(gap <= 1e-12, "{embedding}: {gap:e}");
+        assert!(
+            work[200] < -1e-3,
+            "{embedding}: the dashpots did {:e}",
+            work[200]
+        );
+        let pairs = model.discrete_forces(&reference).unwrap();
+        let dyn_pairs = model.dyn_discrete_forces(&run).unwrap();
+        for (k, (a, b)) in pairs.iter().zip(&dyn_pairs).enumerate() {
+            for i in 0..N {
+                let gap = (a.0[i] - b.0[i]).abs().max((a.1[i] - b.1[i]).abs());
+                assert!(
+                    gap <= 1e-13,
+                    "{embedding}: interval {k}, component {i}: {gap:e}"
+                );
+            }
+        }
+    }
+    let thinned = DynProblem::new(&model, grid, Embedding::midpoint())
+        .solve_ivp_every(Scheme::Variational, &q0, &v0, 10)
+        .unwrap();
+    let refused = model.dyn_work(&thinned);
+    assert!(
+        matches!(
+            refused,
+            Err(Error::WrongLength {
+                expected: 201,
+                found: 21,
+                ..
+            })
+        ),
+        "{refused:?}"
+    );
 }
 
 #[test]

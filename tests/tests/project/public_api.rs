@@ -126,6 +126,7 @@ const ROOT: &[&str] = &[
 const PRIVATE: &[&str] = &[
     "Constraint",
     "Dependence",
+    "DynForce",
     "DynLagrangian",
     "Force",
     "ForceDependence",
@@ -136,6 +137,7 @@ const PRIVATE: &[&str] = &[
     "Matrix",
     "SMatrix",
     "SVector",
+    "SparseForceJacobian",
     "SparseHessian",
     "Vector",
     "fft_operator",
