@@ -8,12 +8,16 @@
 //! `p = log₂(‖Q_{M/4} − Q_{M/2}‖ / ‖Q_{M/2} − Q_M‖)` (each distance on the nodes of the coarser
 //! grid), and `Q_ref = Q_M + (Q_M − Q_{M/2}) / (2^p − 1)` at the nodes of the `M/4` grid.
 //! Gauss-GLE− is coherent, so the direct and the variational schemes have the same solution
-//! (the tables show the distance and the cross residuals); the sweep draws one line per α, and
-//! the tables read the variational scheme off the sweep.
+//! (the tables show the distance and the cross residuals). The sweep draws each α twice, one
+//! line per linear solver: dense LU on the sizes it takes by default (at most
+//! `FractionalSolver::DENSE_LIMIT` unknowns) and the FFT Newton–Krylov path on every size, so
+//! that neither line mixes the cost of two solvers; the tables read the variational scheme off
+//! the FFT line.
 
 use crate::scene::{Context, Figure, SceneReport, Series, SweepLine, doubling, failed_table};
 use varembed::{
-    CompareOptions, Embedding, Grid, Problem, Reference, Scheme, Side, Vector, lagrangian,
+    CompareOptions, Embedding, FractionalSolver, Grid, Problem, Reference, Scheme, Side, Vector,
+    lagrangian,
 };
 use varembed::{Level, Solution};
 
@@ -111,15 +115,21 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
     ));
     // Per embedding: the reference's three solves, the sweep, and the direct scheme on the
     // table's `N` and `2N` (the variational one is read off the sweep); the timed ones repeated.
+    // The sizes dense LU takes by default (`N − 1` unknowns), drawn as a line of their own.
+    let dense_sizes = (0..sizes.count)
+        .take_while(|&j| (sizes.n0 << j) - 1 <= FractionalSolver::DENSE_LIMIT)
+        .count();
     cx.progress
-        .inc_length((embeddings.len() * (3 + cx.repeats * (sizes.count + 2))) as u64);
+        .inc_length((embeddings.len() * (3 + cx.repeats * (sizes.count + dense_sizes + 2))) as u64);
     let mut tables = Vec::new();
     let mut sweep = Vec::new();
     let mut trajectories = Vec::new();
     let mut notes = vec![
         "`L = ½v² + cos x` with the velocity `V = Δ^α_− Q` (Grünwald–Letnikov), `q(0) = 0`, \
-         `q(1) = 1`, solved as a global boundary value problem (dense LU up to 400 unknowns, \
-         the FFT Newton–Krylov path above)."
+         `q(1) = 1`, solved as a global boundary value problem. Each α is drawn twice in the \
+         work–precision plot, one line per linear solver: dense LU (`O(N³)` per Newton \
+         iteration, on the sizes of at most 400 unknowns where it is the default) and the FFT \
+         Newton–Krylov path (`O(N log N)`, every size); the tables use the FFT line."
             .to_string(),
     ];
     let mut extrapolation = Vec::new();
@@ -139,14 +149,32 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
             order: true,
             ..CompareOptions::default()
         };
-        let swept = Problem::new(&Pendulum, Grid::new(0.0, 1.0, sizes.n0)?, *embedding);
-        let variational = cx
-            .timed(|| swept.convergence_bvp(Scheme::Variational, 0.0, 1.0, &options, sizes.count));
+        let coarsest = Grid::new(0.0, 1.0, sizes.n0)?;
+        let swept = || Problem::new(&Pendulum, coarsest, *embedding);
+        let fractional = embedding.is_fractional();
+        let fast = swept().with_fractional_solver(FractionalSolver::Fast);
+        let variational =
+            cx.timed(|| fast.convergence_bvp(Scheme::Variational, 0.0, 1.0, &options, sizes.count));
         cx.record_run(
             NAME,
             &describe(*embedding, Scheme::Variational),
             &variational,
         );
+        if fractional && dense_sizes > 0 {
+            let dense = swept().with_fractional_solver(FractionalSolver::Dense);
+            let by_lu = cx.timed(|| {
+                dense.convergence_bvp(Scheme::Variational, 0.0, 1.0, &options, dense_sizes)
+            });
+            cx.record_run(
+                NAME,
+                &format!("{} (dense LU)", describe(*embedding, Scheme::Variational)),
+                &by_lu,
+            );
+            sweep.push(SweepLine::from_run(
+                format!("variational {label}, dense LU"),
+                &by_lu,
+            ));
+        }
         let grid = Grid::new(0.0, 1.0, table_n)?;
         let table = Problem::new(&Pendulum, grid, *embedding);
         let direct = cx.timed(|| table.convergence_bvp(Scheme::Direct, 0.0, 1.0, &options, 2));
@@ -171,10 +199,12 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
                 .map(|(k, x)| (grid.t(k), x[0]))
                 .collect(),
         ));
-        sweep.push(SweepLine::from_run(
-            format!("variational {label}"),
-            &variational,
-        ));
+        let line = if fractional {
+            format!("variational {label}, FFT Newton–Krylov")
+        } else {
+            format!("variational {label}")
+        };
+        sweep.push(SweepLine::from_run(line, &variational));
     }
     notes.push(format!(
         "Reference: Richardson extrapolation with the observed order of the fine solves on \
