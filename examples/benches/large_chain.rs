@@ -14,6 +14,10 @@
 //! - `fput_direct_backward_d{64, 1024, 4096}`: the direct Gauss-FDE− run, every step implicit,
 //!   200 steps of `h = 0.05`, against a hand-written Newton with the tridiagonal Jacobian
 //!   (Thomas algorithm), the same residual, guess and stopping rule (tolerance `1e-12`).
+//! - `fput_midpoint_variational_d{64, 1024, 4096}`: the variational midpoint run, every step
+//!   implicit, 200 steps of `h = 0.05`, against a hand-written Newton for the midpoint discrete
+//!   Euler–Lagrange equation with its tridiagonal Jacobian (Thomas algorithm), the discrete
+//!   Legendre start, the guess `2b − a` and the stopping rule `1e-12 (1 + |π|∞)`.
 //!
 //! The chain is `α = 0.25`, `β = 0.7` between walls, from a smooth displacement of amplitude
 //! 0.8 with velocity `−0.3 q0`. Each run keeps only its last nodes (an observer that does
@@ -27,7 +31,8 @@ use std::hint::black_box;
 use criterion::{BenchmarkId, Criterion};
 use varembed::{DynLagrangian, DynProblem, Embedding, Grid, Scheme, Side};
 use varembed_tests::models::chain::{
-    FputChain, HandWrittenRun, direct_backward_by_hand, stormer_verlet_by_hand,
+    FputChain, HandWrittenRun, direct_backward_by_hand, midpoint_variational_by_hand,
+    stormer_verlet_by_hand,
 };
 use varembed_tests::models::generated::FputChain as GeneratedChain;
 
@@ -59,12 +64,12 @@ fn last_by_hand(by_hand: HandWrittenRun, q0: &[f64], v0: &[f64], steps: usize) -
 fn library_line<L: DynLagrangian>(
     group: &mut criterion::BenchmarkGroup<'_, criterion::measurement::WallTime>,
     name: &str,
-    (model, side, scheme): (&L, Side, Scheme),
+    (model, embedding, scheme): (&L, Embedding, Scheme),
     (steps, reference): (usize, &[f64]),
 ) {
     let (q0, v0) = initial(model.dimension());
     let grid = Grid::new(0.0, H * steps as f64, steps).unwrap();
-    let problem = DynProblem::new(model, grid, Embedding::finite_difference(side));
+    let problem = DynProblem::new(model, grid, embedding);
     let run = problem.run_ivp(scheme, &q0, &v0, |_| {}).unwrap();
     let gap = run
         .last
@@ -107,7 +112,7 @@ fn library_line<L: DynLagrangian>(
 fn side_by_side(
     c: &mut Criterion,
     group: &str,
-    (d, side, scheme): (usize, Side, Scheme),
+    (d, embedding, scheme): (usize, Embedding, Scheme),
     by_hand: HandWrittenRun,
     steps: usize,
 ) {
@@ -125,13 +130,13 @@ fn side_by_side(
     library_line(
         &mut g,
         "generated",
-        (&generated, side, scheme),
+        (&generated, embedding, scheme),
         (steps, &reference),
     );
     library_line(
         &mut g,
         "hand_model",
-        (&hand_model, side, scheme),
+        (&hand_model, embedding, scheme),
         (steps, &reference),
     );
     g.bench_function(
@@ -147,7 +152,7 @@ fn large_chain(c: &mut Criterion) {
         side_by_side(
             c,
             &format!("fput_explicit_variational_d1024_{steps}"),
-            (1024, Side::Forward, Scheme::Variational),
+            (1024, Embedding::finite_difference(Side::Forward), Scheme::Variational),
             |q, v, g, p, o| stormer_verlet_by_hand(q, v, g, p, o),
             steps,
         );
@@ -156,8 +161,17 @@ fn large_chain(c: &mut Criterion) {
         side_by_side(
             c,
             &format!("fput_direct_backward_d{d}"),
-            (d, Side::Backward, Scheme::Direct),
+            (d, Embedding::finite_difference(Side::Backward), Scheme::Direct),
             |q, v, g, p, o| direct_backward_by_hand(q, v, g, p, o),
+            200,
+        );
+    }
+    for d in [64, 1024, 4096] {
+        side_by_side(
+            c,
+            &format!("fput_midpoint_variational_d{d}"),
+            (d, Embedding::midpoint(), Scheme::Variational),
+            |q, v, g, p, o| midpoint_variational_by_hand(q, v, g, p, o),
             200,
         );
     }

@@ -478,8 +478,16 @@ pub fn assemble_force(g: &mut Graph, root: Id) -> Result<ForceAssembly, String> 
         let [xs, vs, _] = components(g, value);
         let mut gradient = Vec::new();
         let mut hessian = Vec::new();
+        let (one, zero) = (g.num(1.0), g.num(0.0));
         for &w in &weights {
-            let f = d.diff(g, value, w);
+            // `W` is linear in the weights, so `∂W/∂w_k` is `W` at `w_k = 1` and every other
+            // weight 0: substituted rather than differentiated, it holds no weight by
+            // construction (a derivative's unsimplified zeros could keep one).
+            let map: HashMap<Id, Id> = weights
+                .iter()
+                .map(|&u| (g.var(u), if u == w { one } else { zero }))
+                .collect();
+            let f = replace(g, value, &map);
             if g.is_num(f, 0.0) {
                 continue;
             }

@@ -80,7 +80,17 @@ impl Differentiator {
                 let num = g.sub(da, nb);
                 g.div(num, b)
             }
-            Node::Neg(a) => g.neg(d(a)),
+            // A derivative that is zero is `+0`: `−0.0` is a number of its own in the graph, and
+            // a branch between `−0.0` and `0.0` would be a nonzero node (a derivative that
+            // claims to depend on what its condition reads, or a weight of a force's virtual
+            // work left behind).
+            Node::Neg(a) => {
+                let da = d(a);
+                if g.is_num(da, 0.0) {
+                    return g.num(0.0);
+                }
+                g.neg(da)
+            }
             Node::Call(f, a) => {
                 let da = d(a);
                 if g.is_num(da, 0.0) {
@@ -196,7 +206,13 @@ impl Differentiator {
             }
             // The branch rule: each branch is differentiated, the condition is kept (its
             // derivative is zero wherever it is defined).
-            Node::Select(op, l, r, a, b) => g.select(op, l, r, d(a), d(b)),
+            Node::Select(op, l, r, a, b) => {
+                let (da, db) = (d(a), d(b));
+                if g.is_num(da, 0.0) && g.is_num(db, 0.0) {
+                    return g.num(0.0);
+                }
+                g.select(op, l, r, da, db)
+            }
             // A sum's derivative is assembled term by term (`assemble.rs`): a body differentiated
             // here never contains one.
             Node::Sum(..) => unreachable!("sums are differentiated by assemble.rs"),

@@ -266,3 +266,116 @@ pub fn stormer_verlet_by_hand(
         std::mem::swap(&mut b, &mut y);
     }
 }
+
+/// `∇U` and the tridiagonal `∇²U` (diagonal `diag`, off-diagonal `off[i] = ∂²U/∂x_i∂x_{i+1}`)
+/// of the chain between walls at `x`, over the bonds `d_j = x_j − x_{j−1}`, `j = 0..=n`.
+fn potential_derivatives(
+    x: &[f64],
+    (alpha, beta): (f64, f64),
+    (grad, diag, off): (&mut [f64], &mut [f64], &mut [f64]),
+) {
+    let n = x.len();
+    grad.fill(0.0);
+    diag.fill(0.0);
+    for j in 0..=n {
+        let left = if j == 0 { 0.0 } else { x[j - 1] };
+        let right = if j == n { 0.0 } else { x[j] };
+        let (dv, ddv) = spring(right - left, alpha, beta);
+        if j < n {
+            grad[j] += dv;
+            diag[j] += ddv;
+        }
+        if j > 0 {
+            grad[j - 1] -= dv;
+            diag[j - 1] += ddv;
+            if j < n {
+                off[j - 1] = -ddv;
+            }
+        }
+    }
+}
+
+/// `∇U` alone at `x` (as [`potential_derivatives`]).
+fn potential_gradient(x: &[f64], (alpha, beta): (f64, f64), grad: &mut [f64]) {
+    let n = x.len();
+    let mut previous = spring(x[0], alpha, beta).0;
+    for j in 1..n {
+        let dv = spring(x[j] - x[j - 1], alpha, beta).0;
+        grad[j - 1] = previous - dv;
+        previous = dv;
+    }
+    grad[n - 1] = previous - spring(-x[n - 1], alpha, beta).0;
+}
+
+/// The variational midpoint run of the FPUT chain between walls, written by hand as a user
+/// would for this chain alone. With `L_d(a, b) = h L((a + b)/2, (b − a)/h)` each step solves
+/// `G(y) = (y − b)/h + (h/2) ∇U((b + y)/2) = π`, the momentum
+/// `π = (b − a)/h − (h/2) ∇U((a + b)/2)`, by Newton on the tridiagonal
+/// `∂G/∂y = I/h + (h/4) ∇²U((b + y)/2)` (Thomas algorithm) from the guess `2b − a`, stopping
+/// when `|G − π|∞ ≤ 1e-12 (1 + |π|∞)`. The start solves the same equation with `b = q0`,
+/// `π = v0` (the discrete Legendre transform `p_0 = −D₁L_d(Q_0, Q_1)`) from `q0 + h v0`. Every
+/// node is handed to `observe`; the buffers are allocated once.
+pub fn midpoint_variational_by_hand(
+    q0: &[f64],
+    v0: &[f64],
+    (h, steps): (f64, usize),
+    params: (f64, f64),
+    mut observe: impl FnMut(&[f64]),
+) {
+    let n = q0.len();
+    let (mut grad, mut diag, mut off) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    let (mut r, mut c, mut m, mut pi) = (vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    // Solves `G(y) = π` with `b` the node before `y`, from the guess in `y`.
+    let mut solve = |b: &[f64], pi: &[f64], y: &mut [f64]| {
+        let scale = 1.0 + pi.iter().fold(0.0f64, |s, p| s.max(p.abs()));
+        for _ in 0..50 {
+            for i in 0..n {
+                m[i] = 0.5 * (b[i] + y[i]);
+            }
+            potential_derivatives(&m, params, (&mut grad, &mut diag, &mut off));
+            let mut residual = 0.0f64;
+            for i in 0..n {
+                r[i] = (y[i] - b[i]) / h + 0.5 * h * grad[i] - pi[i];
+                residual = residual.max(r[i].abs());
+            }
+            if residual <= 1e-12 * scale {
+                return;
+            }
+            // Thomas algorithm on I/h + (h/4) ∇²U.
+            let q = 0.25 * h;
+            let mut pivot = 1.0 / h + q * diag[0];
+            c[0] = q * off[0] / pivot;
+            r[0] /= pivot;
+            for i in 1..n {
+                pivot = 1.0 / h + q * diag[i] - q * off[i - 1] * c[i - 1];
+                c[i] = if i + 1 < n { q * off[i] / pivot } else { 0.0 };
+                r[i] = (r[i] - q * off[i - 1] * r[i - 1]) / pivot;
+            }
+            for i in (0..n - 1).rev() {
+                r[i] -= c[i] * r[i + 1];
+            }
+            y.iter_mut().zip(&r).for_each(|(y, d)| *y -= d);
+        }
+    };
+    let mut a = q0.to_vec();
+    let mut b: Vec<f64> = q0.iter().zip(v0).map(|(q, v)| q + h * v).collect();
+    solve(q0, v0, &mut b);
+    observe(&a);
+    observe(&b);
+    let mut y = vec![0.0; n];
+    let mut ga = vec![0.0; n];
+    for _ in 2..=steps {
+        for i in 0..n {
+            y[i] = 0.5 * (a[i] + b[i]);
+        }
+        potential_gradient(&y, params, &mut ga);
+        for i in 0..n {
+            pi[i] = (b[i] - a[i]) / h - 0.5 * h * ga[i];
+            y[i] = 2.0 * b[i] - a[i];
+        }
+        solve(&b, &pi, &mut y);
+        observe(&y);
+        std::mem::swap(&mut a, &mut b);
+        std::mem::swap(&mut b, &mut y);
+    }
+}

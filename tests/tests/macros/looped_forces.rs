@@ -146,6 +146,42 @@ fn field_7(x: [f64; 7], v: [f64; 7], c: f64, k: f64) -> [f64; 7] {
     f
 }
 
+// Negated components inside branches and `max`: their zero derivatives are signed zeros,
+// which once left a weight of the virtual work in the generated code (a compile-time panic).
+
+#[force]
+fn clipped(x: [f64; N], v: [f64; N], c: f64) -> [f64; N] {
+    let mut f = [0.0; N];
+    for i in 0..N {
+        f[i] += if x[i] > 0.0 { -x[i] } else { 0.0 };
+        f[i] += c * (-x[i]).max(0.2) * v[i];
+    }
+    f[0] += if x[0] > 0.0 { x[0] * -x[0] } else { -v[0] };
+    f
+}
+
+#[force]
+fn clipped_dyn(x: &[f64], v: &[f64], n: usize, c: f64) -> Vec<f64> {
+    let mut f = vec![0.0; n];
+    for i in 0..n {
+        f[i] += if x[i] > 0.0 { -x[i] } else { 0.0 };
+        f[i] += c * (-x[i]).max(0.2) * v[i];
+    }
+    f[0] += if x[0] > 0.0 { x[0] * -x[0] } else { -v[0] };
+    f
+}
+
+#[force]
+fn clipped_7(x: [f64; 7], v: [f64; 7], c: f64) -> [f64; 7] {
+    let mut f = [0.0; 7];
+    for i in 0..7 {
+        f[i] += if x[i] > 0.0 { -x[i] } else { 0.0 };
+        f[i] += c * (-x[i]).max(0.2) * v[i];
+    }
+    f[0] += if x[0] > 0.0 { x[0] * -x[0] } else { -v[0] };
+    f
+}
+
 /// A force in its three forms, evaluated at one point.
 struct Forms<'a> {
     name: &'static str,
@@ -340,6 +376,22 @@ fn a_mean_field_with_pairwise_coupling_agrees_in_its_three_forms_and_with_differ
     );
     // A double loop over two variables claims no band.
     assert_eq!(FieldDyn { n: N, c, k }.bandwidth(), None);
+}
+
+#[test]
+fn negated_components_in_branches_agree_in_their_three_forms_and_with_differences() {
+    let c = 0.8;
+    check(
+        &Forms {
+            name: "clipped",
+            named: &Clipped { c },
+            named_dyn: &Clipped { c },
+            slices: &ClippedDyn { n: N, c },
+            unrolled: &Clipped7 { c },
+        },
+        4,
+    );
+    assert_eq!(ClippedDyn { n: N, c }.bandwidth(), Some(0));
 }
 
 #[test]
