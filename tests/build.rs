@@ -1,7 +1,8 @@
 //! Writes the programs of the differential fuzzer of `#[lagrangian]` (`tests/macro_fuzz.rs`)
 //! into `OUT_DIR/macro_fuzz.rs`, from a fixed seed; and, from a generator of their own (so
 //! that a seed's Lagrangians do not change), one `#[force]` or `#[constraint]` program for
-//! every four ([`vector_program`]).
+//! every four ([`vector_program`]), and from a third one `#[force]` with loops over a named
+//! dimension for every four ([`looped_force_program`]).
 //!
 //! Each program is one Lagrangian written three times: as a `#[lagrangian]` fn of arrays
 //! `[f64; N]` (the dimension a `const` or a literal), as a `#[lagrangian]` fn of slices with a
@@ -160,6 +161,8 @@ enum Ix {
     Prev(String),
     /// `2 * i + c`.
     Twice(String, usize),
+    /// `i - c` (under a range or a guard that keeps it a component).
+    Back(String, usize),
 }
 
 impl Ix {
@@ -182,6 +185,7 @@ impl Ix {
             Ix::Prev(i) => format!("({i} + {d} - 1) % {d}"),
             Ix::Twice(i, 0) => format!("2 * {i}"),
             Ix::Twice(i, c) => format!("2 * {i} + {c}"),
+            Ix::Back(i, c) => format!("{i} - {c}"),
         }
     }
     /// Whether it needs parentheses before `as f64`.
@@ -776,6 +780,17 @@ const FORMS: &[&str] = &[
     "sum_condition",
     "sum_in_loop_fn",
     "sum_over_sum",
+    // Looped forces:
+    "force_scatter",
+    "force_gather",
+    "force_periodic",
+    "force_guarded",
+    "force_literal",
+    "force_double",
+    "force_sum",
+    "force_drive",
+    "force_no_x",
+    "force_no_v",
 ];
 
 /// A loop variable in scope: its name and its largest value (`None`: the loop never runs at
@@ -802,6 +817,10 @@ struct Gen<'a> {
     fresh: usize,
     /// Components of `x` only (a constraint's body).
     positions_only: bool,
+    /// Components of `v` only (a looped force that reads no position).
+    velocities_only: bool,
+    /// No unary negation of a component (a looped force: see [`Gen::combo`]).
+    no_negation: bool,
 }
 
 impl<'a> Gen<'a> {
@@ -821,6 +840,8 @@ impl<'a> Gen<'a> {
             forms: Vec::new(),
             fresh: 0,
             positions_only,
+            velocities_only: false,
+            no_negation: false,
         }
     }
 
@@ -896,7 +917,9 @@ impl<'a> Gen<'a> {
 
     fn component(&mut self, vars: &[LoopVar]) -> E {
         let ix = self.index(vars);
-        if self.positions_only || self.rng.chance(0.5) {
+        if self.velocities_only {
+            E::V(ix)
+        } else if self.positions_only || self.rng.chance(0.5) {
             E::X(ix)
         } else {
             E::V(ix)
@@ -908,6 +931,10 @@ impl<'a> Gen<'a> {
         let a = self.component(vars);
         match self.rng.below(11) {
             0 | 8 | 9 => a,
+            // A negated component in a branch or an argument of `max`, `if c { -x[0] } else
+            // { 0.0 }`, panics `#[force]` over a named dimension or slices ("the weights of a
+            // force's virtual work are differentiated away"): looped forces scale it instead.
+            1 | 10 if self.no_negation => mul(num(-0.5), a),
             1 | 10 => E::Neg(Box::new(a)),
             2 => {
                 let b = self.distinct(vars, &a);
@@ -2080,6 +2107,23 @@ fn generate(count: usize, seed: u64, level: Level) -> String {
         out.push_str(&vector_program(&mut vector_rng, id, level));
         vector_runs.push(format!("vf{id:04}::run"));
     }
+    // The looped forces, likewise from a generator of their own.
+    let mut force_rng = Rng(seed ^ 0x100F_ED0F_0ACE_0000);
+    let mut force_runs = Vec::new();
+    for id in 0..count.div_ceil(4) {
+        out.push('\n');
+        out.push_str(&looped_force_program(&mut force_rng, id, level));
+        force_runs.push(format!("lf{id:04}::run"));
+    }
+    let _ = writeln!(
+        out,
+        "\n/// Every looped `#[force]` program's check, in order."
+    );
+    let _ = writeln!(
+        out,
+        "pub const LOOPED_FORCE_PROGRAMS: &[fn(&mut Report)] = &[{}];",
+        force_runs.join(", ")
+    );
     let _ = writeln!(
         out,
         "\n/// Every `#[force]` and `#[constraint]` program's check, in order."
@@ -2228,4 +2272,787 @@ fn vector_program(rng: &mut Rng, id: usize, level: Level) -> String {
     let _ = writeln!(out, "    }}");
     let _ = writeln!(out, "}}");
     out
+}
+
+// ---------------------------------------------------------------------------------------------
+// Forces with loops over a named dimension.
+
+/// What a looped force reads of the state.
+#[derive(Clone, Copy, PartialEq)]
+enum Reads {
+    Both,
+    Positions,
+    Velocities,
+    /// Neither: drives in `t` and the constants only.
+    Nothing,
+}
+
+/// A statement of the body of a `#[force]` with loops.
+#[derive(Clone)]
+enum FS {
+    /// `let name = e;`
+    Let(String, E),
+    /// `let mut name = 0.0;`: an accumulator, read after its loop.
+    LetMut(String),
+    /// `name += e;`
+    Acc(String, E),
+    /// `f[ix] += e;` (`-=` when `minus`).
+    Add(Ix, E, bool),
+    For(String, Range, Vec<FS>),
+}
+
+/// Whether `stmts` add to the force.
+fn adds_to_force(stmts: &[FS]) -> bool {
+    stmts.iter().any(|s| match s {
+        FS::Add(..) => true,
+        FS::For(_, _, body) => adds_to_force(body),
+        _ => false,
+    })
+}
+
+/// The statements of a looped force in `lang`: the `#[force]` fns add to `f[ix]`, the oracle
+/// pushes each additive term of a contribution to `f[ix]`'s list.
+fn render_force(out: &mut String, stmts: &[FS], lang: Lang, indent: usize) {
+    let pad = "    ".repeat(indent);
+    let dim = lang.dim();
+    for s in stmts {
+        match s {
+            FS::Let(name, e) => {
+                let _ = writeln!(out, "{pad}let {name} = {};", render(e, lang).0);
+            }
+            FS::LetMut(name) => {
+                let _ = writeln!(out, "{pad}let mut {name} = {};", render(&num(0.0), lang).0);
+            }
+            FS::Acc(name, e) => {
+                let _ = writeln!(out, "{pad}{name} += {};", render(e, lang).0);
+            }
+            FS::Add(ix, e, minus) => match lang {
+                Lang::Macro(_) => {
+                    let op = if *minus { "-=" } else { "+=" };
+                    let _ = writeln!(
+                        out,
+                        "{pad}f[{}] {op} {};",
+                        ix.render(dim),
+                        render(e, lang).0
+                    );
+                }
+                Lang::Oracle => push_force_terms(out, &ix.render(dim), e, *minus, &pad),
+            },
+            FS::For(i, range, body) => {
+                let _ = writeln!(out, "{pad}for {i} in {} {{", range.render(dim));
+                render_force(out, body, lang, indent + 1);
+                let _ = writeln!(out, "{pad}}}");
+            }
+        }
+    }
+}
+
+/// The oracle's `f[ix].push(±e)`, one push per additive term of `e` and per iteration of a sum
+/// that `e` adds (as [`push_terms`] for `L`).
+fn push_force_terms(out: &mut String, ix: &str, e: &E, minus: bool, pad: &str) {
+    match e {
+        E::Bin(Op::Add, a, b) => {
+            push_force_terms(out, ix, a, minus, pad);
+            push_force_terms(out, ix, b, minus, pad);
+        }
+        E::Bin(Op::Sub, a, b) => {
+            push_force_terms(out, ix, a, minus, pad);
+            push_force_terms(out, ix, b, !minus, pad);
+        }
+        E::Neg(a) => push_force_terms(out, ix, a, !minus, pad),
+        E::Sum(i, range, body) => {
+            let _ = writeln!(out, "{pad}for {i} in {} {{", range.render(Dim::Runtime));
+            push_force_terms(out, ix, body, minus, &format!("{pad}    "));
+            let _ = writeln!(out, "{pad}}}");
+        }
+        _ => {
+            let s = render(e, Lang::Oracle);
+            if minus {
+                let _ = writeln!(out, "{pad}f[{ix}].push(-{});", paren(s, 3));
+            } else {
+                let _ = writeln!(out, "{pad}f[{ix}].push({});", s.0);
+            }
+        }
+    }
+}
+
+/// `lo..hi` (`lo..=hi`) from a literal.
+fn span(lo: usize, hi: Ix, inclusive: bool) -> Range {
+    Range {
+        lo: Ix::Lit(lo),
+        hi,
+        inclusive,
+    }
+}
+
+impl Gen<'_> {
+    /// A component at `ix`, of what the force reads.
+    fn state(&mut self, reads: Reads, ix: Ix) -> E {
+        match reads {
+            Reads::Positions => E::X(ix),
+            Reads::Velocities => E::V(ix),
+            _ if self.rng.chance(0.5) => E::X(ix),
+            _ => E::V(ix),
+        }
+    }
+
+    /// `e`, plus a small term in a component at each loop variable of `vars` that neither `e`
+    /// nor `also` names (an index number when the force reads no state).
+    fn force_reads(&mut self, reads: Reads, e: E, also: &[&E], vars: &[&str]) -> E {
+        let mut e = e;
+        for var in vars {
+            let mut all = also.to_vec();
+            all.push(&e);
+            if !mentions(&all, var) {
+                let ix = Ix::Var((*var).to_string(), 0);
+                let term = match reads {
+                    Reads::Nothing => E::IdxNum(Ix::Var((*var).to_string(), 1)),
+                    _ => self.state(reads, ix),
+                };
+                e = add(e, mul(num(0.1), term));
+            }
+        }
+        e
+    }
+
+    /// A function of a difference `d` between two components: a bond's tension.
+    fn link(&mut self, d: &str, vars: &[LoopVar]) -> E {
+        match self.rng.below(4) {
+            0 => self.smooth(local(d)),
+            1 => {
+                let c = match self.k() {
+                    Some(k) => k,
+                    None => num(self.rng.coefficient()),
+                };
+                add(
+                    mul(c, local(d)),
+                    mul(num(0.1), E::Powi(Box::new(local(d)), 3)),
+                )
+            }
+            2 => {
+                let s = self.smooth(local(d));
+                let a = self.component(vars);
+                mul(s, a)
+            }
+            _ => mul(num(self.rng.coefficient()), local(d)),
+        }
+    }
+
+    /// `e` modulated in time: `e * (c * t).cos()`, or `(1.0 + c * t) * e`.
+    fn in_time(&mut self, e: E) -> E {
+        let c = self.rng.coefficient();
+        if self.rng.chance(0.5) {
+            mul(e, f(Fun::Cos, mul(num(c), E::T)))
+        } else {
+            mul(add(num(1.0), mul(num(c), E::T)), e)
+        }
+    }
+
+    /// A drive: `t` and the constants only.
+    fn drive(&mut self, out: &mut Vec<FS>, minus: bool) {
+        self.form("force_drive");
+        let amplitude = |g: &mut Gen<'_>| match g.k() {
+            Some(k) if g.rng.chance(0.6) => k,
+            _ => num(g.rng.coefficient()),
+        };
+        let target = self.rng.pick(&[0, 1, 2]);
+        let target = match target {
+            0 => Ix::Lit(0),
+            1 => Ix::Last,
+            _ => Ix::Half,
+        };
+        match self.rng.below(3) {
+            0 if self.time => {
+                let a = amplitude(self);
+                let w = self.rng.coefficient();
+                let e = mul(a, f(Fun::Sin, mul(num(w), E::T)));
+                out.push(FS::Add(target, e, minus));
+            }
+            1 => {
+                let i = self.name("i");
+                let w = E::IdxNum(Ix::Var(i.clone(), 1));
+                let e = if self.time {
+                    let c = self.rng.coefficient();
+                    mul(num(0.1), f(Fun::Cos, mul(mul(num(c), w), E::T)))
+                } else {
+                    let a = amplitude(self);
+                    mul(mul(num(0.1), w), a)
+                };
+                out.push(FS::For(
+                    i.clone(),
+                    self.full_range(),
+                    vec![FS::Add(Ix::Var(i, 0), e, minus)],
+                ));
+            }
+            _ => {
+                let a = amplitude(self);
+                out.push(FS::Add(target, a, minus));
+            }
+        }
+    }
+
+    /// Adds one part of a looped force to `out`.
+    fn force_part(&mut self, reads: Reads, out: &mut Vec<FS>) {
+        let table: &[(&'static str, usize)] = &[
+            ("force_scatter", 4),
+            ("force_gather", 5),
+            ("force_periodic", 3),
+            ("force_guarded", 3),
+            ("force_literal", 2),
+            ("force_double", 3),
+            ("force_sum", 4),
+            ("force_drive", 1),
+        ];
+        let total: usize = table.iter().map(|e| e.1).sum();
+        let mut r = self.rng.below(total);
+        let mut kind = table[0].0;
+        for &(name, w) in table {
+            if r < w {
+                kind = name;
+                break;
+            }
+            r -= w;
+        }
+        let minus = self.rng.chance(0.3);
+        let d = self.d;
+        if reads == Reads::Nothing {
+            self.drive(out, minus);
+            return;
+        }
+        match kind {
+            "force_scatter" => {
+                self.form("force_scatter");
+                let i = self.name("i");
+                let dn = self.name("d");
+                // Links `(i, i + 1)` over `0..N - 1`, or `(i - 1, i)` over `1..N`: empty at
+                // `N = 1`.
+                let back = self.rng.chance(0.4);
+                let (range, lo, hi, max) = if back {
+                    (
+                        span(1, Ix::Dim, false),
+                        Ix::Back(i.clone(), 1),
+                        Ix::Var(i.clone(), 0),
+                        (d >= 2).then_some(d - 1),
+                    )
+                } else {
+                    (
+                        span(0, Ix::Last, false),
+                        Ix::Var(i.clone(), 0),
+                        Ix::Var(i.clone(), 1),
+                        d.checked_sub(2),
+                    )
+                };
+                let vars = vec![self.var(&i, max)];
+                let on_x =
+                    reads == Reads::Positions || (reads == Reads::Both && self.rng.chance(0.6));
+                let comp = |ix: Ix| if on_x { E::X(ix) } else { E::V(ix) };
+                let diff = sub(comp(hi.clone()), comp(lo.clone()));
+                let mut link = self.link(&dn, &vars);
+                if reads == Reads::Both && on_x && self.rng.chance(0.4) {
+                    let c = self.rng.coefficient();
+                    let dv = sub(E::V(hi.clone()), E::V(lo.clone()));
+                    link = add(link, mul(num(c), dv));
+                }
+                if self.time && self.rng.chance(0.3) {
+                    link = self.in_time(link);
+                }
+                let mut stmts = vec![FS::Let(dn, diff)];
+                if self.rng.chance(0.6) {
+                    let e = self.name("e");
+                    stmts.push(FS::Let(e.clone(), link));
+                    link = local(&e);
+                }
+                stmts.push(FS::Add(lo, link.clone(), minus));
+                stmts.push(FS::Add(hi, link, !minus));
+                out.push(FS::For(i, range, stmts));
+            }
+            "force_gather" => {
+                self.form("force_gather");
+                let i = self.name("i");
+                let own = Ix::Var(i.clone(), 0);
+                let (range, max, target) = match self.rng.below(5) {
+                    0 => {
+                        let target = if self.rng.chance(0.5) {
+                            Ix::Back(i.clone(), 1)
+                        } else {
+                            own
+                        };
+                        (span(1, Ix::Dim, false), (d >= 2).then_some(d - 1), target)
+                    }
+                    1 => {
+                        let target = if self.rng.chance(0.5) {
+                            Ix::Var(i.clone(), 1)
+                        } else {
+                            own
+                        };
+                        (span(0, Ix::Last, false), d.checked_sub(2), target)
+                    }
+                    2 => (span(0, Ix::Last, true), Some(d - 1), own),
+                    3 => (self.full_range(), Some(d - 1), Ix::Mirror(i.clone())),
+                    _ => (self.full_range(), Some(d - 1), own),
+                };
+                let vars = vec![self.var(&i, max)];
+                let mut stmts = Vec::new();
+                let mut body = self.body(&vars);
+                if self.rng.chance(0.3) {
+                    let y = self.name("y");
+                    let e = self.combo(&vars);
+                    let s = self.smooth(local(&y));
+                    stmts.push(FS::Let(y, e));
+                    body = add(body, s);
+                }
+                let lets: Vec<&E> = stmts
+                    .iter()
+                    .filter_map(|s| match s {
+                        FS::Let(_, e) => Some(e),
+                        _ => None,
+                    })
+                    .collect();
+                let mut body = self.force_reads(reads, body, &lets, &[&i]);
+                if self.time && self.rng.chance(0.35) {
+                    body = self.in_time(body);
+                }
+                stmts.push(FS::Add(target.clone(), body, minus));
+                if reads != Reads::Positions && self.rng.chance(0.3) {
+                    // Quadratic drag on the same component.
+                    let vi = E::V(target.clone());
+                    let c = self.rng.coefficient();
+                    let drag = mul(mul(num(c), vi.clone()), f(Fun::Abs, vi));
+                    stmts.push(FS::Add(target, drag, true));
+                }
+                out.push(FS::For(i, range, stmts));
+            }
+            "force_periodic" if d >= 2 => {
+                self.form("force_periodic");
+                let i = self.name("i");
+                let dn = self.name("d");
+                let vars = vec![self.var(&i, Some(d - 1))];
+                let next = if self.rng.chance(0.7) {
+                    Ix::Next(i.clone())
+                } else {
+                    Ix::Prev(i.clone())
+                };
+                let own = Ix::Var(i.clone(), 0);
+                let on_x =
+                    reads == Reads::Positions || (reads == Reads::Both && self.rng.chance(0.6));
+                let comp = |ix: Ix| if on_x { E::X(ix) } else { E::V(ix) };
+                let diff = sub(comp(next.clone()), comp(own.clone()));
+                let link = self.link(&dn, &vars);
+                let mut stmts = vec![FS::Let(dn, diff)];
+                if self.rng.chance(0.5) {
+                    // Each bond adds to both of its ends.
+                    let e = self.name("e");
+                    stmts.push(FS::Let(e.clone(), link));
+                    stmts.push(FS::Add(own, local(&e), minus));
+                    stmts.push(FS::Add(next, local(&e), !minus));
+                } else {
+                    stmts.push(FS::Add(own, link, minus));
+                }
+                out.push(FS::For(i, self.full_range(), stmts));
+            }
+            "force_guarded" => {
+                self.form("force_guarded");
+                self.form("branch");
+                let i = self.name("i");
+                let vars = vec![self.var(&i, Some(d - 1))];
+                let own = Ix::Var(i.clone(), 0);
+                let on_x =
+                    reads == Reads::Positions || (reads == Reads::Both && self.rng.chance(0.6));
+                let comp = |ix: Ix| if on_x { E::X(ix) } else { E::V(ix) };
+                let var = |c: usize| Ix::Var(i.clone(), c);
+                let guard_left = |g: &mut Gen<'_>, yes: E, no: E| match g.rng.below(3) {
+                    0 => E::If(
+                        Box::new(Cond::Index(Some(Cmp::Gt), var(0), Ix::Lit(0))),
+                        Box::new(yes),
+                        Box::new(no),
+                    ),
+                    1 => E::If(
+                        Box::new(Cond::Index(Some(Cmp::Ge), var(0), Ix::Lit(1))),
+                        Box::new(yes),
+                        Box::new(no),
+                    ),
+                    _ => E::If(
+                        Box::new(Cond::Index(None, var(0), Ix::Lit(0))),
+                        Box::new(no),
+                        Box::new(yes),
+                    ),
+                };
+                let guard_right = |yes: E, no: E| {
+                    E::If(
+                        Box::new(Cond::Index(Some(Cmp::Lt), var(1), Ix::Dim)),
+                        Box::new(yes),
+                        Box::new(no),
+                    )
+                };
+                let left = comp(Ix::Back(i.clone(), 1));
+                let right = comp(var(1));
+                let mut stmts = Vec::new();
+                if self.rng.chance(0.5) {
+                    // Neighbours read into locals (a chain with fixed ends).
+                    let (l, r) = (self.name("left"), self.name("right"));
+                    stmts.push(FS::Let(l.clone(), guard_left(self, left, num(0.0))));
+                    let lap = if self.rng.chance(0.6) {
+                        stmts.push(FS::Let(r.clone(), guard_right(right, num(0.0))));
+                        add(sub(local(&l), mul(num(2.0), comp(own.clone()))), local(&r))
+                    } else {
+                        sub(local(&l), comp(own.clone()))
+                    };
+                    let c = match self.k() {
+                        Some(k) => k,
+                        None => num(self.rng.coefficient()),
+                    };
+                    let e = match self.rng.below(3) {
+                        0 => mul(c, lap),
+                        1 => {
+                            let g = self.component(&vars);
+                            mul(mul(c, lap), g)
+                        }
+                        _ => {
+                            let dn = self.name("lap");
+                            stmts.push(FS::Let(dn.clone(), lap));
+                            let s = self.smooth(local(&dn));
+                            add(mul(c, local(&dn)), s)
+                        }
+                    };
+                    stmts.push(FS::Add(own, e, minus));
+                } else {
+                    // A branch as the contribution itself.
+                    let c = self.rng.coefficient();
+                    let g = self.component(&vars);
+                    let yes = mul(mul(num(c), left), g);
+                    let no = if self.rng.chance(0.5) {
+                        num(0.0)
+                    } else {
+                        self.factor(&vars, 0)
+                    };
+                    let e = guard_left(self, yes, no);
+                    stmts.push(FS::Add(own.clone(), e, minus));
+                    if self.rng.chance(0.5) {
+                        let s = self.smooth(sub(right, comp(own.clone())));
+                        let e = guard_right(s, num(0.0));
+                        stmts.push(FS::Add(own, e, !minus));
+                    }
+                }
+                out.push(FS::For(i, self.full_range(), stmts));
+            }
+            "force_literal" => {
+                self.form("force_literal");
+                for _ in 0..1 + self.rng.below(2) {
+                    let mut targets = vec![Ix::Lit(0), Ix::Last, Ix::Half];
+                    if d >= 2 {
+                        targets.push(Ix::Lit(1));
+                    }
+                    let target = targets[self.rng.below(targets.len())].clone();
+                    let e = self.body(&[]);
+                    let minus = self.rng.chance(0.4);
+                    out.push(FS::Add(target, e, minus));
+                }
+            }
+            "force_double" => {
+                self.form("force_double");
+                self.form("nested");
+                let i = self.name("i");
+                let j = self.name("j");
+                let dn = self.name("d");
+                let on_x =
+                    reads == Reads::Positions || (reads == Reads::Both && self.rng.chance(0.6));
+                let comp = |ix: Ix| if on_x { E::X(ix) } else { E::V(ix) };
+                let (xi, xj) = (comp(Ix::Var(i.clone(), 0)), comp(Ix::Var(j.clone(), 0)));
+                match self.rng.below(3) {
+                    0 => {
+                        // Every pair, both ways: a gather over `j`.
+                        let vars = vec![self.var(&i, Some(d - 1)), self.var(&j, Some(d - 1))];
+                        let e = mul(num(0.1), self.link(&dn, &vars));
+                        out.push(FS::For(
+                            i.clone(),
+                            self.full_range(),
+                            vec![FS::For(
+                                j,
+                                self.full_range(),
+                                vec![FS::Let(dn, sub(xj, xi)), FS::Add(Ix::Var(i, 0), e, minus)],
+                            )],
+                        ));
+                    }
+                    1 => {
+                        // Every pair once, `i < j`, adding to both.
+                        let jmax = (d >= 2).then_some(d - 1);
+                        let vars = vec![self.var(&i, Some(d - 1)), self.var(&j, jmax)];
+                        let link = self.link(&dn, &vars);
+                        let e = self.name("e");
+                        out.push(FS::For(
+                            i.clone(),
+                            self.full_range(),
+                            vec![FS::For(
+                                j.clone(),
+                                Range {
+                                    lo: Ix::Var(i.clone(), 1),
+                                    hi: Ix::Dim,
+                                    inclusive: false,
+                                },
+                                vec![
+                                    FS::Let(dn, sub(xj, xi)),
+                                    FS::Let(e.clone(), mul(num(0.1), link)),
+                                    FS::Add(Ix::Var(i, 0), local(&e), minus),
+                                    FS::Add(Ix::Var(j, 0), local(&e), !minus),
+                                ],
+                            )],
+                        ));
+                    }
+                    _ => {
+                        // An iterator sum times a component of the outer index.
+                        self.form("iter_sum");
+                        let outer = [self.var(&i, Some(d - 1))];
+                        let s = self.smooth(sub(xj, xi));
+                        let body = self.force_reads(reads, s, &[], &[&j]);
+                        let g = self.component(&outer);
+                        let outer = self.force_reads(reads, g, &[], &[&i]);
+                        let e = mul(
+                            mul(num(0.1), outer),
+                            E::Sum(j, self.full_range(), Box::new(body)),
+                        );
+                        out.push(FS::For(
+                            i.clone(),
+                            self.full_range(),
+                            vec![FS::Add(Ix::Var(i, 0), e, minus)],
+                        ));
+                    }
+                }
+            }
+            "force_sum" => {
+                self.form("force_sum");
+                let s = self.name("s");
+                let j = self.name("j");
+                let i = self.name("i");
+                let ivars = vec![self.var(&i, Some(d - 1))];
+                let centre = self.rng.chance(0.35);
+                let on_x =
+                    reads == Reads::Positions || (reads == Reads::Both && self.rng.chance(0.6));
+                let comp = |ix: Ix| if on_x { E::X(ix) } else { E::V(ix) };
+                let body = if centre {
+                    self.form("centre");
+                    comp(Ix::Var(j.clone(), 0))
+                } else {
+                    let jvars = vec![self.var(&j, Some(d - 1))];
+                    let b = self.body(&jvars);
+                    self.force_reads(reads, b, &[], &[&j])
+                };
+                if self.rng.chance(0.65) {
+                    self.form("iter_sum");
+                    out.push(FS::Let(
+                        s.clone(),
+                        E::Sum(j, self.full_range(), Box::new(body)),
+                    ));
+                } else {
+                    out.push(FS::LetMut(s.clone()));
+                    out.push(FS::For(
+                        j,
+                        self.full_range(),
+                        vec![FS::Acc(s.clone(), body)],
+                    ));
+                }
+                let mean = div(local(&s), E::IdxNum(Ix::Dim));
+                let c = self.rng.coefficient();
+                let e = match self.rng.below(5) {
+                    0 => {
+                        let a = self.state(reads, Ix::Var(i.clone(), 0));
+                        mul(mul(num(c), local(&s)), a)
+                    }
+                    1 if centre => {
+                        self.form("sum_square");
+                        let dev = sub(comp(Ix::Var(i.clone(), 0)), mean);
+                        let a = self.component(&ivars);
+                        mul(mul(mul(num(c), dev.clone()), dev), a)
+                    }
+                    1 => {
+                        self.form("sum_square");
+                        mul(mul(num(0.1), local(&s)), local(&s))
+                    }
+                    2 => mul(num(c), mean),
+                    3 => {
+                        let g = self.factor(&ivars, 0);
+                        mul(local(&s), g)
+                    }
+                    _ => {
+                        let k = match self.k() {
+                            Some(k) => k,
+                            None => num(c),
+                        };
+                        mul(k, sub(comp(Ix::Var(i.clone(), 0)), mean))
+                    }
+                };
+                let e = self.force_reads(reads, e, &[], &[&i]);
+                out.push(FS::For(
+                    i.clone(),
+                    self.full_range(),
+                    vec![FS::Add(Ix::Var(i, 0), e, minus)],
+                ));
+                if self.rng.chance(0.3) {
+                    let c = self.rng.coefficient();
+                    out.push(FS::Add(Ix::Lit(0), mul(num(c), local(&s)), !minus));
+                }
+            }
+            _ => self.drive(out, minus),
+        }
+    }
+}
+
+/// A `#[force]` with loops over a named dimension `N = 1..=8`, written three times: over
+/// `[f64; N]` (a `Force<N>` and a `DynForce`), over slices with a run-time `n: usize` (a
+/// `DynForce`), and as the oracle, a generic fn that pushes each contribution to a component
+/// onto that component's list (a plain loop filling an array of lists: no macro
+/// transformation). The body: one to three parts (a scatter over links `(i, i + 1)`, a
+/// gather, a periodic ring, guarded neighbours, literal components, a double loop, a sum
+/// entering polynomially, a drive in `t`), reading `x` and `v`, one of them, or neither.
+fn looped_force_program(rng: &mut Rng, id: usize, level: Level) -> String {
+    let d = 1 + rng.below(8);
+    let consts = rng.below(3);
+    let time = rng.chance(0.4);
+    let reads = match rng.below(10) {
+        0..=4 => Reads::Both,
+        5 | 6 => Reads::Positions,
+        7 | 8 => Reads::Velocities,
+        _ => Reads::Nothing,
+    };
+    let mut g = Gen::new(rng, level, (d, consts, time), reads == Reads::Positions);
+    g.velocities_only = reads == Reads::Velocities;
+    g.no_negation = true;
+    let nparts = g.rng.pick(&[1, 1, 2, 2, 3]);
+    let mut stmts = Vec::new();
+    for _ in 0..nparts {
+        g.force_part(reads, &mut stmts);
+    }
+    // The force is declared first, or after the sums that lead the body.
+    let declare_at = if g.rng.chance(0.5) {
+        0
+    } else {
+        stmts
+            .iter()
+            .position(|s| adds_to_force(std::slice::from_ref(s)))
+            .unwrap_or(stmts.len())
+    };
+    let consts: Vec<f64> = (0..consts).map(|_| rng_const(g.rng)).collect();
+    let body = |dim: Dim| -> String {
+        let lang = Lang::Macro(dim);
+        let mut s = String::new();
+        render_force(&mut s, &stmts[..declare_at], lang, 0);
+        match dim {
+            Dim::Runtime => s.push_str("let mut f = vec![0.0; n];\n"),
+            _ => s.push_str("let mut f = [0.0; N];\n"),
+        }
+        render_force(&mut s, &stmts[declare_at..], lang, 0);
+        s.push_str("f\n");
+        s
+    };
+    let slice_body = body(Dim::Runtime);
+    let time = has_word(&slice_body, "t");
+    if time {
+        g.form("time");
+    }
+    for (needle, form) in [
+        (") % n", "periodic"),
+        ("fz_spring(", "helper"),
+        ("fz_well(", "helper"),
+        ("fz_bond(", "helper"),
+    ] {
+        if slice_body.contains(needle) {
+            g.form(form);
+        }
+    }
+    if !slice_body.contains("x[") {
+        g.form("force_no_x");
+    }
+    if !slice_body.contains("v[") {
+        g.form("force_no_v");
+    }
+    let mut forms = g.forms.clone();
+    forms.sort_by_key(|f| FORMS.iter().position(|g| g == f));
+
+    let params = |ty: &str, n: bool| -> String {
+        let mut p = vec![format!("x: {ty}"), format!("v: {ty}")];
+        if time {
+            p.push("t: f64".into());
+        }
+        let mut ks: Vec<String> = (0..consts.len()).map(|j| format!("k{j}: f64")).collect();
+        if n {
+            ks.insert(id % (consts.len() + 1), "n: usize".into());
+        }
+        p.extend(ks);
+        p.join(", ")
+    };
+    let allow =
+        "#[allow(unused_variables, reason = \"a force need not read `x`, `v` or every constant\")]";
+    let array_fn = format!(
+        "#[force]\n{allow}\npub fn array_force({}) -> [f64; N] {{\n{}}}\n",
+        params("[f64; N]", false),
+        indent(&body(Dim::Named), "    ")
+    );
+    let slice_fn = format!(
+        "#[force]\n{allow}\npub fn slice_force({}) -> Vec<f64> {{\n{}}}\n",
+        params("&[f64]", true),
+        indent(&slice_body, "    ")
+    );
+    let mut oracle_body = String::new();
+    render_force(&mut oracle_body, &stmts, Lang::Oracle, 0);
+    let oracle = format!(
+        "#[allow(unused_variables, reason = \"a force need not read `x`, `v`, `t`, `k` or `n`\")]\n\
+         pub fn oracle<T: DualNum<Primitive = f64> + Copy>(x: &[T], v: &[T], t: f64, k: &[f64], f: &mut [Vec<T>]) {{\n\
+         \x20   let n = x.len();\n\
+         \x20   let c = |a: f64| T::from(a);\n\
+         {}}}\n",
+        indent(&oracle_body, "    ")
+    );
+    let k_list: Vec<String> = consts.iter().map(|c| format!("{c:?}")).collect();
+    let fields: Vec<String> = (0..consts.len()).map(|j| format!("k{j}: K[{j}]")).collect();
+    let mut slice_fields = fields.clone();
+    slice_fields.push("n: N".into());
+    let forms: Vec<String> = forms.iter().map(|f| format!("{f:?}")).collect();
+    let text = format!("{array_fn}{slice_fn}");
+    let mut m = String::new();
+    let _ = writeln!(
+        m,
+        "#[allow(clippy::needless_range_loop, clippy::reversed_empty_ranges, \
+         clippy::impossible_comparisons, reason = \"a loop over components is the form \
+         `#[force]` takes; at `N = 1` the links `0..N - 1` and `1..N` are none; the run-time \
+         index checks of a slice force compare constants clippy folds\")]"
+    );
+    let _ = writeln!(m, "pub mod lf{id:04} {{");
+    let _ = writeln!(m, "    use super::*;");
+    let _ = writeln!(m, "    pub const N: usize = {d};");
+    let _ = writeln!(
+        m,
+        "    const K: [f64; {}] = [{}];",
+        consts.len(),
+        k_list.join(", ")
+    );
+    m.push_str(&indent(&array_fn, "    "));
+    m.push_str(&indent(&slice_fn, "    "));
+    m.push_str(&indent(&oracle, "    "));
+    let _ = writeln!(m, "    pub fn run(report: &mut Report) {{");
+    let _ = writeln!(
+        m,
+        "        let array = ArrayForce {{ {} }};",
+        fields.join(", ")
+    );
+    let _ = writeln!(
+        m,
+        "        let slice = SliceForce {{ {} }};",
+        slice_fields.join(", ")
+    );
+    let _ = writeln!(
+        m,
+        "        check_looped_force::<N>(report, &LoopedForce {{\n\
+         \x20           id: {id},\n\
+         \x20           forms: &[{}],\n\
+         \x20           text: {text:?},\n\
+         \x20           time: {time},\n\
+         \x20           array: &array,\n\
+         \x20           array_dyn: &array,\n\
+         \x20           slice: &slice,\n\
+         \x20           oracle: &|x, v, t, f| oracle(x, v, t, &K, f),\n\
+         \x20       }});",
+        forms.join(", "),
+    );
+    let _ = writeln!(m, "    }}");
+    let _ = writeln!(m, "}}");
+    m
 }
