@@ -819,8 +819,6 @@ struct Gen<'a> {
     positions_only: bool,
     /// Components of `v` only (a looped force that reads no position).
     velocities_only: bool,
-    /// No unary negation of a component (a looped force: see [`Gen::combo`]).
-    no_negation: bool,
 }
 
 impl<'a> Gen<'a> {
@@ -841,7 +839,6 @@ impl<'a> Gen<'a> {
             fresh: 0,
             positions_only,
             velocities_only: false,
-            no_negation: false,
         }
     }
 
@@ -931,10 +928,6 @@ impl<'a> Gen<'a> {
         let a = self.component(vars);
         match self.rng.below(11) {
             0 | 8 | 9 => a,
-            // A negated component in a branch or an argument of `max`, `if c { -x[0] } else
-            // { 0.0 }`, panics `#[force]` over a named dimension or slices ("the weights of a
-            // force's virtual work are differentiated away"): looped forces scale it instead.
-            1 | 10 if self.no_negation => mul(num(-0.5), a),
             1 | 10 => E::Neg(Box::new(a)),
             2 => {
                 let b = self.distinct(vars, &a);
@@ -2915,7 +2908,6 @@ fn looped_force_program(rng: &mut Rng, id: usize, level: Level) -> String {
     };
     let mut g = Gen::new(rng, level, (d, consts, time), reads == Reads::Positions);
     g.velocities_only = reads == Reads::Velocities;
-    g.no_negation = true;
     let nparts = g.rng.pick(&[1, 1, 2, 2, 3]);
     let mut stmts = Vec::new();
     for _ in 0..nparts {

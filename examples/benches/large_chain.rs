@@ -152,7 +152,11 @@ fn large_chain(c: &mut Criterion) {
         side_by_side(
             c,
             &format!("fput_explicit_variational_d1024_{steps}"),
-            (1024, Embedding::finite_difference(Side::Forward), Scheme::Variational),
+            (
+                1024,
+                Embedding::finite_difference(Side::Forward),
+                Scheme::Variational,
+            ),
             |q, v, g, p, o| stormer_verlet_by_hand(q, v, g, p, o),
             steps,
         );
@@ -161,7 +165,11 @@ fn large_chain(c: &mut Criterion) {
         side_by_side(
             c,
             &format!("fput_direct_backward_d{d}"),
-            (d, Embedding::finite_difference(Side::Backward), Scheme::Direct),
+            (
+                d,
+                Embedding::finite_difference(Side::Backward),
+                Scheme::Direct,
+            ),
             |q, v, g, p, o| direct_backward_by_hand(q, v, g, p, o),
             200,
         );
