@@ -88,22 +88,16 @@ enum Level {
     Full,
 }
 
-/// SplitMix64, as in `varembed_tests::rng` (which the build script cannot depend on).
-struct Rng(u64);
+/// SplitMix64, the file `varembed_tests::rng` includes (the build script cannot depend on the
+/// crate it builds).
+#[path = "src/rng/splitmix.rs"]
+mod splitmix;
+
+use splitmix::Rng;
 
 impl Rng {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-    fn below(&mut self, n: usize) -> usize {
-        (self.next_u64() % n as u64) as usize
-    }
     fn chance(&mut self, p: f64) -> bool {
-        ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64) < p
+        self.next_f64() < p
     }
     fn pick<T: Copy>(&mut self, items: &[T]) -> T {
         items[self.below(items.len())]

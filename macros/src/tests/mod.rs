@@ -18,8 +18,12 @@ use crate::diff;
 use crate::ir::{Derivatives, Model};
 use crate::parse;
 
-/// The shared seeded generator (SplitMix64) of the test-support crate.
-use varembed_tests::rng::Rng;
+/// The seeded generator (SplitMix64) of the test-support crate, included by its file: a
+/// dependency on that crate would build the whole library a second time, for the host.
+#[path = "../../../tests/src/rng/splitmix.rs"]
+mod splitmix;
+
+use splitmix::Rng;
 
 /// Every operation the generator draws, to check that all are covered.
 const OPS: [&str; 28] = [
