@@ -18,6 +18,8 @@ pub(crate) mod bvp;
 pub(crate) mod dense;
 mod ensembles;
 pub(crate) mod ivp;
+pub(crate) mod nodes;
+pub(crate) mod observer;
 pub(crate) mod problem;
 pub(crate) mod rows;
 pub(crate) mod slices;

@@ -351,6 +351,22 @@ pub enum Error {
         /// Smallest over largest singular value of `G`.
         ratio: f64,
     },
+    /// The operation needs every node of a run, and the solution stores only some of them (a
+    /// run of [`DynProblem::solve_ivp_every`](crate::DynProblem::solve_ivp_every) with a
+    /// stride above 1): the velocities and momenta at the nodes read the nodes next to each.
+    #[error(
+        "{operation} needs every node, and the solution stores {stored} of its {nodes}: solve \
+         with DynProblem::solve_ivp (not solve_ivp_every), or read each node's velocity and \
+         momentum from the observer of DynProblem::run_ivp, which stores nothing"
+    )]
+    NodesNotStored {
+        /// What was asked.
+        operation: &'static str,
+        /// The number of nodes the solution stores.
+        stored: usize,
+        /// The number of nodes of the run, `N + 1`.
+        nodes: usize,
+    },
     /// The computed solution stopped being finite (overflow of an unstable scheme, or a
     /// Lagrangian evaluated outside its domain).
     #[error("solution is no longer finite at {at}")]

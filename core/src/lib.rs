@@ -130,7 +130,9 @@
 //! - Models of run-time dimension with sparse second derivatives (chains, lattices, discretised
 //!   fields): [`DynLagrangian`], [`SparseHessian`], [`SparseBlock`]; solved by
 //!   [`DynProblem`] into a [`DynSolution`] (its state between the nodes: [`DynState`]) or,
-//!   node by node, an observer of [`DynNode`]s and a [`DynRun`]. A `#[lagrangian]` model with
+//!   node by node, an observer of [`DynNode`]s and a [`DynRun`]; its values at the nodes
+//!   (velocities, momenta, energy; CSV export): [`DynNodeValues`], [`DynNodeState`], by the
+//!   formulas of [`NodeRule`]. A `#[lagrangian]` model with
 //!   loops over `[f64; N]` is both kinds of model, and from [`RUN_TIME_FROM`] degrees of
 //!   freedom on a [`Problem`] runs it on the run-time engine.
 //! - Solving: [`Solution`] and its [`Warning`]s, [`Start`], [`NewtonOptions`],
@@ -213,7 +215,9 @@ pub use compare::order::{OrderStatus, observed_order, observed_orders};
 pub use compare::{CompareOptions, Comparison, Reference, SchemeReport, max_error};
 pub use constraint::{CONSISTENCY_TOLERANCE, Constraint, Holonomic, project_initial_data};
 pub use dynamic::dense::DynState;
-pub use dynamic::ivp::{DynNode, DynRun};
+pub use dynamic::ivp::DynRun;
+pub use dynamic::nodes::{DynNodeState, DynNodeValues};
+pub use dynamic::observer::DynNode;
 pub use dynamic::problem::{DynProblem, DynSolution};
 pub use dynamic::sparse::{SparseBlock, SparseForceJacobian, SparseHessian};
 pub use embedding::kind::EmbeddingKind;

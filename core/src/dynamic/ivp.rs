@@ -20,24 +20,11 @@ use crate::step::StepKind;
 
 use super::DynLagrangian;
 use super::band::BandSystem;
+use super::observer::{DynNode, NodeObserver};
 use super::slices::max_norm;
 use super::sparse::SparseHessian;
 use super::stability::{resolution_warning, verlet_unstable};
 use super::step::{EnergySample, StepSolver};
-
-/// A node handed to the observer of a run: `Q_k` at `t_k`, with the node before it
-/// (`Q_0` itself for `k = 0`) so that the observer can form the velocity `(Q_k − Q_{k−1})/h`.
-#[derive(Clone, Copy, Debug)]
-pub struct DynNode<'a> {
-    /// Its index `k`.
-    pub index: usize,
-    /// Its time `t_k`.
-    pub t: f64,
-    /// `Q_k`.
-    pub q: &'a [f64],
-    /// `Q_{k−1}` (`Q_0` when `k = 0`).
-    pub previous: &'a [f64],
-}
 
 /// What a run reports beyond its nodes.
 #[derive(Clone, Debug, PartialEq)]
@@ -90,12 +77,14 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
     }
 
     /// The run of `scheme` from `q(a) = q0`, `q̇(a) = v0` with `start` for `Q_1`, each node
-    /// `Q_0, …, Q_N` handed to `observe` in order.
+    /// `Q_0, …, Q_N` handed to `observe` in order (as [`DynNode`] says), with its velocity,
+    /// momentum and energy when `values` (empty slices and `None` otherwise, for a caller that
+    /// reads only the positions).
     pub(crate) fn run(
         &self,
         scheme: Scheme,
         (q0, v0): (&[f64], &[f64]),
-        start: Start,
+        (start, values): (Start, bool),
         mut observe: impl FnMut(DynNode<'_>),
     ) -> Result<DynRun> {
         let kind = self.step_kind(scheme)?;
@@ -110,6 +99,20 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         drop(hessian);
         let d = q0.len();
         let t0 = grid.t(0);
+        // The node values' buffers, and a constant `∂²L/∂v²` factorised now, before the steps'
+        // buffers exist.
+        let setting = (&self.embedding, scheme, self.grid);
+        let mut values = match values {
+            true => Some(NodeObserver::new(self.lagrangian, setting, d)?.primed(q0, v0, t0)),
+            false => None,
+        };
+        let mut hand = |k: usize, window: (usize, &[&[f64]]), observe: &mut _| match &mut values {
+            Some(values) => values.hand(k, window, observe),
+            None => {
+                positions_only((k, grid.t(k)), window, observe);
+                Ok(())
+            }
+        };
         let mut pi = vec![0.0; d];
         let mut b = match start {
             Start::Legendre => {
@@ -120,18 +123,10 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             Start::SecondOrder => self.second_order_start(q0, v0, vv)?,
         };
         let mut a = q0.to_vec();
-        observe(DynNode {
-            index: 0,
-            t: t0,
-            q: &a,
-            previous: &a,
-        });
-        observe(DynNode {
-            index: 1,
-            t: grid.t(1),
-            q: &b,
-            previous: &a,
-        });
+        if grid.n() == 1 {
+            hand(0, (0, &[&a, &b]), &mut observe)?;
+            hand(1, (0, &[&a, &b]), &mut observe)?;
+        }
 
         let mut solver = StepSolver::new(self.lagrangian, kind, h, self.newton, (q0, v0, t0));
         let drifts = matches!(kind, StepKind::DirectBackward | StepKind::DirectForward);
@@ -177,12 +172,16 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             // Rotate the nodes: a ← b ← y, reusing a's buffer for the next y.
             std::mem::swap(&mut a, &mut b);
             std::mem::swap(&mut b, &mut y);
-            observe(DynNode {
-                index: n,
-                t: grid.t(n),
-                q: &b,
-                previous: &a,
-            });
+            // y holds Q_{n−2} until the next step overwrites it: node n − 1 (and node 0 with
+            // node 1) has every node its formulas read.
+            let window: &[&[f64]] = &[&y, &a, &b];
+            if n == 2 {
+                hand(0, (0, window), &mut observe)?;
+            }
+            hand(n - 1, (n - 2, window), &mut observe)?;
+            if n == grid.n() {
+                hand(n, (n - 2, window), &mut observe)?;
+            }
         }
         guard.finish()?;
         // Read after the run: an entry outside the planned band re-plans the system mid-run.
@@ -313,6 +312,24 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             }),
         }
     }
+}
+
+/// Hands node `k` of `window` (consecutive nodes, the first of them node `window.0`) to
+/// `observe` without its velocity, momentum or energy.
+fn positions_only(
+    (k, t): (usize, f64),
+    (first, window): (usize, &[&[f64]]),
+    observe: &mut impl FnMut(DynNode<'_>),
+) {
+    observe(DynNode {
+        index: k,
+        t,
+        q: window[k - first],
+        previous: window[k.max(1) - 1 - first],
+        v: &[],
+        p: &[],
+        energy: None,
+    });
 }
 
 /// `∂²L/∂v²` (the block `vv` of `hessian`) factorised as a band, with its pivot ratio; `None`

@@ -11,7 +11,8 @@ use crate::solve::solution::{Solution, Warning};
 use crate::solve::start::Start;
 
 use super::DynLagrangian;
-use super::ivp::{DynIvp, DynNode, DynRun};
+use super::ivp::{DynIvp, DynRun};
+use super::observer::DynNode;
 
 /// A [`DynLagrangian`] on a grid with a discrete embedding: what
 /// [`Problem`](crate::Problem) is for a const-generic [`Lagrangian`](crate::Lagrangian).
@@ -93,7 +94,10 @@ pub struct DynProblem<'l, L: ?Sized> {
 }
 
 /// The stored nodes of a run of a [`DynProblem`]: `Q_k` for `k` in [`indices`](Self::indices),
-/// flat (node `j` at `q[j d..(j + 1) d]`), with the run's report.
+/// flat (node `j` at `q[j d..(j + 1) d]`), with the run's report. With every node stored, its
+/// velocities, momenta and energies at the nodes are
+/// [`node_values`](Self::node_values) (a [`DynNodeValues`](crate::DynNodeValues), with CSV
+/// output).
 #[derive(Clone, Debug, PartialEq)]
 pub struct DynSolution {
     /// The run's report (scheme, grid, last node, Newton iterations, band).
@@ -394,12 +398,15 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
             stored.saturating_mul(q0.len()),
             "the stored nodes of the run",
         )?;
-        let run = self.run_ivp(scheme, q0, v0, |node| {
-            if node.index % stride == 0 || node.index == n {
-                indices.push(node.index);
-                q.extend_from_slice(node.q);
-            }
-        })?;
+        // The positions only: the node values are computed from the stored nodes, if asked.
+        let run = self
+            .ivp()
+            .run(scheme, (q0, v0), (self.start, false), |node| {
+                if node.index % stride == 0 || node.index == n {
+                    indices.push(node.index);
+                    q.extend_from_slice(node.q);
+                }
+            })?;
         Ok(DynSolution {
             warnings: run.warnings.clone(),
             run,
@@ -410,13 +417,17 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
     }
 
     /// The run of [`solve_ivp`](Self::solve_ivp) storing nothing: each node `Q_0, …, Q_N` is
-    /// handed to `observe` as it is computed, with the node before it. Beyond what `observe`
-    /// keeps, the run needs `O(d b)` memory for a step Jacobian of half-bandwidth `b`.
+    /// handed to `observe` in order, with the node before it and its velocity, momentum and
+    /// energy — those of [`DynSolution::node_values`], bit for bit, at the same order. Node `k`
+    /// is handed once `Q_{k+1}` is computed (the formulas read it), the last at the end of the
+    /// run ([`DynNode`]). Beyond what `observe` keeps, the run needs `O(d b)` memory for a step
+    /// Jacobian of half-bandwidth `b`, and allocates nothing per node for the values. A node
+    /// whose values cannot be computed stops the run with the error
+    /// [`DynSolution::node_values`] gives there.
     ///
     /// # Example
     ///
-    /// The energy at each node from its backward difference, as a long run would record it
-    /// without storing the nodes:
+    /// The energy at each node, as a long run would record it without storing the nodes:
     ///
     /// ```
     /// # use varembed::{DynLagrangian, SparseHessian};
@@ -435,19 +446,23 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
     /// #     fn hessian(&self, _x: &[f64], _v: &[f64], _t: f64, out: &mut SparseHessian) {
     /// #         for i in 0..self.n { out.xx.add(i, i, -1.0); out.vv.add(i, i, 1.0); }
     /// #     }
+    /// #     fn dependence(&self) -> varembed::Dependence {
+    /// #         varembed::Dependence { x: true, v: true, t: false }
+    /// #     }
     /// # }
     /// use varembed::{DynProblem, Embedding, Grid, Scheme, Side};
     /// let model = Oscillators { n: 64 };
     /// let grid = Grid::new(0.0, 10.0, 1000)?;
-    /// let h = grid.h();
     /// let problem = DynProblem::new(&model, grid, Embedding::finite_difference(Side::Backward));
     /// let mut energies = Vec::new();
     /// problem.run_ivp(Scheme::Variational, &vec![1.0; 64], &vec![0.0; 64], |node| {
-    ///     let v: Vec<f64> = node.q.iter().zip(node.previous).map(|(q, p)| (q - p) / h).collect();
-    ///     energies.push(model.energy(node.q, &v, node.t));
+    ///     // The discrete Legendre transform p_k^− = (Q_{k+1} − Q_k)/h + O(h) for ½v² − ½x².
+    ///     assert_eq!(node.p, node.v);
+    ///     energies.push(node.energy.expect("the model declares no time dependence"));
     /// })?;
     /// let e0 = 32.0; // 64 oscillators at rest at x = 1: ½ x² each
-    /// assert!(energies[1..].iter().all(|e| (e - e0).abs() < 0.01 * e0));
+    /// assert_eq!(energies.len(), 1001);
+    /// assert!(energies.iter().all(|e| (e - e0).abs() < 0.01 * e0));
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn run_ivp(
@@ -457,6 +472,7 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
         v0: &[f64],
         observe: impl FnMut(DynNode<'_>),
     ) -> Result<DynRun> {
-        self.ivp().run(scheme, (q0, v0), self.start, observe)
+        self.ivp()
+            .run(scheme, (q0, v0), (self.start, true), observe)
     }
 }

@@ -8,16 +8,16 @@
 //! place that decides it for an embedding and a scheme (one match arm per embedding family).
 //! The exports (CSV, `serde`) are in `nodes/export.rs`.
 
-mod export;
+pub(crate) mod engine;
+pub(crate) mod export;
 
 use crate::embedding::{Embedding, EmbeddingKind, Scheme};
-use crate::error::{Error, Location, Result};
+use crate::error::{Error, Result};
 use crate::grid::Grid;
 use crate::lagrangian::{Lagrangian, Vector};
 use crate::linalg::solve_small;
-use crate::options::NewtonOptions;
 use crate::side::Side;
-use crate::solve::newton::at_round_off;
+use engine::{NodeEngine, NodeModel};
 use std::fmt;
 
 /// How a solution's velocities and momenta at the nodes are computed, and their order.
@@ -264,7 +264,8 @@ pub struct NodeValues<const D: usize> {
 
 impl<const D: usize> NodeValues<D> {
     /// The values of the curve `q` (a solution of `scheme` under `embedding` on `grid`, with
-    /// the momenta the scheme carries, if any) at its nodes.
+    /// the momenta the scheme carries, if any) at its nodes, by the formulas written once for
+    /// both paths (the engine module).
     pub(crate) fn new<L: Lagrangian<D> + ?Sized>(
         lagrangian: &L,
         grid: &Grid,
@@ -272,86 +273,36 @@ impl<const D: usize> NodeValues<D> {
         scheme: Scheme,
         (q, momenta): (&[Vector<D>], &[Vector<D>]),
     ) -> Result<Self> {
-        let rule = rule(embedding, scheme)?;
+        let mut engine = NodeEngine::new(embedding, scheme, *grid, D)?;
         let n = grid.n();
         crate::error::check_len("solution nodes", n + 1, q.len())?;
-        let t = grid.nodes();
-        let h = grid.h();
-        // The difference quotient of each step: V_k on the rows of σ = −, i.e. step k−1 → k.
-        let steps: Vec<Vector<D>> = (0..n).map(|k| (q[k + 1] - q[k]) / h).collect();
-        // Each rule gives one of the two; the other follows at the node: a velocity from its
-        // momentum by inverting ∂L/∂v, a momentum from its velocity by ∂L/∂v.
-        let from_momenta = |p: Vec<Vector<D>>| -> Result<(Vec<Vector<D>>, Vec<Vector<D>>)> {
-            let v = (0..=n)
-                .map(|k| {
-                    let guess = steps[k.min(n - 1)];
-                    invert_momentum(lagrangian, &q[k], t[k], &p[k], guess, k)
-                })
-                .collect::<Result<Vec<_>>>()?;
-            Ok((v, p))
-        };
-        let from_velocities = |v: Vec<Vector<D>>| {
-            let p = (0..=n)
-                .map(|k| lagrangian.gradient(&q[k], &v[k], t[k]).1)
-                .collect();
-            (v, p)
-        };
-        let (v, p) = match rule.formula {
-            NodeFormula::DiscreteLegendre { points } => {
-                // p_k^− = −∂L_d(Q_k, Q_{k+1})/∂Q_k = Σ_i w_i [p_i − h (1 − θ_i) f_i] for k < N,
-                // p_N^+ = ∂L_d(Q_{N−1}, Q_N)/∂Q_N = Σ_i w_i [p_i + h θ_i f_i].
-                let p = (0..=n)
-                    .map(|k| {
-                        if k < n {
-                            step_sum(lagrangian, grid, points, q, &steps, k, |theta| theta - 1.0)
-                        } else {
-                            step_sum(lagrangian, grid, points, q, &steps, n - 1, |theta| theta)
-                        }
-                    })
-                    .collect();
-                from_momenta(p)?
-            }
-            NodeFormula::SchemeMomenta => {
-                crate::error::check_len("solution momenta", n + 1, momenta.len())?;
-                from_momenta(momenta.to_vec())?
-            }
-            NodeFormula::CentredVelocity => from_velocities(
-                (0..=n)
-                    .map(|k| match (k, n) {
-                        (_, 1) => steps[0],
-                        (0, _) => (q[1] * 4.0 - q[0] * 3.0 - q[2]) / (2.0 * h),
-                        (k, n) if k == n => (q[n] * 3.0 - q[n - 1] * 4.0 + q[n - 2]) / (2.0 * h),
-                        (k, _) => (q[k + 1] - q[k - 1]) / (2.0 * h),
-                    })
-                    .collect(),
-            ),
-            NodeFormula::VelocityOperator => from_velocities(
-                (0..=n)
-                    .map(|k| match embedding.side() {
-                        Side::Backward => steps[k.max(1) - 1],
-                        Side::Forward => steps[k.min(n - 1)],
-                    })
-                    .collect(),
-            ),
-        };
-        if let Some(k) = (0..=n).find(|&k| !(v[k].iter().chain(p[k].iter())).all(|c| c.is_finite()))
-        {
-            return Err(Error::NotFinite {
-                at: Location::Node(k),
-            });
+        if engine.rule.formula == NodeFormula::SchemeMomenta {
+            crate::error::check_len("solution momenta", n + 1, momenta.len())?;
         }
-        let energy = (!lagrangian.dependence().t).then(|| {
-            (0..=n)
-                .map(|k| v[k].dot(&p[k]) - lagrangian.value(&q[k], &v[k], t[k]))
-                .collect()
-        });
+        let t = grid.nodes();
+        let mut model = ConstModel::<L, D>(lagrangian);
+        let (mut v, mut p) = (
+            vec![Vector::<D>::zeros(); n + 1],
+            vec![Vector::<D>::zeros(); n + 1],
+        );
+        for k in 0..=n {
+            let carried = momenta.get(k).map(|m| m.as_slice());
+            let (vk, pk) = (v[k].as_mut_slice(), p[k].as_mut_slice());
+            engine.at(&mut model, k, |j| q[j].as_slice(), carried, (vk, pk))?;
+        }
+        let energy = (0..=n)
+            .map(|k| {
+                let node = (q[k].as_slice(), v[k].as_slice(), p[k].as_slice());
+                NodeEngine::energy(&mut model, node, t[k])
+            })
+            .collect();
         Ok(NodeValues {
             t,
             q: q.to_vec(),
             v,
             p,
             energy,
-            rule,
+            rule: engine.rule,
         })
     }
 
@@ -452,38 +403,47 @@ impl<const D: usize> NodeValues<D> {
     }
 }
 
-/// `Σ_i w_i [p_i + h c(θ_i) f_i]` over the quadrature points of step `k → k+1`.
-fn step_sum<const D: usize, L: Lagrangian<D> + ?Sized>(
-    lagrangian: &L,
-    grid: &Grid,
-    points: &[(f64, f64)],
-    q: &[Vector<D>],
-    steps: &[Vector<D>],
-    k: usize,
-    c: impl Fn(f64) -> f64,
-) -> Vector<D> {
-    let h = grid.h();
-    points
-        .iter()
-        .fold(Vector::<D>::zeros(), |sum, &(theta, w)| {
-            let x = q[k] * (1.0 - theta) + q[k + 1] * theta;
-            // The rectangle rules sit on nodes: take their time exactly (t_N = b).
-            let t = if theta == 0.0 {
-                grid.t(k)
-            } else if theta == 1.0 {
-                grid.t(k + 1)
-            } else {
-                grid.t(k) + theta * h
-            };
-            let (f, p) = lagrangian.gradient(&x, &steps[k], t);
-            sum + (p + f * (h * c(theta))) * w
-        })
+/// A [`Lagrangian<D>`] read at flat slices of length `D`: what the node formulas evaluate.
+pub(crate) struct ConstModel<'l, L: ?Sized, const D: usize>(pub(crate) &'l L);
+
+impl<const D: usize, L: Lagrangian<D> + ?Sized> NodeModel for ConstModel<'_, L, D> {
+    fn gradient(&mut self, x: &[f64], v: &[f64], t: f64, f: &mut [f64], p: &mut [f64]) {
+        let (fx, pv) = self.0.gradient(&vector(x), &vector(v), t);
+        f.copy_from_slice(fx.as_slice());
+        p.copy_from_slice(pv.as_slice());
+    }
+    fn momentum(&mut self, x: &[f64], v: &[f64], t: f64, p: &mut [f64]) {
+        p.copy_from_slice(self.0.gradient(&vector(x), &vector(v), t).1.as_slice());
+    }
+    fn value(&mut self, x: &[f64], v: &[f64], t: f64) -> f64 {
+        self.0.value(&vector(x), &vector(v), t)
+    }
+    fn solve_vv(&mut self, x: &[f64], v: &[f64], t: f64, r: &mut [f64]) -> (f64, bool) {
+        let vv = self.0.hessian(&vector(x), &vector(v), t).vv;
+        let norm = vv
+            .row_iter()
+            .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
+            .fold(0.0, f64::max);
+        match solve_small(&vv, &vector(r)) {
+            Some(z) => {
+                r.copy_from_slice(z.as_slice());
+                (norm, true)
+            }
+            None => (norm, false),
+        }
+    }
+    fn depends_on_time(&self) -> bool {
+        self.0.dependence().t
+    }
 }
 
-/// The velocity `v` with `∂L/∂v(x, v, t) = p`: Newton's method on `∂²L/∂v²` from `guess`,
-/// stopping at the default Newton tolerance relative to the terms of the equation,
-/// `max(‖p‖∞, ‖∂L/∂v(x, v, t)‖∞)` (no absolute part: `c L` gives the velocity `L` gives), or
-/// at round-off (`at_round_off`, with `‖∂²L/∂v²‖∞` and `‖v‖∞`).
+/// A slice of length `D` as a vector.
+fn vector<const D: usize>(x: &[f64]) -> Vector<D> {
+    Vector::<D>::from_column_slice(x)
+}
+
+/// The velocity `v` with `∂L/∂v(x, v, t) = p`, from `guess`: the engine's
+/// [`invert_momentum`](engine::invert_momentum) for a [`Lagrangian<D>`].
 pub(crate) fn invert_momentum<const D: usize, L: Lagrangian<D> + ?Sized>(
     lagrangian: &L,
     x: &Vector<D>,
@@ -492,40 +452,10 @@ pub(crate) fn invert_momentum<const D: usize, L: Lagrangian<D> + ?Sized>(
     guess: Vector<D>,
     k: usize,
 ) -> Result<Vector<D>> {
-    let options = NewtonOptions::default();
-    let at = Location::Node(k);
     let mut v = guess;
-    let mut residual = f64::INFINITY;
-    for iteration in 0..=options.max_iterations {
-        let (_, pv) = lagrangian.gradient(x, &v, t);
-        let r = pv - p;
-        let previous = residual;
-        residual = r.amax();
-        if !residual.is_finite() {
-            return Err(Error::NotFinite { at });
-        }
-        if residual <= options.tolerance * p.amax().max(pv.amax()) {
-            return Ok(v);
-        }
-        let vv = lagrangian.hessian(x, &v, t).vv;
-        let vv_norm = vv
-            .row_iter()
-            .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
-            .fold(0.0, f64::max);
-        if at_round_off(residual, previous, vv_norm, v.amax()) {
-            return Ok(v);
-        }
-        let Some(delta) = solve_small(&vv, &r) else {
-            return Err(Error::SingularJacobian { at });
-        };
-        v -= delta;
-        if iteration == options.max_iterations {
-            break;
-        }
-    }
-    Err(Error::NewtonDidNotConverge {
-        at,
-        iterations: options.max_iterations,
-        residual,
-    })
+    let mut r = Vector::<D>::zeros();
+    let model = &mut ConstModel::<L, D>(lagrangian);
+    let node = (x.as_slice(), t, p.as_slice());
+    engine::invert_momentum(model, node, v.as_mut_slice(), r.as_mut_slice(), k)?;
+    Ok(v)
 }

@@ -6,6 +6,7 @@ mod every_embedding;
 mod forces;
 mod ill_posed;
 mod ivp;
+mod node_values;
 mod resolution;
 mod scale_invariance;
 mod through_problem;

@@ -10,7 +10,7 @@ use varembed::{
 use varembed_tests::models::dense::Dense;
 
 /// Every classical embedding with a three-point recurrence.
-fn embeddings() -> [Embedding; 6] {
+pub(super) fn embeddings() -> [Embedding; 6] {
     [
         Embedding::finite_difference(Side::Backward),
         Embedding::finite_difference(Side::Forward),

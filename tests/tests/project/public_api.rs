@@ -67,6 +67,8 @@ const ROOT: &[&str] = &[
     "DynForce",
     "DynLagrangian",
     "DynNode",
+    "DynNodeState",
+    "DynNodeValues",
     "DynProblem",
     "DynRun",
     "DynSolution",
