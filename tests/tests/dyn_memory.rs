@@ -53,12 +53,9 @@ fn a_run_needs_memory_linear_in_d_and_independent_of_the_number_of_steps() {
             long, large,
             "{scheme:?}: the peak grew with the number of steps"
         );
-        // About 35 doubles per particle (258 B direct, 290 B variational measured): the state,
-        // the buffers, the Hessian and the band factors of the steps (193 B, 201 B), and the
-        // node values handed to the observer (the velocity and momentum, the model's
-        // evaluations at the node; for the variational scheme the buffers of its discrete
-        // Legendre transform and the factors of ∂²L/∂v²) — never a d × d block (134 MB at
+        // About 25 doubles per particle (193 B direct, 201 B variational measured): the state,
+        // the buffers, the Hessian and the band factors — never a d × d block (134 MB at
         // d = 4096).
-        assert!(large <= 320 * 4096, "{scheme:?}: {large} B at d = 4096");
+        assert!(large <= 256 * 4096, "{scheme:?}: {large} B at d = 4096");
     }
 }

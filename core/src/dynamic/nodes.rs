@@ -149,7 +149,7 @@ impl DynSolution {
     /// (factorised once when the model declares it constant,
     /// [`DynLagrangian::hessian_dependence`]).
     ///
-    /// The same values reach the observer of [`DynProblem::run_ivp`](crate::DynProblem::run_ivp)
+    /// The same values reach the observer of [`DynProblem::run_ivp_with_values`](crate::DynProblem::run_ivp_with_values)
     /// node by node, bit for bit, without storing the run.
     ///
     /// Errors: [`Error::NodesNotStored`] for a solution of

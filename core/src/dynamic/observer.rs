@@ -31,11 +31,14 @@ pub struct DynNode<'a> {
     pub q: &'a [f64],
     /// `Q_{k−1}` (`Q_0` when `k = 0`).
     pub previous: &'a [f64],
-    /// The velocity `v_k` ([`NodeRule`](crate::NodeRule)).
+    /// The velocity `v_k` ([`NodeRule`](crate::NodeRule)) from
+    /// [`DynProblem::run_ivp_with_values`](crate::DynProblem::run_ivp_with_values); empty from
+    /// [`DynProblem::run_ivp`](crate::DynProblem::run_ivp), which computes no node values.
     pub v: &'a [f64],
-    /// The momentum `p_k` ([`NodeRule`](crate::NodeRule)).
+    /// The momentum `p_k` ([`NodeRule`](crate::NodeRule)), as `v`: empty from `run_ivp`.
     pub p: &'a [f64],
-    /// The energy `v_k·p_k − L(Q_k, v_k, t_k)` for an autonomous Lagrangian, `None` otherwise.
+    /// The energy `v_k·p_k − L(Q_k, v_k, t_k)` for an autonomous Lagrangian from
+    /// `run_ivp_with_values`; `None` otherwise, and always from `run_ivp`.
     pub energy: Option<f64>,
 }
 

@@ -417,6 +417,44 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
     }
 
     /// The run of [`solve_ivp`](Self::solve_ivp) storing nothing: each node `Q_0, …, Q_N` is
+    /// handed to `observe` in order with the node before it, its velocity and momentum left
+    /// empty and its energy `None` ([`run_ivp_with_values`](Self::run_ivp_with_values) computes
+    /// them, at the cost of the model's evaluations at every node). Node `k` is handed once
+    /// `Q_{k+1}` is computed, the last at the end of the run ([`DynNode`]). Beyond what `observe`
+    /// keeps, the run needs `O(d b)` memory for a step Jacobian of half-bandwidth `b`.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{DynProblem, Embedding, Grid, Scheme, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn springs(x: &[f64], v: &[f64], n: usize) -> f64 {
+    ///     (0..n).map(|i| 0.5 * v[i] * v[i] - 0.5 * x[i] * x[i]).sum()
+    /// }
+    ///
+    /// let model = Springs { n: 8 };
+    /// let problem = DynProblem::new(&model, Grid::new(0.0, 1.0, 100)?, Embedding::midpoint());
+    /// let mut furthest = 0.0f64;
+    /// let run = problem.run_ivp(Scheme::Variational, &[1.0; 8], &[0.0; 8], |node| {
+    ///     furthest = furthest.max(node.q[0].abs());
+    ///     assert!(node.v.is_empty() && node.energy.is_none());
+    /// })?;
+    /// assert_eq!((furthest, run.last.len()), (1.0, 8));
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn run_ivp(
+        &self,
+        scheme: Scheme,
+        q0: &[f64],
+        v0: &[f64],
+        observe: impl FnMut(DynNode<'_>),
+    ) -> Result<DynRun> {
+        self.ivp()
+            .run(scheme, (q0, v0), (self.start, false), observe)
+    }
+
+    /// The run of [`run_ivp`](Self::run_ivp) with the node values: each node `Q_0, …, Q_N` is
     /// handed to `observe` in order, with the node before it and its velocity, momentum and
     /// energy — those of [`DynSolution::node_values`], bit for bit, at the same order. Node `k`
     /// is handed once `Q_{k+1}` is computed (the formulas read it), the last at the end of the
@@ -455,7 +493,7 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
     /// let grid = Grid::new(0.0, 10.0, 1000)?;
     /// let problem = DynProblem::new(&model, grid, Embedding::finite_difference(Side::Backward));
     /// let mut energies = Vec::new();
-    /// problem.run_ivp(Scheme::Variational, &vec![1.0; 64], &vec![0.0; 64], |node| {
+    /// problem.run_ivp_with_values(Scheme::Variational, &vec![1.0; 64], &vec![0.0; 64], |node| {
     ///     // The discrete Legendre transform p_k^− = (Q_{k+1} − Q_k)/h + O(h) for ½v² − ½x².
     ///     assert_eq!(node.p, node.v);
     ///     energies.push(node.energy.expect("the model declares no time dependence"));
@@ -465,7 +503,7 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
     /// assert!(energies.iter().all(|e| (e - e0).abs() < 0.01 * e0));
     /// # Ok::<(), varembed::Error>(())
     /// ```
-    pub fn run_ivp(
+    pub fn run_ivp_with_values(
         &self,
         scheme: Scheme,
         q0: &[f64],

@@ -195,7 +195,7 @@ fn the_observer_hands_the_node_values_of_the_stored_run_bit_for_bit() {
                 let nodes = stored.node_values(&HeavyChain).unwrap();
                 let mut handed = 0;
                 problem
-                    .run_ivp(scheme, &q0, &v0, |node| {
+                    .run_ivp_with_values(scheme, &q0, &v0, |node| {
                         let k = node.index;
                         assert_eq!(k, handed, "{what}: in order");
                         handed += 1;
@@ -233,7 +233,7 @@ fn energy_drifts(
     let v0: Vec<f64> = (0..model.n).map(|i| 0.3 * (i as f64 * 0.9).cos()).collect();
     let (mut first, mut drift, mut backward, mut e_back) = (None, 0.0f64, 0.0f64, None);
     DynProblem::new(model, grid, embedding)
-        .run_ivp(scheme, &q0, &v0, |node| {
+        .run_ivp_with_values(scheme, &q0, &v0, |node| {
             let e = node.energy.unwrap();
             let e0 = *first.get_or_insert(e);
             drift = drift.max((e - e0).abs());
