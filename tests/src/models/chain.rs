@@ -179,25 +179,7 @@ pub fn direct_backward_by_hand(
         }
         let scale = 1.0 + scale;
         for _ in 0..50 {
-            // ∇U and ∇²U over the bonds d_j = x_j − x_{j−1}, j = 0..=n, walls at 0.
-            grad.fill(0.0);
-            diag.fill(0.0);
-            for j in 0..=n {
-                let left = if j == 0 { 0.0 } else { y[j - 1] };
-                let right = if j == n { 0.0 } else { y[j] };
-                let (dv, ddv) = spring(right - left, alpha, beta);
-                if j < n {
-                    grad[j] += dv;
-                    diag[j] += ddv;
-                }
-                if j > 0 {
-                    grad[j - 1] -= dv;
-                    diag[j - 1] += ddv;
-                    if j < n {
-                        off[j - 1] = -ddv;
-                    }
-                }
-            }
+            potential_derivatives(&y, (alpha, beta), (&mut grad, &mut diag, &mut off));
             let mut residual = 0.0f64;
             for i in 0..n {
                 r[i] = (y[i] - b[i]) / h + h * grad[i] - pi[i];
