@@ -7,7 +7,8 @@
 //! `#[force]` with loops (its `Force<N>` and its generated `DynForce`) gives the Rayleigh
 //! route's nodes on both paths. `c L` under `c f` takes the nodes of `L` under `f` (the
 //! forced equations are the same). The discrete forces and the work of a run-time solution
-//! are the const-generic run's. A boundary value problem under a force is refused.
+//! are the const-generic run's, and so are its node values (the forced discrete Legendre
+//! transforms). A boundary value problem under a force is refused.
 
 use varembed::{
     DynForce, DynProblem, Embedding, Error, Forced, Grid, Problem, Rayleigh, Scheme, Side, force,
@@ -282,6 +283,49 @@ fn the_work_of_a_run_time_solution_is_the_const_generic_work() {
         ),
         "{refused:?}"
     );
+}
+
+/// The node velocities and momenta of a forced run-time solution are the const-generic run's
+/// under every three-point embedding and both schemes: the variational schemes' momenta are
+/// the forced discrete Legendre transforms on both paths (the force enters them through the
+/// model's `force`), which differ from the unforced ones by the discrete force.
+#[test]
+fn the_node_values_of_a_forced_run_are_the_const_generic_ones() {
+    let model = Forced::new(Chain, DashpotForce { gamma: 0.3 });
+    let (q0, v0) = initial();
+    let grid = Grid::new(0.0, 2.0, 100).unwrap();
+    for embedding in embeddings() {
+        for scheme in [Scheme::Direct, Scheme::Variational] {
+            let solution = Problem::new(&model, grid, embedding)
+                .solve_ivp(scheme, q0, v0)
+                .unwrap();
+            let reference = solution.node_values(&model).unwrap();
+            let run = DynProblem::new(&model, grid, embedding)
+                .solve_ivp(scheme, &q0, &v0)
+                .unwrap();
+            let nodes = run.node_values(&model).unwrap();
+            let mut gap = 0.0f64;
+            for k in 0..=100 {
+                for i in 0..N {
+                    let (v, p) = (nodes.v[k * N + i], nodes.p[k * N + i]);
+                    gap = gap
+                        .max((v - reference.v[k][i]).abs())
+                        .max((p - reference.p[k][i]).abs());
+                }
+            }
+            assert!(gap <= 1e-12, "{embedding} {scheme}: {gap:e}");
+            // The unforced chain's transforms at the same nodes differ by the discrete force
+            // where the node's transform reads it: not under Gauss-FDEσ and the asymmetric
+            // embedding, whose quadrature point sits on the other node of the step.
+            if scheme == Scheme::Variational && embedding.is_symmetric() {
+                let unforced = solution.node_values(&Chain).unwrap();
+                let moved = (0..N)
+                    .map(|i| (unforced.p[50][i] - reference.p[50][i]).abs())
+                    .fold(0.0, f64::max);
+                assert!(moved > 1e-6, "{embedding}: {moved:e}");
+            }
+        }
+    }
 }
 
 #[test]
