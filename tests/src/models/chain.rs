@@ -188,18 +188,7 @@ pub fn direct_backward_by_hand(
             if residual <= 1e-12 * scale {
                 break;
             }
-            // Thomas algorithm on I/h + h ∇²U: sub- and super-diagonal `h off`.
-            let mut pivot = 1.0 / h + h * diag[0];
-            c[0] = h * off[0] / pivot;
-            r[0] /= pivot;
-            for i in 1..n {
-                pivot = 1.0 / h + h * diag[i] - h * off[i - 1] * c[i - 1];
-                c[i] = if i + 1 < n { h * off[i] / pivot } else { 0.0 };
-                r[i] = (r[i] - h * off[i - 1] * r[i - 1]) / pivot;
-            }
-            for i in (0..n - 1).rev() {
-                r[i] -= c[i] * r[i + 1];
-            }
+            thomas((1.0 / h, h), (&diag, &off), &mut r, &mut c);
             y.iter_mut().zip(&r).for_each(|(y, d)| *y -= d);
         }
         observe(&y);
@@ -277,6 +266,23 @@ fn potential_derivatives(
     }
 }
 
+/// Solves `(s I + w T) z = r` in place (the Thomas algorithm), `T` the tridiagonal matrix of
+/// diagonal `diag` and off-diagonal `off`, `c` a buffer of the same length.
+fn thomas((s, w): (f64, f64), (diag, off): (&[f64], &[f64]), r: &mut [f64], c: &mut [f64]) {
+    let n = r.len();
+    let mut pivot = s + w * diag[0];
+    c[0] = w * off[0] / pivot;
+    r[0] /= pivot;
+    for i in 1..n {
+        pivot = s + w * diag[i] - w * off[i - 1] * c[i - 1];
+        c[i] = if i + 1 < n { w * off[i] / pivot } else { 0.0 };
+        r[i] = (r[i] - w * off[i - 1] * r[i - 1]) / pivot;
+    }
+    for i in (0..n - 1).rev() {
+        r[i] -= c[i] * r[i + 1];
+    }
+}
+
 /// `∇U` alone at `x` (as [`potential_derivatives`]).
 fn potential_gradient(x: &[f64], (alpha, beta): (f64, f64), grad: &mut [f64]) {
     let n = x.len();
@@ -323,19 +329,7 @@ pub fn midpoint_variational_by_hand(
             if residual <= 1e-12 * scale {
                 return;
             }
-            // Thomas algorithm on I/h + (h/4) ∇²U.
-            let q = 0.25 * h;
-            let mut pivot = 1.0 / h + q * diag[0];
-            c[0] = q * off[0] / pivot;
-            r[0] /= pivot;
-            for i in 1..n {
-                pivot = 1.0 / h + q * diag[i] - q * off[i - 1] * c[i - 1];
-                c[i] = if i + 1 < n { q * off[i] / pivot } else { 0.0 };
-                r[i] = (r[i] - q * off[i - 1] * r[i - 1]) / pivot;
-            }
-            for i in (0..n - 1).rev() {
-                r[i] -= c[i] * r[i + 1];
-            }
+            thomas((1.0 / h, 0.25 * h), (&diag, &off), &mut r, &mut c);
             y.iter_mut().zip(&r).for_each(|(y, d)| *y -= d);
         }
     };
