@@ -17,6 +17,7 @@ pub(crate) mod band;
 pub(crate) mod bvp;
 pub(crate) mod dense;
 mod ensembles;
+mod gauss;
 pub(crate) mod ivp;
 pub(crate) mod nodes;
 pub(crate) mod observer;

@@ -45,20 +45,30 @@ impl BandSystem {
     /// listed): the claimed band `claimed` when every entry lies within it, otherwise the
     /// reverse Cuthill–McKee order of the pattern.
     pub(crate) fn plan(d: usize, claimed: Option<usize>, blocks: &[&SparseBlock]) -> Self {
-        let entries = || {
-            blocks
-                .iter()
-                .flat_map(|b| b.entries().iter().map(|e| (e.0, e.1)))
-        };
-        if let Some(b) = claimed.filter(|&b| entries().all(|(i, j)| i.abs_diff(j) <= b)) {
-            return Self::with(d, None, b.min(d.saturating_sub(1)));
+        let (position, band) = order(d, claimed, blocks);
+        Self::with(d, position, band)
+    }
+
+    /// The system of `s` unknowns per coordinate of a model of dimension `d` (unknown `(i, c)`
+    /// at `i d + c`, a stage system's order), stored component by component: unknown
+    /// `(i, c)` sits at `c' s + i`, `c'` the place of `c` in the order [`plan`](Self::plan)
+    /// gives `blocks`. A pattern of half-width `b` in that order becomes a band of half-width
+    /// `s (b + 1) − 1`. Also returns whether the model's coordinates were reordered.
+    pub(crate) fn interleaved(
+        d: usize,
+        s: usize,
+        claimed: Option<usize>,
+        blocks: &[&SparseBlock],
+    ) -> (Self, bool) {
+        let (model, b) = order(d, claimed, blocks);
+        let reordered = model.is_some();
+        if s == 1 {
+            return (Self::with(d, model, b), reordered);
         }
-        let position = reverse_cuthill_mckee(d, entries());
-        let band = entries()
-            .map(|(i, j)| position[i].abs_diff(position[j]))
-            .max()
-            .unwrap_or(0);
-        Self::with(d, Some(position), band)
+        let place = |c: usize| model.as_ref().map_or(c, |p| p[c]);
+        let position = (0..s * d).map(|k| place(k % d) * s + k / d).collect();
+        let band = (s * (b + 1) - 1).min(s * d - 1);
+        (Self::with(s * d, Some(position), band), reordered)
     }
 
     fn with(d: usize, position: Option<Vec<usize>>, band: usize) -> Self {
@@ -218,6 +228,26 @@ impl BandSystem {
             }
         }
     }
+}
+
+/// The order of the unknowns for the pattern of `blocks` and its half-width: the claimed band
+/// `claimed` in the model's own order (`None`) when every entry lies within it, otherwise the
+/// reverse Cuthill–McKee order of the pattern (`position[i]`: the place of unknown `i`).
+fn order(d: usize, claimed: Option<usize>, blocks: &[&SparseBlock]) -> (Option<Vec<usize>>, usize) {
+    let entries = || {
+        blocks
+            .iter()
+            .flat_map(|b| b.entries().iter().map(|e| (e.0, e.1)))
+    };
+    if let Some(b) = claimed.filter(|&b| entries().all(|(i, j)| i.abs_diff(j) <= b)) {
+        return (None, b.min(d.saturating_sub(1)));
+    }
+    let position = reverse_cuthill_mckee(d, entries());
+    let band = entries()
+        .map(|(i, j)| position[i].abs_diff(position[j]))
+        .max()
+        .unwrap_or(0);
+    (Some(position), band)
 }
 
 /// A block's band storage scaled by `c` (entry `(i, j)` at `i (2b + 1) + j + b − i`), one

@@ -182,6 +182,7 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
             dimension: d,
             indices: (0..=n).collect(),
             q,
+            momenta: Vec::new(),
             warnings,
         })
     }

@@ -67,12 +67,6 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
     /// The step kind of `scheme`: that of the const-generic path
     /// ([`step_kind`](crate::solve::ivp::step_kind)).
     fn step_kind(&self, scheme: Scheme) -> Result<StepKind> {
-        if let EmbeddingKind::GaussLegendre { .. } = self.embedding.kind() {
-            return Err(Error::Unsupported {
-                operation: "an initial value problem of a run-time-dimension model",
-                embedding: self.embedding.to_string(),
-            });
-        }
         step_kind(&self.embedding, scheme)
     }
 
@@ -87,6 +81,10 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         (start, values): (Start, bool),
         mut observe: impl FnMut(DynNode<'_>),
     ) -> Result<DynRun> {
+        if let EmbeddingKind::GaussLegendre { stages } = self.embedding.kind() {
+            // A one-step map: no start, and the momenta carried from node to node.
+            return self.run_gauss((scheme, stages), (q0, v0), values, observe);
+        }
         let kind = self.step_kind(scheme)?;
         let (mut vv, hessian, sawtooth) = self.check_initial_data(q0, v0)?;
         let (grid, h) = (self.grid, self.grid.h());
@@ -94,7 +92,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         // warning is attached to a run that returns.
         let warning = self
             .resolution_check
-            .then(|| resolution_warning(&hessian, &mut vv, h))
+            .then(|| resolution_warning(&hessian, &mut vv, h, 1))
             .flatten();
         drop(hessian);
         let d = q0.len();
@@ -107,7 +105,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             false => None,
         };
         let mut hand = |k: usize, window: (usize, &[&[f64]]), observe: &mut _| match &mut values {
-            Some(values) => values.hand(k, window, observe),
+            Some(values) => values.hand(k, window, None, observe),
             None => {
                 positions_only((k, grid.t(k)), window, observe);
                 Ok(())
@@ -263,7 +261,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
     /// derivatives there, and the step map's eigenvalue below −1 if the Störmer–Verlet
     /// recurrence of step `h` is proven unstable there (read only by a run that takes
     /// Störmer–Verlet steps).
-    fn check_initial_data(
+    pub(super) fn check_initial_data(
         &self,
         q0: &[f64],
         v0: &[f64],
@@ -334,7 +332,7 @@ fn positions_only(
 
 /// `∂²L/∂v²` (the block `vv` of `hessian`) factorised as a band, with its pivot ratio; `None`
 /// and 0 when singular.
-fn vv_factorised(
+pub(super) fn vv_factorised(
     d: usize,
     claimed: Option<usize>,
     hessian: &SparseHessian,

@@ -208,8 +208,9 @@ impl DynSolution {
         let mut energy = Vec::with_capacity(n + 1);
         for k in 0..=n {
             let nodes = (0, self.q.as_slice());
+            let carried = self.momenta.get(k * d..(k + 1) * d);
             let (vk, pk) = (&mut v[k * d..(k + 1) * d], &mut p[k * d..(k + 1) * d]);
-            energy.push(values.at(k, nodes, (vk, pk))?);
+            energy.push(values.at(k, nodes, carried, (vk, pk))?);
         }
         Ok(DynNodeValues {
             dimension: d,

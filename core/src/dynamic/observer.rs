@@ -4,7 +4,7 @@
 //! [`DynSolution::node_values`](crate::DynSolution::node_values) reads.
 
 use crate::embedding::{Embedding, Scheme};
-use crate::error::{Error, Result};
+use crate::error::Result;
 use crate::grid::Grid;
 use crate::solve::nodes::engine::{NodeEngine, NodeModel};
 
@@ -35,7 +35,9 @@ pub struct DynNode<'a> {
     /// [`DynProblem::run_ivp_with_values`](crate::DynProblem::run_ivp_with_values); empty from
     /// [`DynProblem::run_ivp`](crate::DynProblem::run_ivp), which computes no node values.
     pub v: &'a [f64],
-    /// The momentum `p_k` ([`NodeRule`](crate::NodeRule)), as `v`: empty from `run_ivp`.
+    /// The momentum `p_k` ([`NodeRule`](crate::NodeRule)), as `v`: empty from `run_ivp`, but
+    /// for a Gauss–Legendre run, which carries its momenta from node to node and hands them
+    /// from both.
     pub p: &'a [f64],
     /// The energy `v_k·p_k − L(Q_k, v_k, t_k)` for an autonomous Lagrangian from
     /// `run_ivp_with_values`; `None` otherwise, and always from `run_ivp`.
@@ -53,20 +55,15 @@ pub(crate) struct NodeObserver<'l, L: ?Sized> {
 
 impl<'l, L: DynLagrangian + ?Sized> NodeObserver<'l, L> {
     /// The node values of `scheme` under `embedding` on `grid` at dimension `d`;
-    /// [`Error::Unsupported`] for the Gauss–Legendre integrators (whose momenta the run-time
-    /// path does not carry) and the fractional embeddings.
+    /// [`Error::Unsupported`] for the fractional embeddings. The Gauss–Legendre integrators'
+    /// momenta are the ones the scheme carries, handed to [`at`](Self::at) and
+    /// [`hand`](Self::hand).
     pub(crate) fn new(
         lagrangian: &'l L,
         (embedding, scheme, grid): (&Embedding, Scheme, Grid),
         d: usize,
     ) -> Result<Self> {
         let engine = NodeEngine::new(embedding, scheme, grid, d)?;
-        if engine.rule.formula == crate::NodeFormula::SchemeMomenta {
-            return Err(Error::Unsupported {
-                operation: "the node values of a run-time-dimension solution",
-                embedding: embedding.to_string(),
-            });
-        }
         let vv = lagrangian.hessian_dependence().vv;
         Ok(NodeObserver {
             engine,
@@ -98,35 +95,38 @@ impl<'l, L: DynLagrangian + ?Sized> NodeObserver<'l, L> {
     }
 
     /// Writes `v_k`, `p_k` into `v`, `p` and returns the energy at node `k`, from consecutive
-    /// nodes flat in `nodes.1`, the first of them node `nodes.0`.
+    /// nodes flat in `nodes.1`, the first of them node `nodes.0`, and the momentum `carried`
+    /// at node `k` of a scheme that carries one (Gauss–Legendre).
     pub(crate) fn at(
         &mut self,
         k: usize,
         (first, nodes): (usize, &[f64]),
+        carried: Option<&[f64]>,
         (v, p): (&mut [f64], &mut [f64]),
     ) -> Result<Option<f64>> {
         let d = v.len();
         let node = |j: usize| &nodes[(j - first) * d..(j - first + 1) * d];
         self.engine
-            .at(&mut self.model, k, node, None, (&mut *v, &mut *p))?;
+            .at(&mut self.model, k, node, carried, (&mut *v, &mut *p))?;
         let t = self.engine.time(k);
         Ok(NodeEngine::energy(&mut self.model, (node(k), v, p), t))
     }
 
     /// Hands node `k` to `observe`, with its velocity, momentum and energy, from the window of
     /// consecutive nodes `window`, the first of them node `first` (every node the formulas
-    /// read at `k`, and `Q_{k−1}`).
+    /// read at `k`, and `Q_{k−1}`) and the momentum `carried` at node `k` (as [`at`](Self::at)).
     pub(crate) fn hand(
         &mut self,
         k: usize,
         (first, window): (usize, &[&[f64]]),
+        carried: Option<&[f64]>,
         observe: &mut impl FnMut(DynNode<'_>),
     ) -> Result<()> {
         let node = |j: usize| window[j - first];
         let t = self.engine.time(k);
         let (v, p) = (&mut self.v, &mut self.p);
         self.engine
-            .at(&mut self.model, k, node, None, (&mut *v, &mut *p))?;
+            .at(&mut self.model, k, node, carried, (&mut *v, &mut *p))?;
         let energy = NodeEngine::energy(&mut self.model, (node(k), v, p), t);
         observe(DynNode {
             index: k,

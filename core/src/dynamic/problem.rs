@@ -21,13 +21,17 @@ use super::observer::DynNode;
 /// [`Embedding::asymmetric`]) and the symmetric ones ([`Embedding::midpoint`],
 /// [`Embedding::trapezoidal`]) are offered, both schemes, as initial value problems with the
 /// discrete Legendre start or the second-order start ([`with_start`](Self::with_start)): the
-/// steps of the const-generic path, from the same table of terms. The Gauss-FDEσ embeddings
-/// are also offered as boundary value problems; the Gauss–Legendre integrators and the
-/// symmetric boundary value problems run on the const-generic path only
-/// ([`Error::Unsupported`] here). Every implicit step is solved by Newton's method on a band
-/// matrix (`O(d b²)` for half-bandwidth `b`); a step that is affine in the newest node is taken in
-/// closed form, and a constant step Jacobian is factorised once per run. The runs are watched
-/// by the blow-up guard of the const-generic path. The eigenvalue stability check of that path
+/// steps of the const-generic path, from the same table of terms. The variational
+/// Gauss–Legendre integrators ([`Embedding::gauss_legendre`], `s = 1..=4`) are offered as
+/// initial value problems (one-step maps of `(q, p)`: no start; the carried momenta are
+/// [`DynSolution::momenta`]), their `s·d` stage unknowns ordered component by component so that
+/// the stage Jacobian of a model of half-bandwidth `b` is a band of half-width `s (b + 1) − 1`.
+/// The Gauss-FDEσ embeddings are also offered as boundary value problems; the symmetric
+/// boundary value problems run on the const-generic path only ([`Error::Unsupported`] here).
+/// Every implicit step is solved by Newton's method on a band matrix (`O(d b²)` for
+/// half-bandwidth `b`); a step that is affine in the newest node is taken in closed form, and
+/// a constant step Jacobian is factorised once per run. The runs are watched by the blow-up
+/// guard of the const-generic path. The eigenvalue stability check of that path
 /// (a `2d × 2d` eigenproblem) is not run; a Störmer–Verlet run is checked at its initial data
 /// by bounds on the eigenvalues of `−∂²L/∂x²` ([`Error::Unstable`] when they prove `h ω > 2`),
 /// and any other unstable step shows as [`Error::BlowUp`] or [`Error::NotFinite`] once it has
@@ -108,6 +112,10 @@ pub struct DynSolution {
     pub indices: Vec<usize>,
     /// The stored nodes, flat.
     pub q: Vec<f64>,
+    /// The momenta `p_k` a Gauss–Legendre integrator carries, at the stored nodes, flat as
+    /// [`q`](Self::q); empty for every other scheme (whose momenta
+    /// [`node_values`](Self::node_values) computes from the nodes).
+    pub momenta: Vec<f64>,
     /// What the caller should know about this solution (empty when nothing):
     /// [`Warning::UnderResolved`] for an initial value run whose step does not resolve the
     /// fastest motion at the initial data, [`Warning::IllPosed`] for a boundary value problem
@@ -129,7 +137,11 @@ impl DynSolution {
             embedding: self.run.embedding,
             grid: self.run.grid,
             q,
-            momenta: Vec::new(),
+            momenta: self
+                .momenta
+                .chunks_exact(D)
+                .map(Vector::<D>::from_column_slice)
+                .collect(),
             newton_iterations: self.run.newton_iterations,
             explicit_steps: self.run.explicit_steps,
             warnings: self.warnings,
@@ -398,13 +410,16 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
             stored.saturating_mul(q0.len()),
             "the stored nodes of the run",
         )?;
-        // The positions only: the node values are computed from the stored nodes, if asked.
+        // The positions only (and the momenta a Gauss–Legendre run carries): the node values
+        // are computed from the stored nodes, if asked.
+        let mut momenta = Vec::new();
         let run = self
             .ivp()
             .run(scheme, (q0, v0), (self.start, false), |node| {
                 if node.index % stride == 0 || node.index == n {
                     indices.push(node.index);
                     q.extend_from_slice(node.q);
+                    momenta.extend_from_slice(node.p);
                 }
             })?;
         Ok(DynSolution {
@@ -413,13 +428,15 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
             dimension: q0.len(),
             indices,
             q,
+            momenta,
         })
     }
 
     /// The run of [`solve_ivp`](Self::solve_ivp) storing nothing: each node `Q_0, …, Q_N` is
     /// handed to `observe` in order with the node before it, its velocity and momentum left
-    /// empty and its energy `None` ([`run_ivp_with_values`](Self::run_ivp_with_values) computes
-    /// them, at the cost of the model's evaluations at every node). Node `k` is handed once
+    /// empty (but the momentum a Gauss–Legendre run carries) and its energy `None`
+    /// ([`run_ivp_with_values`](Self::run_ivp_with_values) computes them, at the cost of the
+    /// model's evaluations at every node). Node `k` is handed once
     /// `Q_{k+1}` is computed, the last at the end of the run ([`DynNode`]). Beyond what `observe`
     /// keeps, the run needs `O(d b)` memory for a step Jacobian of half-bandwidth `b`.
     ///

@@ -97,11 +97,12 @@ pub(crate) fn resolution_warning(
     hessian: &SparseHessian,
     vv: &mut BandSystem,
     h: f64,
+    stages: usize,
 ) -> Option<Warning> {
-    if diagonal_mass_bound(hessian).is_some_and(|bound| proved_resolved(bound, h, 1)) {
+    if diagonal_mass_bound(hessian).is_some_and(|bound| proved_resolved(bound, h, stages)) {
         return None;
     }
-    under_resolved(fastest_rate(&hessian.xx, vv)?, h, 1)
+    under_resolved(fastest_rate(&hessian.xx, vv)?, h, stages)
 }
 
 /// `√(‖K‖₁ ‖K‖∞) ≥ ‖K‖₂` for `K = (∂²L/∂v²)⁻¹(−∂²L/∂x²)` when `∂²L/∂v²` is diagonal (its

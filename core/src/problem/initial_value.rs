@@ -20,7 +20,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// The run of a model that is also a [`DynLagrangian`](crate::DynLagrangian) (see
     /// [`Lagrangian::run_time`]) with [`RUN_TIME_FROM`] or more degrees of freedom, by the
     /// run-time engine with this problem's options; `None` for any other run, which stays on
-    /// the const-generic path (Gauss–Legendre among them, and a model whose run-time form has
+    /// the const-generic path (a fractional embedding, and a model whose run-time form has
     /// another dimension than `D`).
     fn on_run_time_engine(
         &self,
@@ -38,9 +38,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             return None;
         }
         let embedding = *self.discretisation.embedding();
-        if let EmbeddingKind::GaussLegendre { .. }
-        | EmbeddingKind::GrunwaldLetnikov { .. }
-        | EmbeddingKind::Caputo { .. } = embedding.kind()
+        if let EmbeddingKind::GrunwaldLetnikov { .. } | EmbeddingKind::Caputo { .. } =
+            embedding.kind()
         {
             return None;
         }

@@ -218,10 +218,10 @@ fn bad_input_gives_typed_errors_naming_it() {
         .unwrap_err()
         .to_string();
     assert!(message.contains("alpha"), "{message}");
-    // Gauss–Legendre, a one-step map of (q, p), runs on the const-generic path only.
+    // Gauss–Legendre is variational only, on this path as on the const-generic one.
     let gauss = DynProblem::new(&chain, grid, Embedding::gauss_legendre(2).unwrap());
     assert!(matches!(
-        gauss.solve_ivp(Scheme::Variational, &q0, &v0),
+        gauss.solve_ivp(Scheme::Direct, &q0, &v0),
         Err(Error::Unsupported { .. })
     ));
 }

@@ -4,6 +4,7 @@ mod bvp;
 mod compare;
 mod every_embedding;
 mod forces;
+mod gauss_legendre;
 mod ill_posed;
 mod ivp;
 mod node_values;

@@ -21,12 +21,12 @@ pub(super) fn embeddings() -> [Embedding; 6] {
     ]
 }
 
-const RING: usize = 256;
+pub(super) const RING: usize = 256;
 
 /// The sine-Gordon ring: `RING` pendulums `1 − cos x` coupled to their neighbours around a
 /// circle.
 #[lagrangian]
-fn sine_gordon(x: [f64; RING], v: [f64; RING], c: f64) -> f64 {
+pub(super) fn sine_gordon(x: [f64; RING], v: [f64; RING], c: f64) -> f64 {
     let mut l = 0.0;
     for i in 0..RING {
         let stretch = x[(i + 1) % RING] - x[i];
@@ -49,7 +49,7 @@ fn small_ring(x: [f64; SMALL], v: [f64; SMALL], c: f64) -> f64 {
 }
 
 /// A kink-like initial displacement of `n` sites.
-fn displaced(n: usize) -> (Vec<f64>, Vec<f64>) {
+pub(super) fn displaced(n: usize) -> (Vec<f64>, Vec<f64>) {
     let q0 = (0..n)
         .map(|i| 0.8 * (2.0 * std::f64::consts::PI * i as f64 / n as f64).sin())
         .collect();
@@ -58,7 +58,7 @@ fn displaced(n: usize) -> (Vec<f64>, Vec<f64>) {
 }
 
 /// Runs `f` on a thread with a stack of `bytes`.
-fn on_stack<T: Send>(bytes: usize, f: impl FnOnce() -> T + Send) -> T {
+pub(super) fn on_stack<T: Send>(bytes: usize, f: impl FnOnce() -> T + Send) -> T {
     std::thread::scope(|scope| {
         std::thread::Builder::new()
             .stack_size(bytes)
