@@ -20,7 +20,7 @@ use crate::gauss_legendre::GaussTableau;
 use crate::options::NewtonOptions;
 use crate::regularity::DEGENERACY_THRESHOLD;
 use crate::solve::guard::BlowUpGuard;
-use crate::solve::newton::at_round_off;
+use crate::solve::newton::{StepIteration, newton};
 
 use super::DynLagrangian;
 use super::band::{BandSystem, OutsideBand};
@@ -304,54 +304,18 @@ impl<'l, L: DynLagrangian + ?Sized> StageSystem<'l, L> {
     }
 
     /// Newton's method on the stage equations of the step from `(q_k, p_k)` at `t_k` (step
-    /// `n`, for the errors), from the stage velocities in `v`, with the const-generic path's
-    /// stopping rule and errors; returns the iterations (0 when the guess already solves them).
+    /// `n`, for the errors), from the stage velocities in `v`: the shared iteration
+    /// ([`newton`]) with the const-generic path's scale and round-off floor; returns the
+    /// iterations (0 when the guess already solves them).
     pub(crate) fn solve(&mut self, (qk, pk): (&[f64], &[f64]), tk: f64, n: usize) -> Result<usize> {
-        let at = Location::Step(n);
-        let diverged = |iterations, residual| Error::NewtonDidNotConverge {
-            at,
-            iterations,
-            residual,
-        };
         let options = self.newton;
-        let mut residual = f64::INFINITY;
-        for iteration in 0..=options.max_iterations {
-            let finite = self.evaluate(qk, tk);
-            let previous = residual;
-            residual = self.residual(pk);
-            if !finite || !residual.is_finite() {
-                return Err(if iteration == 0 {
-                    Error::NotFinite { at }
-                } else {
-                    diverged(iteration, previous)
-                });
-            }
-            let (j_norm, regular) = self.factorize_jacobian();
-            // The terms the rows balance (no absolute part: `c L` stops where `L` does).
-            let rows = max_norm(pk) + max_norm(&self.p) + self.h * max_norm(&self.f);
-            let terms = rows + j_norm * max_norm(&self.v);
-            let converged = residual <= options.tolerance * rows
-                || at_round_off(residual, previous, 1.0, terms);
-            if !regular {
-                return Err(if iteration == 0 || converged {
-                    Error::SingularJacobian { at }
-                } else {
-                    diverged(iteration, residual)
-                });
-            }
-            if converged {
-                return Ok(iteration);
-            }
-            if iteration == options.max_iterations {
-                break;
-            }
-            let (system, _) = self.system.as_mut().expect("factorised above");
-            system.solve_in_place(&mut self.rhs);
-            for (v, delta) in self.v.iter_mut().zip(&self.rhs) {
-                *v -= delta;
-            }
-        }
-        Err(diverged(options.max_iterations, residual))
+        let mut iteration = StageIteration {
+            stages: self,
+            step: (qk, pk, tk),
+            rows: 0.0,
+            j_norm: 0.0,
+        };
+        newton(&mut iteration, &options, Location::Step(n))
     }
 
     /// `(q_{k+1}, p_{k+1}) = (q_k + h Σ b_i V_i, p_k + h Σ b_i Ṗ_i)` from the solved stages.
@@ -421,6 +385,57 @@ impl<'l, L: DynLagrangian + ?Sized> StageSystem<'l, L> {
             .map_or((0, false), |(system, reordered)| {
                 (system.band(), *reordered)
             })
+    }
+}
+
+/// The stage equations of one step at the current stage velocities, as Newton's method sees
+/// them (the const-generic path's `StageIteration` over slices).
+struct StageIteration<'a, 'l, L: ?Sized> {
+    stages: &'a mut StageSystem<'l, L>,
+    /// `(q_k, p_k, t_k)`.
+    step: (&'a [f64], &'a [f64], f64),
+    /// The scale of the rows' terms and `‖J‖∞`, at the last evaluation and linearisation.
+    rows: f64,
+    j_norm: f64,
+}
+
+impl<L: DynLagrangian + ?Sized> StepIteration for StageIteration<'_, '_, L> {
+    fn residual(&mut self) -> (f64, f64) {
+        let (qk, pk, tk) = self.step;
+        let stages = &mut *self.stages;
+        let finite = stages.evaluate(qk, tk);
+        let residual = stages.residual(pk);
+        self.rows = max_norm(pk) + max_norm(&stages.p) + stages.h * max_norm(&stages.f);
+        (if finite { residual } else { f64::NAN }, self.rows)
+    }
+
+    fn solve(&mut self) -> (f64, bool) {
+        let stages = &mut *self.stages;
+        let (j_norm, regular) = stages.factorize_jacobian();
+        if regular {
+            let (system, _) = stages.system.as_mut().expect("factorised above");
+            system.solve_in_place(&mut stages.rhs);
+        }
+        self.j_norm = j_norm;
+        (j_norm, regular)
+    }
+
+    /// As on the const-generic path: `max ‖V_i‖∞ + rows / ‖J‖∞`, so that the floor is
+    /// `64 ε (rows + ‖J‖∞ max ‖V_i‖∞)`.
+    fn size(&self) -> f64 {
+        let v = max_norm(&self.stages.v);
+        match self.j_norm > 0.0 {
+            true => v + self.rows / self.j_norm,
+            false => v,
+        }
+    }
+
+    fn update(&mut self) -> bool {
+        let stages = &mut *self.stages;
+        for (v, delta) in stages.v.iter_mut().zip(&stages.rhs) {
+            *v -= delta;
+        }
+        stages.v.iter().all(|c| c.is_finite())
     }
 }
 

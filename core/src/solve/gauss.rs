@@ -43,7 +43,7 @@ use crate::memory::reserve;
 use crate::options::NewtonOptions;
 use crate::regularity::{check_initial_data, check_vv, pivot_range};
 use crate::solve::guard::BlowUpGuard;
-use crate::solve::newton::at_round_off;
+use crate::solve::newton::{StepIteration, newton};
 use crate::solve::resolution::resolution_warning;
 use crate::solve::solution::Solution;
 
@@ -93,7 +93,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GaussIvp<'_, L, D> {
         let (mut qk, mut pk) = (q0, p0);
         let (mut iterations, mut explicit_steps) = (0, 0);
         for n in 1..=n_steps {
-            let its = stages.solve(l, &qk, &pk, grid.t(n - 1), n, &self.newton)?;
+            let its = stages.solve(l, (&qk, &pk), grid.t(n - 1), n, &self.newton)?;
             iterations += its;
             explicit_steps += usize::from(its == 0);
             (qk, pk) = stages.advance(&qk, &pk);
@@ -273,65 +273,27 @@ impl<const D: usize> StageSystem<D> {
     }
 
     /// Newton's method on the stage equations of the step from `(q_k, p_k)` at `t_k` (step `n`,
-    /// for the errors), from the stage velocities in `v`; returns the iterations (0 when the
-    /// guess already solves them). The stopping rule is that of [`NewtonOptions`]: a residual
-    /// at most `tolerance · (‖p_k‖∞ + max ‖P_i‖∞ + h max ‖Ṗ_i‖∞)`, or at the round-off floor
-    /// `64 ε (‖p_k‖∞ + max ‖P_i‖∞ + h max ‖Ṗ_i‖∞ + ‖J‖∞ max ‖V_i‖∞)` and no longer halving.
+    /// for the errors), from the stage velocities in `v`: the shared iteration
+    /// ([`newton`]) with its stopping rule and errors; returns the iterations (0 when the guess
+    /// already solves them). The residual is measured against `‖p_k‖∞ + max ‖P_i‖∞ + h max
+    /// ‖Ṗ_i‖∞` (no absolute part: `c L` stops where `L` does), and the round-off floor is
+    /// `64 ε` times that plus `‖J‖∞ max ‖V_i‖∞` ([`StageIteration::size`]).
     fn solve<L: Lagrangian<D> + ?Sized>(
         &mut self,
         l: &L,
-        qk: &Vector<D>,
-        pk: &Vector<D>,
+        (qk, pk): (&Vector<D>, &Vector<D>),
         tk: f64,
         n: usize,
         options: &NewtonOptions,
     ) -> Result<usize> {
-        let at = Location::Step(n);
-        let diverged = |iterations, residual| Error::NewtonDidNotConverge {
-            at,
-            iterations,
-            residual,
+        let mut iteration = StageIteration {
+            stages: self,
+            lagrangian: l,
+            step: (qk, pk, tk),
+            rows: 0.0,
+            j_norm: 0.0,
         };
-        let mut residual = f64::INFINITY;
-        for iteration in 0..=options.max_iterations {
-            let finite = self.evaluate(l, qk, tk);
-            let previous = residual;
-            residual = self.residual(pk);
-            if !finite || !residual.is_finite() {
-                // At the guess the problem is to blame; after Newton moved, the iteration.
-                return Err(if iteration == 0 {
-                    Error::NotFinite { at }
-                } else {
-                    diverged(iteration, previous)
-                });
-            }
-            let j_norm = self.assemble_jacobian();
-            let largest = |x: &[Vector<D>]| x.iter().fold(0.0f64, |m, y| m.max(y.amax()));
-            // The terms the rows balance (no absolute part: `c L` stops where `L` does).
-            let rows = pk.amax() + largest(&self.p) + self.h * largest(&self.f);
-            let terms = rows + j_norm * largest(&self.v);
-            let converged = residual <= options.tolerance * rows
-                || at_round_off(residual, previous, 1.0, terms);
-            // As for the classical steps: a singular Jacobian at the solution means the step is
-            // not well defined there, an error even at a zero residual.
-            if !solve_dense_in_place(&mut self.jacobian, &mut self.rhs) {
-                return Err(if iteration == 0 || converged {
-                    Error::SingularJacobian { at }
-                } else {
-                    diverged(iteration, residual)
-                });
-            }
-            if converged {
-                return Ok(iteration);
-            }
-            if iteration == options.max_iterations {
-                break;
-            }
-            for (i, v) in self.v.iter_mut().enumerate() {
-                *v -= Vector::<D>::from_column_slice(&self.rhs[i * D..(i + 1) * D]);
-            }
-        }
-        Err(diverged(options.max_iterations, residual))
+        newton(&mut iteration, options, Location::Step(n))
     }
 
     /// Replaces the solved stage velocities by the guess for the next step: the velocity of
@@ -356,6 +318,56 @@ impl<const D: usize> StageSystem<D> {
             p += self.f[i] * (self.h * b);
         }
         (q, p)
+    }
+}
+
+/// The stage equations of one step at the current stage velocities, as Newton's method sees
+/// them.
+struct StageIteration<'a, L: ?Sized, const D: usize> {
+    stages: &'a mut StageSystem<D>,
+    lagrangian: &'a L,
+    /// `(q_k, p_k, t_k)`.
+    step: (&'a Vector<D>, &'a Vector<D>, f64),
+    /// The scale of the rows' terms and `‖J‖∞`, at the last evaluation and linearisation.
+    rows: f64,
+    j_norm: f64,
+}
+
+impl<L: Lagrangian<D> + ?Sized, const D: usize> StepIteration for StageIteration<'_, L, D> {
+    fn residual(&mut self) -> (f64, f64) {
+        let (qk, pk, tk) = self.step;
+        let stages = &mut *self.stages;
+        let finite = stages.evaluate(self.lagrangian, qk, tk);
+        let residual = stages.residual(pk);
+        let largest = |x: &[Vector<D>]| x.iter().fold(0.0f64, |m, y| m.max(y.amax()));
+        self.rows = pk.amax() + largest(&stages.p) + stages.h * largest(&stages.f);
+        (if finite { residual } else { f64::NAN }, self.rows)
+    }
+
+    fn solve(&mut self) -> (f64, bool) {
+        let stages = &mut *self.stages;
+        self.j_norm = stages.assemble_jacobian();
+        let regular = solve_dense_in_place(&mut stages.jacobian, &mut stages.rhs);
+        (self.j_norm, regular)
+    }
+
+    /// `max ‖V_i‖∞ + rows / ‖J‖∞`: the floor `64 ε ‖J‖∞ size` is then `64 ε (rows + ‖J‖∞ max
+    /// ‖V_i‖∞)`, the sizes of the terms the residual sums (a large momentum `p_k` beside small
+    /// velocities rounds at its own scale).
+    fn size(&self) -> f64 {
+        let v = self.stages.v.iter().fold(0.0f64, |m, y| m.max(y.amax()));
+        match self.j_norm > 0.0 {
+            true => v + self.rows / self.j_norm,
+            false => v,
+        }
+    }
+
+    fn update(&mut self) -> bool {
+        let stages = &mut *self.stages;
+        for (i, v) in stages.v.iter_mut().enumerate() {
+            *v -= Vector::<D>::from_column_slice(&stages.rhs[i * D..(i + 1) * D]);
+        }
+        stages.v.iter().all(|v| v.iter().all(|c| c.is_finite()))
     }
 }
 
