@@ -10,6 +10,7 @@ use crate::lagrangian::{IntoVector, Lagrangian, Vector};
 use crate::options::{FractionalSolver, NewtonOptions, SolverOptions};
 use crate::solve::bvp;
 use crate::solve::solution::Solution;
+use crate::solve::start::Start;
 use std::ops::RangeInclusive;
 
 mod comparisons;
@@ -75,6 +76,8 @@ pub fn curve_from_flat<const D: usize>(values: &[f64]) -> Result<Vec<Vector<D>>>
 pub struct Problem<'l, L: ?Sized, const D: usize> {
     discretisation: Discretisation<'l, L, D>,
     options: SolverOptions,
+    /// The start of [`solve_ivp`](Self::solve_ivp) ([`with_start`](Self::with_start)).
+    start: Start,
 }
 
 impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
@@ -94,6 +97,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
         Problem {
             discretisation: Discretisation::new(lagrangian, grid, embedding),
             options: SolverOptions::default(),
+            start: Start::Legendre,
         }
     }
 
@@ -129,6 +133,31 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
     /// ```
     pub fn recommended(lagrangian: &'l L, grid: Grid) -> Self {
         Problem::new(lagrangian, grid, Embedding::recommended())
+    }
+
+    /// With `start` for the node `Q_1` of the initial value problems of
+    /// [`solve_ivp`](Self::solve_ivp) (default [`Start::Legendre`]; ignored by the one-step
+    /// Gauss–Legendre integrators): the same builder as
+    /// [`DynProblem::with_start`](crate::DynProblem::with_start), so a run moves between the
+    /// two paths unchanged. [`solve_ivp_with`](Self::solve_ivp_with) takes a start for one run.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, Problem, Scheme, Side, Start, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let grid = Grid::new(0.0, 1.0, 10)?;
+    /// let problem = Problem::new(&Oscillator, grid, Embedding::finite_difference(Side::Backward))
+    ///     .with_start(Start::SecondOrder);
+    /// let run = problem.solve_ivp(Scheme::Variational, 1.0, 0.0)?;
+    /// // Q_1 = q0 + h v0 + ½h² q̈(0) with q̈ = −q.
+    /// assert!((run.q[1][0] - 0.995).abs() < 1e-12);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn with_start(mut self, start: Start) -> Self {
+        self.start = start;
+        self
     }
 
     /// The same problem with other Newton options.

@@ -385,6 +385,40 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
         self.solve_ivp_every(scheme, q0, v0, 1)
     }
 
+    /// The run of [`solve_ivp`](Self::solve_ivp) from `start`, whatever
+    /// [`with_start`](Self::with_start) set: the same call as
+    /// [`Problem::solve_ivp_with`](crate::Problem::solve_ivp_with).
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{DynProblem, Embedding, Grid, Scheme, Side, Start, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn oscillators(x: &[f64], v: &[f64], n: usize) -> f64 {
+    ///     (0..n).map(|i| 0.5 * (v[i] * v[i] - x[i] * x[i])).sum()
+    /// }
+    ///
+    /// let model = Oscillators { n: 2 };
+    /// let grid = Grid::new(0.0, 1.0, 10)?;
+    /// let problem = DynProblem::new(&model, grid, Embedding::finite_difference(Side::Backward));
+    /// let run = problem.solve_ivp_with(Scheme::Variational, &[1.0; 2], &[0.0; 2], Start::SecondOrder)?;
+    /// // Q_1 = q0 + h v0 + ½h² q̈(0) with q̈ = −q; the problem's own start is the Legendre one.
+    /// assert!((run.node(1)[0] - 0.995).abs() < 1e-12);
+    /// assert_eq!(problem.solve_ivp(Scheme::Variational, &[1.0; 2], &[0.0; 2])?.node(1)[0], 1.0);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn solve_ivp_with(
+        &self,
+        scheme: Scheme,
+        q0: &[f64],
+        v0: &[f64],
+        start: Start,
+    ) -> Result<DynSolution> {
+        let problem = DynProblem { start, ..*self };
+        problem.solve_ivp(scheme, q0, v0)
+    }
+
     /// The run of [`solve_ivp`](Self::solve_ivp) storing only the nodes `Q_k` with `k` a
     /// multiple of `stride`, and the last: `O((N / stride + 1) d)` memory.
     /// [`Error::InvalidGrid`] for a stride of 0.

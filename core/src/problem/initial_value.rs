@@ -105,8 +105,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             .second_order_start(q0.into_vector(), v0.into_vector())
     }
 
-    /// Solves the initial value problem with the chosen [`Start`] for `Q_1` (ignored by the
-    /// one-step Gauss–Legendre integrators).
+    /// Solves the initial value problem with the chosen [`Start`] for `Q_1`, whatever
+    /// [`with_start`](Self::with_start) set (ignored by the one-step Gauss–Legendre
+    /// integrators); [`DynProblem::solve_ivp_with`](crate::DynProblem::solve_ivp_with) on the
+    /// run-time path.
     ///
     /// # Example
     ///
@@ -133,8 +135,9 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         self.ivp().solve(scheme, q0, v0, start)
     }
 
-    /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` with `scheme`, starting from
-    /// the discrete Legendre start (the same `Q_1` for both schemes).
+    /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` with `scheme`, from the start
+    /// of [`with_start`](Self::with_start): by default the discrete Legendre start (the same
+    /// `Q_1` for both schemes).
     ///
     /// A step whose equation is affine in the newest node (as declared by
     /// [`Lagrangian::hessian_dependence`]) is taken in closed form, with no Newton iteration.
@@ -142,8 +145,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// A model that is also a [`DynLagrangian`](crate::DynLagrangian) (every `#[lagrangian]`
     /// model with loops over `[f64; N]`, see [`Lagrangian::run_time`]) with
     /// [`RUN_TIME_FROM`](crate::RUN_TIME_FROM) or more degrees of freedom is run by the
-    /// run-time-dimension engine: the same steps, with no `D × D` block on the stack, and
-    /// without the eigenvalue stability check (Gauss–Legendre stays on this path).
+    /// run-time-dimension engine: the same steps (Gauss–Legendre's too), with no `D × D` block
+    /// on the stack, and without the eigenvalue stability check.
     ///
     /// Under [`Embedding::gauss_legendre`](crate::Embedding::gauss_legendre) the run is the
     /// one-step Gauss–Legendre map of `(q_k, p_k)` from `p_0 = ∂L/∂v(q(a), q̇(a), a)` (no start;
@@ -180,7 +183,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         q0: impl IntoVector<D>,
         v0: impl IntoVector<D>,
     ) -> Result<Solution<D>> {
-        self.solve_ivp_with(scheme, q0, v0, Start::Legendre)
+        self.solve_ivp_with(scheme, q0, v0, self.start)
     }
 
     /// Runs the recurrence of `scheme` from given first nodes `Q_0`, `Q_1`.

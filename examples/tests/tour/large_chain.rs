@@ -154,10 +154,11 @@ fn the_reference_and_the_sweep_are_consistent() {
 
     let cx = Context::hidden(Mode::Quick);
     let sizes = [40, 80, 160, 320];
+    let fde = Embedding::finite_difference(Side::Backward);
     let line = large_chain::sweep_line(
         &cx,
         "direct",
-        (d, Scheme::Direct, Start::Legendre),
+        (d, fde, Scheme::Direct, Start::Legendre),
         &sizes,
         &reference,
     );
@@ -170,13 +171,33 @@ fn the_reference_and_the_sweep_are_consistent() {
     let line = large_chain::sweep_line(
         &cx,
         "second-order start",
-        (d, Scheme::Variational, Start::SecondOrder),
+        (d, fde, Scheme::Variational, Start::SecondOrder),
         &sizes,
         &reference,
     );
     assert!(line.failures.is_empty(), "{:?}", line.failures);
     let orders = line.orders();
     assert!(orders.iter().all(|p| (1.8..2.2).contains(p)), "{orders:?}");
+    // The implicit lines of the run-time path: midpoint second order, Gauss–Legendre with two
+    // stages fourth order, against the same reference.
+    for (embedding, range) in [
+        (Embedding::midpoint(), 1.8..2.2),
+        (Embedding::gauss_legendre(2).expect("s = 2"), 3.7..4.3),
+    ] {
+        let line = large_chain::sweep_line(
+            &cx,
+            "implicit",
+            (d, embedding, Scheme::Variational, Start::Legendre),
+            &sizes,
+            &reference,
+        );
+        assert!(line.failures.is_empty(), "{:?}", line.failures);
+        let orders = line.orders();
+        assert!(
+            orders.iter().all(|p| range.contains(p)),
+            "{embedding}: {orders:?}"
+        );
+    }
 }
 
 /// Störmer–Verlet by hand from the discrete Legendre start of σ = − (`Q_1 = q0 + h v0`), every

@@ -119,6 +119,34 @@ fn the_sparse_lu_solve_matches_the_const_generic_solve_for_every_scheme() {
     }
 }
 
+/// A model whose `∂²L/∂v²` depends on `x`, whose `∂²L/∂x∂v` is not symmetric and which depends
+/// on `t` (the `[f64; 8]` model of the Gauss–Legendre tests, both traits from one source):
+/// the run-time boundary value problem gives the const-generic nodes for every embedding and
+/// scheme, to 1e-12.
+#[test]
+fn a_model_with_every_block_varying_matches_the_const_generic_solve() {
+    use super::gauss_legendre::{M, Twisted, initial};
+    let model = Twisted { k: 1.5 };
+    let grid = Grid::new(0.0, 1.0, 40).unwrap();
+    let (qa, v0) = initial();
+    let qb: Vec<f64> = qa.iter().zip(&v0).map(|(q, v)| q + 0.5 * v).collect();
+    let (qa8, qb8) = (
+        Vector::<M>::from_column_slice(&qa),
+        Vector::<M>::from_column_slice(&qb),
+    );
+    for (embedding, scheme) in kinds() {
+        let reference = Problem::new(&model, grid, embedding)
+            .solve_bvp(scheme, qa8, qb8)
+            .unwrap();
+        assert!(reference.newton_iterations >= 2, "{embedding} {scheme}");
+        let run = DynProblem::new(&model, grid, embedding)
+            .solve_bvp(scheme, &qa, &qb)
+            .unwrap();
+        let gap = relative_gap(&run.q, &reference.q);
+        assert!(gap <= 1e-12, "{embedding} {scheme}: {gap:e}");
+    }
+}
+
 #[test]
 fn a_ring_which_is_not_banded_matches_the_const_generic_ring() {
     let (alpha, beta) = (0.3, 0.4);

@@ -3,8 +3,8 @@
 //! exact solution, and the typed errors of bad input.
 
 use varembed::{
-    DynProblem, DynSolution, Embedding, Error, Grid, Lagrangian, NewtonOptions, Scheme, Solution,
-    Start, Vector, lagrangian,
+    DynProblem, DynSolution, Embedding, Error, Grid, Lagrangian, NewtonOptions, Problem, Scheme,
+    Solution, Start, Vector, lagrangian,
 };
 
 use super::ivp::const_generic_run_from;
@@ -230,5 +230,56 @@ fn bad_input_on_the_symmetric_runs_gives_the_typed_errors() {
                 "{name} {scheme:?}: {error}"
             );
         }
+    }
+}
+
+/// The start is chosen the same way on both paths: `with_start` on the problem for every run,
+/// or `solve_ivp_with` for one run. The two give the same nodes on each path, the two paths the
+/// same nodes as each other, and the two starts different nodes (neither call ignores it).
+#[test]
+fn the_start_is_chosen_the_same_way_on_both_paths() {
+    let (alpha, beta) = (0.25, 0.5);
+    let chain = FputChain {
+        n: 16,
+        alpha,
+        beta,
+        periodic: false,
+    };
+    let twin = fput16::Fput { alpha, beta };
+    let grid = Grid::new(0.0, 2.0, 50).unwrap();
+    let q0 = displacement(16, 0.4, 0.0);
+    let v0: Vec<f64> = q0.iter().map(|q| 0.5 * q).collect();
+    let (x0, u0) = (
+        Vector::<16>::from_column_slice(&q0),
+        Vector::<16>::from_column_slice(&v0),
+    );
+    for embedding in [
+        Embedding::midpoint(),
+        Embedding::finite_difference(varembed::Side::Backward),
+    ] {
+        let mut first_nodes = Vec::new();
+        for start in STARTS {
+            let scheme = Scheme::Variational;
+            let by_builder = DynProblem::new(&chain, grid, embedding)
+                .with_start(start)
+                .solve_ivp(scheme, &q0, &v0)
+                .unwrap();
+            let by_call = DynProblem::new(&chain, grid, embedding)
+                .solve_ivp_with(scheme, &q0, &v0, start)
+                .unwrap();
+            assert_eq!(by_builder.q, by_call.q, "{embedding} {start:?}");
+            let twin_builder = Problem::new(&twin, grid, embedding)
+                .with_start(start)
+                .solve_ivp(scheme, x0, u0)
+                .unwrap();
+            let twin_call = Problem::new(&twin, grid, embedding)
+                .solve_ivp_with(scheme, x0, u0, start)
+                .unwrap();
+            assert_eq!(twin_builder.q, twin_call.q, "{embedding} {start:?}");
+            let gap = relative_gap(&by_builder, &twin_builder);
+            assert!(gap <= 1e-12, "{embedding} {start:?}: {gap:e}");
+            first_nodes.push(by_builder.node(1).to_vec());
+        }
+        assert_ne!(first_nodes[0], first_nodes[1], "{embedding}");
     }
 }

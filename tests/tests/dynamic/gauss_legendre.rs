@@ -8,12 +8,12 @@ use varembed::{
 };
 use varembed_tests::models::chain::{FputChain, displacement};
 
-const M: usize = 8;
+pub(super) const M: usize = 8;
 
 /// Eight coupled pendula whose mass depends on the position (`L_vv` depends on `x`), with a
 /// magnetic-like coupling `x_i v_{i+1}` (`L_xv` not symmetric) and a time-dependent drive.
 #[lagrangian]
-fn twisted(x: [f64; M], v: [f64; M], t: f64, k: f64) -> f64 {
+pub(super) fn twisted(x: [f64; M], v: [f64; M], t: f64, k: f64) -> f64 {
     let mut l = 0.0;
     for i in 0..M {
         l += 0.5 * (1.0 + 0.3 * x[i] * x[i]) * v[i] * v[i] - k * (1.0 - x[i].cos())
@@ -25,7 +25,7 @@ fn twisted(x: [f64; M], v: [f64; M], t: f64, k: f64) -> f64 {
     l
 }
 
-fn initial() -> (Vec<f64>, Vec<f64>) {
+pub(super) fn initial() -> (Vec<f64>, Vec<f64>) {
     let q0 = displacement(M, 0.6, 0.3);
     let v0 = (0..M).map(|i| 0.2 * (i as f64 * 0.9).cos()).collect();
     (q0, v0)
