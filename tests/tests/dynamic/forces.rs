@@ -3,7 +3,7 @@
 //! `Lagrangian<N>` and a `DynLagrangian`) gives the same nodes on `DynProblem` as on the
 //! const-generic `Problem`, for every three-point embedding and both schemes; the dissipation
 //! couples neighbouring velocities, so the force's Jacobian joins the band of the step
-//! Jacobian, with as many Newton iterations. The same dissipation written as a general
+//! Jacobian, with as many Newton iterations; and so for the Gauss–Legendre integrators. The same dissipation written as a general
 //! `#[force]` with loops (its `Force<N>` and its generated `DynForce`) gives the Rayleigh
 //! route's nodes on both paths. `c L` under `c f` takes the nodes of `L` under `f` (the
 //! forced equations are the same). The discrete forces and the work of a run-time solution
@@ -133,6 +133,59 @@ fn forced_runs_of_run_time_dimension_are_the_const_generic_runs() {
                 .fold(0.0, f64::max);
             assert!(moved > 1e-2, "{embedding} {scheme}: {moved:e}");
         }
+    }
+}
+
+/// The Gauss–Legendre integrators under the same forces: on the run-time path (the force's
+/// Jacobian joins the stage Jacobian's `∂Ṗ/∂x` and `∂Ṗ/∂v` blocks in the interleaved band) the
+/// nodes, momenta and Newton iterations of the const-generic run, for every stage count, with
+/// the dissipation as Rayleigh's and as a general `#[force]`.
+#[test]
+fn forced_gauss_legendre_runs_are_the_const_generic_runs() {
+    let rayleigh = Forced::new(Chain, Rayleigh(Dashpots { gamma: 0.3 }));
+    let general = Forced::new(Chain, DashpotForce { gamma: 0.3 });
+    let (q0, v0) = initial();
+    let grid = Grid::new(0.0, 4.0, 80).unwrap();
+    let flat = |nodes: &[varembed::Vector<N>]| -> Vec<f64> {
+        nodes.iter().flat_map(|q| q.iter().copied()).collect()
+    };
+    for s in 1..=4 {
+        let embedding = Embedding::gauss_legendre(s).unwrap();
+        let reference = Problem::new(&rayleigh, grid, embedding)
+            .solve_ivp(Scheme::Variational, q0, v0)
+            .unwrap();
+        let runs = [
+            DynProblem::new(&rayleigh, grid, embedding).solve_ivp(Scheme::Variational, &q0, &v0),
+            DynProblem::new(&general, grid, embedding).solve_ivp(Scheme::Variational, &q0, &v0),
+        ];
+        for run in runs {
+            let run = run.unwrap();
+            for (got, expected) in [
+                (&run.q, flat(&reference.q)),
+                (&run.momenta, flat(&reference.momenta)),
+            ] {
+                let gap = got
+                    .iter()
+                    .zip(&expected)
+                    .map(|(a, b)| (a - b).abs())
+                    .fold(0.0, f64::max);
+                assert!(gap <= 1e-12, "s = {s}: {gap:e}");
+            }
+            assert_eq!(
+                run.run.newton_iterations, reference.newton_iterations,
+                "s = {s}"
+            );
+            assert_eq!(run.run.band, 2 * s - 1, "s = {s}");
+        }
+        // The force does work: the unforced run ends elsewhere.
+        let unforced = DynProblem::new(&Chain, grid, embedding)
+            .solve_ivp(Scheme::Variational, &q0, &v0)
+            .unwrap();
+        let last = &reference.q[80];
+        let moved = (0..N)
+            .map(|i| (unforced.node(80)[i] - last[i]).abs())
+            .fold(0.0, f64::max);
+        assert!(moved > 1e-2, "s = {s}: {moved:e}");
     }
 }
 
