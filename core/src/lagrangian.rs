@@ -341,8 +341,8 @@ pub trait Lagrangian<const D: usize> {
     /// run on the const-generic path; `#[lagrangian]` returns `Some(self)` for a model written
     /// with loops over a named dimension (`[f64; N]`), which implements both traits. From
     /// [`RUN_TIME_FROM`](crate::RUN_TIME_FROM) degrees of freedom on, [`Problem`](crate::Problem) then solves its
-    /// initial value problems (every classical embedding, Gauss–Legendre included) with the
-    /// run-time engine: the same steps, faster there, and with no `D × D` block on the stack
+    /// initial value problems (every classical embedding, Gauss–Legendre included) and its
+    /// Gauss-FDEσ and asymmetric boundary value problems with the run-time engine: the same steps, faster there, and with no `D × D` block on the stack
     /// (a `Hessian<256>` by value is 1.5 MB, most of a test thread's 2 MiB stack). A run-time
     /// form whose `dimension()` is not `D` is not this model's, and is not used.
     ///

@@ -120,9 +120,10 @@ impl FractionalSolver {
 pub(crate) const FFT_OPERATOR_THRESHOLD: usize = 256;
 
 /// The number of degrees of freedom from which [`Problem`](crate::Problem) solves the initial
-/// value problems of a model that is also a [`DynLagrangian`](crate::DynLagrangian) (every
-/// `#[lagrangian]` model with loops over `[f64; N]`, see
-/// [`Lagrangian::run_time`](crate::Lagrangian::run_time)) with the run-time-dimension engine:
+/// value problems (and the Gauss-FDEσ and asymmetric boundary value problems) of a model that
+/// is also a [`DynLagrangian`](crate::DynLagrangian) (every `#[lagrangian]` model with loops
+/// over `[f64; N]`, see [`Lagrangian::run_time`](crate::Lagrangian::run_time)) with the
+/// run-time-dimension engine:
 /// from there on its steps are as fast or faster, and nothing of size `D × D` is put on the
 /// stack ([solvers](crate::guide::solvers#large-models-run-time-dimension-and-sparse-newton)).
 ///

@@ -3,11 +3,12 @@
 //! needs to the solvers.
 
 use crate::discretisation::Discretisation;
+use crate::dynamic::problem::DynProblem;
 use crate::embedding::{Embedding, Scheme};
 use crate::error::{Error, Result};
 use crate::grid::Grid;
 use crate::lagrangian::{IntoVector, Lagrangian, Vector};
-use crate::options::{FractionalSolver, NewtonOptions, SolverOptions};
+use crate::options::{FractionalSolver, NewtonOptions, RUN_TIME_FROM, SolverOptions};
 use crate::solve::bvp;
 use crate::solve::solution::Solution;
 use crate::solve::start::Start;
@@ -542,6 +543,13 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
     /// located at the global Newton iteration; on the fractional fast path (see
     /// [`FractionalSolver`]) also [`Error::KrylovDidNotConverge`].
     ///
+    /// A model that is also a [`DynLagrangian`](crate::DynLagrangian) (every `#[lagrangian]`
+    /// model with loops over `[f64; N]`, see [`Lagrangian::run_time`]) with [`RUN_TIME_FROM`]
+    /// or more degrees of freedom is solved, under Gauss-FDEσ and the asymmetric embedding, by
+    /// the run-time engine
+    /// ([`DynProblem::solve_bvp`](crate::DynProblem::solve_bvp): sparse LU, the same rows,
+    /// stopping rule and errors), with no `D × D` block on the stack.
+    ///
     /// # Example
     ///
     /// ```
@@ -580,6 +588,42 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn solve_bvp_from(&self, scheme: Scheme, guess: &[Vector<D>]) -> Result<Solution<D>> {
+        if let Some(solved) = self.bvp_on_run_time_engine(scheme, guess) {
+            return solved;
+        }
         bvp::solve(&self.discretisation, &self.options, scheme, guess)
+    }
+
+    /// The boundary value problem of a model that is also a
+    /// [`DynLagrangian`](crate::DynLagrangian) (see [`Lagrangian::run_time`]) with
+    /// [`RUN_TIME_FROM`] or more degrees of freedom, under an embedding whose boundary value
+    /// problems the run-time engine solves (Gauss-FDEσ, asymmetric): by that engine's sparse LU,
+    /// with this problem's Newton options and posedness check, no `D × D` block on the stack;
+    /// `None` for any other problem, which stays on this path.
+    fn bvp_on_run_time_engine(
+        &self,
+        scheme: Scheme,
+        guess: &[Vector<D>],
+    ) -> Option<Result<Solution<D>>> {
+        use crate::embedding::EmbeddingKind;
+        if D < RUN_TIME_FROM {
+            return None;
+        }
+        let model = self.discretisation.lagrangian().run_time()?;
+        let embedding = *self.discretisation.embedding();
+        let solved_there = matches!(
+            embedding.kind(),
+            EmbeddingKind::FiniteDifference | EmbeddingKind::Asymmetric
+        );
+        // A guess of the wrong length gets this path's error, naming it in nodes.
+        if model.dimension() != D || !solved_there || guess.len() != self.grid().n() + 1 {
+            return None;
+        }
+        let problem = DynProblem::new(model, *self.grid(), embedding)
+            .with_newton(self.options.newton)
+            .with_posedness_check(self.options.posedness_check);
+        let flat: Vec<f64> = guess.iter().flat_map(|q| q.iter().copied()).collect();
+        let solved = problem.solve_bvp_from(scheme, &flat);
+        Some(solved.map(|solution| solution.into_nodes()))
     }
 }

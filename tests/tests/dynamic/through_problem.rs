@@ -1,5 +1,6 @@
 //! A `[f64; N]` model with loops is also a run-time-dimension model: from `RUN_TIME_FROM`
-//! degrees of freedom on, `Problem` hands its initial value problems to the run-time engine.
+//! degrees of freedom on, `Problem` hands its initial value problems (and its Gauss-FDEσ and
+//! asymmetric boundary value problems) to the run-time engine.
 //! The nodes are the const-generic path's, and a model of 256 degrees of freedom runs on the
 //! 2 MiB stack of a test thread.
 
@@ -249,5 +250,82 @@ fn a_run_time_form_of_another_dimension_is_not_used() {
             .solve_ivp(Scheme::Variational, x0, u0)
             .unwrap();
         assert_eq!(run.q, reference.q);
+    });
+}
+
+/// The boundary value problems of a large model under Gauss-FDEσ and the asymmetric embedding
+/// are handed to the run-time engine too: a 256-site ring on a 2 MiB stack gives
+/// `DynProblem`'s nodes bit for bit, and at the threshold's size the const-generic nodes of
+/// the same model (to 1e-12), with the problem's posedness check.
+#[test]
+fn boundary_value_problems_of_large_models_run_on_the_run_time_engine() {
+    let grid = Grid::new(0.0, 1.0, 30).unwrap();
+    let kinds = [
+        Embedding::finite_difference(Side::Backward),
+        Embedding::finite_difference(Side::Forward),
+        Embedding::asymmetric(Side::Backward),
+    ];
+    let model = SineGordon { c: 4.0 };
+    let (qa, v0) = displaced(RING);
+    let qb: Vec<f64> = qa.iter().zip(&v0).map(|(q, v)| 0.9 * q + v).collect();
+    on_stack(2 << 20, || {
+        for embedding in kinds {
+            for scheme in [Scheme::Direct, Scheme::Variational] {
+                let routed = Problem::new(&model, grid, embedding)
+                    .solve_bvp(
+                        scheme,
+                        Vector::<RING>::from_column_slice(&qa),
+                        Vector::<RING>::from_column_slice(&qb),
+                    )
+                    .unwrap();
+                let reference = DynProblem::new(&model, grid, embedding)
+                    .solve_bvp(scheme, &qa, &qb)
+                    .unwrap();
+                for (k, node) in routed.q.iter().enumerate() {
+                    assert_eq!(node.as_slice(), reference.node(k), "{embedding} {scheme:?}");
+                }
+                assert_eq!(routed.newton_iterations, reference.run.newton_iterations);
+            }
+        }
+    });
+    let model = SmallRing { c: 4.0 };
+    let (qa, v0) = displaced(SMALL);
+    let qb: Vec<f64> = qa.iter().zip(&v0).map(|(q, v)| 0.9 * q + v).collect();
+    let (xa, xb) = (
+        Vector::<SMALL>::from_column_slice(&qa),
+        Vector::<SMALL>::from_column_slice(&qb),
+    );
+    on_stack(64 << 20, || {
+        for embedding in kinds {
+            for scheme in [Scheme::Direct, Scheme::Variational] {
+                let routed = Problem::new(&model, grid, embedding)
+                    .solve_bvp(scheme, xa, xb)
+                    .unwrap();
+                let reference = Problem::new(&Dense(&model), grid, embedding)
+                    .solve_bvp(scheme, xa, xb)
+                    .unwrap();
+                let size = reference.q.iter().map(|q| q.amax()).fold(0.0, f64::max);
+                let gap = routed
+                    .q
+                    .iter()
+                    .zip(&reference.q)
+                    .map(|(a, b)| (a - b).amax())
+                    .fold(0.0, f64::max);
+                assert!(gap <= 1e-12 * size, "{embedding} {scheme:?}: {gap:e}");
+                assert_eq!(
+                    routed.warnings, reference.warnings,
+                    "{embedding} {scheme:?}"
+                );
+            }
+        }
+        // The symmetric embeddings' boundary value problems stay on the const-generic path.
+        let midpoint = Embedding::midpoint();
+        let routed = Problem::new(&model, grid, midpoint)
+            .solve_bvp(Scheme::Variational, xa, xb)
+            .unwrap();
+        let reference = Problem::new(&Dense(&model), grid, midpoint)
+            .solve_bvp(Scheme::Variational, xa, xb)
+            .unwrap();
+        assert_eq!(routed.q, reference.q);
     });
 }
