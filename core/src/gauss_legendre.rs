@@ -52,6 +52,22 @@ impl GaussTableau {
     pub fn a(&self, i: usize, j: usize) -> f64 {
         self.a[i * self.stages() + j]
     }
+
+    /// `ℓ_j(1 + c_i)` row by row (`i` the row): the Lagrange basis of the nodes `c` evaluated
+    /// at the next step's nodes, which carries the stage velocities of one step to the Newton
+    /// guess of the next (the collocation polynomial's velocity extrapolated, an `O(hˢ)` guess).
+    pub(crate) fn extrapolation(&self) -> Vec<f64> {
+        let (s, c) = (self.stages(), &self.c);
+        let mut weights = vec![1.0; s * s];
+        for i in 0..s {
+            for j in 0..s {
+                for m in (0..s).filter(|&m| m != j) {
+                    weights[i * s + j] *= (1.0 + c[i] - c[m]) / (c[j] - c[m]);
+                }
+            }
+        }
+        weights
+    }
 }
 
 /// `(P_s(x), P_s′(x))` by the recurrence `(k + 1) P_{k+1} = (2k + 1) x P_k − k P_{k−1}`.

@@ -190,15 +190,7 @@ impl<'l, L: DynLagrangian + ?Sized> StageSystem<'l, L> {
         newton: NewtonOptions,
     ) -> Self {
         let (s, d) = (tableau.stages(), v0.len());
-        let c = &tableau.c;
-        let mut extrapolation = vec![1.0; s * s];
-        for i in 0..s {
-            for j in 0..s {
-                for m in (0..s).filter(|&m| m != j) {
-                    extrapolation[i * s + j] *= (1.0 + c[i] - c[m]) / (c[j] - c[m]);
-                }
-            }
-        }
+        let extrapolation = tableau.extrapolation();
         let forced = lagrangian.is_forced();
         StageSystem {
             lagrangian,

@@ -164,15 +164,7 @@ impl<const D: usize> StageSystem<D> {
             xv: Matrix::<D>::zeros(),
             vv: Matrix::<D>::zeros(),
         };
-        let c = &tableau.c;
-        let mut extrapolation = vec![1.0; s * s];
-        for i in 0..s {
-            for j in 0..s {
-                for m in (0..s).filter(|&m| m != j) {
-                    extrapolation[i * s + j] *= (1.0 + c[i] - c[m]) / (c[j] - c[m]);
-                }
-            }
-        }
+        let extrapolation = tableau.extrapolation();
         StageSystem {
             extrapolation,
             solved: vec![zero; s],
