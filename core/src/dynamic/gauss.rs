@@ -53,6 +53,8 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         }
         let l = self.lagrangian;
         let (mut vv, hessian, _) = self.check_initial_data(q0, v0)?;
+        // The scale the degeneracy checks along the run measure against.
+        let reference = vv.pivot_range().1;
         let (grid, h, d) = (self.grid, self.grid.h(), q0.len());
         let warning = self
             .resolution_check
@@ -88,7 +90,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
                 guard.record(e, vp, e.abs(), n)?;
             }
             if n % DEGENERACY_CHECK_INTERVAL == 0 || n == grid.n() {
-                system.check_first_stage_vv(Location::Step(n))?;
+                system.check_first_stage_vv(Location::Step(n), reference)?;
             }
             system.extrapolate_guess();
             // Node n − 1 has every node its formulas read (itself and Q_n) and Q_{n−2}.
@@ -274,7 +276,8 @@ impl<'l, L: DynLagrangian + ?Sized> StageSystem<'l, L> {
     fn factorize_jacobian(&mut self) -> (f64, bool) {
         let (s, d) = (self.stages(), self.d);
         let claimed = self.lagrangian.hessian_bandwidth();
-        loop {
+        // A plan made from this step's own pattern always fits it: at most one re-plan.
+        for _ in 0..2 {
             let (system, _) = self.system.get_or_insert_with(|| {
                 let blocks: Vec<_> = self
                     .hessian
@@ -293,6 +296,7 @@ impl<'l, L: DynLagrangian + ?Sized> StageSystem<'l, L> {
             // An entry outside the planned band: plan again from this step's pattern.
             self.system = None;
         }
+        (0.0, false)
     }
 
     /// Newton's method on the stage equations of the step from `(q_k, p_k)` at `t_k` (step
@@ -355,10 +359,20 @@ impl<'l, L: DynLagrangian + ?Sized> StageSystem<'l, L> {
     }
 
     /// [`Error::DegenerateLagrangian`] at `at` when `∂²L/∂v²` at the first stage of the
-    /// solved step is (the check of the initial data, along the run).
-    fn check_first_stage_vv(&self, at: Location) -> Result<()> {
+    /// solved step is degenerate: the const-generic path's measure, its smallest pivot over
+    /// the larger of its largest and `reference` (the largest pivot at the initial data), so
+    /// that an `∂²L/∂v²` shrinking as a whole along the run is caught too.
+    fn check_first_stage_vv(&self, at: Location, reference: f64) -> Result<()> {
         let hessian = &self.hessian[0];
-        let (_, measure) = vv_factorised(self.d, self.lagrangian.hessian_bandwidth(), hessian);
+        let claimed = self.lagrangian.hessian_bandwidth();
+        let measure = match vv_factorised(self.d, claimed, hessian) {
+            (Some(system), _) => {
+                let (lo, hi) = system.pivot_range();
+                let scale = hi.max(reference);
+                if scale > 0.0 { lo / scale } else { 0.0 }
+            }
+            (None, _) => 0.0,
+        };
         if measure >= DEGENERACY_THRESHOLD {
             return Ok(());
         }

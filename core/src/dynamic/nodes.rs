@@ -203,6 +203,13 @@ impl DynSolution {
             });
         }
         check_len("solution nodes", (n + 1).saturating_mul(d), self.q.len())?;
+        if !self.momenta.is_empty() {
+            check_len(
+                "solution momenta",
+                (n + 1).saturating_mul(d),
+                self.momenta.len(),
+            )?;
+        }
         let mut values = NodeObserver::new(lagrangian, (&run.embedding, run.scheme, run.grid), d)?;
         let (mut v, mut p) = (vec![0.0; (n + 1) * d], vec![0.0; (n + 1) * d]);
         let mut energy = Vec::with_capacity(n + 1);

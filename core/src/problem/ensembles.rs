@@ -2,14 +2,11 @@
 //! embedding and options applied to many models, the members run by an [`Ensemble`].
 
 use super::Problem;
-use crate::discretisation::Discretisation;
 use crate::embedding::Scheme;
 use crate::ensemble::Ensemble;
 use crate::error::Result;
 use crate::lagrangian::{IntoVector, Lagrangian};
-use crate::solve::ivp::Ivp;
 use crate::solve::solution::Solution;
-use crate::solve::start::Start;
 
 impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// [`solve_ivp`](Self::solve_ivp) from each member's initial data `(q(a), q̇(a))`, the
@@ -111,10 +108,14 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         let (q0, v0) = (q0.into_vector(), v0.into_vector());
         // Only plain data crosses to the threads: this problem's Lagrangian need not be `Sync`.
         let (grid, embedding, options) = (*self.grid(), *self.embedding(), self.options);
+        let start = self.start;
         ensemble.map(members, |p| {
             let model = model(p);
-            let discretisation = Discretisation::new(&model, grid, embedding);
-            Ivp::new(&discretisation, &options).solve(scheme, q0, v0, Start::Legendre)
+            // The member's own problem with these options: a large model is handed to the
+            // run-time engine as its own `solve_ivp` would hand it.
+            let mut problem = Problem::new(&model, grid, embedding).with_start(start);
+            problem.options = options;
+            problem.solve_ivp(scheme, q0, v0)
         })
     }
 }

@@ -3,8 +3,8 @@
 //! exact solution, and the typed errors of bad input.
 
 use varembed::{
-    DynProblem, DynSolution, Embedding, Error, Grid, Lagrangian, NewtonOptions, Problem, Scheme,
-    Solution, Start, Vector, lagrangian,
+    DynProblem, DynSolution, Embedding, Ensemble, Error, Grid, Lagrangian, NewtonOptions, Problem,
+    Scheme, Solution, Start, Vector, lagrangian,
 };
 
 use super::ivp::const_generic_run_from;
@@ -278,6 +278,17 @@ fn the_start_is_chosen_the_same_way_on_both_paths() {
             assert_eq!(twin_builder.q, twin_call.q, "{embedding} {start:?}");
             let gap = relative_gap(&by_builder, &twin_builder);
             assert!(gap <= 1e-12, "{embedding} {start:?}: {gap:e}");
+            // The ensembles of both paths run from the problem's start too.
+            let members = [&twin];
+            let models = Problem::new(&twin, grid, embedding)
+                .with_start(start)
+                .solve_ivp_models(scheme, &members, |m| *m, x0, u0, &Ensemble::serial());
+            assert_eq!(models[0].as_ref().unwrap().q, twin_builder.q, "{start:?}");
+            let dyn_members = [&chain];
+            let dyn_models = DynProblem::new(&chain, grid, embedding)
+                .with_start(start)
+                .solve_ivp_models(scheme, &dyn_members, |m| *m, &q0, &v0, &Ensemble::serial());
+            assert_eq!(dyn_models[0].as_ref().unwrap().q, by_builder.q, "{start:?}");
             first_nodes.push(by_builder.node(1).to_vec());
         }
         assert_ne!(first_nodes[0], first_nodes[1], "{embedding}");

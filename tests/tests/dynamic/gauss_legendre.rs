@@ -4,7 +4,8 @@
 
 use nalgebra::{DMatrix, SymmetricEigen};
 use varembed::{
-    DynProblem, Embedding, Error, Grid, Lagrangian, Problem, Scheme, Solution, Vector, lagrangian,
+    DynProblem, Embedding, Error, Grid, Lagrangian, Location, Problem, Scheme, Solution, Vector,
+    lagrangian,
 };
 use varembed_tests::models::chain::{FputChain, displacement};
 
@@ -304,4 +305,110 @@ fn bad_requests_get_the_const_generic_paths_errors() {
         Lagrangian::<M>::run_time(&model).map(|m| m.dimension()),
         Some(M)
     );
+}
+
+/// The resolution check of a Gauss–Legendre run (limit `2s` on `hω`) on the run-time path: a
+/// step too coarse for the fastest motion at the initial data is warned about with the limit
+/// of its stage count, as on the const-generic path (same warning variant and limit, `hω`
+/// within 1 %), and not when the check is off; a fine step is not warned about.
+#[test]
+fn a_coarse_step_is_warned_about_as_on_the_const_generic_path() {
+    let model = Twisted { k: 400.0 };
+    let (q0, v0) = initial();
+    for s in 1..=3 {
+        let embedding = Embedding::gauss_legendre(s).unwrap();
+        // ω ≈ 20 at the initial data: h ω ≈ 8 > 2s for s ≤ 3 at h = 0.4.
+        let coarse = Grid::new(0.0, 2.0, 5).unwrap();
+        let run = DynProblem::new(&model, coarse, embedding)
+            .solve_ivp(Scheme::Variational, &q0, &v0)
+            .unwrap();
+        let reference = Problem::new(&model, coarse, embedding)
+            .solve_ivp(
+                Scheme::Variational,
+                Vector::<M>::from_column_slice(&q0),
+                Vector::<M>::from_column_slice(&v0),
+            )
+            .unwrap();
+        match (&run.warnings[..], &reference.warnings[..]) {
+            (
+                [varembed::Warning::UnderResolved { h_omega, limit }],
+                [
+                    varembed::Warning::UnderResolved {
+                        h_omega: expected,
+                        limit: expected_limit,
+                    },
+                ],
+            ) => {
+                assert_eq!((*limit, *expected_limit), (2.0 * s as f64, 2.0 * s as f64));
+                assert!(
+                    (h_omega / expected - 1.0).abs() < 0.01,
+                    "{h_omega} vs {expected}"
+                );
+            }
+            other => panic!("s = {s}: {other:?}"),
+        }
+        let unchecked = DynProblem::new(&model, coarse, embedding)
+            .with_resolution_check(false)
+            .solve_ivp(Scheme::Variational, &q0, &v0)
+            .unwrap();
+        assert!(unchecked.warnings.is_empty());
+        let fine = Grid::new(0.0, 2.0, 400).unwrap();
+        let resolved = DynProblem::new(&model, fine, embedding)
+            .solve_ivp(Scheme::Variational, &q0, &v0)
+            .unwrap();
+        assert!(
+            resolved.warnings.is_empty(),
+            "s = {s}: {:?}",
+            resolved.warnings
+        );
+    }
+}
+
+const F: usize = 4;
+
+/// Free particles whose mass fades as `e^{−40 t}`: `∂²L/∂v²` stays a multiple of the
+/// identity (its pivot ratio 1) while shrinking below 1e-12 of its start by `t = 0.7`.
+#[lagrangian]
+fn fading(x: [f64; F], v: [f64; F], t: f64) -> f64 {
+    let mut l = 0.0;
+    for i in 0..F {
+        l += 0.5 * (-40.0 * t).exp() * v[i] * v[i] - 0.01 * x[i] * x[i];
+    }
+    l
+}
+
+/// The degeneracy check along a run measures `∂²L/∂v²` against its size at the initial data
+/// on both paths: a mass that fades as a whole is reported at the last step by both, with the
+/// same measure to 1e-6.
+#[test]
+fn a_fading_mass_is_degenerate_on_both_paths() {
+    let grid = Grid::new(0.0, 1.0, 100).unwrap();
+    let embedding = Embedding::gauss_legendre(2).unwrap();
+    let (q0, v0) = ([0.1; F], [0.2; F]);
+    let run = DynProblem::new(&Fading, grid, embedding).solve_ivp(Scheme::Variational, &q0, &v0);
+    let reference = Problem::new(&Fading, grid, embedding).solve_ivp(
+        Scheme::Variational,
+        Vector::<F>::from_column_slice(&q0),
+        Vector::<F>::from_column_slice(&v0),
+    );
+    match (run, reference) {
+        (
+            Err(Error::DegenerateLagrangian { at, measure, .. }),
+            Err(Error::DegenerateLagrangian {
+                at: expected_at,
+                measure: expected,
+                ..
+            }),
+        ) => {
+            assert_eq!(
+                (at, expected_at),
+                (Location::Step(100), Location::Step(100))
+            );
+            assert!(
+                (measure / expected - 1.0).abs() < 1e-6,
+                "{measure:e} vs {expected:e}"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
 }

@@ -330,3 +330,37 @@ fn boundary_value_problems_of_large_models_run_on_the_run_time_engine() {
         assert_eq!(routed.q, reference.q);
     });
 }
+
+/// `Problem::solve_ivp_models` hands each member of a large model to the run-time engine as
+/// that member's own `solve_ivp` would, with the problem's options and start: bit for bit on a
+/// 2 MiB stack.
+#[test]
+fn ensembles_of_large_models_run_on_the_run_time_engine() {
+    let grid = Grid::new(0.0, 1.0, 20).unwrap();
+    let (q0, v0) = displaced(RING);
+    let (x0, u0) = (
+        Vector::<RING>::from_column_slice(&q0),
+        Vector::<RING>::from_column_slice(&v0),
+    );
+    let members = [SineGordon { c: 4.0 }, SineGordon { c: 1.5 }];
+    on_stack(2 << 20, || {
+        for embedding in [Embedding::midpoint(), Embedding::gauss_legendre(2).unwrap()] {
+            let problem = Problem::new(&members[0], grid, embedding).with_start(Start::SecondOrder);
+            let runs = problem.solve_ivp_models(
+                Scheme::Variational,
+                &members,
+                |m| m,
+                x0,
+                u0,
+                &varembed::Ensemble::serial(),
+            );
+            for (run, member) in runs.iter().zip(&members) {
+                let alone = Problem::new(member, grid, embedding)
+                    .with_start(Start::SecondOrder)
+                    .solve_ivp(Scheme::Variational, x0, u0)
+                    .unwrap();
+                assert_eq!(run.as_ref().unwrap().q, alone.q, "{embedding}");
+            }
+        }
+    });
+}
