@@ -1,0 +1,106 @@
+//! [`Problem`]'s boundary value problems: the global Newton solve of the discretisation, or,
+//! for a large model under an embedding the run-time engine solves, that engine's sparse LU.
+
+use super::Problem;
+use crate::dynamic::problem::DynProblem;
+use crate::embedding::{EmbeddingKind, Scheme};
+use crate::error::Result;
+use crate::lagrangian::{IntoVector, Lagrangian, Vector};
+use crate::options::RUN_TIME_FROM;
+use crate::solve::bvp;
+use crate::solve::solution::Solution;
+
+impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
+    /// Solves the boundary value problem `Q_0 = qa`, `Q_N = qb` for `scheme`, from the straight
+    /// line between them. Works for every embedding.
+    ///
+    /// Newton's method on the rows of [`residual`](Self::residual), full steps first, damped by
+    /// a line search on the residual's 2-norm with a watchdog (see
+    /// [solvers](crate::guide::solvers)). Errors: [`Error::SingularJacobian`],
+    /// [`Error::NewtonDidNotConverge`] (iterations, last residual) and [`Error::NotFinite`],
+    /// located at the global Newton iteration; on the fractional fast path (see
+    /// [`FractionalSolver`]) also [`Error::KrylovDidNotConverge`].
+    ///
+    /// A model that is also a [`DynLagrangian`](crate::DynLagrangian) (every `#[lagrangian]`
+    /// model with loops over `[f64; N]`, see [`Lagrangian::run_time`]) with [`RUN_TIME_FROM`]
+    /// or more degrees of freedom is solved, under Gauss-FDEσ and the asymmetric embedding, by
+    /// the run-time engine
+    /// ([`DynProblem::solve_bvp`](crate::DynProblem::solve_bvp): sparse LU, the same rows,
+    /// stopping rule and errors), with no `D × D` block on the stack.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// // q = sin t / sin 1 from q(0) = 0 to q(1) = 1.
+    /// let solution = problem.solve_bvp(Scheme::Variational, 0.0, 1.0)?;
+    /// assert!((solution.q[5][0] - 0.5f64.sin() / 1f64.sin()).abs() < 1e-3);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn solve_bvp(
+        &self,
+        scheme: Scheme,
+        qa: impl IntoVector<D>,
+        qb: impl IntoVector<D>,
+    ) -> Result<Solution<D>> {
+        let guess = bvp::straight_line(qa.into_vector(), qb.into_vector(), self.grid().n())?;
+        self.solve_bvp_from(scheme, &guess)
+    }
+
+    /// Solves the boundary value problem from an initial guess of all `N + 1` nodes; its first
+    /// and last nodes are the boundary values.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// # use varembed::{Embedding, Grid, NewtonOptions, Problem, Scheme, Side, Vector, lagrangian};
+    /// # #[lagrangian]
+    /// # fn oscillator(x: f64, v: f64) -> f64 { 0.5 * v * v - 0.5 * x * x }
+    /// let problem = Problem::new(&Oscillator, Grid::new(0.0, 1.0, 10)?, Embedding::finite_difference(Side::Backward));
+    /// let guess = vec![Vector::<1>::new(1.0); 11];
+    /// let solution = problem.solve_bvp_from(Scheme::Variational, &guess)?;
+    /// assert_eq!((solution.q[0][0], solution.q[10][0]), (1.0, 1.0));
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn solve_bvp_from(&self, scheme: Scheme, guess: &[Vector<D>]) -> Result<Solution<D>> {
+        if let Some(solved) = self.bvp_on_run_time_engine(scheme, guess) {
+            return solved;
+        }
+        bvp::solve(&self.discretisation, &self.options, scheme, guess)
+    }
+
+    /// The boundary value problem of a model that is also a
+    /// [`DynLagrangian`](crate::DynLagrangian) (see [`Lagrangian::run_time`]) with
+    /// [`RUN_TIME_FROM`] or more degrees of freedom, under an embedding whose boundary value
+    /// problems the run-time engine solves (Gauss-FDEσ, asymmetric): by that engine's sparse LU,
+    /// with this problem's Newton options and posedness check, no `D × D` block on the stack;
+    /// `None` for any other problem, which stays on this path.
+    fn bvp_on_run_time_engine(
+        &self,
+        scheme: Scheme,
+        guess: &[Vector<D>],
+    ) -> Option<Result<Solution<D>>> {
+        if D < RUN_TIME_FROM {
+            return None;
+        }
+        let model = self.discretisation.lagrangian().run_time()?;
+        let embedding = *self.discretisation.embedding();
+        let solved_there = matches!(
+            embedding.kind(),
+            EmbeddingKind::FiniteDifference | EmbeddingKind::Asymmetric
+        );
+        // A guess of the wrong length gets this path's error, naming it in nodes.
+        if model.dimension() != D || !solved_there || guess.len() != self.grid().n() + 1 {
+            return None;
+        }
+        let problem = DynProblem::new(model, *self.grid(), embedding)
+            .with_newton(self.options.newton)
+            .with_posedness_check(self.options.posedness_check);
+        let flat: Vec<f64> = guess.iter().flat_map(|q| q.iter().copied()).collect();
+        let solved = problem.solve_bvp_from(scheme, &flat);
+        Some(solved.map(|solution| solution.into_nodes()))
+    }
+}
