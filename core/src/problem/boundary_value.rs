@@ -21,6 +21,12 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// located at the global Newton iteration; on the fractional fast path (see
     /// [`FractionalSolver`]) also [`Error::KrylovDidNotConverge`].
     ///
+    /// [`Error::SingularJacobian`]: crate::Error::SingularJacobian
+    /// [`Error::NewtonDidNotConverge`]: crate::Error::NewtonDidNotConverge
+    /// [`Error::NotFinite`]: crate::Error::NotFinite
+    /// [`Error::KrylovDidNotConverge`]: crate::Error::KrylovDidNotConverge
+    /// [`FractionalSolver`]: crate::FractionalSolver
+    ///
     /// A model that is also a [`DynLagrangian`](crate::DynLagrangian) (every `#[lagrangian]`
     /// model with loops over `[f64; N]`, see [`Lagrangian::run_time`]) with [`RUN_TIME_FROM`]
     /// or more degrees of freedom is solved, under Gauss-FDEσ and the asymmetric embedding, by
