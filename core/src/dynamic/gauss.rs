@@ -19,20 +19,17 @@ use crate::error::{Error, Location, Result};
 use crate::gauss_legendre::GaussTableau;
 use crate::options::NewtonOptions;
 use crate::regularity::DEGENERACY_THRESHOLD;
+use crate::solve::gauss::{DEGENERACY_CHECK_INTERVAL, floor_size};
 use crate::solve::guard::BlowUpGuard;
 use crate::solve::newton::{StepIteration, newton};
 
 use super::DynLagrangian;
 use super::band::{BandSystem, OutsideBand};
-use super::ivp::{DynIvp, DynRun, vv_factorised};
+use super::ivp::{DynIvp, DynRun, node_without_values, vv_factorised};
 use super::observer::{DynNode, NodeObserver};
 use super::slices::max_norm;
 use super::sparse::{SparseForceJacobian, SparseHessian};
 use super::stability::resolution_warning;
-
-/// Steps between two checks of `∂²L/∂v²` along a run (at the first stage of the step), as on
-/// the const-generic path.
-const DEGENERACY_CHECK_INTERVAL: usize = 1024;
 
 impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
     /// The run of the Gauss–Legendre integrator with `stages` stages from `q(a) = q0`,
@@ -140,19 +137,13 @@ fn hand<L: DynLagrangian + ?Sized>(
     (first, window): (usize, &[&[f64]]),
     observe: &mut impl FnMut(DynNode<'_>),
 ) -> Result<()> {
-    if let Some(values) = values {
-        return values.hand(k, (first, window), Some(p), observe);
+    match values {
+        Some(values) => values.hand(k, (first, window), Some(p), observe),
+        None => {
+            node_without_values((k, t, p), (first, window), observe);
+            Ok(())
+        }
     }
-    observe(DynNode {
-        index: k,
-        t,
-        q: window[k - first],
-        previous: window[k.max(1) - 1 - first],
-        v: &[],
-        p,
-        energy: None,
-    });
-    Ok(())
 }
 
 /// The stage system of one step and its Newton solve over slices (stage `i` of a flat buffer
@@ -429,11 +420,7 @@ impl<L: DynLagrangian + ?Sized> StepIteration for StageIteration<'_, '_, L> {
     /// As on the const-generic path: `max ‖V_i‖∞ + rows / ‖J‖∞`, so that the floor is
     /// `64 ε (rows + ‖J‖∞ max ‖V_i‖∞)`.
     fn size(&self) -> f64 {
-        let v = max_norm(&self.stages.v);
-        match self.j_norm > 0.0 {
-            true => v + self.rows / self.j_norm,
-            false => v,
-        }
+        floor_size(max_norm(&self.stages.v), self.rows, self.j_norm)
     }
 
     fn update(&mut self) -> bool {

@@ -107,7 +107,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         let mut hand = |k: usize, window: (usize, &[&[f64]]), observe: &mut _| match &mut values {
             Some(values) => values.hand(k, window, None, observe),
             None => {
-                positions_only((k, grid.t(k)), window, observe);
+                node_without_values((k, grid.t(k), &[]), window, observe);
                 Ok(())
             }
         };
@@ -312,10 +312,11 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
     }
 }
 
-/// Hands node `k` of `window` (consecutive nodes, the first of them node `window.0`) to
-/// `observe` without its velocity, momentum or energy.
-fn positions_only(
-    (k, t): (usize, f64),
+/// Hands node `k` at `t` of `window` (consecutive nodes, the first of them node `window.0`) to
+/// `observe` without its velocity or energy, with the momentum `p` a scheme carries there
+/// (empty for the three-point recurrences, which carry none).
+pub(super) fn node_without_values(
+    (k, t, p): (usize, f64, &[f64]),
     (first, window): (usize, &[&[f64]]),
     observe: &mut impl FnMut(DynNode<'_>),
 ) {
@@ -325,7 +326,7 @@ fn positions_only(
         q: window[k - first],
         previous: window[k.max(1) - 1 - first],
         v: &[],
-        p: &[],
+        p,
         energy: None,
     });
 }

@@ -48,7 +48,7 @@ use crate::solve::resolution::resolution_warning;
 use crate::solve::solution::Solution;
 
 /// Steps between two checks of `∂²L/∂v²` along a run (at the first stage of the step).
-const DEGENERACY_CHECK_INTERVAL: usize = 1024;
+pub(crate) const DEGENERACY_CHECK_INTERVAL: usize = 1024;
 
 /// What a Gauss–Legendre initial value problem is made of.
 pub(crate) struct GaussIvp<'l, L: ?Sized, const D: usize> {
@@ -325,6 +325,16 @@ struct StageIteration<'a, L: ?Sized, const D: usize> {
     j_norm: f64,
 }
 
+/// The size Newton's round-off floor `64 ε ‖J‖∞ size` reads for a stage system, both paths:
+/// `max ‖V_i‖∞ + rows / ‖J‖∞` (`max ‖V_i‖∞` alone when `‖J‖∞ = 0`), so that the floor is
+/// `64 ε (rows + ‖J‖∞ max ‖V_i‖∞)`.
+pub(crate) fn floor_size(largest_v: f64, rows: f64, j_norm: f64) -> f64 {
+    match j_norm > 0.0 {
+        true => largest_v + rows / j_norm,
+        false => largest_v,
+    }
+}
+
 impl<L: Lagrangian<D> + ?Sized, const D: usize> StepIteration for StageIteration<'_, L, D> {
     fn residual(&mut self) -> (f64, f64) {
         let (qk, pk, tk) = self.step;
@@ -348,10 +358,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> StepIteration for StageIteration
     /// velocities rounds at its own scale).
     fn size(&self) -> f64 {
         let v = self.stages.v.iter().fold(0.0f64, |m, y| m.max(y.amax()));
-        match self.j_norm > 0.0 {
-            true => v + self.rows / self.j_norm,
-            false => v,
-        }
+        floor_size(v, self.rows, self.j_norm)
     }
 
     fn update(&mut self) -> bool {
