@@ -109,6 +109,16 @@ fn solvers() -> Vec<(String, Kind)> {
             out.push((format!("DynProblem IVP {embedding} {scheme:?}"), kind));
         }
     }
+    // The Gauss–Legendre integrators, variational initial value problems.
+    for s in 1..=4 {
+        let embedding = Embedding::gauss_legendre(s).unwrap();
+        let kind = Kind {
+            embedding,
+            scheme: Scheme::Variational,
+            bvp: false,
+        };
+        out.push((format!("DynProblem IVP {embedding}"), kind));
+    }
     out
 }
 
