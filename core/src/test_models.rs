@@ -1,5 +1,7 @@
 //! Lagrangians shared by the unit tests of several modules.
 
+use crate::dynamic::DynLagrangian;
+use crate::dynamic::sparse::{SparseForceJacobian, SparseHessian};
 use crate::force::{Force, Forced};
 use crate::lagrangian::{ForceJacobian, Hessian, Lagrangian, Matrix, Vector};
 
@@ -65,3 +67,78 @@ impl Force<2> for MixedDrag {
 
 /// [`Mixed`] under [`MixedDrag`].
 pub(crate) const FORCED_MIXED: Forced<Mixed, MixedDrag> = Forced::new(Mixed, MixedDrag);
+
+/// The dimension of [`DynMixed`].
+pub(crate) const DYN_MIXED_DIMENSION: usize = 5;
+
+/// A run-time-dimension model whose every block is non-zero, not symmetric where it may not be
+/// (`L_xv`), depends on `x`, `v` and `t`, and couples neighbours on a ring of
+/// [`DYN_MIXED_DIMENSION`] sites (so a band order must wrap or reorder):
+/// `L = Σ_i [½ (1 + x_i²) v_i² + x_i v_{i+1} − cos(x_i − x_{i+1}) + t x_i v_i]`; with `forced`,
+/// under the force `f_i = −0.3 v_i x_{i+1}` with its own Jacobian.
+pub(crate) struct DynMixed {
+    pub(crate) forced: bool,
+}
+
+impl DynMixed {
+    /// `L`, `∂L/∂x` plus the force, and `∂L/∂v`.
+    fn parts(&self, x: &[f64], v: &[f64], t: f64) -> (f64, [f64; 5], [f64; 5]) {
+        const D: usize = DYN_MIXED_DIMENSION;
+        let (mut value, mut f, mut p) = (0.0, [0.0; D], [0.0; D]);
+        for i in 0..D {
+            let j = (i + 1) % D;
+            value += 0.5 * (1.0 + x[i] * x[i]) * v[i] * v[i] + x[i] * v[j] - (x[i] - x[j]).cos()
+                + t * x[i] * v[i];
+            f[i] += x[i] * v[i] * v[i] + v[j] + (x[i] - x[j]).sin() + t * v[i];
+            f[j] -= (x[i] - x[j]).sin();
+            if self.forced {
+                f[i] -= 0.3 * v[i] * x[j];
+            }
+            p[i] += (1.0 + x[i] * x[i]) * v[i] + t * x[i];
+            p[j] += x[i];
+        }
+        (value, f, p)
+    }
+}
+
+impl DynLagrangian for DynMixed {
+    fn dimension(&self) -> usize {
+        DYN_MIXED_DIMENSION
+    }
+    fn value(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
+        self.parts(x, v, t).0
+    }
+    fn force(&self, x: &[f64], v: &[f64], t: f64, f: &mut [f64]) {
+        f.copy_from_slice(&self.parts(x, v, t).1);
+    }
+    fn momentum(&self, x: &[f64], v: &[f64], t: f64, p: &mut [f64]) {
+        p.copy_from_slice(&self.parts(x, v, t).2);
+    }
+    fn hessian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseHessian) {
+        const D: usize = DYN_MIXED_DIMENSION;
+        for i in 0..D {
+            let j = (i + 1) % D;
+            let c = (x[i] - x[j]).cos();
+            out.xx.add(i, i, v[i] * v[i] + c);
+            out.xx.add(j, j, c);
+            out.xx.add(i, j, -c);
+            out.xx.add(j, i, -c);
+            out.xv.add(i, i, 2.0 * x[i] * v[i] + t);
+            out.xv.add(i, j, 1.0);
+            out.vv.add(i, i, 1.0 + x[i] * x[i]);
+        }
+    }
+    fn is_forced(&self) -> bool {
+        self.forced
+    }
+    fn force_jacobian(&self, x: &[f64], v: &[f64], _t: f64, out: &mut SparseForceJacobian) {
+        const D: usize = DYN_MIXED_DIMENSION;
+        if self.forced {
+            for i in 0..D {
+                let j = (i + 1) % D;
+                out.x.add(i, j, -0.3 * v[i]);
+                out.v.add(i, i, -0.3 * x[j]);
+            }
+        }
+    }
+}

@@ -11,7 +11,7 @@ use super::{
 };
 use crate::dynamic::DynLagrangian;
 use crate::dynamic::problem::{DynProblem, DynSolution};
-use crate::dynamic::rows::{CurveValues, DynRows};
+use crate::dynamic::rows::DynRows;
 use crate::embedding::{Embedding, Scheme};
 use crate::error::{Result, check_len};
 use crate::grid::Grid;
@@ -62,16 +62,9 @@ impl<L: DynLagrangian + ?Sized> Compares for Comparer<'_, '_, L> {
         let rows = DynRows::new(lagrangian, grid, embedding, scheme)?;
         let (n, d) = (grid.n(), rows.d);
         check_len("discrete curve Q", (n + 1) * d, solution.q.len())?;
-        let mut values = CurveValues::zeros(n, d);
+        let mut values = rows.zero_values();
         rows.evaluate(&solution.q, &mut values)?;
-        let energy = rows
-            .quadrature_rows()
-            .map(|k| {
-                let at = k * d..(k + 1) * d;
-                let (x, v) = (&solution.q[at.clone()], &values.v[at]);
-                lagrangian.energy(x, v, grid.t(k))
-            })
-            .collect();
+        let energy = rows.energies(&solution.q, &values);
         Ok((energy, rows.relative_residual(&values)))
     }
 }

@@ -32,9 +32,11 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
     /// Solves the boundary value problem `q(a) = qa`, `q(b) = qb` of `scheme`, from the
     /// straight line between them: the same residual rows, Newton stopping rule, line search
     /// and errors as [`Problem::solve_bvp`](crate::Problem::solve_bvp), for the Gauss-FDEσ
-    /// embeddings ([`Embedding::finite_difference`](crate::Embedding::finite_difference)) and
-    /// the coherent [`Embedding::asymmetric`](crate::Embedding::asymmetric), both schemes
-    /// ([`Error::Unsupported`] for the others).
+    /// embeddings ([`Embedding::finite_difference`](crate::Embedding::finite_difference)), the
+    /// coherent [`Embedding::asymmetric`](crate::Embedding::asymmetric) and the symmetric
+    /// [`Embedding::midpoint`](crate::Embedding::midpoint) and
+    /// [`Embedding::trapezoidal`](crate::Embedding::trapezoidal), both schemes
+    /// ([`Error::Unsupported`] for the fractional and Gauss–Legendre embeddings).
     ///
     /// Each Newton iteration assembles the Jacobian of the `(N − 1) d` equations as a sparse
     /// matrix (every row couples three consecutive nodes through the model's sparse
@@ -427,7 +429,7 @@ fn newton<L: DynLagrangian + ?Sized>(
             measure,
         });
     }
-    let mut current = CurveValues::zeros(n, d);
+    let mut current = rows.zero_values();
     let mut res = evaluate(rows, &q, &mut current, 0)?;
     let mut merit = two_norm(&current.r);
     let mut line_search = LineSearch::new(&q, merit);
@@ -483,7 +485,7 @@ fn newton<L: DynLagrangian + ?Sized>(
         // The line search of the const-generic solve, on the flat nodes.
         let (next, values, next_res, next_merit) =
             line_search.step(&q, merit, &delta, |trial| {
-                let mut values = CurveValues::zeros(n, d);
+                let mut values = rows.zero_values();
                 let res = evaluate(rows, trial, &mut values, iteration + 1)?;
                 let merit = two_norm(&values.r);
                 Ok((values, res, merit))

@@ -26,8 +26,8 @@ use super::observer::DynNode;
 /// initial value problems (one-step maps of `(q, p)`: no start; the carried momenta are
 /// [`DynSolution::momenta`]), their `s·d` stage unknowns ordered component by component so that
 /// the stage Jacobian of a model of half-bandwidth `b` is a band of half-width `s (b + 1) − 1`.
-/// The Gauss-FDEσ embeddings are also offered as boundary value problems; the symmetric
-/// boundary value problems run on the const-generic path only ([`Error::Unsupported`] here).
+/// The Gauss-FDEσ, asymmetric and symmetric embeddings are also offered as boundary value
+/// problems, both schemes, solved by sparse LU.
 /// Every implicit step is solved by Newton's method on a band matrix (`O(d b²)` for
 /// half-bandwidth `b`); a step that is affine in the newest node is taken in closed form, and
 /// a constant step Jacobian is factorised once per run. The runs are watched by the blow-up

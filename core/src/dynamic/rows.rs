@@ -1,7 +1,9 @@
-//! The residual rows of the Gauss-FDEσ embeddings (and their coherent asymmetric version) on a
-//! whole curve of a run-time-dimension model, and the entries of their Jacobian: the
-//! const-generic discretisation's rows and Jacobian blocks, entry for entry, on flat slices and
-//! with the model's sparse second-derivative blocks.
+//! The residual rows of the classical embeddings on a whole curve of a run-time-dimension
+//! model, and the entries of their Jacobian: the const-generic discretisation's rows and
+//! Jacobian blocks, entry for entry, on flat slices and with the model's sparse
+//! second-derivative blocks. This module holds Gauss-FDEσ and its coherent asymmetric
+//! version; the symmetric embeddings (midpoint, trapezoidal), whose rows read interval values,
+//! are in [`symmetric`].
 //!
 //! A curve is stored flat, node `k` at `q[k d..(k + 1) d]`. With `V = D Q`, `D = −σ Δ_σ`, and
 //! `f = ∂L/∂x`, `p = ∂L/∂v` at the quadrature nodes `(Q_k, V_k, t_k)`, every row is
@@ -14,6 +16,7 @@ use crate::discretisation::relative;
 use crate::embedding::{Embedding, EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::grid::Grid;
+use crate::interval::Rule;
 use crate::operator::Operator;
 
 use super::DynLagrangian;
@@ -21,23 +24,44 @@ use super::sparse::{SparseBlock, SparseHessian};
 
 /// The values at the quadrature nodes of a curve, flat by node index `0..=N` (the node outside
 /// `I_σ` holds zeros), and the residual rows, flat (row `i` is the equation of node
-/// `rows.start() + i`).
+/// `rows.start() + i`). For the symmetric embeddings entry `k ≥ 1` of `v`, `p` and `f` holds
+/// interval `k`'s velocity, momentum `P_k` and force `F_{w,k}`, `f_left` its `F_{u,k}`, and
+/// `f_node` the direct scheme's force at node `k` with the centred velocity (the const-generic
+/// `Pointwise`); the other embeddings leave those two empty.
 pub(crate) struct CurveValues {
     pub(crate) v: Vec<f64>,
     pub(crate) f: Vec<f64>,
     pub(crate) p: Vec<f64>,
+    pub(crate) f_left: Vec<f64>,
+    pub(crate) f_node: Vec<f64>,
     pub(crate) r: Vec<f64>,
 }
 
-impl CurveValues {
-    /// Zeroed values for `N + 1` nodes of dimension `d`.
-    pub(crate) fn zeros(n: usize, d: usize) -> Self {
-        let nodes = (n + 1) * d;
-        CurveValues {
-            v: vec![0.0; nodes],
-            f: vec![0.0; nodes],
-            p: vec![0.0; nodes],
-            r: vec![0.0; n.saturating_sub(1) * d],
+/// A point at which the rows evaluate the model, and so a Hessian they read.
+#[derive(Clone, Copy, PartialEq, Eq, Debug)]
+pub(crate) enum Point {
+    /// Quadrature node `k` with its velocity `V_k` (Gauss-FDEσ, asymmetric).
+    Node(usize),
+    /// The midpoint of interval `k`, `[Q_{k−1}, Q_k]`, with its velocity (midpoint rule).
+    Mid(usize),
+    /// The left end `Q_{k−1}` of interval `k` with its velocity, at `t_{k−1}` (trapezoidal).
+    Left(usize),
+    /// The right end `Q_k` of interval `k` with its velocity, at `t_k` (trapezoidal).
+    Right(usize),
+    /// Node `k` with the centred velocity `(Q_{k+1} − Q_{k−1})/(2h)` (the symmetric
+    /// embeddings' direct scheme).
+    Centred(usize),
+}
+
+impl Point {
+    /// A number that differs between the points a few consecutive rows read: the Hessian
+    /// cache's slot is this modulo its size.
+    fn key(self) -> usize {
+        match self {
+            Point::Node(k) => k,
+            Point::Mid(k) | Point::Left(k) => 3 * k,
+            Point::Right(k) => 3 * k + 1,
+            Point::Centred(k) => 3 * k + 2,
         }
     }
 }
@@ -63,27 +87,32 @@ pub(crate) struct DynRows<'a, L: ?Sized> {
     velocity: Operator,
     /// `Δ_{−σ}`.
     adjoint: Operator,
+    /// The discrete Lagrangian of a symmetric embedding; `None` for the others.
+    pub(crate) rule: Option<Rule>,
 }
 
 impl<'a, L: DynLagrangian + ?Sized> DynRows<'a, L> {
-    /// The rows of `scheme`; [`Error::Unsupported`] for any embedding but Gauss-FDEσ and the
-    /// asymmetric one.
+    /// The rows of `scheme`; [`Error::Unsupported`] for the fractional and the one-step
+    /// (Gauss–Legendre) embeddings.
     pub(crate) fn new(
         lagrangian: &'a L,
         grid: Grid,
         embedding: Embedding,
         scheme: Scheme,
     ) -> Result<Self> {
-        if !matches!(
-            embedding.kind(),
-            EmbeddingKind::FiniteDifference | EmbeddingKind::Asymmetric
-        ) {
-            return Err(Error::Unsupported {
-                operation: "a boundary value problem of a run-time-dimension model",
-                embedding: embedding.to_string(),
-            });
-        }
+        let rule = match embedding.kind() {
+            EmbeddingKind::FiniteDifference | EmbeddingKind::Asymmetric => None,
+            EmbeddingKind::Midpoint => Some(Rule::Midpoint),
+            EmbeddingKind::Trapezoidal => Some(Rule::Trapezoidal),
+            _ => {
+                return Err(Error::Unsupported {
+                    operation: "a boundary value problem of a run-time-dimension model",
+                    embedding: embedding.to_string(),
+                });
+            }
+        };
         Ok(DynRows {
+            rule,
             lagrangian,
             grid,
             embedding,
@@ -92,6 +121,22 @@ impl<'a, L: DynLagrangian + ?Sized> DynRows<'a, L> {
             velocity: embedding.velocity_operator(&grid),
             adjoint: embedding.adjoint_operator(&grid),
         })
+    }
+
+    /// Zeroed values for this curve's `N + 1` nodes (with the symmetric embeddings' interval
+    /// forces only where they are read).
+    pub(crate) fn zero_values(&self) -> CurveValues {
+        let (n, d) = (self.grid.n(), self.d);
+        let nodes = (n + 1) * d;
+        let symmetric = if self.rule.is_some() { nodes } else { 0 };
+        CurveValues {
+            v: vec![0.0; nodes],
+            f: vec![0.0; nodes],
+            p: vec![0.0; nodes],
+            f_left: vec![0.0; symmetric],
+            f_node: vec![0.0; symmetric],
+            r: vec![0.0; n.saturating_sub(1) * d],
+        }
     }
 
     /// `σ`.
@@ -125,6 +170,9 @@ impl<'a, L: DynLagrangian + ?Sized> DynRows<'a, L> {
     /// `V`, `f`, `p` at the quadrature nodes of `q` and the residual rows, into `values`.
     /// [`Error::NotFinite`] at the first node whose force or momentum is not finite.
     pub(crate) fn evaluate(&self, q: &[f64], values: &mut CurveValues) -> Result<()> {
+        if let Some(rule) = self.rule {
+            return self.evaluate_symmetric(rule, q, values);
+        }
         let d = self.d;
         for k in self.quadrature_rows() {
             let at = k * d..(k + 1) * d;
@@ -144,15 +192,33 @@ impl<'a, L: DynLagrangian + ?Sized> DynRows<'a, L> {
         Ok(())
     }
 
+    /// The energy the comparison reports, at `values` (already evaluated): `E_k = V_k·p_k − L`
+    /// at the quadrature nodes, or each interval's energy for the symmetric embeddings.
+    pub(crate) fn energies(&self, q: &[f64], values: &CurveValues) -> Vec<f64> {
+        if let Some(rule) = self.rule {
+            return self.symmetric_energies(rule, q, values);
+        }
+        let d = self.d;
+        self.quadrature_rows()
+            .map(|k| {
+                let at = k * d..(k + 1) * d;
+                let (x, v) = (&q[at.clone()], &values.v[at]);
+                self.lagrangian.energy(x, v, self.grid.t(k))
+            })
+            .collect()
+    }
+
     /// The scale of the rows at `values`, as the const-generic discretisation's `row_scale`:
     /// the largest force a row reads plus `h^{−α}` times the largest momentum. The force at the
     /// end node outside the rows plays no part.
     pub(crate) fn scale(&self, values: &CurveValues) -> f64 {
         let d = self.d;
-        let largest = |x: &[f64]| x.iter().fold(0.0f64, |m, c| m.max(c.abs()));
-        let forces = self
-            .rows()
-            .fold(0.0f64, |m, k| m.max(largest(&values.f[k * d..(k + 1) * d])));
+        let forces = if self.rule.is_some() {
+            self.symmetric_forces(values)
+        } else {
+            self.rows()
+                .fold(0.0f64, |m, k| m.max(largest(&values.f[k * d..(k + 1) * d])))
+        };
         let h_alpha = self.grid.h().powf(-self.embedding.alpha());
         forces + h_alpha * largest(&values.p)
     }
@@ -161,8 +227,10 @@ impl<'a, L: DynLagrangian + ?Sized> DynRows<'a, L> {
     /// discretisation's `relative_residual`: `max_k |r_k|∞ / s_k`, `s_k = |f_k|∞ +
     /// Σ_m |B[k, m]| |p_m|∞`, at `values` (already evaluated).
     pub(crate) fn relative_residual(&self, values: &CurveValues) -> f64 {
+        if self.rule.is_some() {
+            return self.symmetric_relative_residual(values);
+        }
         let d = self.d;
-        let largest = |x: &[f64]| x.iter().fold(0.0f64, |m, c| m.max(c.abs()));
         let operators = (&self.velocity, &self.adjoint);
         self.rows()
             .enumerate()
@@ -201,9 +269,12 @@ impl<'a, L: DynLagrangian + ?Sized> DynRows<'a, L> {
         }
     }
 
-    /// The block contributions to row `k` of the Jacobian: `(node m, part, block column j,
+    /// The block contributions to row `k` of the Jacobian: `(point m, part, block column j,
     /// coefficient)` for `∂r_k/∂Q_j += coefficient · part(m)`, interior `j` only.
-    fn contributions(&self, k: usize) -> Vec<(usize, Part, usize, f64)> {
+    fn contributions(&self, k: usize) -> Vec<(Point, Part, usize, f64)> {
+        if let Some(rule) = self.rule {
+            return self.symmetric_contributions(rule, k);
+        }
         let (n, sigma) = (self.grid.n(), self.sigma());
         let unknown = |j: usize| (1..n).contains(&j);
         let d_row = |m: usize| {
@@ -212,22 +283,23 @@ impl<'a, L: DynLagrangian + ?Sized> DynRows<'a, L> {
                 .map(move |(j, c)| (j, -sigma * c))
         };
         let mut out = Vec::new();
+        let node = Point::Node(k);
         if unknown(k) {
-            out.push((k, Part::Xx, k, 1.0));
+            out.push((node, Part::Xx, k, 1.0));
         }
         for (j, c) in d_row(k) {
             if unknown(j) {
-                out.push((k, Part::Xv, j, c));
+                out.push((node, Part::Xv, j, c));
             }
         }
         let operators = (&self.velocity, &self.adjoint);
         for (m, b) in self.embedding.momentum_row(self.scheme, operators, k) {
             if unknown(m) {
-                out.push((m, Part::Vx, m, b));
+                out.push((Point::Node(m), Part::Vx, m, b));
             }
             for (j, c) in d_row(m) {
                 if unknown(j) {
-                    out.push((m, Part::Vv, j, b * c));
+                    out.push((Point::Node(m), Part::Vv, j, b * c));
                 }
             }
         }
@@ -265,37 +337,56 @@ impl<'a, L: DynLagrangian + ?Sized> DynRows<'a, L> {
     }
 }
 
-/// The Hessians at the last few quadrature nodes read: the rows are visited in order and each
-/// reads the nodes `k − 1 ..= k + 1`, so four slots hold every Hessian a row needs, `O(d)`
-/// memory however long the curve.
+/// The largest modulus in `x`.
+fn largest(x: &[f64]) -> f64 {
+    x.iter().fold(0.0f64, |m, c| m.max(c.abs()))
+}
+
+/// How many Hessians the cache holds: the rows are visited in order and each reads at most five
+/// points of consecutive [`Point::key`]s (the trapezoidal rule's direct row: both ends of its
+/// two intervals and the centred node), so eight slots hold every Hessian a row needs and the
+/// ones the next row shares with it.
+const SLOTS: usize = 8;
+
+/// The Hessians at the last few points read, `O(d)` memory however long the curve.
 pub(crate) struct HessianCache {
-    slots: Vec<(Option<usize>, SparseHessian)>,
+    slots: Vec<(Option<Point>, SparseHessian)>,
+    /// The position and velocity of the point being evaluated.
+    x: Vec<f64>,
+    v: Vec<f64>,
 }
 
 impl HessianCache {
     /// Empty slots for dimension `d`.
     pub(crate) fn new(d: usize) -> Self {
         HessianCache {
-            slots: (0..4).map(|_| (None, SparseHessian::new(d))).collect(),
+            slots: (0..SLOTS).map(|_| (None, SparseHessian::new(d))).collect(),
+            x: vec![0.0; d],
+            v: vec![0.0; d],
         }
     }
 
-    /// The Hessian at quadrature node `m` of `q` (with its velocity from `values`).
+    /// The Hessian at `point` of `q` (with the velocities in `values`).
     fn at<L: DynLagrangian + ?Sized>(
         &mut self,
         rows: &DynRows<'_, L>,
         q: &[f64],
         values: &CurveValues,
-        m: usize,
+        point: Point,
     ) -> &SparseHessian {
-        let slot = &mut self.slots[m % 4];
-        if slot.0 != Some(m) {
+        let slot = &mut self.slots[point.key() % SLOTS];
+        if slot.0 != Some(point) {
             let d = rows.d;
-            let at = m * d..(m + 1) * d;
             slot.1.clear();
-            rows.lagrangian
-                .hessian(&q[at.clone()], &values.v[at], rows.grid.t(m), &mut slot.1);
-            slot.0 = Some(m);
+            if let Point::Node(m) = point {
+                let at = m * d..(m + 1) * d;
+                rows.lagrangian
+                    .hessian(&q[at.clone()], &values.v[at], rows.grid.t(m), &mut slot.1);
+            } else {
+                let t = rows.point(q, values, point, (&mut self.x, &mut self.v));
+                rows.lagrangian.hessian(&self.x, &self.v, t, &mut slot.1);
+            }
+            slot.0 = Some(point);
         }
         &slot.1
     }
@@ -305,3 +396,8 @@ impl HessianCache {
         self.slots.iter_mut().for_each(|s| s.0 = None);
     }
 }
+
+mod symmetric;
+
+#[cfg(test)]
+mod tests;

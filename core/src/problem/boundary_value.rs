@@ -29,8 +29,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     ///
     /// A model that is also a [`DynLagrangian`](crate::DynLagrangian) (every `#[lagrangian]`
     /// model with loops over `[f64; N]`, see [`Lagrangian::run_time`]) with [`RUN_TIME_FROM`]
-    /// or more degrees of freedom is solved, under Gauss-FDEσ and the asymmetric embedding, by
-    /// the run-time engine
+    /// or more degrees of freedom is solved, under every classical embedding but
+    /// Gauss–Legendre, by the run-time engine
     /// ([`DynProblem::solve_bvp`](crate::DynProblem::solve_bvp): sparse LU, the same rows,
     /// stopping rule and errors), with no `D × D` block on the stack.
     ///
@@ -81,7 +81,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// The boundary value problem of a model that is also a
     /// [`DynLagrangian`](crate::DynLagrangian) (see [`Lagrangian::run_time`]) with
     /// [`RUN_TIME_FROM`] or more degrees of freedom, under an embedding whose boundary value
-    /// problems the run-time engine solves (Gauss-FDEσ, asymmetric): by that engine's sparse LU,
+    /// problems the run-time engine solves (Gauss-FDEσ, asymmetric, midpoint, trapezoidal): by
+    /// that engine's sparse LU,
     /// with this problem's Newton options and posedness check, no `D × D` block on the stack;
     /// `None` for any other problem, which stays on this path.
     fn bvp_on_run_time_engine(
@@ -96,7 +97,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         let embedding = *self.discretisation.embedding();
         let solved_there = matches!(
             embedding.kind(),
-            EmbeddingKind::FiniteDifference | EmbeddingKind::Asymmetric
+            EmbeddingKind::FiniteDifference
+                | EmbeddingKind::Asymmetric
+                | EmbeddingKind::Midpoint
+                | EmbeddingKind::Trapezoidal
         );
         // A guess of the wrong length gets this path's error, naming it in nodes.
         if model.dimension() != D || !solved_there || guess.len() != self.grid().n() + 1 {

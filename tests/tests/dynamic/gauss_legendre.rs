@@ -125,7 +125,7 @@ fn a_ring_of_256_runs_gauss_legendre_through_problem_on_a_two_megabyte_stack() {
 
 /// The exact solution of the harmonic chain (an FPUT chain with α = β = 0 between walls) by its
 /// normal modes: `q(t) = Φ (cos(ω t) Φᵀ q0 + sin(ω t)/ω Φᵀ v0)`, `t` for the zero mode.
-fn harmonic_chain_at(n: usize, (q0, v0): (&[f64], &[f64]), t: f64) -> Vec<f64> {
+pub(super) fn harmonic_chain_at(n: usize, (q0, v0): (&[f64], &[f64]), t: f64) -> Vec<f64> {
     let mut k = DMatrix::<f64>::zeros(n, n);
     // The walls: a bond from each end mass to a fixed point.
     k[(0, 0)] += 1.0;
@@ -154,11 +154,8 @@ fn harmonic_chain_at(n: usize, (q0, v0): (&[f64], &[f64]), t: f64) -> Vec<f64> {
     (phi * amplitudes).iter().copied().collect()
 }
 
-/// The observed orders of the run-time Gauss–Legendre integrators on a harmonic chain of 24
-/// masses against its exact solution: `2s` for every `s` (the error at `t = 10` over two
-/// halvings of the step).
-#[test]
-fn the_order_on_a_harmonic_chain_is_two_s() {
+/// The harmonic chain of 24 masses between walls and its initial data, for the order tests.
+pub(super) fn harmonic_chain() -> (FputChain, Vec<f64>, Vec<f64>) {
     let n = 24;
     let chain = FputChain {
         n,
@@ -168,6 +165,16 @@ fn the_order_on_a_harmonic_chain_is_two_s() {
     };
     let q0 = displacement(n, 0.5, 0.1);
     let v0: Vec<f64> = (0..n).map(|i| 0.3 * (i as f64 * 0.4).sin()).collect();
+    (chain, q0, v0)
+}
+
+/// The observed orders of the run-time Gauss–Legendre integrators on a harmonic chain of 24
+/// masses against its exact solution: `2s` for every `s` (the error at `t = 10` over two
+/// halvings of the step).
+#[test]
+fn the_order_on_a_harmonic_chain_is_two_s() {
+    let (chain, q0, v0) = harmonic_chain();
+    let n = chain.n;
     let t_end = 10.0;
     let exact = harmonic_chain_at(n, (&q0, &v0), t_end);
     for (s, steps) in [

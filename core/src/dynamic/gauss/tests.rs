@@ -3,70 +3,9 @@
 
 use super::*;
 use crate::dynamic::sparse::SparseBlock;
+use crate::test_models::{DYN_MIXED_DIMENSION, DynMixed};
 
-/// A model of dimension 5 whose every block is non-zero, not symmetric where it may not be
-/// (`L_xv`), depends on `x`, `v` and `t`, and couples neighbours (and the two ends, so that
-/// the stage system is reordered), under a force with its own Jacobian.
-struct Mixed;
-
-const D: usize = 5;
-
-impl Mixed {
-    /// `L = Σ_i [½ (1 + x_i²) v_i² + x_i v_{i+1} − cos(x_i − x_{i+1}) + t x_i v_i]` over a
-    /// ring, and the force `f_i = −0.3 v_i x_{i+1}`.
-    fn parts(x: &[f64], v: &[f64], t: f64) -> (f64, [f64; D], [f64; D]) {
-        let (mut value, mut f, mut p) = (0.0, [0.0; D], [0.0; D]);
-        for i in 0..D {
-            let j = (i + 1) % D;
-            value += 0.5 * (1.0 + x[i] * x[i]) * v[i] * v[i] + x[i] * v[j] - (x[i] - x[j]).cos()
-                + t * x[i] * v[i];
-            f[i] += x[i] * v[i] * v[i] + v[j] + (x[i] - x[j]).sin() + t * v[i];
-            f[j] -= (x[i] - x[j]).sin();
-            f[i] -= 0.3 * v[i] * x[j];
-            p[i] += (1.0 + x[i] * x[i]) * v[i] + t * x[i];
-            p[j] += x[i];
-        }
-        (value, f, p)
-    }
-}
-
-impl DynLagrangian for Mixed {
-    fn dimension(&self) -> usize {
-        D
-    }
-    fn value(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
-        Self::parts(x, v, t).0
-    }
-    fn force(&self, x: &[f64], v: &[f64], t: f64, f: &mut [f64]) {
-        f.copy_from_slice(&Self::parts(x, v, t).1);
-    }
-    fn momentum(&self, x: &[f64], v: &[f64], t: f64, p: &mut [f64]) {
-        p.copy_from_slice(&Self::parts(x, v, t).2);
-    }
-    fn hessian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseHessian) {
-        for i in 0..D {
-            let j = (i + 1) % D;
-            let c = (x[i] - x[j]).cos();
-            out.xx.add(i, i, v[i] * v[i] + c);
-            out.xx.add(j, j, c);
-            out.xx.add(i, j, -c);
-            out.xx.add(j, i, -c);
-            out.xv.add(i, i, 2.0 * x[i] * v[i] + t);
-            out.xv.add(i, j, 1.0);
-            out.vv.add(i, i, 1.0 + x[i] * x[i]);
-        }
-    }
-    fn is_forced(&self) -> bool {
-        true
-    }
-    fn force_jacobian(&self, x: &[f64], v: &[f64], _t: f64, out: &mut SparseForceJacobian) {
-        for i in 0..D {
-            let j = (i + 1) % D;
-            out.x.add(i, j, -0.3 * v[i]);
-            out.v.add(i, i, -0.3 * x[j]);
-        }
-    }
-}
+const D: usize = DYN_MIXED_DIMENSION;
 
 /// The stage Jacobian, solved against unit vectors, equals central differences of the
 /// stage residual for every s (the band's storage and the interleaved order included).
@@ -79,7 +18,7 @@ fn stage_jacobian_matches_finite_differences() {
         let fresh = || {
             let v0 = vec![0.0; D];
             let mut system = StageSystem::new(
-                &Mixed,
+                &DynMixed { forced: true },
                 GaussTableau::new(s),
                 h,
                 &v0,
