@@ -18,6 +18,7 @@ pub(crate) mod bvp;
 pub(crate) mod dense;
 mod ensembles;
 mod gauss;
+mod gauss_bvp;
 pub(crate) mod ivp;
 pub(crate) mod nodes;
 pub(crate) mod observer;

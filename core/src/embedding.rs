@@ -383,9 +383,10 @@ impl Embedding {
     }
 
     /// Whether the embedding is a one-step integrator of `(q, p)` with internal stages rather
-    /// than an operator on the nodes: the Gauss–Legendre integrators. They solve initial value
-    /// problems only; the evaluations on a whole curve (quadrature velocities, residuals,
-    /// action, quadrature energies) and boundary value problems are [`Error::Unsupported`].
+    /// than an operator on the nodes: the Gauss–Legendre integrators. Their boundary value
+    /// problems are a collocation system of their own; the evaluations on a whole curve
+    /// (quadrature velocities, residuals, action, quadrature energies) are
+    /// [`Error::Unsupported`].
     pub(crate) fn is_one_step(&self) -> bool {
         matches!(self.kind, EmbeddingKind::GaussLegendre { .. })
     }

@@ -7,7 +7,7 @@
 //! [`Problem::solve_bvp`](crate::Problem::solve_bvp): on a model that implements both traits
 //! the two give the same nodes, in the same number of Newton iterations.
 
-use crate::embedding::Scheme;
+use crate::embedding::{EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result, check_len};
 use crate::memory::reserve;
 use crate::options::NewtonOptions;
@@ -35,8 +35,11 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
     /// embeddings ([`Embedding::finite_difference`](crate::Embedding::finite_difference)), the
     /// coherent [`Embedding::asymmetric`](crate::Embedding::asymmetric) and the symmetric
     /// [`Embedding::midpoint`](crate::Embedding::midpoint) and
-    /// [`Embedding::trapezoidal`](crate::Embedding::trapezoidal), both schemes
-    /// ([`Error::Unsupported`] for the fractional and Gauss–Legendre embeddings).
+    /// [`Embedding::trapezoidal`](crate::Embedding::trapezoidal), both schemes, and the
+    /// variational Gauss–Legendre integrators
+    /// ([`Embedding::gauss_legendre`](crate::Embedding::gauss_legendre): their stage equations
+    /// on every step as one collocation system, the solution's momenta in
+    /// [`DynSolution::momenta`]); [`Error::Unsupported`] for the fractional embeddings.
     ///
     /// Each Newton iteration assembles the Jacobian of the `(N − 1) d` equations as a sparse
     /// matrix (every row couples three consecutive nodes through the model's sparse
@@ -91,7 +94,9 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn solve_bvp(&self, scheme: Scheme, qa: &[f64], qb: &[f64]) -> Result<DynSolution> {
-        DynRows::new(self.lagrangian, self.grid, self.embedding, scheme)?;
+        if !self.embedding.is_one_step() {
+            DynRows::new(self.lagrangian, self.grid, self.embedding, scheme)?;
+        }
         check_model(self.lagrangian)?;
         let d = self.lagrangian.dimension();
         check_len("qa", d, qa.len())?;
@@ -147,6 +152,9 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn solve_bvp_from(&self, scheme: Scheme, guess: &[f64]) -> Result<DynSolution> {
+        if let EmbeddingKind::GaussLegendre { stages } = self.embedding.kind() {
+            return self.solve_gauss_bvp(stages, scheme, guess);
+        }
         if self.lagrangian.is_forced() {
             // The global Jacobian of the run-time path is assembled from L's blocks alone.
             return Err(Error::Unsupported {
@@ -206,7 +214,10 @@ fn check_model<L: DynLagrangian + ?Sized>(l: &L) -> Result<()> {
 /// The checks before the solve, in the const-generic order: the guess's length, finite
 /// constants, finite ends (named as the ends), a finite guess, every guess node in the
 /// Lagrangian's domain and `∂²L/∂v²` not degenerate there.
-fn check_input<L: DynLagrangian + ?Sized>(rows: &DynRows<'_, L>, guess: &[f64]) -> Result<()> {
+pub(super) fn check_input<L: DynLagrangian + ?Sized>(
+    rows: &DynRows<'_, L>,
+    guess: &[f64],
+) -> Result<()> {
     let (grid, d) = (rows.grid, rows.d);
     let n = grid.n();
     if d > 0 && !guess.len().is_multiple_of(d) {
@@ -248,7 +259,7 @@ fn check_input<L: DynLagrangian + ?Sized>(rows: &DynRows<'_, L>, guess: &[f64]) 
 /// `∂²L/∂v²` not degenerate at the quadrature nodes of `q` (with its discrete velocity),
 /// measured against its largest pivot over those nodes; for an initial `guess`, each node also
 /// inside the Lagrangian's domain ([`Error::OutsideDomain`]).
-fn check_nodes<L: DynLagrangian + ?Sized>(
+pub(super) fn check_nodes<L: DynLagrangian + ?Sized>(
     rows: &DynRows<'_, L>,
     q: &[f64],
     guess: bool,
@@ -443,31 +454,10 @@ fn newton<L: DynLagrangian + ?Sized>(
         hessians.invalidate();
         let (matrix, lu) = assemble(rows, &q, &current, &mut hessians, &mut system)
             .map_err(|_| Error::SingularJacobian { at })?;
-        if !matrix.is_finite() {
-            return Err(Error::NotFinite { at });
-        }
-        let j_norm = matrix.norm_inf();
-        lu.factorize(matrix)
-            .map_err(|_| Error::SingularJacobian { at })?;
-        delta.copy_from_slice(&current.r);
-        lu.solve_in_place(&mut delta);
-        if !delta.iter().all(|c| c.is_finite()) {
-            return Err(Error::SingularJacobian { at });
-        }
+        let j_norm = newton_direction((matrix, lu), &current.r, &mut delta, at)?;
         if res <= options.tolerance * scale || at_round_off(res, previous, j_norm, max_norm(&q)) {
-            // As the const-generic solve: a system singular to working precision is an error,
-            // the inverse iteration's smallest eigenvalue the ill-posedness measure.
-            let inverse = inverse_iteration(matrix.order(), |v| lu.solve_in_place(v));
-            let correction = if res > 0.0 {
-                max_norm(&delta) / res
-            } else {
-                0.0
-            };
-            let condition = condition_bound(j_norm, inverse, unknowns, correction);
-            if condition >= NUMERICALLY_SINGULAR {
-                return Err(Error::IllConditioned { at, condition });
-            }
-            let sigma = inverse.map(|run| run.sigma);
+            // The ill-posedness measure reads the inverse iteration's smallest eigenvalue.
+            let sigma = isolated((matrix, lu), j_norm, (res, &delta), at)?;
             let measure = posedness_check
                 .then(|| measure(rows, matrix, sigma?))
                 .flatten();
@@ -497,6 +487,52 @@ fn newton<L: DynLagrangian + ?Sized>(
         iterations: options.max_iterations,
         residual: res,
     })
+}
+
+/// The Newton direction `δ = J⁻¹ r` into `delta` from the planned `matrix` and its `lu`
+/// (factorised here), and `‖J‖∞`: [`Error::NotFinite`] for a non-finite Jacobian,
+/// [`Error::SingularJacobian`] when the LU finds no pivot or the direction is not finite.
+pub(super) fn newton_direction(
+    (matrix, lu): (&SparseRows, &mut SparseLu),
+    r: &[f64],
+    delta: &mut [f64],
+    at: Location,
+) -> Result<f64> {
+    if !matrix.is_finite() {
+        return Err(Error::NotFinite { at });
+    }
+    let j_norm = matrix.norm_inf();
+    lu.factorize(matrix)
+        .map_err(|_| Error::SingularJacobian { at })?;
+    delta.copy_from_slice(r);
+    lu.solve_in_place(delta);
+    if !delta.iter().all(|c| c.is_finite()) {
+        return Err(Error::SingularJacobian { at });
+    }
+    Ok(j_norm)
+}
+
+/// At a converged iterate (residual max-norm `res`, last direction `delta`), as the
+/// const-generic solve: a system singular to working precision is not an isolated solution,
+/// [`Error::IllConditioned`]; otherwise the smallest eigenvalue inverse iteration found, if
+/// it did.
+pub(super) fn isolated(
+    (matrix, lu): (&SparseRows, &mut SparseLu),
+    j_norm: f64,
+    (res, delta): (f64, &[f64]),
+    at: Location,
+) -> Result<Option<f64>> {
+    let inverse = inverse_iteration(matrix.order(), |v| lu.solve_in_place(v));
+    let correction = if res > 0.0 {
+        max_norm(delta) / res
+    } else {
+        0.0
+    };
+    let condition = condition_bound(j_norm, inverse, matrix.order(), correction);
+    if condition >= NUMERICALLY_SINGULAR {
+        return Err(Error::IllConditioned { at, condition });
+    }
+    Ok(inverse.map(|run| run.sigma))
 }
 
 /// The 2-norm of flat residual rows, the line search's merit.

@@ -27,7 +27,8 @@ use super::observer::DynNode;
 /// [`DynSolution::momenta`]), their `s·d` stage unknowns ordered component by component so that
 /// the stage Jacobian of a model of half-bandwidth `b` is a band of half-width `s (b + 1) − 1`.
 /// The Gauss-FDEσ, asymmetric and symmetric embeddings are also offered as boundary value
-/// problems, both schemes, solved by sparse LU.
+/// problems, both schemes, and Gauss–Legendre as a collocation boundary value problem, all
+/// solved by sparse LU.
 /// Every implicit step is solved by Newton's method on a band matrix (`O(d b²)` for
 /// half-bandwidth `b`); a step that is affine in the newest node is taken in closed form, and
 /// a constant step Jacobian is factorised once per run. The runs are watched by the blow-up

@@ -2,7 +2,7 @@
 //! second derivatives. A child of the lagrangian module, which re-exports it.
 
 use super::{Dependence, HessianDependence};
-use crate::dynamic::sparse::{SparseForceJacobian, SparseHessian};
+use crate::dynamic::sparse::{SparseBlock, SparseForceJacobian, SparseHessian};
 
 /// A Lagrangian `L(x, v, t)` on `R^d × R^d × R` with `d` known at run time, and sparse second
 /// derivatives.
@@ -176,5 +176,84 @@ impl<L: DynLagrangian + ?Sized> DynLagrangian for &L {
     }
     fn force_jacobian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseForceJacobian) {
         (**self).force_jacobian(x, v, t, out)
+    }
+}
+
+/// A const-generic [`Lagrangian<D>`](crate::Lagrangian) seen as a [`DynLagrangian`] of
+/// dimension `D`: the run-time engine's solvers on a small model that has no run-time form of
+/// its own (its non-zero second-derivative entries listed from the dense blocks).
+pub(crate) struct FixedDimension<'l, L: ?Sized, const D: usize>(pub(crate) &'l L);
+
+impl<L: crate::Lagrangian<D> + ?Sized, const D: usize> FixedDimension<'_, L, D> {
+    fn vectors(x: &[f64], v: &[f64]) -> (crate::Vector<D>, crate::Vector<D>) {
+        (
+            crate::Vector::<D>::from_column_slice(x),
+            crate::Vector::<D>::from_column_slice(v),
+        )
+    }
+}
+
+/// Adds the non-zero entries of a dense block to a sparse one.
+fn add_dense<const D: usize>(block: &crate::Matrix<D>, out: &mut SparseBlock) {
+    for i in 0..D {
+        for j in 0..D {
+            if block[(i, j)] != 0.0 {
+                out.add(i, j, block[(i, j)]);
+            }
+        }
+    }
+}
+
+impl<L: crate::Lagrangian<D> + ?Sized, const D: usize> DynLagrangian for FixedDimension<'_, L, D> {
+    fn dimension(&self) -> usize {
+        D
+    }
+    fn value(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
+        let (x, v) = Self::vectors(x, v);
+        self.0.value(&x, &v, t)
+    }
+    fn force(&self, x: &[f64], v: &[f64], t: f64, f: &mut [f64]) {
+        let (x, v) = Self::vectors(x, v);
+        f.copy_from_slice(self.0.gradient(&x, &v, t).0.as_slice());
+    }
+    fn momentum(&self, x: &[f64], v: &[f64], t: f64, p: &mut [f64]) {
+        let (x, v) = Self::vectors(x, v);
+        p.copy_from_slice(self.0.gradient(&x, &v, t).1.as_slice());
+    }
+    fn hessian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseHessian) {
+        let (x, v) = Self::vectors(x, v);
+        let h = self.0.hessian(&x, &v, t);
+        add_dense(&h.xx, &mut out.xx);
+        add_dense(&h.xv, &mut out.xv);
+        add_dense(&h.vv, &mut out.vv);
+    }
+    fn hessian_dependence(&self) -> HessianDependence {
+        self.0.hessian_dependence()
+    }
+    fn hessian_bandwidth(&self) -> Option<usize> {
+        self.0.hessian_bandwidth()
+    }
+    fn dependence(&self) -> Dependence {
+        self.0.dependence()
+    }
+    fn constants(&self) -> Vec<(&'static str, f64)> {
+        self.0.constants()
+    }
+    fn is_forced(&self) -> bool {
+        self.0.is_forced()
+    }
+    fn force_dependence(&self) -> Option<[Dependence; 2]> {
+        self.0.force_dependence()
+    }
+    fn force_jacobian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseForceJacobian) {
+        let (x, v) = Self::vectors(x, v);
+        if let Some(force) = self.0.force_jacobian(&x, &v, t) {
+            add_dense(&force.x, &mut out.x);
+            add_dense(&force.v, &mut out.v);
+        }
+    }
+    fn energy(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
+        let (x, v) = Self::vectors(x, v);
+        self.0.energy(&x, &v, t)
     }
 }

@@ -4,7 +4,8 @@
 use super::Problem;
 use crate::dynamic::problem::DynProblem;
 use crate::embedding::{EmbeddingKind, Scheme};
-use crate::error::Result;
+use crate::error::{Result, check_len};
+use crate::lagrangian::run_time::FixedDimension;
 use crate::lagrangian::{IntoVector, Lagrangian, Vector};
 use crate::options::RUN_TIME_FROM;
 use crate::solve::bvp;
@@ -75,7 +76,25 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         if let Some(solved) = self.bvp_on_run_time_engine(scheme, guess) {
             return solved;
         }
+        if self.discretisation.embedding().is_one_step() {
+            return self.gauss_legendre_bvp(scheme, guess);
+        }
         bvp::solve(&self.discretisation, &self.options, scheme, guess)
+    }
+
+    /// The boundary value problem of a Gauss–Legendre integrator: the run-time engine's global
+    /// collocation system ([`DynProblem::solve_bvp_from`]), on this model's dense blocks seen
+    /// as sparse ones (one solver for both paths), with this problem's Newton options.
+    fn gauss_legendre_bvp(&self, scheme: Scheme, guess: &[Vector<D>]) -> Result<Solution<D>> {
+        check_len("discrete curve Q", self.grid().n() + 1, guess.len())?;
+        let model = FixedDimension::<L, D>(self.discretisation.lagrangian());
+        let embedding = *self.discretisation.embedding();
+        let problem =
+            DynProblem::new(&model, *self.grid(), embedding).with_newton(self.options.newton);
+        let flat: Vec<f64> = guess.iter().flat_map(|q| q.iter().copied()).collect();
+        problem
+            .solve_bvp_from(scheme, &flat)
+            .map(|solution| solution.into_nodes())
     }
 
     /// The boundary value problem of a model that is also a
@@ -101,6 +120,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
                 | EmbeddingKind::Asymmetric
                 | EmbeddingKind::Midpoint
                 | EmbeddingKind::Trapezoidal
+                | EmbeddingKind::GaussLegendre { .. }
         );
         // A guess of the wrong length gets this path's error, naming it in nodes.
         if model.dimension() != D || !solved_there || guess.len() != self.grid().n() + 1 {

@@ -267,7 +267,7 @@ fn the_errors_name_what_is_not_offered() {
     assert!(unsupported(problem.quadrature_energies(&q).map(|_| ())));
     assert!(unsupported(problem.action(&q).map(|_| ())));
     assert!(unsupported(
-        problem.solve_bvp(Scheme::Variational, 0.0, 1.0).map(|_| ())
+        problem.solve_bvp(Scheme::Direct, 0.0, 1.0).map(|_| ())
     ));
     assert!(unsupported(
         problem
@@ -387,5 +387,44 @@ fn node_values_carry_the_schemes_momenta_at_order_2s() {
             (order - 2.0 * s as f64).abs() < 0.3,
             "s = {s}: errors {errors:?}, order {order}"
         );
+    }
+}
+
+/// The boundary value problem of a Gauss–Legendre integrator between the ends of its own
+/// initial value run returns the run's nodes and carried momenta, for every `s`: Kepler's
+/// orbit (a quarter of it, away from conjugate points) and the magnetic model, whose `L_xv`
+/// is not symmetric.
+#[test]
+fn the_boundary_value_problem_returns_the_initial_value_run() {
+    let kepler = Kepler;
+    let magnetic = Magnetic { b: 1.3 };
+    let grid = Grid::new(0.0, 1.5, 20).unwrap();
+    for s in 1..=4 {
+        let problem = Problem::new(&kepler, grid, gauss(s));
+        let run = problem
+            .solve_ivp(Scheme::Variational, [1.0, 0.0], [0.0, 1.1])
+            .unwrap();
+        let bvp = problem
+            .solve_bvp(Scheme::Variational, run.q[0], run.q[20])
+            .unwrap();
+        let problem = Problem::new(&magnetic, grid, gauss(s));
+        let run_m = problem
+            .solve_ivp(Scheme::Variational, [0.2, -0.1], [0.5, 0.3])
+            .unwrap();
+        let bvp_m = problem
+            .solve_bvp(Scheme::Variational, run_m.q[0], run_m.q[20])
+            .unwrap();
+        // The magnetic model's equations are linear: one Newton step solves them.
+        for (name, run, bvp, least) in [("Kepler", &run, &bvp, 2), ("magnetic", &run_m, &bvp_m, 1)]
+        {
+            assert_eq!(bvp.q.len(), 21);
+            for k in 0..=20 {
+                let gap = (bvp.q[k] - run.q[k]).amax();
+                assert!(gap <= 1e-12, "{name} s = {s}, node {k}: {gap:e}");
+                let gap = (bvp.momenta[k] - run.momenta[k]).amax();
+                assert!(gap <= 1e-11, "{name} s = {s}, momentum {k}: {gap:e}");
+            }
+            assert!(bvp.newton_iterations >= least, "{name} s = {s}");
+        }
     }
 }

@@ -308,25 +308,50 @@ fn bad_input_gives_typed_errors() {
         Err(Error::NonFiniteInput { what }) => assert!(what.contains("alpha"), "{what}"),
         other => panic!("{other:?}"),
     }
-    for embedding in [
-        Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap(),
-        Embedding::gauss_legendre(2).unwrap(),
+    let fractional = Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap();
+    let gauss = Embedding::gauss_legendre(2).unwrap();
+    for (embedding, scheme) in [
+        (fractional, Scheme::Direct),
+        (fractional, Scheme::Variational),
+        (gauss, Scheme::Direct),
     ] {
-        for scheme in [Scheme::Direct, Scheme::Variational] {
-            let problem = DynProblem::new(&chain, grid, embedding);
-            assert!(
-                matches!(
-                    problem.solve_bvp(scheme, &qa, &qb),
-                    Err(Error::Unsupported { .. })
-                ),
-                "{embedding}"
-            );
-            assert!(matches!(
-                problem.solve_bvp_from(scheme, &[0.0; 88]),
+        let problem = DynProblem::new(&chain, grid, embedding);
+        assert!(
+            matches!(
+                problem.solve_bvp(scheme, &qa, &qb),
                 Err(Error::Unsupported { .. })
-            ));
-        }
+            ),
+            "{embedding}"
+        );
+        assert!(matches!(
+            problem.solve_bvp_from(scheme, &[0.0; 88]),
+            Err(Error::Unsupported { .. })
+        ));
     }
+    // Gauss–Legendre's collocation boundary value problem: the same typed errors.
+    let gl = DynProblem::new(&chain, grid, gauss);
+    match gl.solve_bvp(v, &qa[..7], &qb) {
+        Err(Error::WrongLength { .. }) => {}
+        other => panic!("{other:?}"),
+    }
+    let mut guess = vec![0.1; 88];
+    guess[4 * 8 + 2] = f64::NAN;
+    match gl.solve_bvp_from(v, &guess) {
+        Err(Error::NonFiniteInput { what }) => assert!(what.contains("Q_4[2]"), "{what}"),
+        other => panic!("{other:?}"),
+    }
+    let capped_gl = DynProblem::new(&chain, grid, gauss).with_newton(NewtonOptions {
+        max_iterations: 1,
+        ..NewtonOptions::default()
+    });
+    assert!(matches!(
+        capped_gl.solve_bvp(v, &[0.5; 8], &[-0.5; 8]),
+        Err(Error::NewtonDidNotConverge {
+            at: Location::Newton(1),
+            iterations: 1,
+            ..
+        })
+    ));
     // Too few iterations for a nonlinear solve: the iteration count and residual are reported.
     let capped = DynProblem::new(&chain, grid, Embedding::finite_difference(Side::Forward))
         .with_newton(NewtonOptions {
@@ -379,12 +404,31 @@ fn a_degenerate_model_is_reported_at_a_node() {
             ..
         })
     ));
+    // Gauss–Legendre's boundary value problem checks its guess the same way, on both paths.
+    let gauss = Embedding::gauss_legendre(2).unwrap();
+    let dynamic = DynProblem::new(&Half, grid, gauss).solve_bvp(
+        Scheme::Variational,
+        &[0.0, 0.0],
+        &[1.0, 1.0],
+    );
+    let fixed =
+        Problem::new(&Half, grid, gauss).solve_bvp(Scheme::Variational, [0.0, 0.0], [1.0, 1.0]);
+    for result in [dynamic.map(|_| ()), fixed.map(|_| ())] {
+        assert!(matches!(
+            result,
+            Err(Error::DegenerateLagrangian {
+                at: Location::Node(1),
+                ..
+            })
+        ));
+    }
 }
 
 /// The observed orders of the run-time boundary value problems on a harmonic chain of 24
 /// masses against its exact solution (normal modes), the ends taken from it: 2 for the
 /// symmetric embeddings, 1 for the direct Gauss-FDEσ scheme and 2 for its variational one on
-/// this separable model (the largest node error over two halvings of the step). `T = 1.2` keeps every mode short of a conjugate point (`ω T < π`).
+/// this separable model (the largest node error over two halvings of the step). `T = 1.2`
+/// keeps every mode short of a conjugate point (`ω T < π`).
 #[test]
 fn the_order_on_a_harmonic_chain_is_the_theorys() {
     use super::gauss_legendre::{harmonic_chain, harmonic_chain_at};

@@ -423,3 +423,36 @@ fn a_force_of_another_dimension_is_refused() {
         .solve_ivp(Scheme::Variational, &q0, &v0)
         .unwrap();
 }
+
+/// A forced chain's Gauss–Legendre boundary value problem between the ends of its own run
+/// returns the run's nodes and momenta on both paths (the const-generic model's dense blocks
+/// and the run-time form's sparse ones, each with the force's Jacobian in the global system),
+/// for every `s`.
+#[test]
+fn forced_gauss_legendre_boundary_value_problems_return_the_run() {
+    let forced = Forced::new(Chain, Rayleigh(Dashpots { gamma: 0.3 }));
+    let (q0, v0) = initial();
+    let grid = Grid::new(0.0, 1.0, 12).unwrap();
+    for s in 1..=4 {
+        let embedding = Embedding::gauss_legendre(s).unwrap();
+        let problem = Problem::new(&forced, grid, embedding);
+        let run = problem.solve_ivp(Scheme::Variational, q0, v0).unwrap();
+        let (qa, qb) = (run.q[0], run.q[12]);
+        let fixed = problem.solve_bvp(Scheme::Variational, qa, qb).unwrap();
+        let dynamic = DynProblem::new(&forced, grid, embedding)
+            .solve_bvp(Scheme::Variational, qa.as_slice(), qb.as_slice())
+            .unwrap();
+        for k in 0..=12 {
+            let gap = (fixed.q[k] - run.q[k]).amax();
+            assert!(gap <= 1e-12, "s = {s}, node {k}: {gap:e}");
+            let gap = (fixed.momenta[k] - run.momenta[k]).amax();
+            assert!(gap <= 1e-11, "s = {s}, momentum {k}: {gap:e}");
+            let gap = dynamic
+                .node(k)
+                .iter()
+                .zip(run.q[k].iter())
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(gap <= 1e-12, "s = {s}, run-time node {k}: {gap:e}");
+        }
+    }
+}

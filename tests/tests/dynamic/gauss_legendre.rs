@@ -419,3 +419,81 @@ fn a_fading_mass_is_degenerate_on_both_paths() {
         other => panic!("{other:?}"),
     }
 }
+
+/// The boundary value problem of a Gauss–Legendre integrator between the first and last nodes
+/// of its own initial value run returns that run's nodes and momenta (the run is the unique
+/// solution near the straight line), for every `s`, on a nonlinear chain with walls and on the
+/// model whose every block varies.
+#[test]
+fn the_boundary_value_problem_returns_the_nodes_of_the_initial_value_run() {
+    let chain = FputChain {
+        n: 12,
+        alpha: 0.25,
+        beta: 0.5,
+        periodic: false,
+    };
+    let q0 = displacement(12, 0.3, 0.2);
+    let v0: Vec<f64> = q0.iter().map(|q| 0.4 * q).collect();
+    let twisted = Twisted { k: 1.5 };
+    let (tq0, tv0) = initial();
+    let models: [(&dyn varembed::DynLagrangian, &[f64], &[f64]); 2] =
+        [(&chain, &q0, &v0), (&twisted, &tq0, &tv0)];
+    for (model, q0, v0) in models {
+        for s in 1..=4 {
+            let grid = Grid::new(0.0, 1.0, 16).unwrap();
+            let problem = DynProblem::new(model, grid, Embedding::gauss_legendre(s).unwrap());
+            let run = problem.solve_ivp(Scheme::Variational, q0, v0).unwrap();
+            let bvp = problem
+                .solve_bvp(Scheme::Variational, run.node(0), run.node(16))
+                .unwrap();
+            let gap = relative_gap(&bvp.q, &run.q);
+            assert!(gap <= 1e-12, "s = {s}: nodes {gap:e}");
+            let gap = relative_gap(&bvp.momenta, &run.momenta);
+            assert!(gap <= 1e-11, "s = {s}: momenta {gap:e}");
+            assert!(bvp.run.newton_iterations >= 2, "s = {s}");
+        }
+    }
+}
+
+/// The observed order of the Gauss–Legendre boundary value problems at the nodes on a harmonic
+/// chain of 24 masses against its exact solution: `2s` (the largest node error over two
+/// halvings of the step; `T = 1.2` keeps every mode short of a conjugate point).
+#[test]
+fn the_boundary_value_order_on_a_harmonic_chain_is_two_s() {
+    let (chain, q0, v0) = harmonic_chain();
+    let n = chain.n;
+    let t_end = 1.2;
+    let exact = |t: f64| harmonic_chain_at(n, (&q0, &v0), t);
+    let qb = exact(t_end);
+    for (s, steps) in [
+        (1, [8, 16, 32]),
+        (2, [4, 8, 16]),
+        (3, [2, 4, 8]),
+        (4, [2, 3, 4]),
+    ] {
+        let error = |steps: usize| {
+            let grid = Grid::new(0.0, t_end, steps).unwrap();
+            let embedding = Embedding::gauss_legendre(s).unwrap();
+            let solution = DynProblem::new(&chain, grid, embedding)
+                .solve_bvp(Scheme::Variational, &q0, &qb)
+                .unwrap();
+            (0..=steps)
+                .flat_map(|k| {
+                    let node = solution.node(k).to_vec();
+                    node.into_iter()
+                        .zip(exact(grid.t(k)))
+                        .map(|(a, b)| (a - b).abs())
+                })
+                .fold(0.0, f64::max)
+        };
+        let errors = steps.map(error);
+        for (pair, ratio) in errors.windows(2).zip(steps.windows(2)) {
+            let order = (pair[0] / pair[1]).ln() / (ratio[1] as f64 / ratio[0] as f64).ln();
+            let expected = 2.0 * s as f64;
+            assert!(
+                (order - expected).abs() < 0.3,
+                "s = {s}: errors {errors:?}, order {order:.3} (expected {expected})"
+            );
+        }
+    }
+}

@@ -1,11 +1,11 @@
 //! The run-time-dimension solvers give `c L` the nodes of `L` (`c > 0`), as the const-generic
-//! ones do (the `classical` binary's `scale_invariance`): 120 random cases of a factor
+//! ones do (the `classical` binary's `scale_invariance`): 240 random cases of a factor
 //! `c = 10^u`, `u` uniform in `[−12, 12]` (a quarter `c = 2^k`, whose nodes must be equal bit
 //! for bit, with the same Newton iterations, except the chain's closed-form steps, see
 //! [`case`]), a model (pendulum, the 2-D coupled model, the
 //! Caldirola–Kanai oscillator, all through a run-time-dimension adapter, and the FPUT chain)
-//! and a `DynProblem` solver (initial value problems of Gauss-FDEσ and the asymmetric
-//! embedding, boundary value problems of both).
+//! and a `DynProblem` solver (initial and boundary value problems of every classical
+//! embedding and scheme the run-time path offers).
 
 use std::collections::BTreeMap;
 
@@ -98,26 +98,28 @@ fn solvers() -> Vec<(String, Kind)> {
             }
         }
     }
-    // The symmetric embeddings run on this path as initial value problems only.
-    for embedding in [Embedding::midpoint(), Embedding::trapezoidal()] {
-        for scheme in [Scheme::Direct, Scheme::Variational] {
+    for bvp in [false, true] {
+        let what = if bvp { "BVP" } else { "IVP" };
+        for embedding in [Embedding::midpoint(), Embedding::trapezoidal()] {
+            for scheme in [Scheme::Direct, Scheme::Variational] {
+                let kind = Kind {
+                    embedding,
+                    scheme,
+                    bvp,
+                };
+                out.push((format!("DynProblem {what} {embedding} {scheme:?}"), kind));
+            }
+        }
+        // The Gauss–Legendre integrators, variational only.
+        for s in 1..=4 {
+            let embedding = Embedding::gauss_legendre(s).unwrap();
             let kind = Kind {
                 embedding,
-                scheme,
-                bvp: false,
+                scheme: Scheme::Variational,
+                bvp,
             };
-            out.push((format!("DynProblem IVP {embedding} {scheme:?}"), kind));
+            out.push((format!("DynProblem {what} {embedding}"), kind));
         }
-    }
-    // The Gauss–Legendre integrators, variational initial value problems.
-    for s in 1..=4 {
-        let embedding = Embedding::gauss_legendre(s).unwrap();
-        let kind = Kind {
-            embedding,
-            scheme: Scheme::Variational,
-            bvp: false,
-        };
-        out.push((format!("DynProblem IVP {embedding}"), kind));
     }
     out
 }
@@ -186,14 +188,14 @@ fn case<L: DynLagrangian>(
     gap
 }
 
-/// 120 random cases: `c L` gives the nodes of `L` to 1e-9 relative on every `DynProblem`
+/// 240 random cases: `c L` gives the nodes of `L` to 1e-9 relative on every `DynProblem`
 /// solver, bit for bit when `c` is a power of two.
 #[test]
 fn every_dyn_solver_gives_c_l_the_nodes_of_l() {
     let solvers = solvers();
     let mut rng = Rng(0xD15CA1E);
     let mut worst: BTreeMap<&str, (f64, usize)> = BTreeMap::new();
-    for _ in 0..120 {
+    for _ in 0..240 {
         let exact = rng.below(4) == 0;
         let c = if exact {
             2f64.powi(rng.below(79) as i32 - 39)

@@ -296,6 +296,21 @@ fn boundary_value_problems_of_large_models_run_on_the_run_time_engine() {
                 assert_eq!(routed.newton_iterations, reference.run.newton_iterations);
             }
         }
+        // Gauss–Legendre's collocation boundary value problem (variational only).
+        let embedding = Embedding::gauss_legendre(2).unwrap();
+        let routed = Problem::new(&model, grid, embedding)
+            .solve_bvp(
+                Scheme::Variational,
+                Vector::<RING>::from_column_slice(&qa),
+                Vector::<RING>::from_column_slice(&qb),
+            )
+            .unwrap();
+        let reference = DynProblem::new(&model, grid, embedding)
+            .solve_bvp(Scheme::Variational, &qa, &qb)
+            .unwrap();
+        for (k, node) in routed.q.iter().enumerate() {
+            assert_eq!(node.as_slice(), reference.node(k), "{embedding}");
+        }
     });
     let model = SmallRing { c: 4.0 };
     let (qa, v0) = displaced(SMALL);
@@ -321,6 +336,16 @@ fn boundary_value_problems_of_large_models_run_on_the_run_time_engine() {
                 );
             }
         }
+        // Gauss–Legendre: the run-time form's sparse blocks against the dense ones.
+        let embedding = Embedding::gauss_legendre(2).unwrap();
+        let routed = Problem::new(&model, grid, embedding)
+            .solve_bvp(Scheme::Variational, xa, xb)
+            .unwrap();
+        let reference = Problem::new(&Dense(&model), grid, embedding)
+            .solve_bvp(Scheme::Variational, xa, xb)
+            .unwrap();
+        let gap = relative_gap(&routed, &reference);
+        assert!(gap <= 1e-12, "{embedding}: {gap:e}");
     });
 }
 
