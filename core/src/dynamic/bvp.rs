@@ -155,13 +155,6 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
         if let EmbeddingKind::GaussLegendre { stages } = self.embedding.kind() {
             return self.solve_gauss_bvp(stages, scheme, guess);
         }
-        if self.lagrangian.is_forced() {
-            // The global Jacobian of the run-time path is assembled from L's blocks alone.
-            return Err(Error::Unsupported {
-                operation: "a boundary value problem of run-time dimension under a force",
-                embedding: self.embedding.to_string(),
-            });
-        }
         let rows = DynRows::new(self.lagrangian, self.grid, self.embedding, scheme)?;
         check_input(&rows, guess)?;
         let Converged {

@@ -20,7 +20,7 @@ use crate::interval::Rule;
 use crate::operator::Operator;
 
 use super::DynLagrangian;
-use super::sparse::{SparseBlock, SparseHessian};
+use super::sparse::{SparseBlock, SparseForceJacobian, SparseHessian};
 
 /// The values at the quadrature nodes of a curve, flat by node index `0..=N` (the node outside
 /// `I_σ` holds zeros), and the residual rows, flat (row `i` is the equation of node
@@ -321,16 +321,22 @@ impl<'a, L: DynLagrangian + ?Sized> DynRows<'a, L> {
         let d = self.d;
         let k = self.rows().start() + i;
         for (m, part, j, coefficient) in self.contributions(k) {
-            let h = hessians.at(self, q, values, m);
-            let (block, transposed): (&SparseBlock, bool) = match part {
-                Part::Xx => (&h.xx, false),
-                Part::Xv => (&h.xv, false),
-                Part::Vx => (&h.xv, true),
-                Part::Vv => (&h.vv, false),
+            let (h, force) = hessians.at(self, q, values, m);
+            // The force's derivatives ∂f/∂x, ∂f/∂v are L_xx, L_xv and a generalised force's
+            // blocks; the momentum's are L's alone.
+            let (block, extra, transposed): (&SparseBlock, Option<&SparseBlock>, bool) = match part
+            {
+                Part::Xx => (&h.xx, force.map(|f| &f.x), false),
+                Part::Xv => (&h.xv, force.map(|f| &f.v), false),
+                Part::Vx => (&h.xv, None, true),
+                Part::Vv => (&h.vv, None, false),
             };
             let (row0, col0) = (i * d, (j - 1) * d);
             for &(a, b, value) in block.entries() {
                 let (a, b) = if transposed { (b, a) } else { (a, b) };
+                add(row0 + a, col0 + b, value * coefficient);
+            }
+            for &(a, b, value) in extra.map_or(&[][..], |e| e.entries()) {
                 add(row0 + a, col0 + b, value * coefficient);
             }
         }
@@ -348,9 +354,10 @@ fn largest(x: &[f64]) -> f64 {
 /// ones the next row shares with it.
 const SLOTS: usize = 8;
 
-/// The Hessians at the last few points read, `O(d)` memory however long the curve.
+/// The Hessians (and a generalised force's Jacobians) at the last few points read, `O(d)`
+/// memory however long the curve.
 pub(crate) struct HessianCache {
-    slots: Vec<(Option<Point>, SparseHessian)>,
+    slots: Vec<(Option<Point>, SparseHessian, SparseForceJacobian)>,
     /// The position and velocity of the point being evaluated.
     x: Vec<f64>,
     v: Vec<f64>,
@@ -360,35 +367,37 @@ impl HessianCache {
     /// Empty slots for dimension `d`.
     pub(crate) fn new(d: usize) -> Self {
         HessianCache {
-            slots: (0..SLOTS).map(|_| (None, SparseHessian::new(d))).collect(),
+            slots: (0..SLOTS)
+                .map(|_| (None, SparseHessian::new(d), SparseForceJacobian::new(d)))
+                .collect(),
             x: vec![0.0; d],
             v: vec![0.0; d],
         }
     }
 
-    /// The Hessian at `point` of `q` (with the velocities in `values`).
+    /// The Hessian at `point` of `q` (with the velocities in `values`), and a generalised
+    /// force's Jacobian there when the model is forced.
     fn at<L: DynLagrangian + ?Sized>(
         &mut self,
         rows: &DynRows<'_, L>,
         q: &[f64],
         values: &CurveValues,
         point: Point,
-    ) -> &SparseHessian {
+    ) -> (&SparseHessian, Option<&SparseForceJacobian>) {
+        let forced = rows.lagrangian.is_forced();
         let slot = &mut self.slots[point.key() % SLOTS];
         if slot.0 != Some(point) {
-            let d = rows.d;
+            let t = rows.point(q, values, point, (&mut self.x, &mut self.v));
             slot.1.clear();
-            if let Point::Node(m) = point {
-                let at = m * d..(m + 1) * d;
+            rows.lagrangian.hessian(&self.x, &self.v, t, &mut slot.1);
+            if forced {
+                slot.2.clear();
                 rows.lagrangian
-                    .hessian(&q[at.clone()], &values.v[at], rows.grid.t(m), &mut slot.1);
-            } else {
-                let t = rows.point(q, values, point, (&mut self.x, &mut self.v));
-                rows.lagrangian.hessian(&self.x, &self.v, t, &mut slot.1);
+                    .force_jacobian(&self.x, &self.v, t, &mut slot.2);
             }
             slot.0 = Some(point);
         }
-        &slot.1
+        (&slot.1, forced.then_some(&slot.2))
     }
 
     /// Forgets every Hessian (the curve has changed).

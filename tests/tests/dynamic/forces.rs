@@ -381,20 +381,42 @@ fn the_node_values_of_a_forced_run_are_the_const_generic_ones() {
     }
 }
 
+/// A forced chain's boundary value problems on the run-time path give the const-generic nodes
+/// (to 1e-12, in as many Newton iterations) for every classical embedding and scheme, under
+/// Rayleigh's dissipation and the same force written as a general `#[force]`: the force and
+/// its Jacobian join the rows wherever `∂L/∂x` is read.
 #[test]
-fn a_run_time_boundary_value_problem_under_a_force_is_refused() {
-    let forced = Forced::new(Chain, Rayleigh(Dashpots { gamma: 0.3 }));
-    let (q0, _) = initial();
+fn forced_boundary_value_problems_of_run_time_dimension_are_the_const_generic_ones() {
+    let rayleigh = Forced::new(Chain, Rayleigh(Dashpots { gamma: 0.3 }));
+    let general = Forced::new(Chain, DashpotForce { gamma: 0.3 });
+    let (qa, v0) = initial();
+    let qb: [f64; N] = std::array::from_fn(|i| 0.8 * qa[i] + 0.5 * v0[i]);
     let grid = Grid::new(0.0, 1.0, 20).unwrap();
-    let refused = DynProblem::new(&forced, grid, Embedding::midpoint()).solve_bvp(
-        Scheme::Variational,
-        &q0,
-        &q0,
-    );
-    assert!(
-        matches!(refused, Err(Error::Unsupported { .. })),
-        "{refused:?}"
-    );
+    for embedding in embeddings() {
+        for scheme in [Scheme::Direct, Scheme::Variational] {
+            let reference = Problem::new(&rayleigh, grid, embedding)
+                .solve_bvp(scheme, qa, qb)
+                .unwrap();
+            let runs = [
+                DynProblem::new(&rayleigh, grid, embedding).solve_bvp(scheme, &qa, &qb),
+                DynProblem::new(&general, grid, embedding).solve_bvp(scheme, &qa, &qb),
+            ];
+            for run in runs {
+                let run = run.unwrap();
+                let gap = reference
+                    .q
+                    .iter()
+                    .enumerate()
+                    .flat_map(|(k, x)| x.iter().zip(run.node(k)).map(|(a, b)| (a - b).abs()))
+                    .fold(0.0, f64::max);
+                assert!(gap <= 1e-12, "{embedding} {scheme}: {gap:e}");
+                assert_eq!(
+                    run.run.newton_iterations, reference.newton_iterations,
+                    "{embedding} {scheme}"
+                );
+            }
+        }
+    }
 }
 
 /// Dissipation on a run-time number of sites.

@@ -19,10 +19,11 @@ fn curve(n: usize) -> Vec<f64> {
 
 /// `∂r_i/∂Q_j` assembled by `jacobian_row` equals central differences of `evaluate`'s rows in
 /// every interior node coordinate, entry by entry (a transposed `L_xv`, a wrong end weight of
-/// the trapezoidal rule or a missing centred-velocity term each fail it).
+/// the trapezoidal rule, a missing centred-velocity term or a missing force block each fail
+/// it).
 #[test]
 fn the_jacobian_matches_central_differences_of_the_rows() {
-    let model = DynMixed { forced: false };
+    let model = DynMixed { forced: true };
     let (n, grid) = (6, Grid::new(0.1, 0.7, 6).unwrap());
     let q = curve(n);
     let embeddings = [
