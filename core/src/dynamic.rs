@@ -15,6 +15,7 @@
 
 pub(crate) mod band;
 pub(crate) mod bvp;
+mod bvp_minres;
 pub(crate) mod dense;
 mod ensembles;
 mod gauss;

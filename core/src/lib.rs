@@ -134,7 +134,9 @@
 //!   (velocities, momenta, energy; CSV export): [`DynNodeValues`], [`DynNodeState`], by the
 //!   formulas of [`NodeRule`]. A `#[lagrangian]` model with
 //!   loops over `[f64; N]` is both kinds of model, and from [`RUN_TIME_FROM`] degrees of
-//!   freedom on a [`Problem`] runs it on the run-time engine.
+//!   freedom on a [`Problem`] runs it on the run-time engine. Its boundary value problems go
+//!   by sparse LU or, for a variational scheme, by MINRES ([`BvpSolver`]; what was used:
+//!   [`LinearSolve`]).
 //! - Solving: [`Solution`] and its [`Warning`]s, [`Start`], [`NewtonOptions`],
 //!   [`FractionalSolver`]; a solution's values at its nodes (times, positions, velocities,
 //!   momenta, energy; CSV export): [`NodeValues`], [`NodeState`], [`NodeRule`],
@@ -232,7 +234,7 @@ pub use lagrangian::{
     Dependence, ForceJacobian, Hessian, HessianDependence, IntoVector, Lagrangian, Matrix, Vector,
 };
 pub use ode::{DifferentialOperator, DirectEmbedding};
-pub use options::{FractionalSolver, NewtonOptions, RUN_TIME_FROM};
+pub use options::{BvpSolver, FractionalSolver, LinearSolve, NewtonOptions, RUN_TIME_FROM};
 pub use problem::{Problem, curve_from_flat};
 pub use side::Side;
 pub use solve::constrained::ConstrainedSolution;

@@ -150,6 +150,59 @@ impl Default for KrylovBudget {
     }
 }
 
+/// How the Newton systems of a boundary value problem of run-time dimension
+/// ([`DynProblem::solve_bvp`](crate::DynProblem::solve_bvp)) are solved
+/// ([`DynProblem::with_bvp_solver`](crate::DynProblem::with_bvp_solver)); what was used is
+/// [`DynRun::linear_solve`](crate::DynRun::linear_solve).
+///
+/// ```
+/// assert_eq!(varembed::BvpSolver::default(), varembed::BvpSolver::Auto);
+/// ```
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum BvpSolver {
+    /// Preconditioned MINRES for a variational scheme with at least
+    /// [`MINRES_FROM`](Self::MINRES_FROM) unknowns, sparse LU otherwise.
+    #[default]
+    Auto,
+    /// Always sparse LU after a fill-reducing ordering: memory grows with the factors' fill
+    /// (about 3.4 GB at `10⁶` unknowns of a chain).
+    SparseLu,
+    /// Preconditioned MINRES for the variational schemes (whose Jacobian, the Hessian of the
+    /// discrete action, is symmetric), with `O(N d)` memory; sparse LU for the direct schemes,
+    /// whose Jacobian is not symmetric. When the preconditioner is not positive definite or
+    /// MINRES does not converge, the problem is solved again by sparse LU and the reason is
+    /// reported ([`LinearSolve::SparseLuAfterMinres`]).
+    Minres,
+}
+
+impl BvpSolver {
+    /// Unknowns `(N − 1) d` from which [`BvpSolver::Auto`] solves a variational scheme by
+    /// MINRES.
+    ///
+    /// ```
+    /// assert!(varembed::BvpSolver::MINRES_FROM > 0);
+    /// ```
+    pub const MINRES_FROM: usize = 100_000;
+}
+
+/// How the Newton systems of a boundary value problem of run-time dimension were solved.
+#[derive(Clone, Debug, PartialEq)]
+pub enum LinearSolve {
+    /// By sparse LU.
+    SparseLu,
+    /// By preconditioned MINRES, `products` products with the Jacobian in all (the inverse
+    /// iteration of the posedness check included).
+    Minres {
+        /// Products with the Jacobian.
+        products: usize,
+    },
+    /// MINRES was tried and the problem was solved again by sparse LU, for `reason`.
+    SparseLuAfterMinres {
+        /// Why MINRES gave way.
+        reason: String,
+    },
+}
+
 /// Everything the solvers are told besides the discretisation.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct SolverOptions {

@@ -1,7 +1,9 @@
 //! The classical boundary value problem of a large model: the FPUT chain of `d = 1024`
 //! particles between walls on `N = 1000` steps of `[0, 1]`, `(N − 1) d ≈ 10⁶` unknowns, solved
-//! by `DynProblem::solve_bvp` (Newton on the global system, its sparse Jacobian factorised by
-//! sparse LU after a fill-reducing ordering), direct and variational Gauss-FDE−.
+//! by `DynProblem::solve_bvp` (Newton on the global system), direct and variational
+//! Gauss-FDE−: its sparse Jacobian factorised by sparse LU after a fill-reducing ordering
+//! (`BvpSolver::SparseLu`), and for the variational scheme by preconditioned MINRES
+//! (`BvpSolver::Minres`, what `BvpSolver::Auto` chooses at this size), side by side.
 //!
 //! Before timing, one solve of each scheme is run alone and reported: Newton iterations, wall
 //! time, and the peak heap memory of the solve (the peak bytes allocated during the solve minus
@@ -16,7 +18,7 @@ use std::hint::black_box;
 use std::time::Instant;
 
 use criterion::{BenchmarkId, Criterion};
-use varembed::{DynProblem, Embedding, Grid, Scheme, Side};
+use varembed::{BvpSolver, DynProblem, Embedding, Grid, Scheme, Side};
 use varembed_tests::models::chain::FputChain;
 
 #[global_allocator]
@@ -35,9 +37,10 @@ fn ends(d: usize) -> (Vec<f64>, Vec<f64>) {
 }
 
 /// One solve alone: its iterations, time and peak heap memory, printed.
-fn report(name: &str, chain: &FputChain, scheme: Scheme) {
+fn report(name: &str, chain: &FputChain, scheme: Scheme, solver: BvpSolver) -> Vec<f64> {
     let grid = Grid::new(0.0, T, STEPS).unwrap();
-    let problem = DynProblem::new(chain, grid, Embedding::finite_difference(Side::Backward));
+    let problem = DynProblem::new(chain, grid, Embedding::finite_difference(Side::Backward))
+        .with_bvp_solver(solver);
     let (qa, qb) = ends(chain.n);
     // The heap profiler counts from here: its peak is the solve's alone. (Its bookkeeping per
     // allocation is negligible against a solve of seconds.)
@@ -49,8 +52,9 @@ fn report(name: &str, chain: &FputChain, scheme: Scheme) {
     drop(profiler);
     let mib = |bytes: usize| bytes as f64 / (1024.0 * 1024.0);
     println!(
-        "{name} {scheme}: d = {}, N = {STEPS}, {} unknowns: {} Newton iterations in {:.2} s; \
-         peak heap of the solve {:.0} MiB (the solution itself {:.0} MiB)",
+        "{name} {scheme} ({:?}): d = {}, N = {STEPS}, {} unknowns: {} Newton iterations in \
+         {:.2} s; peak heap of the solve {:.0} MiB (the solution itself {:.0} MiB)",
+        solution.run.linear_solve,
         chain.n,
         (STEPS - 1) * chain.n,
         solution.run.newton_iterations,
@@ -58,6 +62,7 @@ fn report(name: &str, chain: &FputChain, scheme: Scheme) {
         mib(peak),
         mib(solution.q.len() * 8),
     );
+    solution.q
 }
 
 fn large_bvp(c: &mut Criterion) {
@@ -71,18 +76,33 @@ fn large_bvp(c: &mut Criterion) {
         periodic: true,
         ..chain
     };
-    for scheme in [Scheme::Direct, Scheme::Variational] {
-        report("chain", &chain, scheme);
-    }
-    report("ring", &ring, Scheme::Variational);
+    report("chain", &chain, Scheme::Direct, BvpSolver::SparseLu);
+    let lu = report("chain", &chain, Scheme::Variational, BvpSolver::SparseLu);
+    let minres = report("chain", &chain, Scheme::Variational, BvpSolver::Minres);
+    let gap = lu
+        .iter()
+        .zip(&minres)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    println!("chain variational: max |Q_LU − Q_MINRES| = {gap:.1e}");
+    report("ring", &ring, Scheme::Variational, BvpSolver::SparseLu);
+    report("ring", &ring, Scheme::Variational, BvpSolver::Minres);
 
     let grid = Grid::new(0.0, T, STEPS).unwrap();
-    let problem = DynProblem::new(&chain, grid, Embedding::finite_difference(Side::Backward));
+    let problem_with = |solver| {
+        DynProblem::new(&chain, grid, Embedding::finite_difference(Side::Backward))
+            .with_bvp_solver(solver)
+    };
     let (qa, qb) = ends(D);
     let mut group = c.benchmark_group(format!("fput_bvp_d{D}_n{STEPS}"));
     group.sample_size(10);
-    for scheme in [Scheme::Direct, Scheme::Variational] {
-        group.bench_function(BenchmarkId::new("sparse_lu", scheme), |b| {
+    let runs = [
+        ("sparse_lu", Scheme::Direct, BvpSolver::SparseLu),
+        ("sparse_lu", Scheme::Variational, BvpSolver::SparseLu),
+        ("minres", Scheme::Variational, BvpSolver::Minres),
+    ];
+    for (name, scheme, solver) in runs {
+        let problem = problem_with(solver);
+        group.bench_function(BenchmarkId::new(name, scheme), |b| {
             b.iter(|| {
                 problem
                     .solve_bvp(scheme, black_box(&qa), black_box(&qb))

@@ -78,6 +78,7 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
             embedding: self.embedding,
             newton: self.newton,
             blow_up_guard: self.blow_up_guard,
+            bvp_solver: self.bvp_solver,
             start: self.start,
             resolution_check: self.resolution_check,
             posedness_check: self.posedness_check,

@@ -157,12 +157,13 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
         }
         let rows = DynRows::new(self.lagrangian, self.grid, self.embedding, scheme)?;
         check_input(&rows, guess)?;
+        let (converged, linear_solve) = self.newton_by_solver(&rows, guess)?;
         let Converged {
             q,
             iterations: newton_iterations,
             band,
             measure,
-        } = newton(&rows, &self.newton, guess, self.posedness_check)?;
+        } = converged;
         check_nodes(&rows, &q, false)?;
         let (n, d) = (self.grid.n(), rows.d);
         let ill_posed = measure.filter(|&m| m < ILL_POSED_BELOW);
@@ -181,6 +182,7 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
                 band,
                 reordered: true,
                 warnings: warnings.clone(),
+                linear_solve: Some(linear_solve),
             },
             dimension: d,
             indices: (0..=n).collect(),
@@ -342,7 +344,7 @@ fn vv_pivots<L: DynLagrangian + ?Sized>(
 
 /// `V`, `f`, `p` and the residual rows at an iterate, and the residual's max-norm; any failure
 /// is [`Error::NotFinite`] at that Newton iteration.
-fn evaluate<L: DynLagrangian + ?Sized>(
+pub(super) fn evaluate<L: DynLagrangian + ?Sized>(
     rows: &DynRows<'_, L>,
     q: &[f64],
     values: &mut CurveValues,
@@ -358,15 +360,14 @@ fn evaluate<L: DynLagrangian + ?Sized>(
     Ok(max_norm(&values.r))
 }
 
-/// The Jacobian at `q` assembled into the planned pattern, planning it (and its symbolic
-/// factorisation) first when there is none or when an entry falls outside it.
-fn assemble<'s, L: DynLagrangian + ?Sized>(
+/// The Jacobian at `q` assembled into the planned pattern, planning it first when there is
+/// none or when an entry falls outside it; whether it was planned anew.
+pub(super) fn assemble_matrix<'s, L: DynLagrangian + ?Sized>(
     rows: &DynRows<'_, L>,
-    q: &[f64],
-    values: &CurveValues,
+    (q, values): (&[f64], &CurveValues),
     hessians: &mut HessianCache,
-    system: &'s mut Option<(SparseRows, SparseLu)>,
-) -> std::result::Result<&'s mut (SparseRows, SparseLu), Singular> {
+    matrix: &'s mut Option<SparseRows>,
+) -> (&'s mut SparseRows, bool) {
     let (d, blocks) = (rows.d, rows.rows().count());
     let fill = |matrix: &mut SparseRows, hessians: &mut HessianCache| {
         matrix.clear();
@@ -378,35 +379,46 @@ fn assemble<'s, L: DynLagrangian + ?Sized>(
         }
         fits
     };
-    if let Some((matrix, _)) = system.as_mut()
-        && !fill(matrix, hessians)
-    {
-        *system = None;
-    }
-    if system.is_none() {
-        let mut matrix = SparseRows::with_order(blocks * d);
+    let fits = matrix.as_mut().is_some_and(|m| fill(m, hessians));
+    if !fits {
+        let mut planned = SparseRows::with_order(blocks * d);
         let mut entries = Vec::new();
         for i in 0..blocks {
             entries.clear();
             rows.jacobian_row(i, hessians, q, values, |r, c, _| entries.push((r, c)));
-            matrix.push_rows(i * d, d, &mut entries);
+            planned.push_rows(i * d, d, &mut entries);
         }
-        debug_assert!(matrix.is_complete());
-        let lu = SparseLu::plan(&matrix)?;
-        let fitted = fill(&mut matrix, hessians);
+        debug_assert!(planned.is_complete());
+        let fitted = fill(&mut planned, hessians);
         debug_assert!(fitted, "the pattern was read off the same rows");
-        *system = Some((matrix, lu));
+        *matrix = Some(planned);
     }
-    Ok(system.as_mut().expect("planned above"))
+    (matrix.as_mut().expect("planned above"), !fits)
+}
+
+/// The Jacobian at `q` (see [`assemble_matrix`]) and its symbolic LU factorisation, planned
+/// again with the pattern.
+fn assemble<'s, L: DynLagrangian + ?Sized>(
+    rows: &DynRows<'_, L>,
+    q: &[f64],
+    values: &CurveValues,
+    hessians: &mut HessianCache,
+    (matrix, lu): (&'s mut Option<SparseRows>, &'s mut Option<SparseLu>),
+) -> std::result::Result<(&'s mut SparseRows, &'s mut SparseLu), Singular> {
+    let (matrix, planned) = assemble_matrix(rows, (q, values), hessians, matrix);
+    if planned || lu.is_none() {
+        *lu = Some(SparseLu::plan(matrix)?);
+    }
+    Ok((matrix, lu.as_mut().expect("planned above")))
 }
 
 /// What Newton's method returns: the nodes, the iterations, the Jacobian's time-major band and,
 /// when asked for, the ill-posedness measure at the converged iterate.
-struct Converged {
-    q: Vec<f64>,
-    iterations: usize,
-    band: usize,
-    measure: Option<f64>,
+pub(super) struct Converged {
+    pub(super) q: Vec<f64>,
+    pub(super) iterations: usize,
+    pub(super) band: usize,
+    pub(super) measure: Option<f64>,
 }
 
 /// Newton's method on the rows from `guess`, as the const-generic boundary value solve runs it:
@@ -414,7 +426,7 @@ struct Converged {
 /// isolated, and is reported), stop at the tolerance or at round-off, and globalise by the same
 /// line search (the residual's 2-norm, full steps first, with a watchdog). With `posedness_check`, the converged iterate's Jacobian and its
 /// factorisation give the ill-posedness measure (see [`measure`]).
-fn newton<L: DynLagrangian + ?Sized>(
+pub(super) fn newton<L: DynLagrangian + ?Sized>(
     rows: &DynRows<'_, L>,
     options: &NewtonOptions,
     guess: &[f64],
@@ -439,13 +451,13 @@ fn newton<L: DynLagrangian + ?Sized>(
     let mut line_search = LineSearch::new(&q, merit);
     let mut previous = f64::INFINITY;
     let mut hessians = HessianCache::new(d);
-    let mut system = None;
+    let (mut matrix, mut lu) = (None, None);
     let mut delta = vec![0.0; unknowns];
     for iteration in 0..=options.max_iterations {
         let at = Location::Newton(iteration);
         let scale = rows.scale(&current);
         hessians.invalidate();
-        let (matrix, lu) = assemble(rows, &q, &current, &mut hessians, &mut system)
+        let (matrix, lu) = assemble(rows, &q, &current, &mut hessians, (&mut matrix, &mut lu))
             .map_err(|_| Error::SingularJacobian { at })?;
         let j_norm = newton_direction((matrix, lu), &current.r, &mut delta, at)?;
         if res <= options.tolerance * scale || at_round_off(res, previous, j_norm, max_norm(&q)) {
@@ -465,20 +477,32 @@ fn newton<L: DynLagrangian + ?Sized>(
         if iteration == options.max_iterations {
             break;
         }
-        // The line search of the const-generic solve, on the flat nodes.
         let (next, values, next_res, next_merit) =
-            line_search.step(&q, merit, &delta, |trial| {
-                let mut values = rows.zero_values();
-                let res = evaluate(rows, trial, &mut values, iteration + 1)?;
-                let merit = two_norm(&values.r);
-                Ok((values, res, merit))
-            })?;
+            search(rows, &mut line_search, (&q, merit), &delta, iteration)?;
         (q, current, previous, res, merit) = (next, values, res, next_res, next_merit);
     }
     Err(Error::NewtonDidNotConverge {
         at: Location::Newton(options.max_iterations),
         iterations: options.max_iterations,
         residual: res,
+    })
+}
+
+/// The next iterate from `q` (merit `merit`) along the Newton direction `delta` at Newton
+/// iteration `iteration`: the line search of the const-generic solve, on the flat nodes (its
+/// nodes, their evaluation, the residual's max-norm and 2-norm).
+pub(super) fn search<L: DynLagrangian + ?Sized>(
+    rows: &DynRows<'_, L>,
+    line_search: &mut LineSearch<Vec<f64>>,
+    (q, merit): (&Vec<f64>, f64),
+    delta: &[f64],
+    iteration: usize,
+) -> Result<(Vec<f64>, CurveValues, f64, f64)> {
+    line_search.step(q, merit, delta, |trial| {
+        let mut values = rows.zero_values();
+        let res = evaluate(rows, trial, &mut values, iteration + 1)?;
+        let merit = two_norm(&values.r);
+        Ok((values, res, merit))
     })
 }
 
@@ -529,14 +553,14 @@ pub(super) fn isolated(
 }
 
 /// The 2-norm of flat residual rows, the line search's merit.
-fn two_norm(r: &[f64]) -> f64 {
+pub(super) fn two_norm(r: &[f64]) -> f64 {
     r.iter().map(|x| x * x).sum::<f64>().sqrt()
 }
 
 /// The ill-posedness measure of the conditioning module at the converged iterate: the largest
 /// coupling between neighbouring nodes read off `matrix` (one pass over its entries) against
 /// `sigma`, the smallest eigenvalue by inverse iteration on its factorisation.
-fn measure<L: DynLagrangian + ?Sized>(
+pub(super) fn measure<L: DynLagrangian + ?Sized>(
     rows: &DynRows<'_, L>,
     matrix: &SparseRows,
     sigma: f64,

@@ -124,6 +124,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             band,
             reordered,
             warnings: warning.into_iter().collect(),
+            linear_solve: None,
         })
     }
 }

@@ -33,7 +33,7 @@ use crate::embedding::{Embedding, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::gauss_legendre::GaussTableau;
 use crate::grid::Grid;
-use crate::options::NewtonOptions;
+use crate::options::{LinearSolve, NewtonOptions};
 use crate::side::Side;
 use crate::solve::newton::{Iterate, LineSearch, at_round_off};
 
@@ -405,6 +405,7 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
                 band: 0,
                 reordered: true,
                 warnings: Vec::new(),
+                linear_solve: Some(LinearSolve::SparseLu),
             },
             dimension: d,
             indices: (0..=n).collect(),

@@ -10,7 +10,7 @@
 use crate::embedding::{Embedding, EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::grid::Grid;
-use crate::options::NewtonOptions;
+use crate::options::{LinearSolve, NewtonOptions};
 use crate::regularity::DEGENERACY_THRESHOLD;
 use crate::solve::guard::BlowUpGuard;
 use crate::solve::ivp::step_kind;
@@ -50,6 +50,9 @@ pub struct DynRun {
     /// What the caller should know about the run (empty when nothing): see
     /// [`DynSolution::warnings`](super::problem::DynSolution::warnings).
     pub warnings: Vec<Warning>,
+    /// How a boundary value problem's Newton systems were solved; `None` for an initial value
+    /// run.
+    pub linear_solve: Option<LinearSolve>,
 }
 
 /// The parts of a run-time-dimension problem an initial value problem reads.
@@ -195,6 +198,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             band,
             reordered,
             warnings: warning.into_iter().collect(),
+            linear_solve: None,
         })
     }
 

@@ -6,7 +6,7 @@ use crate::error::{Error, Result};
 use crate::grid::Grid;
 use crate::lagrangian::Vector;
 use crate::memory::reserve;
-use crate::options::NewtonOptions;
+use crate::options::{BvpSolver, NewtonOptions};
 use crate::solve::solution::{Solution, Warning};
 use crate::solve::start::Start;
 
@@ -96,6 +96,8 @@ pub struct DynProblem<'l, L: ?Sized> {
     /// Whether a converged boundary value problem measures how close it is to singular (see
     /// the conditioning module).
     pub(crate) posedness_check: bool,
+    /// How a boundary value problem's Newton systems are solved.
+    pub(crate) bvp_solver: BvpSolver,
 }
 
 /// The stored nodes of a run of a [`DynProblem`]: `Q_k` for `k` in [`indices`](Self::indices),
@@ -187,6 +189,7 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
             start: Start::Legendre,
             resolution_check: true,
             posedness_check: true,
+            bvp_solver: BvpSolver::Auto,
         }
     }
 

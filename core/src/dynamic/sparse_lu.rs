@@ -117,6 +117,18 @@ impl SparseRows {
         }
     }
 
+    /// `y = A x`.
+    pub(crate) fn apply(&self, x: &[f64], y: &mut [f64]) {
+        for (i, y) in y.iter_mut().enumerate() {
+            let at = self.row_ptr[i]..self.row_ptr[i + 1];
+            *y = self.col_idx[at.clone()]
+                .iter()
+                .zip(&self.values[at])
+                .map(|(&j, v)| v * x[j])
+                .sum();
+        }
+    }
+
     /// Whether every value is finite.
     pub(crate) fn is_finite(&self) -> bool {
         self.values.iter().all(|v| v.is_finite())

@@ -473,3 +473,115 @@ fn the_order_on_a_harmonic_chain_is_the_theorys() {
         }
     }
 }
+
+/// Newton–MINRES gives the sparse LU's nodes for every variational scheme (the FPUT chain, the
+/// ring, and the model whose every block varies, with `x`-dependent `L_vv` and non-symmetric
+/// `L_xv`), and reports that it was used.
+#[test]
+fn minres_gives_the_nodes_of_sparse_lu_for_every_variational_scheme() {
+    use super::gauss_legendre::{M, Twisted, initial};
+    use varembed::{BvpSolver, LinearSolve};
+    let chain = FputChain {
+        n: 16,
+        alpha: 0.25,
+        beta: 0.5,
+        periodic: false,
+    };
+    let ring = FputChain {
+        periodic: true,
+        ..chain
+    };
+    let twisted = Twisted { k: 1.5 };
+    let (tq, tv) = initial();
+    let tb: Vec<f64> = tq.iter().zip(&tv).map(|(q, v)| q + 0.5 * v).collect();
+    assert_eq!(tq.len(), M);
+    let (qa, qb) = (displacement(16, 0.3, 0.0), displacement(16, 0.3, 1.1));
+    let cases: [(&dyn varembed::DynLagrangian, &[f64], &[f64]); 3] =
+        [(&chain, &qa, &qb), (&ring, &qa, &qb), (&twisted, &tq, &tb)];
+    let grid = Grid::new(0.0, 1.0, 40).unwrap();
+    for (model, qa, qb) in cases {
+        for (embedding, scheme) in kinds() {
+            if scheme == Scheme::Direct {
+                continue;
+            }
+            let problem = || DynProblem::new(model, grid, embedding);
+            let lu = problem()
+                .with_bvp_solver(BvpSolver::SparseLu)
+                .solve_bvp(scheme, qa, qb)
+                .unwrap();
+            let minres = problem()
+                .with_bvp_solver(BvpSolver::Minres)
+                .solve_bvp(scheme, qa, qb)
+                .unwrap();
+            assert_eq!(lu.run.linear_solve, Some(LinearSolve::SparseLu));
+            assert!(
+                matches!(minres.run.linear_solve, Some(LinearSolve::Minres { products }) if products > 0),
+                "{embedding}: {:?}",
+                minres.run.linear_solve
+            );
+            let scale = lu.q.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let gap =
+                lu.q.iter()
+                    .zip(&minres.q)
+                    .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(gap <= 1e-11 * scale, "{embedding}: {gap:e}");
+            assert_eq!(lu.warnings, minres.warnings, "{embedding}");
+        }
+    }
+}
+
+/// Where the time-tridiagonal preconditioner is not positive definite (oscillators with
+/// `ω h = 3`, so `2/h² − ω² < 0`), MINRES gives way to sparse LU and says why; the nodes are the
+/// sparse LU's. A direct scheme is always solved by sparse LU. A resonance is flagged on the
+/// MINRES path as on the sparse LU path (here without giving way: the oscillators are
+/// uncoupled, so the preconditioner is the Jacobian itself).
+#[test]
+fn minres_gives_way_to_sparse_lu_with_the_reason() {
+    use varembed::{BvpSolver, LinearSolve, Warning};
+    #[lagrangian]
+    fn stiff(x: &[f64], v: &[f64], n: usize, omega: f64) -> f64 {
+        let mut l = 0.0;
+        for i in 0..n {
+            l += 0.5 * (v[i] * v[i] - omega * omega * x[i] * x[i]);
+        }
+        l
+    }
+    let model = Stiff { n: 3, omega: 30.0 };
+    let grid = Grid::new(0.0, 1.0, 10).unwrap();
+    let problem = || DynProblem::new(&model, grid, Embedding::midpoint());
+    let (qa, qb) = ([0.1, 0.2, 0.3], [0.3, -0.1, 0.2]);
+    let lu = problem()
+        .with_bvp_solver(BvpSolver::SparseLu)
+        .solve_bvp(Scheme::Variational, &qa, &qb)
+        .unwrap();
+    let minres = problem()
+        .with_bvp_solver(BvpSolver::Minres)
+        .solve_bvp(Scheme::Variational, &qa, &qb)
+        .unwrap();
+    match &minres.run.linear_solve {
+        Some(LinearSolve::SparseLuAfterMinres { reason }) => {
+            assert!(reason.contains("not positive definite"), "{reason}")
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(lu.q, minres.q);
+    let direct = problem()
+        .with_bvp_solver(BvpSolver::Minres)
+        .solve_bvp(Scheme::Direct, &qa, &qb)
+        .unwrap();
+    assert_eq!(direct.run.linear_solve, Some(LinearSolve::SparseLu));
+
+    // q̈ = −q from 0 to 1 over [0, π]: no solution; flagged.
+    let resonant = Stiff { n: 2, omega: 1.0 };
+    let grid = Grid::new(0.0, std::f64::consts::PI, 100).unwrap();
+    let run = DynProblem::new(&resonant, grid, Embedding::midpoint())
+        .with_bvp_solver(BvpSolver::Minres)
+        .solve_bvp(Scheme::Variational, &[0.0; 2], &[1.0; 2])
+        .unwrap();
+    assert!(
+        matches!(run.warnings[..], [Warning::IllPosed { .. }]),
+        "{:?} {:?}",
+        run.warnings,
+        run.run.linear_solve
+    );
+}

@@ -1,5 +1,5 @@
 //! The run-time-dimension solvers give `c L` the nodes of `L` (`c > 0`), as the const-generic
-//! ones do (the `classical` binary's `scale_invariance`): 240 random cases of a factor
+//! ones do (the `classical` binary's `scale_invariance`): 300 random cases of a factor
 //! `c = 10^u`, `u` uniform in `[−12, 12]` (a quarter `c = 2^k`, whose nodes must be equal bit
 //! for bit, with the same Newton iterations, except the chain's closed-form steps, see
 //! [`case`]), a model (pendulum, the 2-D coupled model, the
@@ -10,8 +10,8 @@
 use std::collections::BTreeMap;
 
 use varembed::{
-    Dependence, DynLagrangian, DynProblem, DynSolution, Embedding, Grid, HessianDependence,
-    Lagrangian, Scheme, Side, SparseHessian, Vector,
+    BvpSolver, Dependence, DynLagrangian, DynProblem, DynSolution, Embedding, Grid,
+    HessianDependence, Lagrangian, Scheme, Side, SparseHessian, Vector,
 };
 use varembed_tests::models::chain::{FputChain, displacement};
 use varembed_tests::models::hand::{CaldirolaKanai, Coupled, Pendulum};
@@ -76,6 +76,8 @@ struct Kind {
     embedding: Embedding,
     scheme: Scheme,
     bvp: bool,
+    /// A boundary value problem by Newton–MINRES instead of sparse LU.
+    minres: bool,
 }
 
 fn solvers() -> Vec<(String, Kind)> {
@@ -92,6 +94,7 @@ fn solvers() -> Vec<(String, Kind)> {
                         embedding,
                         scheme,
                         bvp,
+                        minres: false,
                     };
                     out.push((format!("DynProblem {what} {embedding} {scheme:?}"), kind));
                 }
@@ -106,6 +109,7 @@ fn solvers() -> Vec<(String, Kind)> {
                     embedding,
                     scheme,
                     bvp,
+                    minres: false,
                 };
                 out.push((format!("DynProblem {what} {embedding} {scheme:?}"), kind));
             }
@@ -117,9 +121,25 @@ fn solvers() -> Vec<(String, Kind)> {
                 embedding,
                 scheme: Scheme::Variational,
                 bvp,
+                minres: false,
             };
             out.push((format!("DynProblem {what} {embedding}"), kind));
         }
+    }
+    // The variational boundary value problems by Newton–MINRES.
+    for embedding in [
+        Embedding::finite_difference(Side::Backward),
+        Embedding::asymmetric(Side::Forward),
+        Embedding::midpoint(),
+        Embedding::trapezoidal(),
+    ] {
+        let kind = Kind {
+            embedding,
+            scheme: Scheme::Variational,
+            bvp: true,
+            minres: true,
+        };
+        out.push((format!("DynProblem BVP by MINRES {embedding}"), kind));
     }
     out
 }
@@ -130,7 +150,12 @@ fn solve<L: DynLagrangian>(
     grid: Grid,
     data: &[Vec<f64>; 2],
 ) -> DynSolution {
-    let problem = DynProblem::new(lagrangian, grid, kind.embedding);
+    let solver = if kind.minres {
+        BvpSolver::Minres
+    } else {
+        BvpSolver::SparseLu
+    };
+    let problem = DynProblem::new(lagrangian, grid, kind.embedding).with_bvp_solver(solver);
     let solved = if kind.bvp {
         problem.solve_bvp(kind.scheme, &data[0], &data[1])
     } else {
@@ -188,14 +213,14 @@ fn case<L: DynLagrangian>(
     gap
 }
 
-/// 240 random cases: `c L` gives the nodes of `L` to 1e-9 relative on every `DynProblem`
+/// 300 random cases: `c L` gives the nodes of `L` to 1e-9 relative on every `DynProblem`
 /// solver, bit for bit when `c` is a power of two.
 #[test]
 fn every_dyn_solver_gives_c_l_the_nodes_of_l() {
     let solvers = solvers();
     let mut rng = Rng(0xD15CA1E);
     let mut worst: BTreeMap<&str, (f64, usize)> = BTreeMap::new();
-    for _ in 0..240 {
+    for _ in 0..300 {
         let exact = rng.below(4) == 0;
         let c = if exact {
             2f64.powi(rng.below(79) as i32 - 39)

@@ -1,0 +1,342 @@
+//! The variational boundary value problems of run-time dimension by Newton–MINRES: `O(N d)`
+//! memory where the sparse LU's fill grows like a two-dimensional mesh's (3.4 GB for the
+//! FPUT chain at `d = 1024`, `N = 1000`).
+//!
+//! The Jacobian of a variational scheme is the Hessian of the discrete action, so it is
+//! symmetric (possibly indefinite: an action is a saddle in general), and MINRES solves it with
+//! a symmetric positive definite preconditioner. The preconditioner keeps, for each coordinate
+//! `c`, the Jacobian's entries between `(Q_k)_c` and `(Q_{k±1})_c`: `d` tridiagonal matrices in
+//! time, whose dominant part is `Dᵀ L_vv D` (`1/h²` times a second difference for `L_vv = I`),
+//! solved in `O(N d)`. What it leaves out, the couplings between coordinates (`L_xx`, and the
+//! off-diagonal entries of `L_vv`, `L_xv`), is `O(h²)` against it for a chain with a diagonal
+//! mass: the preconditioned system is a small perturbation of the identity, and MINRES
+//! converges in a few iterations.
+//!
+//! When a tridiagonal has a non-positive pivot (the preconditioner is indefinite: a time step
+//! too large for the model's stiffness, or a mass that is not positive), or when MINRES does
+//! not reach its tolerance within its budget (the couplings it leaves out are not small), the
+//! Newton iteration stops and the problem is solved again by sparse LU; the reason is the run
+//! report's [`LinearSolve::SparseLuAfterMinres`](crate::LinearSolve::SparseLuAfterMinres).
+//!
+//! The Newton iteration is the sparse LU path's (stopping rule, line search, errors); each
+//! Newton system is solved to the relative residual `η = 0.1 · tolerance · scale / ‖r‖` (at
+//! most `10⁻³`, at least `10⁻¹³`): just what the next iterate needs to meet the stopping rule.
+//! At the converged iterate the conditioning checks of the LU path run on MINRES solves: two
+//! steps of inverse iteration for `Error::IllConditioned` and the ill-posedness measure.
+
+use crate::embedding::Scheme;
+use crate::error::{Error, Location, Result};
+use crate::options::{BvpSolver, LinearSolve, NewtonOptions};
+use crate::solve::conditioning::{NUMERICALLY_SINGULAR, condition_bound, inverse_iteration};
+use crate::solve::krylov::{KrylovOptions, KrylovSystem};
+use crate::solve::minres::{MinresWork, minres_in};
+use crate::solve::newton::{LineSearch, at_round_off};
+
+use super::DynLagrangian;
+use super::bvp::{Converged, assemble_matrix, evaluate, measure, newton, search, two_norm};
+use super::problem::DynProblem;
+use super::rows::{DynRows, HessianCache};
+use super::slices::max_norm;
+use super::sparse_lu::SparseRows;
+
+impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
+    /// How the Newton systems of a boundary value problem are solved ([`BvpSolver`]; default
+    /// [`BvpSolver::Auto`]: preconditioned MINRES for a variational scheme of at least
+    /// [`BvpSolver::MINRES_FROM`] unknowns, sparse LU otherwise). What was used is the run
+    /// report's [`linear_solve`](crate::DynRun::linear_solve).
+    ///
+    /// ```
+    /// use varembed::{BvpSolver, DynProblem, Embedding, Grid, LinearSolve, Scheme, lagrangian};
+    ///
+    /// #[lagrangian]
+    /// fn chain(x: &[f64], v: &[f64], n: usize) -> f64 {
+    ///     let mut l = 0.5 * (v[0] * v[0] - x[0] * x[0]);
+    ///     for i in 1..n {
+    ///         let s = x[i] - x[i - 1];
+    ///         l += 0.5 * (v[i] * v[i] - s * s);
+    ///     }
+    ///     l
+    /// }
+    ///
+    /// let model = Chain { n: 4 };
+    /// let problem = DynProblem::new(&model, Grid::new(0.0, 1.0, 50)?, Embedding::midpoint());
+    /// let (qa, qb) = ([0.0; 4], [0.1, 0.2, 0.3, 0.4]);
+    /// let by_lu = problem.solve_bvp(Scheme::Variational, &qa, &qb)?;
+    /// let by_minres = problem
+    ///     .with_bvp_solver(BvpSolver::Minres)
+    ///     .solve_bvp(Scheme::Variational, &qa, &qb)?;
+    /// assert!(matches!(by_minres.run.linear_solve, Some(LinearSolve::Minres { .. })));
+    /// assert!(by_lu.q.iter().zip(&by_minres.q).all(|(a, b)| (a - b).abs() < 1e-12));
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn with_bvp_solver(mut self, solver: BvpSolver) -> Self {
+        self.bvp_solver = solver;
+        self
+    }
+
+    /// Newton's method on `rows` from `guess` with this problem's linear solver: the converged
+    /// iterate and what solved its systems (sparse LU, MINRES, or sparse LU after MINRES gave
+    /// way, with the reason).
+    pub(super) fn newton_by_solver(
+        &self,
+        rows: &DynRows<'_, L>,
+        guess: &[f64],
+    ) -> Result<(Converged, LinearSolve)> {
+        let unknowns = self.grid.n().saturating_sub(1) * rows.d;
+        let minres = rows.scheme == Scheme::Variational
+            && match self.bvp_solver {
+                BvpSolver::Auto => unknowns >= BvpSolver::MINRES_FROM,
+                BvpSolver::Minres => true,
+                BvpSolver::SparseLu => false,
+            };
+        let by_lu = || newton(rows, &self.newton, guess, self.posedness_check);
+        if !minres {
+            return Ok((by_lu()?, LinearSolve::SparseLu));
+        }
+        Ok(
+            match minres_newton(rows, &self.newton, guess, self.posedness_check)? {
+                Ok((converged, products)) => (converged, LinearSolve::Minres { products }),
+                Err(reason) => (by_lu()?, LinearSolve::SparseLuAfterMinres { reason }),
+            },
+        )
+    }
+}
+
+/// MINRES iterations per Newton system before it gives way to sparse LU.
+const BUDGET: usize = 500;
+
+/// The relative residual the inverse iteration's solves are taken to (an estimate, two steps).
+const INVERSE_ITERATION_TOLERANCE: f64 = 1e-8;
+
+/// The `d` tridiagonal matrices in time of the module docs, factorised as `L D Lᵀ`: unknown
+/// `u = (k − 1) d + c` has its time neighbours at `u ± d`.
+struct TimeTridiagonals {
+    d: usize,
+    /// `1 / D_u`.
+    inverse_pivot: Vec<f64>,
+    /// `L_u`, the multiplier of `u` by `u − d` (0 for the first node).
+    multiplier: Vec<f64>,
+}
+
+impl TimeTridiagonals {
+    /// From the Jacobian's entries (the two off-diagonal entries averaged, so that it is
+    /// symmetric); the unknown with a non-positive pivot when there is one.
+    fn new(matrix: &SparseRows, d: usize) -> std::result::Result<Self, usize> {
+        let n = matrix.order();
+        let mut diagonal = vec![0.0; n];
+        let mut coupling = vec![0.0; n];
+        for (i, j, value) in matrix.entries() {
+            if i == j {
+                diagonal[i] += value;
+            } else if j == i + d {
+                coupling[i] += 0.5 * value;
+            } else if i == j + d {
+                coupling[j] += 0.5 * value;
+            }
+        }
+        let (mut inverse_pivot, mut multiplier) = (vec![0.0; n], vec![0.0; n]);
+        for u in 0..n {
+            let pivot = if u >= d {
+                let l = coupling[u - d] * inverse_pivot[u - d];
+                multiplier[u] = l;
+                diagonal[u] - l * coupling[u - d]
+            } else {
+                diagonal[u]
+            };
+            // Positive, and not lost to cancellation against the diagonal (a NaN fails too).
+            let positive = pivot > 64.0 * f64::EPSILON * diagonal[u].abs();
+            if !positive {
+                return Err(u);
+            }
+            inverse_pivot[u] = 1.0 / pivot;
+        }
+        Ok(TimeTridiagonals {
+            d,
+            inverse_pivot,
+            multiplier,
+        })
+    }
+
+    /// `z = T⁻¹ r`.
+    fn solve(&self, r: &[f64], z: &mut [f64]) {
+        let (n, d) = (r.len(), self.d);
+        // L y = r, then Lᵀ z = D⁻¹ y, along each coordinate's line (stride d).
+        for u in 0..n {
+            z[u] = if u >= d {
+                r[u] - self.multiplier[u] * z[u - d]
+            } else {
+                r[u]
+            };
+        }
+        for u in (0..n).rev() {
+            let scaled = z[u] * self.inverse_pivot[u];
+            z[u] = if u + d < n {
+                scaled - self.multiplier[u + d] * z[u + d]
+            } else {
+                scaled
+            };
+        }
+    }
+}
+
+/// The Newton system as MINRES sees it.
+struct Preconditioned<'a> {
+    matrix: &'a SparseRows,
+    preconditioner: &'a TimeTridiagonals,
+}
+
+impl KrylovSystem for Preconditioned<'_> {
+    fn len(&self) -> usize {
+        self.matrix.order()
+    }
+    fn apply(&mut self, x: &[f64], y: &mut [f64]) {
+        self.matrix.apply(x, y);
+    }
+    fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
+        self.preconditioner.solve(r, z);
+    }
+}
+
+/// `J x = b` by MINRES to the relative residual `tolerance`: the products made, or why it
+/// stopped short.
+fn solve(
+    system: &mut Preconditioned<'_>,
+    (b, x): (&[f64], &mut [f64]),
+    tolerance: f64,
+    work: &mut MinresWork,
+) -> std::result::Result<usize, String> {
+    let options = KrylovOptions {
+        tolerance,
+        max_iterations: BUDGET,
+        restart: 0,
+    };
+    minres_in(system, b, x, &options, None, work)
+        .map(|stats| stats.iterations)
+        .map_err(|failure| {
+            format!(
+                "MINRES stopped at relative residual {:.1e} after {} products (asked {tolerance:.0e})",
+                failure.relative_residual(),
+                failure.iterations()
+            )
+        })
+}
+
+/// Newton's method on the rows from `guess` with MINRES solves (module docs): the converged
+/// iterate and the products with the Jacobian, or the reason MINRES gave way. The errors of
+/// the problem itself (a non-finite evaluation, a Newton iteration that does not converge, a
+/// singular linearisation at the solution) are the sparse LU path's.
+fn minres_newton<L: DynLagrangian + ?Sized>(
+    rows: &DynRows<'_, L>,
+    options: &NewtonOptions,
+    guess: &[f64],
+    posedness_check: bool,
+) -> Result<std::result::Result<(Converged, usize), String>> {
+    let (n, d) = (rows.grid.n(), rows.d);
+    let unknowns = n.saturating_sub(1) * d;
+    let mut q = guess.to_vec();
+    if unknowns == 0 {
+        let converged = Converged {
+            q,
+            iterations: 0,
+            band: 0,
+            measure: None,
+        };
+        return Ok(Ok((converged, 0)));
+    }
+    let mut current = rows.zero_values();
+    let mut res = evaluate(rows, &q, &mut current, 0)?;
+    let mut merit = two_norm(&current.r);
+    let mut line_search = LineSearch::new(&q, merit);
+    let mut previous = f64::INFINITY;
+    let mut hessians = HessianCache::new(d);
+    let mut matrix = None;
+    let mut work = MinresWork::default();
+    let mut delta = vec![0.0; unknowns];
+    let mut products = 0;
+    for iteration in 0..=options.max_iterations {
+        let at = Location::Newton(iteration);
+        let scale = rows.scale(&current);
+        hessians.invalidate();
+        let (matrix, _) = assemble_matrix(rows, (&q, &current), &mut hessians, &mut matrix);
+        if !matrix.is_finite() {
+            return Err(Error::NotFinite { at });
+        }
+        let j_norm = matrix.norm_inf();
+        let preconditioner = match TimeTridiagonals::new(matrix, d) {
+            Ok(t) => t,
+            Err(u) => {
+                let (k, c) = (u / d + 1, u % d);
+                return Ok(Err(format!(
+                    "the time-tridiagonal preconditioner is not positive definite at Q_{k}[{c}] \
+                     (Newton iteration {iteration})"
+                )));
+            }
+        };
+        let mut system = Preconditioned {
+            matrix,
+            preconditioner: &preconditioner,
+        };
+        if res <= options.tolerance * scale || at_round_off(res, previous, j_norm, max_norm(&q)) {
+            // The sparse LU path's checks, on MINRES solves.
+            let mut failed = None;
+            let mut rhs = vec![0.0; unknowns];
+            let inverse = inverse_iteration(unknowns, |x| {
+                rhs.copy_from_slice(x);
+                match solve(
+                    &mut system,
+                    (&rhs, x),
+                    INVERSE_ITERATION_TOLERANCE,
+                    &mut work,
+                ) {
+                    Ok(used) => products += used,
+                    Err(reason) => {
+                        failed.get_or_insert(reason);
+                        x.fill(f64::NAN);
+                    }
+                }
+            });
+            if let Some(reason) = failed {
+                return Ok(Err(format!(
+                    "in the conditioning check at the solution: {reason}"
+                )));
+            }
+            let condition = condition_bound(j_norm, inverse, unknowns, 0.0);
+            if condition >= NUMERICALLY_SINGULAR {
+                return Err(Error::IllConditioned { at, condition });
+            }
+            let sigma = inverse.map(|run| run.sigma);
+            let measure = posedness_check
+                .then(|| measure(rows, matrix, sigma?))
+                .flatten();
+            let band = matrix.bandwidth();
+            let converged = Converged {
+                q,
+                iterations: iteration,
+                band,
+                measure,
+            };
+            return Ok(Ok((converged, products)));
+        }
+        if iteration == options.max_iterations {
+            break;
+        }
+        let forcing = (0.1 * options.tolerance * scale / res).clamp(1e-13, 1e-3);
+        match solve(&mut system, (&current.r, &mut delta), forcing, &mut work) {
+            Ok(used) => products += used,
+            Err(reason) => return Ok(Err(format!("{reason} at Newton iteration {iteration}"))),
+        }
+        if !delta.iter().all(|c| c.is_finite()) {
+            return Ok(Err(format!(
+                "a non-finite MINRES direction at Newton iteration {iteration}"
+            )));
+        }
+        let (next, values, next_res, next_merit) =
+            search(rows, &mut line_search, (&q, merit), &delta, iteration)?;
+        (q, current, previous, res, merit) = (next, values, res, next_res, next_merit);
+    }
+    Err(Error::NewtonDidNotConverge {
+        at: Location::Newton(options.max_iterations),
+        iterations: options.max_iterations,
+        residual: res,
+    })
+}
