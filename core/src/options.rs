@@ -167,11 +167,12 @@ pub enum BvpSolver {
     /// Always sparse LU after a fill-reducing ordering: memory grows with the factors' fill
     /// (about 3.4 GB at `10⁶` unknowns of a chain).
     SparseLu,
-    /// Preconditioned MINRES for the variational schemes (whose Jacobian, the Hessian of the
-    /// discrete action, is symmetric), with `O(N d)` memory; sparse LU for the direct schemes,
-    /// whose Jacobian is not symmetric. When the preconditioner is not positive definite or
-    /// MINRES does not converge, the problem is solved again by sparse LU and the reason is
-    /// reported ([`LinearSolve::SparseLuAfterMinres`]).
+    /// Preconditioned MINRES for the variational schemes of the three-point embeddings (whose
+    /// Jacobian, the Hessian of the discrete action, is symmetric), with `O(N d)` memory;
+    /// sparse LU where the Jacobian is not symmetric: the direct schemes, a forced model, and
+    /// Gauss–Legendre's collocation system. When the preconditioner is not positive definite
+    /// or MINRES does not converge, the problem is solved again by sparse LU from the initial
+    /// guess and the reason is reported ([`LinearSolve::SparseLuAfterMinres`]).
     Minres,
 }
 
@@ -191,7 +192,7 @@ pub enum LinearSolve {
     /// By sparse LU.
     SparseLu,
     /// By preconditioned MINRES, `products` products with the Jacobian in all (the inverse
-    /// iteration of the posedness check included).
+    /// iteration of the conditioning check at the solution included).
     Minres {
         /// Products with the Jacobian.
         products: usize,

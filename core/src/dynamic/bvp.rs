@@ -396,6 +396,28 @@ pub(super) fn assemble_matrix<'s, L: DynLagrangian + ?Sized>(
     (matrix.as_mut().expect("planned above"), !fits)
 }
 
+/// The ill-posedness measure of the conditioning module for the linearisation of the rows at
+/// the curve `q` (all `N + 1` nodes): the sparse LU path's, from its Jacobian there; `None`
+/// when the curve cannot be evaluated or the Jacobian factorised (nothing to measure), or
+/// there are no unknowns.
+pub(super) fn posedness_at<L: DynLagrangian + ?Sized>(
+    rows: &DynRows<'_, L>,
+    q: &[f64],
+) -> Option<f64> {
+    let unknowns = rows.grid.n().saturating_sub(1) * rows.d;
+    if unknowns == 0 {
+        return None;
+    }
+    let mut values = rows.zero_values();
+    rows.evaluate(q, &mut values).ok()?;
+    let mut hessians = HessianCache::new(rows.d);
+    let (mut matrix, mut lu) = (None, None);
+    let (matrix, lu) = assemble(rows, q, &values, &mut hessians, (&mut matrix, &mut lu)).ok()?;
+    lu.factorize(matrix).ok()?;
+    let sigma = inverse_iteration(unknowns, |v| lu.solve_in_place(v))?.sigma;
+    measure(rows, matrix, sigma)
+}
+
 /// The Jacobian at `q` (see [`assemble_matrix`]) and its symbolic LU factorisation, planned
 /// again with the pattern.
 fn assemble<'s, L: DynLagrangian + ?Sized>(

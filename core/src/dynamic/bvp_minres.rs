@@ -18,11 +18,19 @@
 //! Newton iteration stops and the problem is solved again by sparse LU; the reason is the run
 //! report's [`LinearSolve::SparseLuAfterMinres`](crate::LinearSolve::SparseLuAfterMinres).
 //!
-//! The Newton iteration is the sparse LU path's (stopping rule, line search, errors); each
-//! Newton system is solved to the relative residual `η = 0.1 · tolerance · scale / ‖r‖` (at
-//! most `10⁻³`, at least `10⁻¹³`): just what the next iterate needs to meet the stopping rule.
-//! At the converged iterate the conditioning checks of the LU path run on MINRES solves: two
-//! steps of inverse iteration for `Error::IllConditioned` and the ill-posedness measure.
+//! The Newton iteration is the sparse LU path's (stopping rule, line search, errors: a Newton
+//! iteration that does not converge is the problem's error, not a reason to try LU). Each
+//! Newton system is solved to the relative residual `η = 0.1 · tolerance · scale / ‖r‖₂`
+//! (MINRES stops on the 2-norm, which bounds the next residual's max-norm), or, while the
+//! residual falls slowly, Eisenstat–Walker's looser `0.9 (‖r‖₂/‖r_prev‖₂)²`; between `10⁻¹³`
+//! and `10⁻³`. At the converged iterate the conditioning checks of the LU path run on MINRES
+//! solves: two steps of inverse iteration for `Error::IllConditioned` (with the last Newton
+//! direction's `‖δ‖/‖r‖` as the LU path uses its own) and the ill-posedness measure. A nearly
+//! singular Jacobian mostly shows as MINRES exhausting its budget, and the sparse LU path
+//! then decides.
+//!
+//! A forced model (a generalised force's `∂f/∂v` makes the Jacobian non-symmetric) and the
+//! Gauss–Legendre collocation system (not symmetric either) are always solved by sparse LU.
 
 use crate::embedding::Scheme;
 use crate::error::{Error, Location, Result};
@@ -83,7 +91,11 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
         guess: &[f64],
     ) -> Result<(Converged, LinearSolve)> {
         let unknowns = self.grid.n().saturating_sub(1) * rows.d;
+        // A generalised force makes the Jacobian non-symmetric (its `∂f/∂v` enters with the
+        // velocity's weights), so a forced model goes to sparse LU.
         let minres = rows.scheme == Scheme::Variational
+            && unknowns > 0
+            && !rows.lagrangian.is_forced()
             && match self.bvp_solver {
                 BvpSolver::Auto => unknowns >= BvpSolver::MINRES_FROM,
                 BvpSolver::Minres => true,
@@ -253,6 +265,9 @@ fn minres_newton<L: DynLagrangian + ?Sized>(
     let mut work = MinresWork::default();
     let mut delta = vec![0.0; unknowns];
     let mut products = 0;
+    let mut previous_merit: Option<f64> = None;
+    // `‖δ‖∞ / ‖r‖∞` of the last Newton step (see the conditioning check).
+    let mut correction = 0.0;
     for iteration in 0..=options.max_iterations {
         let at = Location::Newton(iteration);
         let scale = rows.scale(&current);
@@ -277,6 +292,10 @@ fn minres_newton<L: DynLagrangian + ?Sized>(
             preconditioner: &preconditioner,
         };
         if res <= options.tolerance * scale || at_round_off(res, previous, j_norm, max_norm(&q)) {
+            // As the LU path: a lower bound of ‖J⁻¹‖∞ from the last Newton direction (taken at
+            // the iterate one step before this one), and from the inverse iteration. A nearly
+            // singular Jacobian mostly shows as MINRES exhausting its budget below, and the
+            // sparse LU path then decides.
             // The sparse LU path's checks, on MINRES solves.
             let mut failed = None;
             let mut rhs = vec![0.0; unknowns];
@@ -300,7 +319,7 @@ fn minres_newton<L: DynLagrangian + ?Sized>(
                     "in the conditioning check at the solution: {reason}"
                 )));
             }
-            let condition = condition_bound(j_norm, inverse, unknowns, 0.0);
+            let condition = condition_bound(j_norm, inverse, unknowns, correction);
             if condition >= NUMERICALLY_SINGULAR {
                 return Err(Error::IllConditioned { at, condition });
             }
@@ -320,7 +339,17 @@ fn minres_newton<L: DynLagrangian + ?Sized>(
         if iteration == options.max_iterations {
             break;
         }
-        let forcing = (0.1 * options.tolerance * scale / res).clamp(1e-13, 1e-3);
+        // What the next iterate needs to meet the stopping rule: its ∞-norm residual is at most
+        // the linear residual's 2-norm, η ‖r‖₂, plus the quadratic term. Far from the solution
+        // (the residual falling slowly) Eisenstat–Walker's looser 0.9 (‖r‖/‖r_prev‖)² instead,
+        // at most 10⁻³.
+        let needed = 0.1 * options.tolerance * scale / merit;
+        let loose = match previous_merit {
+            Some(previous) => (0.9 * (merit / previous).powi(2)).min(1e-3),
+            None => 0.0,
+        };
+        let forcing = needed.max(loose).clamp(1e-13, 1e-3);
+        previous_merit = Some(merit);
         match solve(&mut system, (&current.r, &mut delta), forcing, &mut work) {
             Ok(used) => products += used,
             Err(reason) => return Ok(Err(format!("{reason} at Newton iteration {iteration}"))),
@@ -330,6 +359,11 @@ fn minres_newton<L: DynLagrangian + ?Sized>(
                 "a non-finite MINRES direction at Newton iteration {iteration}"
             )));
         }
+        correction = if res > 0.0 {
+            max_norm(&delta) / res
+        } else {
+            0.0
+        };
         let (next, values, next_res, next_merit) =
             search(rows, &mut line_search, (&q, merit), &delta, iteration)?;
         (q, current, previous, res, merit) = (next, values, res, next_res, next_merit);

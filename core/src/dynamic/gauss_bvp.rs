@@ -24,10 +24,16 @@
 //! by `w = max |∂²L/∂v²| / h` at the guess's first node (the momentum a unit change of
 //! position over one step makes), so that every row is in momentum units: the stopping rule (the residual within the tolerance
 //! of `‖p‖∞ + ‖P‖∞ + h ‖Ṗ‖∞`) and the line search's merit then measure all rows alike. The
-//! momentum unknowns are stored as `p_k / w`, in position units like every other unknown: `c L`
-//! then has `c` times the rows and Jacobian of `L` at the same unknowns, and (`c` a power of
-//! two) the same pivots in the sparse LU, which pivots across the unknowns, so it is solved
-//! as `L` is, bit for bit.
+//! momentum unknowns are stored as `p_k / w`, in position units like the nodes (the stage
+//! velocities are velocities, the same for `c L` as for `L`): `c L` then has `c` times the rows
+//! and Jacobian of `L` at the same unknowns, and (`c` a power of two) the same pivots in the
+//! sparse LU, which pivots across the unknowns, so it is solved as `L` is, bit for bit.
+//!
+//! A converged solution with the posedness check on carries `Warning::IllPosed` when the
+//! variational midpoint rows linearised at its nodes measure a resonance: the same continuous
+//! linearisation discretised to second order (this system's Jacobian mixes positions,
+//! velocities and momenta and has no neighbour coupling of its own to measure against); it
+//! costs one sparse LU of the node system.
 
 use crate::embedding::{Embedding, Scheme};
 use crate::error::{Error, Location, Result};
@@ -35,10 +41,12 @@ use crate::gauss_legendre::GaussTableau;
 use crate::grid::Grid;
 use crate::options::{LinearSolve, NewtonOptions};
 use crate::side::Side;
+use crate::solve::conditioning::ILL_POSED_BELOW;
 use crate::solve::newton::{Iterate, LineSearch, at_round_off};
+use crate::solve::solution::Warning;
 
 use super::DynLagrangian;
-use super::bvp::{check_input, check_nodes, isolated, newton_direction};
+use super::bvp::{check_input, check_nodes, isolated, newton_direction, posedness_at};
 use super::ivp::DynRun;
 use super::problem::{DynProblem, DynSolution};
 use super::rows::DynRows;
@@ -394,6 +402,21 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
         q.extend_from_slice(qb);
         p.extend_from_slice(&last_momentum);
         check_nodes(&nodes, &q, false)?;
+        // The resonance measure of the node-based problems, from the variational midpoint
+        // rows linearised at these nodes: the same continuous linearisation, discretised to
+        // second order (the collocation system's own Jacobian mixes positions, velocities and
+        // momenta, and has no neighbour coupling to measure against).
+        let warnings: Vec<Warning> = self
+            .posedness_check
+            .then(|| {
+                let midpoint = DynRows::new(l, grid, Embedding::midpoint(), scheme).ok()?;
+                posedness_at(&midpoint, &q)
+            })
+            .flatten()
+            .filter(|&m| m < ILL_POSED_BELOW)
+            .map(|measure| Warning::IllPosed { measure })
+            .into_iter()
+            .collect();
         Ok(DynSolution {
             run: DynRun {
                 scheme,
@@ -404,14 +427,14 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
                 explicit_steps: 0,
                 band: 0,
                 reordered: true,
-                warnings: Vec::new(),
+                warnings: warnings.clone(),
                 linear_solve: Some(LinearSolve::SparseLu),
             },
             dimension: d,
             indices: (0..=n).collect(),
             q,
             momenta: p,
-            warnings: Vec::new(),
+            warnings,
         })
     }
 }

@@ -30,10 +30,11 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     ///
     /// A model that is also a [`DynLagrangian`](crate::DynLagrangian) (every `#[lagrangian]`
     /// model with loops over `[f64; N]`, see [`Lagrangian::run_time`]) with [`RUN_TIME_FROM`]
-    /// or more degrees of freedom is solved, under every classical embedding but
-    /// Gauss–Legendre, by the run-time engine
-    /// ([`DynProblem::solve_bvp`](crate::DynProblem::solve_bvp): sparse LU, the same rows,
-    /// stopping rule and errors), with no `D × D` block on the stack.
+    /// or more degrees of freedom is solved, under every classical embedding, by the run-time
+    /// engine
+    /// ([`DynProblem::solve_bvp`](crate::DynProblem::solve_bvp): sparse LU, or MINRES for a
+    /// variational scheme of many unknowns, the same rows, stopping rule and errors), with no
+    /// `D × D` block on the stack.
     ///
     /// # Example
     ///
@@ -100,8 +101,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// The boundary value problem of a model that is also a
     /// [`DynLagrangian`](crate::DynLagrangian) (see [`Lagrangian::run_time`]) with
     /// [`RUN_TIME_FROM`] or more degrees of freedom, under an embedding whose boundary value
-    /// problems the run-time engine solves (Gauss-FDEσ, asymmetric, midpoint, trapezoidal): by
-    /// that engine's sparse LU,
+    /// problems the run-time engine solves (every classical one): by that engine's solvers,
     /// with this problem's Newton options and posedness check, no `D × D` block on the stack;
     /// `None` for any other problem, which stays on this path.
     fn bvp_on_run_time_engine(

@@ -571,6 +571,13 @@ fn minres_gives_way_to_sparse_lu_with_the_reason() {
         .unwrap();
     assert_eq!(direct.run.linear_solve, Some(LinearSolve::SparseLu));
 
+    // Gauss–Legendre's collocation system is not symmetric: sparse LU, MINRES asked or not.
+    let gauss = DynProblem::new(&model, grid, Embedding::gauss_legendre(2).unwrap())
+        .with_bvp_solver(BvpSolver::Minres)
+        .solve_bvp(Scheme::Variational, &qa, &qb)
+        .unwrap();
+    assert_eq!(gauss.run.linear_solve, Some(LinearSolve::SparseLu));
+
     // q̈ = −q from 0 to 1 over [0, π]: no solution; flagged.
     let resonant = Stiff { n: 2, omega: 1.0 };
     let grid = Grid::new(0.0, std::f64::consts::PI, 100).unwrap();
@@ -578,6 +585,11 @@ fn minres_gives_way_to_sparse_lu_with_the_reason() {
         .with_bvp_solver(BvpSolver::Minres)
         .solve_bvp(Scheme::Variational, &[0.0; 2], &[1.0; 2])
         .unwrap();
+    assert!(
+        matches!(run.run.linear_solve, Some(LinearSolve::Minres { .. })),
+        "{:?}",
+        run.run.linear_solve
+    );
     assert!(
         matches!(run.warnings[..], [Warning::IllPosed { .. }]),
         "{:?} {:?}",

@@ -451,6 +451,7 @@ fn the_boundary_value_problem_returns_the_nodes_of_the_initial_value_run() {
             let gap = relative_gap(&bvp.momenta, &run.momenta);
             assert!(gap <= 1e-11, "s = {s}: momenta {gap:e}");
             assert!(bvp.run.newton_iterations >= 2, "s = {s}");
+            assert!(bvp.warnings.is_empty(), "s = {s}: {:?}", bvp.warnings);
         }
     }
 }
@@ -496,4 +497,62 @@ fn the_boundary_value_order_on_a_harmonic_chain_is_two_s() {
             );
         }
     }
+}
+
+/// Two uncoupled unit oscillators (both kinds of model).
+#[varembed::lagrangian]
+fn oscillators(x: [f64; 2], v: [f64; 2]) -> f64 {
+    let mut l = 0.0;
+    for i in 0..2 {
+        l += 0.5 * (v[i] * v[i] - x[i] * x[i]);
+    }
+    l
+}
+
+/// `q̈ = −q` from 0 to 1 over `[0, π]` has no solution: every Gauss–Legendre boundary value
+/// problem says so, on both paths — flagged `IllPosed` where the discrete system is solvable
+/// (amplitudes of thousands), `IllConditioned` where it is singular to working precision (the
+/// higher orders, closer to the exact resonance) — and says nothing away from the resonance;
+/// with the check off, a solvable one is returned without the flag.
+#[test]
+fn a_resonant_gauss_legendre_boundary_value_problem_is_flagged() {
+    use std::f64::consts::PI;
+    use varembed::Warning;
+    let model = Oscillators;
+    let mut flagged = 0;
+    for s in 1..=4 {
+        let embedding = Embedding::gauss_legendre(s).unwrap();
+        let resonant = Grid::new(0.0, PI, 100).unwrap();
+        let problem = || DynProblem::new(&model, resonant, embedding);
+        let solved = problem().solve_bvp(Scheme::Variational, &[0.0; 2], &[1.0; 2]);
+        let fixed = Problem::new(&model, resonant, embedding)
+            .solve_bvp(Scheme::Variational, [0.0; 2], [1.0; 2])
+            .map(|solution| solution.warnings);
+        for warnings in [solved.map(|run| run.warnings), fixed] {
+            match warnings {
+                Ok(warnings) => {
+                    assert!(
+                        matches!(warnings[..], [Warning::IllPosed { .. }]),
+                        "s = {s}: {warnings:?}"
+                    );
+                    flagged += 1;
+                }
+                Err(Error::IllConditioned { .. }) => {}
+                Err(other) => panic!("s = {s}: {other}"),
+            }
+        }
+        if let Ok(quiet) = problem().with_posedness_check(false).solve_bvp(
+            Scheme::Variational,
+            &[0.0; 2],
+            &[1.0; 2],
+        ) {
+            assert!(quiet.warnings.is_empty());
+        }
+        let away = DynProblem::new(&model, Grid::new(0.0, 2.0, 100).unwrap(), embedding)
+            .solve_bvp(Scheme::Variational, &[0.0; 2], &[1.0; 2])
+            .unwrap();
+        assert!(away.warnings.is_empty(), "s = {s}: {:?}", away.warnings);
+    }
+    // The flag itself is exercised (s = 1 and 2 are solvable here).
+    assert!(flagged >= 4, "{flagged}");
 }
