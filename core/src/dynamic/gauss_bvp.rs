@@ -41,13 +41,10 @@ use crate::gauss_legendre::GaussTableau;
 use crate::grid::Grid;
 use crate::options::{LinearSolve, NewtonOptions};
 use crate::side::Side;
-use crate::solve::conditioning::ILL_POSED_BELOW;
 use crate::solve::newton::{Iterate, LineSearch, at_round_off};
-use crate::solve::solution::Warning;
 
 use super::DynLagrangian;
 use super::bvp::{check_input, check_nodes, isolated, newton_direction, posedness_at};
-use super::ivp::DynRun;
 use super::problem::{DynProblem, DynSolution};
 use super::rows::DynRows;
 use super::slices::max_norm;
@@ -126,9 +123,8 @@ impl<L: DynLagrangian + ?Sized> GaussSystem<'_, L> {
         (&z[at..at + d], &z[at + d..at + (s + 1) * d])
     }
 
-    /// `Q_i`, `Ṗ_i`, `P_i` of interval `k` into `stages` (`(Q, Ṗ, P)`, `s d` each); whether
-    /// they are finite.
-    fn stages(&self, z: &[f64], k: usize, (q, f, p): (&mut [f64], &mut [f64], &mut [f64])) -> bool {
+    /// The stage positions `Q_i = q_k + h Σ_j a_ij V_j` of interval `k` into `q` (`s d`).
+    fn stage_positions(&self, z: &[f64], k: usize, q: &mut [f64]) {
         let (d, s, h) = (self.d, self.s(), self.grid.h());
         let qk = self.node(z, k);
         let (_, v) = self.interval(z, k);
@@ -141,6 +137,16 @@ impl<L: DynLagrangian + ?Sized> GaussSystem<'_, L> {
                     *x += v * a;
                 }
             }
+        }
+    }
+
+    /// `Q_i`, `Ṗ_i`, `P_i` of interval `k` into `stages` (`(Q, Ṗ, P)`, `s d` each); whether
+    /// they are finite.
+    fn stages(&self, z: &[f64], k: usize, (q, f, p): (&mut [f64], &mut [f64], &mut [f64])) -> bool {
+        let (d, h) = (self.d, self.grid.h());
+        self.stage_positions(z, k, q);
+        let (_, v) = self.interval(z, k);
+        for i in 0..self.s() {
             let (qi, vi) = (&q[i * d..(i + 1) * d], &v[i * d..(i + 1) * d]);
             let t = self.grid.t(k) + self.tableau.c[i] * h;
             self.lagrangian.force(qi, vi, t, &mut f[i * d..(i + 1) * d]);
@@ -208,13 +214,14 @@ impl<L: DynLagrangian + ?Sized> GaussSystem<'_, L> {
     fn jacobian(&self, z: &[f64], mut add: impl FnMut(usize, usize, f64)) {
         let (n, d, s, h) = (self.grid.n(), self.d, self.s(), self.grid.h());
         let (a, b) = (|i, j| self.tableau.a(i, j), &self.tableau.b);
-        let (mut q, mut f, mut p) = (vec![0.0; s * d], vec![0.0; s * d], vec![0.0; s * d]);
+        let mut q = vec![0.0; s * d];
         let mut hessians: Vec<SparseHessian> = (0..s).map(|_| SparseHessian::new(d)).collect();
         let forced = self.lagrangian.is_forced();
         let mut forces: Vec<SparseForceJacobian> =
             (0..s).map(|_| SparseForceJacobian::new(d)).collect();
         for k in 0..n {
-            self.stages(z, k, (&mut q, &mut f, &mut p));
+            // The Jacobian reads the Hessians at the stages, not the forces and momenta.
+            self.stage_positions(z, k, &mut q);
             let (_, v) = self.interval(z, k);
             for i in 0..s {
                 let (qi, vi) = (&q[i * d..(i + 1) * d], &v[i * d..(i + 1) * d]);
@@ -406,36 +413,15 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
         // rows linearised at these nodes: the same continuous linearisation, discretised to
         // second order (the collocation system's own Jacobian mixes positions, velocities and
         // momenta, and has no neighbour coupling to measure against).
-        let warnings: Vec<Warning> = self
+        let measure = self
             .posedness_check
             .then(|| {
                 let midpoint = DynRows::new(l, grid, Embedding::midpoint(), scheme).ok()?;
                 posedness_at(&midpoint, &q)
             })
-            .flatten()
-            .filter(|&m| m < ILL_POSED_BELOW)
-            .map(|measure| Warning::IllPosed { measure })
-            .into_iter()
-            .collect();
-        Ok(DynSolution {
-            run: DynRun {
-                scheme,
-                embedding: self.embedding,
-                grid,
-                last: qb.to_vec(),
-                newton_iterations: iterations,
-                explicit_steps: 0,
-                band: 0,
-                reordered: true,
-                warnings: warnings.clone(),
-                linear_solve: Some(LinearSolve::SparseLu),
-            },
-            dimension: d,
-            indices: (0..=n).collect(),
-            q,
-            momenta: p,
-            warnings,
-        })
+            .flatten();
+        let solve = (iterations, 0, LinearSolve::SparseLu);
+        Ok(self.bvp_solution(scheme, (q, p), solve, measure))
     }
 }
 
