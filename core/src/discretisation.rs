@@ -273,8 +273,14 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
             f_left: Vec::new(),
             f_node: Vec::new(),
         };
+        // The force no row reads is stored as zero, and may be infinite (a forcing singular at
+        // that end).
+        let unread = self.embedding.unread_force_end(n);
         for (k, vk) in self.embedding.quadrature_rows(n).zip(v_rows) {
-            let (f, p) = self.lagrangian.gradient(&q[k], &vk, self.grid.t(k));
+            let (mut f, p) = self.lagrangian.gradient(&q[k], &vk, self.grid.t(k));
+            if unread == Some(k) {
+                f = Vector::<D>::zeros();
+            }
             if !(f.iter().chain(p.iter()).all(|c| c.is_finite())) {
                 return Err(Error::NotFinite {
                     at: Location::Node(k),

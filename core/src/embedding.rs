@@ -358,6 +358,25 @@ impl Embedding {
             _ => None,
         }
     }
+    /// The quadrature node whose force `∂L/∂x` no row of either scheme reads, for the
+    /// fractional embeddings: the end where the right derivative of their Euler–Lagrange
+    /// equation starts (`Some(N)` for σ = −, `Some(0)` for σ = +). Its momentum is read. A
+    /// forcing singular there, such as `D^α_+ p ~ (b − t)^{−α}` when the momentum does not
+    /// vanish at `b`, is not evaluated into anything, and may be infinite.
+    pub(crate) fn unread_force_end(&self, n: usize) -> Option<usize> {
+        match (self.kind, self.side) {
+            (
+                EmbeddingKind::GrunwaldLetnikov { .. } | EmbeddingKind::Caputo { .. },
+                Side::Backward,
+            ) => Some(n),
+            (
+                EmbeddingKind::GrunwaldLetnikov { .. } | EmbeddingKind::Caputo { .. },
+                Side::Forward,
+            ) => Some(0),
+            _ => None,
+        }
+    }
+
     /// Whether the embedding is coherent (direct = variational): proved by the paper for the
     /// asymmetric Gauss-FDEσ and Gauss-GLEσ, and so for the Caputo form, whose two schemes are
     /// Gauss-GLEσ's rows at its own velocity. Gauss-FDEσ is not; neither are the midpoint and

@@ -115,6 +115,20 @@ pub(crate) fn hessian_in_domain<L: Lagrangian<D> + ?Sized, const D: usize>(
     derivatives_in_domain(lagrangian, x, v, t).map(|(_, _, hs)| hs)
 }
 
+/// The Hessian at `(x, v, t)` when the momentum `∂L/∂v` and `∂²L/∂v²` are finite there: the
+/// domain check of a node whose force no equation reads (see
+/// `Embedding::unread_force_end`), where `L`, `∂L/∂x` and their derivatives may be infinite.
+pub(crate) fn kinetic_in_domain<L: Lagrangian<D> + ?Sized, const D: usize>(
+    lagrangian: &L,
+    x: &Vector<D>,
+    v: &Vector<D>,
+    t: f64,
+) -> Option<Hessian<D>> {
+    let (_, p, hs) = lagrangian.gradient_and_hessian(x, v, t);
+    let finite = p.iter().chain(hs.vv.iter()).all(|c| c.is_finite());
+    finite.then_some(hs)
+}
+
 /// [`hessian_in_domain`] with the gradient: `(∂L/∂x, ∂L/∂v, Hessian)` from one evaluation.
 fn derivatives_in_domain<L: Lagrangian<D> + ?Sized, const D: usize>(
     lagrangian: &L,

@@ -10,6 +10,8 @@
 //!   schemes, and the pendulum's exact solution.
 //! - [`curve`]: max-norms of discrete curves and of their differences.
 //! - [`special`]: the Gamma function, for exact fractional solutions.
+//! - [`fractional`]: exact solutions of fractional boundary value problems and the forced model
+//!   they solve.
 //! - [`bench`](mod@bench): the criterion configurations and the `bench_main!` entry point.
 //!
 //! The integration tests of the workspace live in this package's `tests/` folder; the
@@ -19,6 +21,7 @@
 
 pub mod bench;
 pub mod curve;
+pub mod fractional;
 pub mod models;
 pub mod reference;
 pub mod rng;

@@ -12,7 +12,9 @@ use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::linalg::{BandedMatrix, factor_dense, max_norm, solve_factored};
 use crate::memory::reserve;
 use crate::options::{FractionalSolver, SolverOptions};
-use crate::regularity::{check_constants, check_vv, hessian_in_domain, pivot_range};
+use crate::regularity::{
+    check_constants, check_vv, hessian_in_domain, kinetic_in_domain, pivot_range,
+};
 use crate::side::Side;
 use crate::solve::conditioning::{
     ILL_POSED_BELOW, NUMERICALLY_SINGULAR, condition_bound, ill_posedness, inverse_iteration,
@@ -101,11 +103,17 @@ pub(crate) fn check_nodes<L: Lagrangian<D> + ?Sized, const D: usize>(
     let (grid, lagrangian) = (disc.grid(), disc.lagrangian());
     let v = disc.velocity(q)?;
     let rows = disc.embedding().quadrature_rows(grid.n());
+    let unread = disc.embedding().unread_force_end(grid.n());
     let mut blocks = Vec::with_capacity(v.len());
     for (k, vk) in rows.zip(&v) {
         let t = grid.t(k);
         let hs = if guess {
-            hessian_in_domain(lagrangian, &q[k], vk, t).ok_or_else(|| {
+            let in_domain = if unread == Some(k) {
+                kinetic_in_domain(lagrangian, &q[k], vk, t)
+            } else {
+                hessian_in_domain(lagrangian, &q[k], vk, t)
+            };
+            in_domain.ok_or_else(|| {
                 let node = match k {
                     0 => format!("the end value Q_0 = {:?} at a", q[k].as_slice()),
                     k if k == grid.n() => {

@@ -9,98 +9,20 @@
 //! σ = + is the mirror image: `q(1 − t)` solves the problem of `F(1 − t)` under the right
 //! Caputo derivative, whose end is `b`.
 
-use varembed::{
-    Embedding, FractionalSolver, Grid, Hessian, Lagrangian, Matrix, Problem, Scheme, Side, Vector,
-    observed_orders,
-};
+use varembed::{Embedding, FractionalSolver, Grid, Problem, Scheme, Side, Vector, observed_orders};
 use varembed_tests::curve::v1;
-use varembed_tests::special::gamma;
-
-/// An exact solution: `q = q_a + I^α p` with `p = Σ_k coefficients[k] tᵏ`, `p(1) = 0`.
-struct Exact {
-    alpha: f64,
-    qa: f64,
-    /// `p` in powers of `t`.
-    p: Vec<f64>,
-    /// The weight `c` of `c cos x` in `L`.
-    c: f64,
-}
-
-impl Exact {
-    /// `q(t)` on the σ = − problem.
-    fn q(&self, t: f64) -> f64 {
-        let a = self.alpha;
-        self.qa
-            + self
-                .p
-                .iter()
-                .enumerate()
-                .map(|(k, pk)| {
-                    pk * gamma(k as f64 + 1.0) / gamma(k as f64 + 1.0 + a) * t.powf(k as f64 + a)
-                })
-                .sum::<f64>()
-    }
-
-    /// `D^α_+ p(t)`: `p = Σ_j ρ_j uʲ`, `u = 1 − t`, `ρ_j = (−1)ʲ Σ_k p_k C(k, j)`, `ρ_0 = 0`.
-    fn right_derivative_of_p(&self, t: f64) -> f64 {
-        let (a, u) = (self.alpha, 1.0 - t);
-        let mut total = 0.0;
-        for j in 1..self.p.len() {
-            let rho: f64 = self
-                .p
-                .iter()
-                .enumerate()
-                .skip(j)
-                .map(|(k, pk)| pk * binomial(k, j))
-                .sum::<f64>()
-                * if j % 2 == 0 { 1.0 } else { -1.0 };
-            total += rho * gamma(j as f64 + 1.0) / gamma(j as f64 + 1.0 - a) * u.powf(j as f64 - a);
-        }
-        total
-    }
-
-    /// The forcing `F = D^α_+ p − c sin q` of the σ = − problem.
-    fn forcing(&self, t: f64) -> f64 {
-        self.right_derivative_of_p(t) - self.c * self.q(t).sin()
-    }
-}
-
-fn binomial(k: usize, j: usize) -> f64 {
-    (0..j).fold(1.0, |c, i| c * (k - i) as f64 / (i + 1) as f64)
-}
-
-/// `L = ½v² + c cos x − F(t) x`, `F` tabulated from an [`Exact`] solution (mirrored for σ = +).
-struct Forced<'e> {
-    exact: &'e Exact,
-    mirrored: bool,
-}
-
-impl Forced<'_> {
-    fn forcing(&self, t: f64) -> f64 {
-        self.exact.forcing(if self.mirrored { 1.0 - t } else { t })
-    }
-}
-
-impl Lagrangian<1> for Forced<'_> {
-    fn value(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> f64 {
-        0.5 * v[0] * v[0] + self.exact.c * x[0].cos() - self.forcing(t) * x[0]
-    }
-    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, t: f64) -> (Vector<1>, Vector<1>) {
-        (v1(-self.exact.c * x[0].sin() - self.forcing(t)), *v)
-    }
-    fn hessian(&self, x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
-        Hessian {
-            xx: Matrix::<1>::new(-self.exact.c * x[0].cos()),
-            xv: Matrix::<1>::zeros(),
-            vv: Matrix::<1>::identity(),
-        }
-    }
-}
+use varembed_tests::fractional::{ExactSolution, ForcedByExact};
 
 /// The max nodal error of the Caputo solution on `N` steps.
-fn error(exact: &Exact, side: Side, scheme: Scheme, solver: FractionalSolver, n: usize) -> f64 {
+fn error(
+    exact: &ExactSolution,
+    side: Side,
+    scheme: Scheme,
+    solver: FractionalSolver,
+    n: usize,
+) -> f64 {
     let mirrored = side == Side::Forward;
-    let model = Forced { exact, mirrored };
+    let model = ForcedByExact { exact, mirrored };
     let q = |t: f64| exact.q(if mirrored { 1.0 - t } else { t });
     let embedding = Embedding::caputo(side, exact.alpha).unwrap();
     let grid = Grid::new(0.0, 1.0, n).unwrap();
@@ -118,8 +40,8 @@ fn error(exact: &Exact, side: Side, scheme: Scheme, solver: FractionalSolver, n:
 
 /// `p = 1 + t − 2t²` (`p(0) = 1`): `q − q_a ~ t^α/Γ(1 + α)` next to `a`, the generic
 /// behaviour of a Caputo solution.
-fn generic(alpha: f64) -> Exact {
-    Exact {
+fn generic(alpha: f64) -> ExactSolution {
+    ExactSolution {
         alpha,
         qa: 0.5,
         p: vec![1.0, 1.0, -2.0],
@@ -128,8 +50,8 @@ fn generic(alpha: f64) -> Exact {
 }
 
 /// `p = t − t³` (`p(0) = 0`): `q − q_a ~ t^{1+α}` next to `a`.
-fn flat_at_a(alpha: f64) -> Exact {
-    Exact {
+fn flat_at_a(alpha: f64) -> ExactSolution {
+    ExactSolution {
         alpha,
         qa: 0.5,
         p: vec![0.0, 1.0, 0.0, -1.0],
@@ -140,7 +62,7 @@ fn flat_at_a(alpha: f64) -> Exact {
 /// Errors on `ns` and the orders between them, every order in `orders` and the last error at
 /// most 1.1 times `last` (the value measured when the test was written).
 fn converges(
-    exact: &Exact,
+    exact: &ExactSolution,
     side: Side,
     (scheme, solver): (Scheme, FractionalSolver),
     ns: &[usize],

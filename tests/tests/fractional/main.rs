@@ -6,6 +6,7 @@ mod caputo_input;
 mod end_forcing;
 mod fractional_fast;
 mod fractional_orders;
+mod generic_data;
 mod hard_fractional;
 mod ill_posed_fractional;
 mod indefinite;

@@ -89,11 +89,13 @@ pub(super) fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
     for i in 0..n {
         let k = i + system.first_row;
         let (fk, pk) = lagrangian.gradient(&q[k], &block(&eval.v, i), grid.t(k));
-        if !fk.iter().chain(pk.iter()).all(|c| c.is_finite()) {
+        // The end node's force is read by no row: it plays no part in the scale, and may be
+        // infinite (a forcing singular at that end).
+        let row = (1..n).contains(&k);
+        if !pk.iter().all(|c| c.is_finite()) || (row && !fk.iter().all(|c| c.is_finite())) {
             return Err(not_finite);
         }
-        // The end node's force is read by no row: it plays no part in the scale.
-        if (1..n).contains(&k) {
+        if row {
             f_max = f_max.max(fk.amax());
             set_block(&mut eval.r, k - 1, &fk);
         }

@@ -85,9 +85,17 @@ impl<'a, const D: usize> FastSystem<'a, D> {
         at: Location,
     ) -> Result<()> {
         let (lagrangian, grid) = (disc.lagrangian(), disc.grid());
+        let n = grid.n();
         for (i, h) in self.hessians.iter_mut().enumerate() {
             let k = i + self.first_row;
             *h = lagrangian.hessian(&q[k], &block(v, i), grid.t(k));
+            // At the fixed end node only L_vv acts on the unknowns (through D); its L_xx and
+            // L_xv multiply that node's zero correction or feed a row no one solves, and may be
+            // infinite there (a forcing singular at that end).
+            if !(1..n).contains(&k) {
+                h.xx = Matrix::<D>::zeros();
+                h.xv = Matrix::<D>::zeros();
+            }
             let finite = h.xx.iter().chain(h.xv.iter()).chain(h.vv.iter());
             if !finite.into_iter().all(|c| c.is_finite()) {
                 return Err(Error::NotFinite { at });
