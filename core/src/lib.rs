@@ -188,6 +188,7 @@ mod degenerate;
 mod discretisation;
 mod dynamic;
 mod embedding;
+mod end_correction;
 mod ensemble;
 mod error;
 mod fft_operator;

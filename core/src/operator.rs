@@ -10,6 +10,7 @@
 //! Values "on the rows" (the result of `apply`, the argument of `apply_transpose`) are stored
 //! by position: entry `i` belongs to row `k = i + first_row`.
 
+use crate::end_correction::{Role, columns};
 use crate::error::{Error, Result, check_len};
 use crate::grid::Grid;
 use crate::lagrangian::Vector;
@@ -25,6 +26,11 @@ pub struct Operator {
     n: usize,
     scale: f64,
     weights: Vec<f64>,
+    /// Columns added next to the node where the sums are cut (the corrected Gauss-GLEσ's
+    /// starting weights, `end_correction`): `(node, weights)`, the weight of row `k` at
+    /// `weights[distance of k from that node − 1]`, without the factor `h^{−α}`. Empty for
+    /// the paper's operators.
+    columns: Vec<(usize, Vec<f64>)>,
 }
 
 impl Operator {
@@ -36,6 +42,7 @@ impl Operator {
             n: grid.n(),
             scale: 1.0 / grid.h(),
             weights: vec![1.0, -1.0],
+            columns: Vec::new(),
         }
     }
 
@@ -50,7 +57,44 @@ impl Operator {
             n: grid.n(),
             scale: grid.h().powf(-alpha),
             weights: grunwald_letnikov(alpha, grid.n() + 1),
+            columns: Vec::new(),
         })
+    }
+
+    /// The same operator with the two starting columns of `role` (see `end_correction`).
+    pub(crate) fn with_end_columns(mut self, role: Role) -> Self {
+        let n = self.n;
+        let node = |distance: usize| match self.side {
+            Side::Backward => distance,
+            Side::Forward => n - distance,
+        };
+        let [first, second] = role.distances().map(node);
+        let [a, b] = columns(role, self.alpha, n);
+        self.columns = vec![(first, a), (second, b)];
+        self
+    }
+
+    /// Whether the operator carries starting columns (the corrected Gauss-GLEσ's).
+    pub(crate) fn has_end_columns(&self) -> bool {
+        !self.columns.is_empty()
+    }
+
+    /// Row `k`'s distance from the node where the sums are cut.
+    fn distance(&self, k: usize) -> usize {
+        match self.side {
+            Side::Backward => k,
+            Side::Forward => self.n - k,
+        }
+    }
+
+    /// The starting columns' entries `(node, M[k, node])` in row `k` (`k ≤ N`); none in a
+    /// row at distance 0, which no corrected operator has among its rows.
+    fn column_entries_in_row(&self, k: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+        let distance = if k > self.n { 0 } else { self.distance(k) };
+        self.columns
+            .iter()
+            .filter(move |_| distance >= 1)
+            .map(move |(node, weights)| (*node, self.scale * weights[distance - 1]))
     }
 
     /// Which side σ.
@@ -82,7 +126,9 @@ impl Operator {
     }
 
     /// Nonzero entries `(j, M[k, j])` of row `k` (a node index in `0..=N`, not necessarily one
-    /// of [`rows`](Self::rows): the sum is cut at the grid's ends; empty when `k > N`).
+    /// of [`rows`](Self::rows): the sum is cut at the grid's ends; empty when `k > N`). A
+    /// corrected operator lists its starting columns' entries after the plain ones (a node
+    /// may then appear twice: the entries add).
     pub fn row_entries(&self, k: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
         let reach = match self.side {
             Side::Backward => k,
@@ -93,17 +139,19 @@ impl Operator {
         } else {
             self.weights.len().min(reach + 1)
         };
-        self.weights[..len].iter().enumerate().map(move |(r, w)| {
+        let plain = self.weights[..len].iter().enumerate().map(move |(r, w)| {
             let j = match self.side {
                 Side::Backward => k - r,
                 Side::Forward => k + r,
             };
             (j, self.scale * w)
-        })
+        });
+        plain.chain(self.column_entries_in_row(k))
     }
 
     /// Nonzero entries `(k, M[k, j])` of column `j` (`j` in `0..=N`), over the rows `k` of
-    /// [`rows`](Self::rows): what `apply_transpose` sums.
+    /// [`rows`](Self::rows): what `apply_transpose` sums. A starting column's entries follow
+    /// the plain ones (a row may then appear twice: the entries add).
     pub fn column_entries(&self, j: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
         let rows = self.rows();
         let (first, last) = (*rows.start(), *rows.end());
@@ -114,10 +162,20 @@ impl Operator {
             // M[k, j] = s w_{j−k} for k ≤ j.
             Side::Forward => ((j + 1).saturating_sub(len).max(first), j.min(last)),
         };
-        (lo..=hi).map(move |k| {
+        let plain = (lo..=hi).map(move |k| {
             let r = k.abs_diff(j);
             (k, self.scale * self.weights[r])
-        })
+        });
+        let corrections = self
+            .columns
+            .iter()
+            .filter(move |(node, _)| *node == j)
+            .flat_map(move |(_, weights)| {
+                self.rows()
+                    .filter(|&k| self.distance(k) >= 1)
+                    .map(move |k| (k, self.scale * weights[self.distance(k) - 1]))
+            });
+        plain.chain(corrections)
     }
 
     /// The same operator with every weight replaced by its modulus: its product with the
@@ -125,6 +183,11 @@ impl Operator {
     pub(crate) fn absolute(&self) -> Operator {
         Operator {
             weights: self.weights.iter().map(|w| w.abs()).collect(),
+            columns: self
+                .columns
+                .iter()
+                .map(|(node, c)| (*node, c.iter().map(|w| w.abs()).collect()))
+                .collect(),
             ..self.clone()
         }
     }
@@ -228,6 +291,51 @@ mod tests {
                 (lhs - rhs).abs() <= 1e-12 * lhs.abs().max(1.0),
                 "{lhs} vs {rhs}"
             );
+        }
+    }
+
+    /// A corrected operator's rows and columns list the same matrix, which is the plain
+    /// operator plus the two starting columns at the nodes next to where its sums are cut
+    /// (σ = + the mirror image of σ = −), with `h^{−α}` on every entry.
+    #[test]
+    fn end_columns_add_two_columns_seen_alike_by_rows_and_columns() {
+        let n = 9;
+        let grid = Grid::new(0.0, 0.9, n).unwrap();
+        let alpha = 0.55;
+        for role in [Role::Velocity, Role::Momentum] {
+            let weights = columns(role, alpha, n);
+            for side in [Side::Backward, Side::Forward] {
+                let plain = Operator::grunwald_letnikov(side, alpha, &grid).unwrap();
+                let corrected = plain.clone().with_end_columns(role);
+                assert!(corrected.has_end_columns() && !plain.has_end_columns());
+                let (p, c) = (dense::<1>(&plain, n), dense::<1>(&corrected, n));
+                let mut from_columns = vec![vec![0.0; n + 1]; n];
+                let first = corrected.first_row();
+                for j in 0..=n {
+                    for (k, value) in corrected.column_entries(j) {
+                        from_columns[k - first][j] += value;
+                    }
+                }
+                for (i, k) in corrected.rows().enumerate() {
+                    let distance = match side {
+                        Side::Backward => k,
+                        Side::Forward => n - k,
+                    };
+                    for j in 0..=n {
+                        let d = match side {
+                            Side::Backward => j,
+                            Side::Forward => n - j,
+                        };
+                        let slot = role.distances().iter().position(|&x| x == d);
+                        let added = slot.map_or(0.0, |s| plain.scale() * weights[s][distance - 1]);
+                        assert!(
+                            (c[i][j] - p[i][j] - added).abs() < 1e-13,
+                            "{role:?} {side:?}"
+                        );
+                        assert!((from_columns[i][j] - c[i][j]).abs() < 1e-13);
+                    }
+                }
+            }
         }
     }
 

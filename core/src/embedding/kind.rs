@@ -1,7 +1,7 @@
 //! [`EmbeddingKind`]: the families of discrete embeddings, with what each is.
 
 /// The families of discrete embeddings: the three of the paper, the Caputo form of its
-/// fractional one, and the two symmetric ones (midpoint and trapezoidal) whose discrete
+/// fractional one and its form corrected at the ends, and the two symmetric ones (midpoint and trapezoidal) whose discrete
 /// Lagrangians are second order.
 ///
 /// ```
@@ -60,6 +60,21 @@ pub enum EmbeddingKind {
     /// `∂_x L − σ D^α_{−σ}(∂_v L) = 0`, and both schemes are its rows
     /// ([schemes](crate::guide::schemes)). Only boundary value problems.
     Caputo {
+        /// The order `0 < α ≤ 1`.
+        alpha: f64,
+    },
+    /// Gauss-GLEσ with starting columns at both ends (Lubich's starting weights): the velocity
+    /// operator is exact on the two leading singular terms of a solution next to the end
+    /// where it starts (`t^α`, `t^{1+α}` for σ = −), and the operator the direct scheme
+    /// applies to the momenta on the two leading terms of a momentum that does not vanish at
+    /// the other end (`(b − t)^{−α}`, `(b − t)^{1−α}` in its derivative). Its direct scheme is
+    /// second order on such data, where Gauss-GLEσ's is of order α to 0.8
+    /// ([schemes](crate::guide::schemes)). Not coherent: the corrected momentum operator is
+    /// not the transpose of the corrected velocity operator, so the direct scheme is not the
+    /// Euler–Lagrange equation of a discrete action, and the variational scheme (the gradient
+    /// of `h Σ L(Q_k, Ṽ_k)` with the corrected velocity `Ṽ`) keeps the low order. Only
+    /// boundary value problems, on the dense solver.
+    CorrectedGrunwaldLetnikov {
         /// The order `0 < α ≤ 1`.
         alpha: f64,
     },

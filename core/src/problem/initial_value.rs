@@ -38,8 +38,9 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             return None;
         }
         let embedding = *self.discretisation.embedding();
-        if let EmbeddingKind::GrunwaldLetnikov { .. } | EmbeddingKind::Caputo { .. } =
-            embedding.kind()
+        if let EmbeddingKind::GrunwaldLetnikov { .. }
+        | EmbeddingKind::Caputo { .. }
+        | EmbeddingKind::CorrectedGrunwaldLetnikov { .. } = embedding.kind()
         {
             return None;
         }

@@ -76,12 +76,15 @@ pub(crate) fn interpolant(
             hermite: Some(if stages <= 2 { 2 } else { 4 }),
         }),
         (EmbeddingKind::GaussLegendre { .. }, Scheme::Direct)
-        | (EmbeddingKind::GrunwaldLetnikov { .. } | EmbeddingKind::Caputo { .. }, _) => {
-            Err(Error::Unsupported {
-                operation,
-                embedding: embedding.to_string(),
-            })
-        }
+        | (
+            EmbeddingKind::GrunwaldLetnikov { .. }
+            | EmbeddingKind::Caputo { .. }
+            | EmbeddingKind::CorrectedGrunwaldLetnikov { .. },
+            _,
+        ) => Err(Error::Unsupported {
+            operation,
+            embedding: embedding.to_string(),
+        }),
     }
 }
 

@@ -40,12 +40,16 @@ pub(crate) fn step_kind(embedding: &Embedding, scheme: Scheme) -> Result<StepKin
             Ok(StepKind::TrapezoidalVariational)
         }
         (EmbeddingKind::Trapezoidal, Scheme::Direct, _) => Ok(StepKind::TrapezoidalDirect),
-        (EmbeddingKind::GrunwaldLetnikov { .. } | EmbeddingKind::Caputo { .. }, _, _) => {
-            Err(Error::Unsupported {
-                operation: "an initial value problem",
-                embedding: embedding.to_string(),
-            })
-        }
+        (
+            EmbeddingKind::GrunwaldLetnikov { .. }
+            | EmbeddingKind::Caputo { .. }
+            | EmbeddingKind::CorrectedGrunwaldLetnikov { .. },
+            _,
+            _,
+        ) => Err(Error::Unsupported {
+            operation: "an initial value problem",
+            embedding: embedding.to_string(),
+        }),
         // A one-step map of (q, p): its runs start from q(a), q̇(a) (`solve`).
         (EmbeddingKind::GaussLegendre { .. }, _, _) => Err(Error::Unsupported {
             operation: "a three-point recurrence from two nodes or a discrete Legendre start",

@@ -177,9 +177,12 @@ pub(crate) fn rule(embedding: &Embedding, scheme: Scheme) -> Result<NodeRule> {
             order: 2 * stages as u32,
         }),
         (EmbeddingKind::GaussLegendre { .. }, Scheme::Direct)
-        | (EmbeddingKind::GrunwaldLetnikov { .. } | EmbeddingKind::Caputo { .. }, _) => {
-            Err(unsupported())
-        }
+        | (
+            EmbeddingKind::GrunwaldLetnikov { .. }
+            | EmbeddingKind::Caputo { .. }
+            | EmbeddingKind::CorrectedGrunwaldLetnikov { .. },
+            _,
+        ) => Err(unsupported()),
     }
 }
 

@@ -140,3 +140,43 @@ fn a_momentum_not_vanishing_at_a_gives_order_alpha() {
         assert!((e[3].1 / last - 1.0).abs() < 0.01, "{what}");
     }
 }
+
+#[test]
+fn scratch_corrected() {
+    for alpha in [0.6, 0.8] {
+        for p in [
+            vec![0.0, 0.0, 1.0],
+            vec![1.0, -2.0, 1.0],
+            vec![1.0, 1.0, -0.5],
+            vec![0.0, 0.0, 1.0, -2.0, 1.0],
+        ] {
+            let ex = exact(alpha, p.clone());
+            for side in [Side::Backward, Side::Forward] {
+                let e: Vec<(usize, f64)> = [128usize, 256, 512, 1024]
+                    .iter()
+                    .map(|&n| (n, corrected_error(&ex, side, Scheme::Direct, n)))
+                    .collect();
+                eprintln!(
+                    "α {alpha} p {p:?} {side:?}: {e:?} {:?}",
+                    observed_orders(&e)
+                );
+            }
+        }
+    }
+}
+
+fn corrected_error(exact: &ExactSolution, side: Side, scheme: Scheme, n: usize) -> f64 {
+    let mirrored = side == Side::Forward;
+    let q = |t: f64| exact.q(if mirrored { 1.0 - t } else { t });
+    let emb = Embedding::corrected_grunwald_letnikov(side, exact.alpha).unwrap();
+    let grid = Grid::new(0.0, 1.0, n).unwrap();
+    let model = ForcedByExact { exact, mirrored };
+    let solution = Problem::new(&model, grid, emb)
+        .solve_bvp(scheme, q(0.0), q(1.0))
+        .unwrap();
+    solution
+        .q
+        .iter()
+        .zip(grid.nodes())
+        .fold(0.0f64, |m, (x, t)| m.max((x[0] - q(t)).abs()))
+}

@@ -85,7 +85,8 @@ where
     let embedding = *disc.embedding();
     if let EmbeddingKind::GaussLegendre { .. }
     | EmbeddingKind::GrunwaldLetnikov { .. }
-    | EmbeddingKind::Caputo { .. } = embedding.kind()
+    | EmbeddingKind::Caputo { .. }
+    | EmbeddingKind::CorrectedGrunwaldLetnikov { .. } = embedding.kind()
     {
         // Gauss–Legendre has no rows on the nodes; a fractional row reads every node, so its
         // constrained system would be dense.

@@ -1,0 +1,194 @@
+//! Starting columns for the Grünwald–Letnikov operators: the corrections of the
+//! [corrected Gauss-GLEσ](crate::Embedding::corrected_grunwald_letnikov) at the ends where the
+//! solution of a fractional problem is singular.
+//!
+//! Write `Δ` for `Δ^α_−` (σ = +'s operators are its mirror image, node `k` read as `N − k`).
+//! Each corrected operator is `Δ` plus two columns next to the node where its sums are cut, with
+//! weights chosen row by row (Lubich's starting weights) so that the operator is exact on the
+//! two leading singular terms of the data it is applied to:
+//!
+//! - **the velocity** `V = Δ̃ Q`: near `a` the solution is `q ~ c₁ t^α + c₂ t^{1+α}` (a momentum
+//!   not vanishing at `a`, and its slope). Columns at nodes 1 and 2 make `Δ̃ t^g`, `g = α, 1 + α`,
+//!   equal `D^α t^g = Γ(g+1)/Γ(g+1−α) t^{g−α}` at `t_k − αh/2`: the point where the plain
+//!   operator is second order on smooth data, so that the corrections leave the smooth part's
+//!   error, which the scheme cancels, as it is;
+//! - **the momentum** in the direct scheme's `Δ̃ᵀ`-side operator `Δ^α_+ p`: near `b` the
+//!   momentum is `p ~ p(b) + p'(b)(t − b)`, and `D^α_+` of that carries `(b − t)^{−α}` and
+//!   `(b − t)^{1−α}`. Columns at nodes `N` and `N − 1` make the operator exact at `t_j` on
+//!   `(b − t)^g`, `g = 0, 1`, sampled at `t_k − αh/2`, where the momenta of the scheme
+//!   approximate `p` to second order.
+//!
+//! All weights are `h^{−α}` times a number that depends on the row's distance from the end and
+//! on α only; at α = 1 every one is zero (the classical differences are exact on these
+//! functions at those points).
+
+use crate::weights::grunwald_letnikov;
+
+/// The role of a corrected operator, which fixes the functions it is made exact on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Role {
+    /// The velocity operator, applied to the curve: columns at distance 1 and 2 from its start.
+    Velocity,
+    /// The operator the direct scheme applies to the momenta: columns at distance 0 and 1.
+    Momentum,
+}
+
+impl Role {
+    /// The distances from the start node of the two corrected columns.
+    pub(crate) fn distances(self) -> [usize; 2] {
+        match self {
+            Role::Velocity => [1, 2],
+            Role::Momentum => [0, 1],
+        }
+    }
+}
+
+/// `Γ(x)` for `0 < x ≤ 3`: Stirling's series for `ln Γ` at `x + 12` (truncation below `10⁻¹⁵`
+/// relative there), brought down by the recurrence `Γ(x) = Γ(x + 12)/(x (x + 1) ⋯ (x + 11))`;
+/// relative error a few `10⁻¹⁴`, from rounding `ln Γ(x + 12) ≈ 20` before the exponential.
+pub(crate) fn gamma(x: f64) -> f64 {
+    let z = x + 12.0;
+    let (z2, z3) = (z * z, z * z * z);
+    let series = 1.0 / (12.0 * z) - 1.0 / (360.0 * z3) + 1.0 / (1260.0 * z3 * z2)
+        - 1.0 / (1680.0 * z3 * z2 * z2)
+        + 1.0 / (1188.0 * z3 * z3 * z3);
+    let ln_gamma_z = (z - 0.5) * z.ln() - z + 0.5 * (2.0 * std::f64::consts::PI).ln() + series;
+    let product: f64 = (0..12).map(|i| x + i as f64).product();
+    ln_gamma_z.exp() / product
+}
+
+/// The two columns' weights (without the factor `h^{−α}`) for the rows at distance
+/// `1..=n` from the start: entry `m − 1` of each is the weight in the row at distance `m`.
+///
+/// Row `m` solves the 2 × 2 system `Σ_i c_i s_g(d_i) = e_g(m) − Σ_r w_r s_g(m − r)` for the two
+/// exponents `g`, `d_i` the columns' distances, `s_g` the samples of the function and `e_g` the
+/// exact values (module docs). The sums are direct, `O(n²)`: the corrected scheme is solved by
+/// the dense solver, whose own cost is `O(n³)`.
+pub(crate) fn columns(role: Role, alpha: f64, n: usize) -> [Vec<f64>; 2] {
+    let w = grunwald_letnikov(alpha, n + 1);
+    let half = alpha / 2.0;
+    // The samples s_g(i) at distance i, and the exact value e_g(m) at row distance m.
+    let (exponents, sample, exact): (
+        [f64; 2],
+        Box<dyn Fn(f64, usize) -> f64>,
+        Box<dyn Fn(f64, usize) -> f64>,
+    ) = match role {
+        Role::Velocity => (
+            [alpha, 1.0 + alpha],
+            Box::new(|g: f64, i: usize| (i as f64).powf(g)),
+            Box::new(move |g: f64, m: usize| {
+                gamma(g + 1.0) / gamma(g + 1.0 - alpha) * (m as f64 - half).powf(g - alpha)
+            }),
+        ),
+        Role::Momentum => (
+            [0.0, 1.0],
+            Box::new(move |g: f64, i: usize| (i as f64 + half).powf(g)),
+            Box::new(move |g: f64, m: usize| {
+                // 1/Γ(1 − α) vanishes at α = 1, where Γ has its pole.
+                let reciprocal = if g + 1.0 - alpha > 0.0 {
+                    1.0 / gamma(g + 1.0 - alpha)
+                } else {
+                    0.0
+                };
+                gamma(g + 1.0) * reciprocal * (m as f64).powf(g - alpha)
+            }),
+        ),
+    };
+    let d = role.distances();
+    // The 2 × 2 matrix A[g][i] = s_g(d_i), the same for every row.
+    let a = exponents.map(|g| d.map(|di| sample(g, di)));
+    let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+    let mut out = [vec![0.0; n], vec![0.0; n]];
+    for m in 1..=n {
+        let residual = exponents.map(|g| {
+            let plain: f64 = (0..=m).map(|r| w[r] * sample(g, m - r)).sum();
+            exact(g, m) - plain
+        });
+        // Cramer's rule on the fixed, well-conditioned 2 × 2 system.
+        out[0][m - 1] = (residual[0] * a[1][1] - residual[1] * a[0][1]) / det;
+        out[1][m - 1] = (a[0][0] * residual[1] - a[1][0] * residual[0]) / det;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn gamma_matches_closed_forms() {
+        let sqrt_pi = std::f64::consts::PI.sqrt();
+        for (x, exact) in [
+            (1.0, 1.0),
+            (2.0, 1.0),
+            (3.0, 2.0),
+            (0.5, sqrt_pi),
+            (1.5, 0.5 * sqrt_pi),
+            (2.5, 0.75 * sqrt_pi),
+        ] {
+            assert!(
+                (gamma(x) / exact - 1.0).abs() < 1e-14,
+                "Γ({x}) = {}",
+                gamma(x)
+            );
+        }
+        // The recurrence at points with no closed form.
+        for x in [0.1, 0.37, 0.8, 1.3] {
+            assert!((gamma(x + 1.0) / (x * gamma(x)) - 1.0).abs() < 1e-13);
+        }
+    }
+
+    /// The corrected rows are exact on the two functions of each role (checked against the
+    /// plain weights plus the columns), and the weights vanish at α = 1.
+    #[test]
+    fn corrected_rows_are_exact_on_the_leading_terms() {
+        let n = 40;
+        for alpha in [0.3, 0.6, 0.9] {
+            let w = grunwald_letnikov(alpha, n + 1);
+            for role in [Role::Velocity, Role::Momentum] {
+                let c = columns(role, alpha, n);
+                let d = role.distances();
+                let half = alpha / 2.0;
+                let cases: [(f64, Box<dyn Fn(usize) -> f64>, Box<dyn Fn(usize) -> f64>); 2] =
+                    match role {
+                        Role::Velocity => [alpha, 1.0 + alpha].map(|g| {
+                            let s: Box<dyn Fn(usize) -> f64> =
+                                Box::new(move |i| (i as f64).powf(g));
+                            let e: Box<dyn Fn(usize) -> f64> = Box::new(move |m| {
+                                gamma(g + 1.0) / gamma(g + 1.0 - alpha)
+                                    * (m as f64 - half).powf(g - alpha)
+                            });
+                            (g, s, e)
+                        }),
+                        Role::Momentum => [0.0, 1.0].map(|g| {
+                            let s: Box<dyn Fn(usize) -> f64> =
+                                Box::new(move |i| (i as f64 + half).powf(g));
+                            let e: Box<dyn Fn(usize) -> f64> = Box::new(move |m| {
+                                gamma(g + 1.0) / gamma(g + 1.0 - alpha) * (m as f64).powf(g - alpha)
+                            });
+                            (g, s, e)
+                        }),
+                    };
+                for (g, sample, exact) in &cases {
+                    for m in 1..=n {
+                        let row: f64 = (0..=m).map(|r| w[r] * sample(m - r)).sum::<f64>()
+                            + c[0][m - 1] * sample(d[0])
+                            + c[1][m - 1] * sample(d[1]);
+                        assert!(
+                            (row - exact(m)).abs() < 1e-12 * exact(m).abs().max(1.0),
+                            "{role:?} α = {alpha} g = {g} m = {m}: {row} vs {}",
+                            exact(m)
+                        );
+                    }
+                }
+            }
+        }
+        for role in [Role::Velocity, Role::Momentum] {
+            let c = columns(role, 1.0, 10);
+            assert!(
+                c.iter().flatten().all(|x| x.abs() < 1e-13),
+                "{role:?}: {c:?}"
+            );
+        }
+    }
+}
