@@ -41,6 +41,40 @@ impl Role {
             Role::Momentum => [0, 1],
         }
     }
+
+    /// The two exponents `g` of the functions the operator is made exact on.
+    fn exponents(self, alpha: f64) -> [f64; 2] {
+        match self {
+            Role::Velocity => [alpha, 1.0 + alpha],
+            Role::Momentum => [0.0, 1.0],
+        }
+    }
+
+    /// The function of exponent `g` at distance `i` from the start, in units of `h`: `i^g`
+    /// for the velocity, `(i + α/2)^g` for the momenta (sampled at `t_k − αh/2`).
+    fn sample(self, alpha: f64, g: f64, i: usize) -> f64 {
+        match self {
+            Role::Velocity => (i as f64).powf(g),
+            Role::Momentum => (i as f64 + alpha / 2.0).powf(g),
+        }
+    }
+
+    /// The exact fractional derivative `Γ(g + 1)/Γ(g + 1 − α) s^{g−α}` of the function of
+    /// exponent `g` in the row at distance `m` (in units of `h`, without `h^{g−α}`): at
+    /// `s = m − α/2` for the velocity, at `s = m` for the momenta. `1/Γ(g + 1 − α)` is zero at
+    /// its pole (`g = 0`, `α = 1`).
+    fn exact(self, alpha: f64, g: f64, m: usize) -> f64 {
+        let s = match self {
+            Role::Velocity => m as f64 - alpha / 2.0,
+            Role::Momentum => m as f64,
+        };
+        let reciprocal = if g + 1.0 - alpha > 0.0 {
+            1.0 / gamma(g + 1.0 - alpha)
+        } else {
+            0.0
+        };
+        gamma(g + 1.0) * reciprocal * s.powf(g - alpha)
+    }
 }
 
 /// `Γ(x)` for `0 < x ≤ 3`: Stirling's series for `ln Γ` at `x + 12` (truncation below `10⁻¹⁵`
@@ -66,43 +100,15 @@ pub(crate) fn gamma(x: f64) -> f64 {
 /// the dense solver, whose own cost is `O(n³)`.
 pub(crate) fn columns(role: Role, alpha: f64, n: usize) -> [Vec<f64>; 2] {
     let w = grunwald_letnikov(alpha, n + 1);
-    let half = alpha / 2.0;
-    // The samples s_g(i) at distance i, and the exact value e_g(m) at row distance m.
-    let (exponents, sample, exact): (
-        [f64; 2],
-        Box<dyn Fn(f64, usize) -> f64>,
-        Box<dyn Fn(f64, usize) -> f64>,
-    ) = match role {
-        Role::Velocity => (
-            [alpha, 1.0 + alpha],
-            Box::new(|g: f64, i: usize| (i as f64).powf(g)),
-            Box::new(move |g: f64, m: usize| {
-                gamma(g + 1.0) / gamma(g + 1.0 - alpha) * (m as f64 - half).powf(g - alpha)
-            }),
-        ),
-        Role::Momentum => (
-            [0.0, 1.0],
-            Box::new(move |g: f64, i: usize| (i as f64 + half).powf(g)),
-            Box::new(move |g: f64, m: usize| {
-                // 1/Γ(1 − α) vanishes at α = 1, where Γ has its pole.
-                let reciprocal = if g + 1.0 - alpha > 0.0 {
-                    1.0 / gamma(g + 1.0 - alpha)
-                } else {
-                    0.0
-                };
-                gamma(g + 1.0) * reciprocal * (m as f64).powf(g - alpha)
-            }),
-        ),
-    };
-    let d = role.distances();
+    let (exponents, d) = (role.exponents(alpha), role.distances());
     // The 2 × 2 matrix A[g][i] = s_g(d_i), the same for every row.
-    let a = exponents.map(|g| d.map(|di| sample(g, di)));
+    let a = exponents.map(|g| d.map(|di| role.sample(alpha, g, di)));
     let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
     let mut out = [vec![0.0; n], vec![0.0; n]];
     for m in 1..=n {
         let residual = exponents.map(|g| {
-            let plain: f64 = (0..=m).map(|r| w[r] * sample(g, m - r)).sum();
-            exact(g, m) - plain
+            let plain: f64 = (0..=m).map(|r| w[r] * role.sample(alpha, g, m - r)).sum();
+            role.exact(alpha, g, m) - plain
         });
         // Cramer's rule on the fixed, well-conditioned 2 × 2 system.
         out[0][m - 1] = (residual[0] * a[1][1] - residual[1] * a[0][1]) / det;
@@ -138,46 +144,31 @@ mod tests {
         }
     }
 
-    /// The corrected rows are exact on the two functions of each role (checked against the
-    /// plain weights plus the columns), and the weights vanish at α = 1.
+    /// Each corrected row is exact on the two functions of its role (the plain weights plus
+    /// the two columns, summed here as a dense row would be), the exact values checked
+    /// against closed forms; the weights vanish at α = 1.
     #[test]
     fn corrected_rows_are_exact_on_the_leading_terms() {
+        // D^α t^α = Γ(1 + α); D^α_+ 1 = (b − t)^{−α}/Γ(1 − α).
+        assert!((Role::Velocity.exact(0.5, 0.5, 7) - gamma(1.5)).abs() < 1e-14);
+        let expected = 7f64.powf(-0.5) / std::f64::consts::PI.sqrt();
+        assert!((Role::Momentum.exact(0.5, 0.0, 7) - expected).abs() < 1e-14);
         let n = 40;
         for alpha in [0.3, 0.6, 0.9] {
             let w = grunwald_letnikov(alpha, n + 1);
             for role in [Role::Velocity, Role::Momentum] {
                 let c = columns(role, alpha, n);
                 let d = role.distances();
-                let half = alpha / 2.0;
-                let cases: [(f64, Box<dyn Fn(usize) -> f64>, Box<dyn Fn(usize) -> f64>); 2] =
-                    match role {
-                        Role::Velocity => [alpha, 1.0 + alpha].map(|g| {
-                            let s: Box<dyn Fn(usize) -> f64> =
-                                Box::new(move |i| (i as f64).powf(g));
-                            let e: Box<dyn Fn(usize) -> f64> = Box::new(move |m| {
-                                gamma(g + 1.0) / gamma(g + 1.0 - alpha)
-                                    * (m as f64 - half).powf(g - alpha)
-                            });
-                            (g, s, e)
-                        }),
-                        Role::Momentum => [0.0, 1.0].map(|g| {
-                            let s: Box<dyn Fn(usize) -> f64> =
-                                Box::new(move |i| (i as f64 + half).powf(g));
-                            let e: Box<dyn Fn(usize) -> f64> = Box::new(move |m| {
-                                gamma(g + 1.0) / gamma(g + 1.0 - alpha) * (m as f64).powf(g - alpha)
-                            });
-                            (g, s, e)
-                        }),
-                    };
-                for (g, sample, exact) in &cases {
+                for g in role.exponents(alpha) {
+                    let sample = |i| role.sample(alpha, g, i);
                     for m in 1..=n {
                         let row: f64 = (0..=m).map(|r| w[r] * sample(m - r)).sum::<f64>()
                             + c[0][m - 1] * sample(d[0])
                             + c[1][m - 1] * sample(d[1]);
+                        let exact = role.exact(alpha, g, m);
                         assert!(
-                            (row - exact(m)).abs() < 1e-12 * exact(m).abs().max(1.0),
-                            "{role:?} α = {alpha} g = {g} m = {m}: {row} vs {}",
-                            exact(m)
+                            (row - exact).abs() < 1e-12 * exact.abs().max(1.0),
+                            "{role:?} α = {alpha} g = {g} m = {m}: {row} vs {exact}"
                         );
                     }
                 }

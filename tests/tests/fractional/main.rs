@@ -3,6 +3,7 @@
 mod alpha_one;
 mod caputo;
 mod caputo_input;
+mod corrected;
 mod end_forcing;
 mod fractional_fast;
 mod fractional_orders;
