@@ -426,8 +426,9 @@ impl Embedding {
     /// Gauss-GLEσ's rows at its own velocity. Gauss-FDEσ is not; neither are the midpoint and
     /// trapezoidal embeddings, whose direct scheme evaluates `∂L/∂x` once at the node where
     /// the variational one averages it over the two neighbouring intervals
-    /// ([schemes](crate::guide::schemes)); the Gauss–Legendre integrators have no direct scheme
-    /// to be coherent with.
+    /// ([schemes](crate::guide::schemes)); nor is the corrected Gauss-GLEσ, whose corrected
+    /// momentum operator is not the transpose of its corrected velocity operator; the
+    /// Gauss–Legendre integrators have no direct scheme to be coherent with.
     ///
     /// ```
     /// use varembed::{Embedding, EmbeddingKind, Side};

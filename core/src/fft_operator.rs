@@ -56,6 +56,11 @@ pub struct FftOperator {
 impl FftOperator {
     /// The FFT form of `op` (its weights transformed once).
     pub fn new(op: &Operator) -> Self {
+        // Only the Toeplitz part is transformed: a corrected operator's columns are not.
+        debug_assert!(
+            !op.has_end_columns(),
+            "the FFT form has no starting columns"
+        );
         let n = op.rows().count();
         let mut column = vec![0.0; n + 1];
         for (c, w) in column.iter_mut().zip(op.weights()) {

@@ -61,9 +61,11 @@ impl Operator {
         })
     }
 
-    /// The same operator with the two starting columns of `role` (see `end_correction`).
+    /// The same operator with the two starting columns of `role` (see `end_correction`); on a
+    /// grid of at least two steps.
     pub(crate) fn with_end_columns(mut self, role: Role) -> Self {
         let n = self.n;
+        assert!(n >= 2, "starting columns need two nodes besides the end");
         let node = |distance: usize| match self.side {
             Side::Backward => distance,
             Side::Forward => n - distance,

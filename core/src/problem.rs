@@ -47,7 +47,9 @@ pub fn curve_from_flat<const D: usize>(values: &[f64]) -> Result<Vec<Vector<D>>>
 /// [`quadrature_velocities`](Self::quadrature_velocities), [`residual`](Self::residual),
 /// [`action`](Self::action) and [`quadrature_energies`](Self::quadrature_energies) (and so the comparisons and the dense-LU Newton's residual) apply
 /// them by FFT, `O(N log N)`, instead of `O(N²)` loops, with the weights transformed once per
-/// problem. The two routes agree to round-off.
+/// problem. The two routes agree to round-off. The corrected Gauss-GLEσ
+/// ([`Embedding::corrected_grunwald_letnikov`]) applies its operators by the loops at every
+/// size (the FFT form does not carry its starting columns).
 ///
 /// # Example
 ///
@@ -179,7 +181,8 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
 
     /// The same problem with another linear solver for the boundary value problems of the
     /// fractional embeddings (default [`FractionalSolver::Auto`]: dense LU for small systems,
-    /// the FFT Newton–Krylov fast path above). The classical embeddings ignore it.
+    /// the FFT Newton–Krylov fast path above; dense LU always for the corrected Gauss-GLEσ,
+    /// which refuses [`FractionalSolver::Fast`]). The classical embeddings ignore it.
     ///
     /// # Example
     ///

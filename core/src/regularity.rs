@@ -115,18 +115,20 @@ pub(crate) fn hessian_in_domain<L: Lagrangian<D> + ?Sized, const D: usize>(
     derivatives_in_domain(lagrangian, x, v, t).map(|(_, _, hs)| hs)
 }
 
-/// The Hessian at `(x, v, t)` when the momentum `∂L/∂v` and `∂²L/∂v²` are finite there: the
-/// domain check of a node whose force no equation reads (see
-/// `Embedding::unread_force_end`), where `L`, `∂L/∂x` and their derivatives may be infinite.
+/// The Hessian at `(x, v, t)` when the momentum `∂L/∂v` and `∂²L/∂v²` are finite there and
+/// neither `L` nor `∂L/∂x` is NaN: the domain check of a node whose force no equation reads
+/// (see `Embedding::unread_force_end`), where `L` and `∂L/∂x` may be infinite (a forcing
+/// singular at that end) but a NaN still says the point is outside the Lagrangian's domain.
 pub(crate) fn kinetic_in_domain<L: Lagrangian<D> + ?Sized, const D: usize>(
     lagrangian: &L,
     x: &Vector<D>,
     v: &Vector<D>,
     t: f64,
 ) -> Option<Hessian<D>> {
-    let (_, p, hs) = lagrangian.gradient_and_hessian(x, v, t);
+    let (f, p, hs) = lagrangian.gradient_and_hessian(x, v, t);
     let finite = p.iter().chain(hs.vv.iter()).all(|c| c.is_finite());
-    finite.then_some(hs)
+    let defined = !lagrangian.value(x, v, t).is_nan() && !f.iter().any(|c| c.is_nan());
+    (finite && defined).then_some(hs)
 }
 
 /// [`hessian_in_domain`] with the gradient: `(∂L/∂x, ∂L/∂v, Hessian)` from one evaluation.

@@ -42,8 +42,8 @@ impl ExactSolution {
                 .sum::<f64>()
     }
 
-    /// `D^α_+ p(t)`: `p = Σ_j ρ_j uʲ`, `ρ_j = (−1)ʲ Σ_k p_k C(k, j)` (terms with `ρ_j = 0`
-    /// skipped, so that a momentum vanishing at `b` gives a finite value there).
+    /// `D^α_+ p(t)`: `p = Σ_j ρ_j uʲ`, `ρ_j = (−1)ʲ Σ_k p_k C(k, j)` (terms with a zero
+    /// coefficient skipped, so that a momentum vanishing at `b` gives a finite value there).
     pub fn right_derivative_of_p(&self, t: f64) -> f64 {
         let (a, u) = (self.alpha, 1.0 - t);
         let mut total = 0.0;
@@ -57,9 +57,10 @@ impl ExactSolution {
                 .map(|(k, pk)| pk * binomial(k, j))
                 .sum::<f64>()
                 * sign;
-            if rho != 0.0 {
-                total +=
-                    rho * gamma(j as f64 + 1.0) / gamma(j as f64 + 1.0 - a) * u.powf(j as f64 - a);
+            // Zero at a pole of Γ(j + 1 − α) (α = 1, j = 0): the term is absent, not 0 · ∞ at b.
+            let coefficient = rho * gamma(j as f64 + 1.0) / gamma(j as f64 + 1.0 - a);
+            if coefficient != 0.0 {
+                total += coefficient * u.powf(j as f64 - a);
             }
         }
         total

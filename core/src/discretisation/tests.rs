@@ -105,6 +105,7 @@ fn jacobian_matches<L: Lagrangian<2>>(lagrangian: &L, fractional: bool) {
         if fractional {
             embeddings.push(Embedding::grunwald_letnikov(side, 0.6).unwrap());
             embeddings.push(Embedding::caputo(side, 0.6).unwrap());
+            embeddings.push(Embedding::corrected_grunwald_letnikov(side, 0.6).unwrap());
         }
     }
     embeddings.push(Embedding::midpoint());

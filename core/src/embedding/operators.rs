@@ -14,8 +14,9 @@ impl Embedding {
         self.operator(self.side, grid, Role::Velocity)
     }
 
-    /// The operator `Δ_{−σ}` (or `Δ^α_{−σ}`) that the direct scheme of the coherent
-    /// embeddings applies to `p`.
+    /// The operator `Δ_{−σ}` (or `Δ^α_{−σ}`) that the direct scheme of every embedding but
+    /// Gauss-FDEσ applies to `p` (with the momentum role's starting columns for the corrected
+    /// Gauss-GLEσ).
     pub(crate) fn adjoint_operator(&self, grid: &Grid) -> Operator {
         self.operator(self.side.opposite(), grid, Role::Momentum)
     }

@@ -213,9 +213,9 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
         if !fast && unknowns > FractionalSolver::DENSE_MAX {
             let m = unknowns as f64;
             let remedy = if corrected {
-                "the corrected form has only this solver: use fewer steps (it reaches at \
-                 N = 1000 what the paper's scheme reaches at N = 10⁶ and more on data not \
-                 vanishing at the ends), or Embedding::grunwald_letnikov with the fast solver"
+                "the corrected form has only this solver: use fewer steps (being second \
+                 order where the paper's scheme is not, it needs far fewer for an error), or \
+                 Embedding::grunwald_letnikov with the fast solver"
             } else {
                 "use FractionalSolver::Fast or Auto, whose Newton–Krylov iterations cost \
                  O(N log N)"

@@ -13,6 +13,11 @@
 //! `FractionalSolver::DENSE_LIMIT` unknowns) and the FFT Newton–Krylov path on every size, so
 //! that neither line mixes the cost of two solvers; the tables read the variational scheme off
 //! the FFT line.
+//!
+//! Beside the pendulum, a problem on generic data with an exact solution ([`GenericData`]: a
+//! momentum vanishing at neither end) at α = 0.6 and 0.8, as two lines each: the paper's scheme
+//! on the fast path, and the direct scheme of the corrected Gauss-GLE− (starting weights at
+//! both ends; not coherent) on dense LU, its only solver.
 
 use crate::scene::{
     Context, Doubling, Figure, SceneReport, Series, SweepLine, doubling, failed_table,

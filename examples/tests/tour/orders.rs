@@ -155,7 +155,13 @@ fn fractional_orders_are_two_alpha_minus_one_and_two_at_alpha_one() {
         let corrected = line("corrected direct, dense LU");
         assert_order("fractional", &report.sweep, &corrected, 2.0, 0.1);
         let plain = line("paper's scheme, FFT Newton–Krylov");
-        assert_order("fractional", &report.sweep, &plain, alpha - 0.1, 0.15);
+        let plain = report.sweep.iter().find(|l| l.label == plain).unwrap();
+        let orders = plain.orders();
+        assert!(plain.failures.is_empty() && orders.len() == 3, "{orders:?}");
+        assert!(
+            orders.iter().all(|o| *o < alpha && *o > alpha - 0.3),
+            "{orders:?}"
+        );
     }
 }
 

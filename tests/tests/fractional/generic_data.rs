@@ -140,3 +140,43 @@ fn a_momentum_not_vanishing_at_a_gives_order_alpha() {
         assert!((e[3].1 / last - 1.0).abs() < 0.01, "{what}");
     }
 }
+
+/// At the end node whose force no row reads, an infinite force is accepted but a NaN one is
+/// still outside the Lagrangian's domain: `L = ½v² − x · 0/(1 − t)` is `0/0` at `t = 1`.
+#[test]
+fn a_nan_force_at_the_unread_end_is_outside_the_domain() {
+    struct NanAtB;
+    impl varembed::Lagrangian<1> for NanAtB {
+        fn value(&self, x: &varembed::Vector<1>, v: &varembed::Vector<1>, t: f64) -> f64 {
+            0.5 * v[0] * v[0] - x[0] * (0.0 * t) / (1.0 - t)
+        }
+        fn gradient(
+            &self,
+            _x: &varembed::Vector<1>,
+            v: &varembed::Vector<1>,
+            t: f64,
+        ) -> (varembed::Vector<1>, varembed::Vector<1>) {
+            (varembed_tests::curve::v1(-(0.0 * t) / (1.0 - t)), *v)
+        }
+        fn hessian(
+            &self,
+            _x: &varembed::Vector<1>,
+            _v: &varembed::Vector<1>,
+            _t: f64,
+        ) -> varembed::Hessian<1> {
+            varembed::Hessian {
+                xx: varembed::Matrix::<1>::zeros(),
+                xv: varembed::Matrix::<1>::zeros(),
+                vv: varembed::Matrix::<1>::identity(),
+            }
+        }
+    }
+    let gle = Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap();
+    let grid = Grid::new(0.0, 1.0, 20).unwrap();
+    match Problem::new(&NanAtB, grid, gle).solve_bvp(Scheme::Variational, 0.0, 1.0) {
+        Err(varembed::Error::OutsideDomain { what }) => {
+            assert!(what.contains("Q_20") && what.contains("at b"), "{what}")
+        }
+        other => panic!("{other:?}"),
+    }
+}
