@@ -202,7 +202,7 @@ fn bad_input_is_refused_by_name() {
 /// α = 0.8, orders 0.75–0.80). Ignored by default: the dense solves take about 100 s at the
 /// test profile.
 #[test]
-#[ignore]
+#[ignore = "dense solves up to N = 2048: about 100 s at the test profile"]
 fn the_target_on_generic_data_is_met_at_2048_nodes() {
     let ns = [256, 512, 1024, 2048];
     for alpha in [0.6, 0.8] {
