@@ -204,8 +204,8 @@ impl Embedding {
     /// to the end where it starts, and the operator the direct scheme applies to the momenta
     /// exact on a momentum that does not vanish at the other end. Errors unless `0 < α ≤ 1`.
     /// Its **direct** scheme is the one to use: second order on data where Gauss-GLEσ's order
-    /// is α to 0.8 (a momentum not vanishing at either end), still second order where
-    /// Gauss-GLEσ's is. Boundary value problems on the dense solver (at most
+    /// is 0.5 to 0.8 at α = 0.6, 0.8 (a momentum not vanishing at either end), still second
+    /// order where Gauss-GLEσ's is. Boundary value problems on the dense solver (at most
     /// [`FractionalSolver::DENSE_MAX`](crate::FractionalSolver::DENSE_MAX) unknowns).
     ///
     /// # Example

@@ -68,7 +68,7 @@ pub enum EmbeddingKind {
     /// where it starts (`t^α`, `t^{1+α}` for σ = −), and the operator the direct scheme
     /// applies to the momenta on the two leading terms of a momentum that does not vanish at
     /// the other end (`(b − t)^{−α}`, `(b − t)^{1−α}` in its derivative). Its direct scheme is
-    /// second order on such data, where Gauss-GLEσ's is of order α to 0.8
+    /// second order on such data, where Gauss-GLEσ's order is 0.5 to 0.8 (α = 0.6, 0.8)
     /// ([schemes](crate::guide::schemes)). Not coherent: the corrected momentum operator is
     /// not the transpose of the corrected velocity operator, so the direct scheme is not the
     /// Euler–Lagrange equation of a discrete action, and the variational scheme (the gradient
