@@ -39,6 +39,18 @@ fn error(exact: &ExactSolution, embedding: Embedding, scheme: Scheme, n: usize) 
         .fold(0.0f64, |m, (x, t)| m.max((x[0] - q(t)).abs()))
 }
 
+/// [`error`] on each of `ns` steps, with `N`.
+fn errors(
+    exact: &ExactSolution,
+    embedding: Embedding,
+    scheme: Scheme,
+    ns: &[usize],
+) -> Vec<(usize, f64)> {
+    ns.iter()
+        .map(|&n| (n, error(exact, embedding, scheme, n)))
+        .collect()
+}
+
 fn corrected(side: Side, alpha: f64) -> Embedding {
     Embedding::corrected_grunwald_letnikov(side, alpha).unwrap()
 }
@@ -61,15 +73,12 @@ fn the_direct_scheme_is_second_order_on_generic_data() {
     for (alpha, last) in [(0.6, 2.85e-7), (0.8, 9.7e-8)] {
         for p in momenta {
             let exact = exact(alpha, p);
-            let e: Vec<(usize, f64)> = ns
-                .iter()
-                .map(|&n| {
-                    (
-                        n,
-                        error(&exact, corrected(Side::Backward, alpha), Scheme::Direct, n),
-                    )
-                })
-                .collect();
+            let e = errors(
+                &exact,
+                corrected(Side::Backward, alpha),
+                Scheme::Direct,
+                &ns,
+            );
             let orders = observed_orders(&e);
             let what = format!("α = {alpha}, p = {p:?}: {e:?}, orders {orders:?}");
             assert!(orders.iter().all(|o| (1.93..=2.05).contains(o)), "{what}");
@@ -212,15 +221,12 @@ fn the_target_on_generic_data_is_met_at_2048_nodes() {
             c: 0.0,
             ..exact(alpha, &[1.0, 1.0, -0.5])
         };
-        let e: Vec<(usize, f64)> = ns
-            .iter()
-            .map(|&n| {
-                (
-                    n,
-                    error(&exact, corrected(Side::Backward, alpha), Scheme::Direct, n),
-                )
-            })
-            .collect();
+        let e = errors(
+            &exact,
+            corrected(Side::Backward, alpha),
+            Scheme::Direct,
+            &ns,
+        );
         let orders = observed_orders(&e);
         let plain: Vec<(usize, f64)> = ns
             .iter()
