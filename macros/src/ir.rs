@@ -405,6 +405,12 @@ impl Graph {
         dep
     }
 
+    /// Whether a sum was written: some node, reachable or not, is a [`Node::Sum`] (a constant
+    /// condition may fold the branch that held it away).
+    pub fn has_sum(&self) -> bool {
+        self.nodes.iter().any(|node| matches!(node, Node::Sum(..)))
+    }
+
     /// All nodes reachable from `roots`, in increasing (topological) id order.
     pub fn reachable(&self, roots: &[Id]) -> Vec<Id> {
         let mut seen = vec![false; self.nodes.len()];

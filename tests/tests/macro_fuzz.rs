@@ -79,7 +79,11 @@
 //! reach; and an entry is held to `1e-12 · max(S, 1e-3 · S_max)`, with `S_max` the largest
 //! scale among the entries of the same quantity (`L`, the gradient, the Hessian), so that an
 //! entry which is exactly zero in exact arithmetic but is computed from terms as large as the
-//! others may come out a few rounding errors from zero (`1e-15 · S_max`), and no more.
+//! others may come out a few rounding errors from zero (`1e-15 · S_max`), and no more. `S_max`
+//! is at least 10, as for the looped forces: the parts the macro adds up are of the size of the
+//! programs' coefficients even where `L` is small, which the scale does not see where they sit
+//! inside a bound sum or where two index expressions name one component (`Oracle::floor`; seeds
+//! 7 and 10 found one program each, off by 4e-17 and 2.2e-15).
 //!
 //! Every mismatch of every program is collected; the test fails with one message that lists
 //! them (program id, forms, the quantity, the numbers, the program's text) after a table of
@@ -123,7 +127,8 @@ const GENERATED: &str = concat!(env!("OUT_DIR"), "/macro_fuzz.rs");
 const TOLERANCE: f64 = 1e-12;
 /// The floor of an entry's scale, relative to the largest of its quantity (see the docs).
 const FLOOR: f64 = 1e-3;
-/// The least scale of a looped force's entries (see `ForceOracle::floor`).
+/// The least scale of the largest entry of a quantity, for Lagrangians and looped forces (see
+/// `Oracle::floor` and `ForceOracle::floor`).
 const SUM_SCALE: f64 = 10.0;
 /// Mismatch lines shown per program (all are counted).
 const SHOWN: usize = 8;
@@ -321,14 +326,24 @@ impl Oracle {
     }
 
     /// The floor of every entry's scale: `FLOOR` times the largest scale of `L`, its gradient
-    /// and its Hessian.
+    /// and its Hessian, and at least `FLOOR · SUM_SCALE`, as for the looped forces: the parts
+    /// the macro's code adds up are of the size of the programs' coefficients (order one) even
+    /// where `L` and its derivatives are small, and the oracle's scale does not see them.
+    /// - A sum bound to a local enters as one contribution: `−tanh(s)` at seed 10 has
+    ///   `L_xx[0, 3] = −tanh''(s) ∂s/∂x₀ ∂s/∂x₃ ≈ 1.7e-4`, each factor a sum of terms of order
+    ///   one that nearly cancel, off by 2.2e-15 (10 ε).
+    /// - Two index expressions naming the same component at this dimension (`v[N − 1 − j]` and
+    ///   `v[j]` at `j = (N − 1)/2`) are two partial derivatives in the macro's code, which cancel
+    ///   only in their sum, whereas in the oracle the component is one number: `0.8 s²` with
+    ///   `s = (v[N − 1 − j] − v[j]) x[j] + atan(v[j]) (v[j] x[j])² 0.6 x[j]³` at `N = 1` (seed
+    ///   7) has `L_vv ≈ 2.6e-9`, made of parts `±0.8 x²` whose rounding (4e-17) is 1.7e-8 of it.
     fn floor(&self) -> f64 {
         let largest = self
             .gradient
             .iter()
             .chain(self.hessian.iter().flatten())
             .map(|e| e.1)
-            .fold(self.value.1, f64::max);
+            .fold(self.value.1.max(SUM_SCALE), f64::max);
         FLOOR * largest
     }
 }

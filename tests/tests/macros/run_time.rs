@@ -329,3 +329,43 @@ fn invalid_dimension_reports_reads_beyond_n() {
         None
     );
 }
+
+/// A sum that a constant condition folds out of `L` (`v[1] - v[1]` is zero): the model was
+/// written with a loop, so it implements `DynLagrangian` as every such model does, equal bit
+/// for bit to its `Lagrangian<2>` (the differential fuzzer's seed 11 found it missing).
+#[lagrangian]
+#[allow(clippy::eq_op, reason = "the constant condition is the case under test")]
+pub fn folded_sum(x: [f64; 2], v: [f64; 2], k: f64) -> f64 {
+    let s: f64 = (0..2).map(|i| (x[(i + 1) % 2] - v[0]).sin()).sum();
+    let kept = if v[1] - v[1] >= 0.1 {
+        1.25 * s
+    } else {
+        0.5 * v[1] * v[1]
+    };
+    kept + k * x[1].cos()
+}
+
+#[test]
+fn a_loop_folded_away_still_gives_a_dyn_lagrangian() {
+    fn as_dyn(lag: &dyn DynLagrangian) -> &dyn DynLagrangian {
+        lag
+    }
+    let model = FoldedSum { k: 0.7 };
+    let (x, v) = ([0.3, -0.4], [0.2, 0.9]);
+    let (xs, vs) = (Vector::<2>::from(x), Vector::<2>::from(v));
+    let dynamic = as_dyn(&model);
+    assert_eq!(dynamic.dimension(), 2);
+    let want = 0.5 * 0.9 * 0.9 + 0.7 * (-0.4f64).cos();
+    assert!((Lagrangian::value(&model, &xs, &vs, 0.0) - want).abs() < 1e-15);
+    assert_eq!(
+        dynamic.value(&x, &v, 0.0),
+        Lagrangian::value(&model, &xs, &vs, 0.0)
+    );
+    let (mut f, mut p) = ([0.0; 2], [0.0; 2]);
+    dynamic.force(&x, &v, 0.0, &mut f);
+    dynamic.momentum(&x, &v, 0.0, &mut p);
+    let (fs, ps) = Lagrangian::gradient(&model, &xs, &vs, 0.0);
+    assert_eq!((f, p), (fs.into(), ps.into()));
+    assert_eq!(p, [0.0, 0.9]);
+    assert_eq!(f, [0.0, -0.7 * (-0.4f64).sin()]);
+}
