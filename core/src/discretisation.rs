@@ -62,6 +62,9 @@ pub(crate) struct Discretisation<'l, L: ?Sized, const D: usize> {
     adjoint_fft: FftCache,
     /// [`FFT_OPERATOR_THRESHOLD`] (tests raise it to force the dense loops).
     fft_threshold: usize,
+    /// Unknown nodes per panel of the kinetic term's products ([`kinetic::PANEL`]; tests
+    /// narrow it to cross panel borders).
+    kinetic_panel: usize,
 }
 
 /// `V`, `f = ∂L/∂x`, `p = ∂L/∂v` at the quadrature nodes, stored by node index `0..=N` (the one
@@ -91,6 +94,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
             velocity_fft: FftCache::default(),
             adjoint_fft: FftCache::default(),
             fft_threshold: FFT_OPERATOR_THRESHOLD,
+            kinetic_panel: kinetic::PANEL,
         }
     }
 
@@ -106,6 +110,12 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
     /// `Δ_σ` (or `Δ^α_σ`), whose rows give `V = −σ Δ_σ Q`.
     pub(crate) fn velocity_operator(&self) -> &Operator {
         &self.velocity
+    }
+
+    /// The momenta's operator of the direct scheme: `Δ_{−σ}`, or the corrected form's with its
+    /// starting columns.
+    pub(crate) fn adjoint_operator(&self) -> &Operator {
+        &self.adjoint
     }
 
     /// Runs `f` with the FFT form of `Δ_σ` (planned and transformed once per discretisation),
@@ -142,13 +152,10 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
     }
 
     /// Whether the operators are applied by FFT: fractional (dense) operators on a grid of more
-    /// than [`FFT_OPERATOR_THRESHOLD`] steps, without starting columns (the corrected form's
-    /// operators are applied by their loops, as its solver is the dense one).
+    /// than [`FFT_OPERATOR_THRESHOLD`] steps. The FFT forms are of the Toeplitz parts; the
+    /// corrected form's starting columns are added beside them (`O(N)`).
     fn by_fft(&self) -> bool {
-        self.embedding.is_fractional()
-            && self.grid.n() > self.fft_threshold
-            && !self.velocity.has_end_columns()
-            && !self.adjoint.has_end_columns()
+        self.embedding.is_fractional() && self.grid.n() > self.fft_threshold
     }
 
     /// The discrete velocity `V = −σ Δ_σ Q` (or `−σ Δ^α_σ Q`, `−σ Δ^α_σ (Q − Q_e)` for the
@@ -171,8 +178,11 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
         // plain FFT product's error would be amplified into the residual rows (see
         // `FftOperator`'s docs, "the difference form").
         let v = if self.by_fft() {
-            self.velocity_fft
-                .with(&self.velocity, |fft| fft.apply_by_differences(q))?
+            let mut v = self
+                .velocity_fft
+                .with(&self.velocity, |fft| fft.apply_by_differences(q))?;
+            self.velocity.add_end_columns(q, &mut v);
+            v
         } else {
             self.velocity.apply(q)?
         };
@@ -182,7 +192,9 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
     /// `Δ_{−σ} p` on all `N + 1` nodes' values, by FFT when [`by_fft`](Self::by_fft).
     fn apply_adjoint(&self, p: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
         if self.by_fft() {
-            self.adjoint_fft.with(&self.adjoint, |fft| fft.apply(p))
+            let mut out = self.adjoint_fft.with(&self.adjoint, |fft| fft.apply(p))?;
+            self.adjoint.add_end_columns(p, &mut out);
+            Ok(out)
         } else {
             self.adjoint.apply(p)
         }
@@ -191,8 +203,11 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
     /// `Δ_σᵀ w` for values `w` on the rows, by FFT when [`by_fft`](Self::by_fft).
     fn apply_velocity_transpose(&self, w: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
         if self.by_fft() {
-            self.velocity_fft
-                .with(&self.velocity, |fft| fft.apply_transpose(w))
+            let mut out = self
+                .velocity_fft
+                .with(&self.velocity, |fft| fft.apply_transpose(w))?;
+            self.velocity.add_end_columns_transpose(w, &mut out);
+            Ok(out)
         } else {
             self.velocity.apply_transpose(w)
         }
@@ -413,6 +428,8 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
                 .row_entries(m)
                 .map(move |(j, c)| (j, -sigma * c))
         };
+        // A fractional B and D are dense: their kinetic product goes by matrix products.
+        let dense = self.embedding.is_fractional();
         for (i, k) in self.rows(scheme).enumerate() {
             let (_, f_x, f_v) = hess[k].as_ref().expect("rows lie in I_σ");
             if unknown(k) {
@@ -429,12 +446,18 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
                 if unknown(m) {
                     add(i, m - 1, &(hm.xv.transpose() * b));
                 }
-                for (j, c) in d_row(m) {
-                    if unknown(j) {
-                        add(i, j - 1, &(hm.vv * (b * c)));
+                if !dense {
+                    for (j, c) in d_row(m) {
+                        if unknown(j) {
+                            add(i, j - 1, &(hm.vv * (b * c)));
+                        }
                     }
                 }
             }
+        }
+        if dense {
+            let vv: Vec<_> = hess.iter().map(|h| h.as_ref().map(|h| h.0.vv)).collect();
+            self.add_kinetic_term(scheme, &vv, &mut add);
         }
     }
 
@@ -456,6 +479,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
     }
 }
 
+mod kinetic;
 mod symmetric;
 mod term_sizes;
 pub(crate) use term_sizes::relative;

@@ -109,6 +109,18 @@ pub struct Embedding {
     side: Side,
 }
 
+/// A fractional embedding of order `alpha` on `side`, of the kind `kind(alpha)`; the typed
+/// error unless `0 < α ≤ 1` (NaN included).
+fn fractional(side: Side, alpha: f64, kind: fn(f64) -> EmbeddingKind) -> Result<Embedding> {
+    if !(alpha > 0.0 && alpha <= 1.0) {
+        return Err(Error::AlphaOutOfRange { alpha });
+    }
+    Ok(Embedding {
+        kind: kind(alpha),
+        side,
+    })
+}
+
 impl Embedding {
     /// Gauss-FDEσ.
     ///
@@ -150,12 +162,8 @@ impl Embedding {
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn grunwald_letnikov(side: Side, alpha: f64) -> Result<Self> {
-        if !(alpha > 0.0 && alpha <= 1.0) {
-            return Err(Error::AlphaOutOfRange { alpha });
-        }
-        Ok(Embedding {
-            kind: EmbeddingKind::GrunwaldLetnikov { alpha },
-            side,
+        fractional(side, alpha, |alpha| EmbeddingKind::GrunwaldLetnikov {
+            alpha,
         })
     }
 
@@ -190,13 +198,7 @@ impl Embedding {
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn caputo(side: Side, alpha: f64) -> Result<Self> {
-        if !(alpha > 0.0 && alpha <= 1.0) {
-            return Err(Error::AlphaOutOfRange { alpha });
-        }
-        Ok(Embedding {
-            kind: EmbeddingKind::Caputo { alpha },
-            side,
-        })
+        fractional(side, alpha, |alpha| EmbeddingKind::Caputo { alpha })
     }
 
     /// Gauss-GLEσ corrected at the ends ([`EmbeddingKind::CorrectedGrunwaldLetnikov`]) of
@@ -205,8 +207,8 @@ impl Embedding {
     /// exact on a momentum that does not vanish at the other end. Errors unless `0 < α ≤ 1`.
     /// Its **direct** scheme is the one to use: second order on data where Gauss-GLEσ's order
     /// is 0.5 to 0.8 at α = 0.6, 0.8 (a momentum not vanishing at either end), still second
-    /// order where Gauss-GLEσ's is. Boundary value problems on the dense solver (at most
-    /// [`FractionalSolver::DENSE_MAX`](crate::FractionalSolver::DENSE_MAX) unknowns).
+    /// order where Gauss-GLEσ's is. Boundary value problems, on both fractional solvers (the
+    /// fast one by GMRES: the direct scheme's Jacobian is not symmetric).
     ///
     /// # Example
     ///
@@ -238,12 +240,8 @@ impl Embedding {
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn corrected_grunwald_letnikov(side: Side, alpha: f64) -> Result<Self> {
-        if !(alpha > 0.0 && alpha <= 1.0) {
-            return Err(Error::AlphaOutOfRange { alpha });
-        }
-        Ok(Embedding {
-            kind: EmbeddingKind::CorrectedGrunwaldLetnikov { alpha },
-            side,
+        fractional(side, alpha, |alpha| {
+            EmbeddingKind::CorrectedGrunwaldLetnikov { alpha }
         })
     }
 

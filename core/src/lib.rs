@@ -86,8 +86,8 @@
 //! | long, accurate runs | [`Embedding::gauss_legendre`] with `s` stages, variational; initial value problems | `2s` | symplectic; A-stable | Newton on `s·d` stage velocities |
 //! | stiff, only stability matters | Gauss-FDE−, [`Scheme::Direct`] | 1 | dissipative; stable at every `h` | implicit |
 //! | an equation, not a Lagrangian | [`DifferentialOperator`], [`DirectEmbedding`] | 1 | nothing | implicit |
-//! | a fractional boundary value problem | [`Embedding::corrected_grunwald_letnikov`], [`Scheme::Direct`] | 2 where the momentum does not vanish at the ends | nothing | a dense global system (dense LU, `N ≤ 5000`) |
-//! | the same, the paper's scheme, or beyond 5000 nodes | [`Embedding::grunwald_letnikov`], either scheme (coherent) | 0.5–0.8 on such data, 2 on compatible data | nothing | a dense global system (FFT Newton–Krylov) |
+//! | a fractional boundary value problem | [`Embedding::corrected_grunwald_letnikov`], [`Scheme::Direct`] | 2 where the momentum does not vanish at the ends | nothing | a dense global system (FFT Newton–GMRES) |
+//! | the same, the paper's scheme | [`Embedding::grunwald_letnikov`], either scheme (coherent) | 0.5–0.8 on such data, 2 on compatible data | nothing | a dense global system (FFT Newton–Krylov) |
 //! | the same, with data not vanishing where the derivative starts | [`Embedding::caputo`] (the Caputo derivative), either scheme | α, or more where the momentum vanishes there | nothing | as above |
 //!
 //! The paper's Gauss-FDEσ schemes are first order, and their direct schemes do not conserve

@@ -4,8 +4,10 @@
 
 use crate::lagrangian::{Matrix, Vector};
 
+mod dense_lu;
 mod tridiagonal;
 
+pub use dense_lu::DenseLu;
 pub use tridiagonal::TridiagonalMatrix;
 
 /// Max-norm of a list of points.
@@ -341,39 +343,14 @@ pub fn solve_dense_in_place(a: &mut [f64], b: &mut [f64]) -> bool {
     true
 }
 
-/// Solves a dense system by LU with partial pivoting (nalgebra); `None` when a pivot is
-/// numerically zero relative to the largest entry.
+/// Solves a dense system by LU with partial pivoting ([`DenseLu`]); `None` when a pivot is
+/// numerically zero relative to the largest entry or the solution is not finite.
 pub fn solve_dense(
     a: nalgebra::DMatrix<f64>,
     b: &nalgebra::DVector<f64>,
 ) -> Option<nalgebra::DVector<f64>> {
-    solve_factored(&factor_dense(a)?, b)
-}
-
-/// The LU factorisation with partial pivoting of `a` (nalgebra); `None` when `a` is not finite
-/// or a pivot is numerically zero relative to its largest entry.
-pub fn factor_dense(
-    a: nalgebra::DMatrix<f64>,
-) -> Option<nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>> {
-    let norm = a.amax();
-    if !norm.is_finite() {
-        return None;
-    }
-    let lu = a.lu();
-    let singular = lu
-        .u()
-        .diagonal()
-        .iter()
-        .any(|d| d.abs() <= SINGULAR_RATIO * norm);
-    (!singular).then_some(lu)
-}
-
-/// `A⁻¹ b` from the factorisation of [`factor_dense`]; `None` when not finite.
-pub fn solve_factored(
-    lu: &nalgebra::LU<f64, nalgebra::Dyn, nalgebra::Dyn>,
-    b: &nalgebra::DVector<f64>,
-) -> Option<nalgebra::DVector<f64>> {
-    lu.solve(b).filter(|x| x.iter().all(|v| v.is_finite()))
+    let mut x = b.clone();
+    DenseLu::new(a)?.solve(x.as_mut_slice()).then_some(x)
 }
 
 #[cfg(test)]
@@ -415,6 +392,39 @@ mod tests {
         let mut singular = vec![1.0, 2.0, 2.0, 4.0];
         assert!(!solve_dense_in_place(&mut singular, &mut [1.0, 1.0]));
         assert!(!solve_dense_in_place(&mut [f64::NAN], &mut [1.0]));
+    }
+
+    /// The blocked dense LU against nalgebra's column-at-a-time LU, on matrices large enough
+    /// for several of faer's blocks and with a small diagonal (so rows are exchanged), and
+    /// singular, not finite and empty matrices.
+    #[test]
+    fn dense_lu_matches_nalgebra_and_flags_singular() {
+        for n in [1, 2, 7, 64, 301] {
+            let entry = |i: usize, j: usize| {
+                let x = ((i * 7919 + j * 104_729) % 1009) as f64 / 1009.0 - 0.5;
+                if i == j { 1e-3 * x } else { x }
+            };
+            let a = nalgebra::DMatrix::<f64>::from_fn(n, n, entry);
+            let b = nalgebra::DVector::<f64>::from_fn(n, |i, _| (i as f64 * 0.37).sin());
+            let expected = a.clone().lu().solve(&b).unwrap();
+            let got = solve_dense(a.clone(), &b).unwrap();
+            let residual = (&a * &got - &b).amax();
+            assert!(
+                residual <= 1e-10 * b.amax(),
+                "n = {n}: residual {residual:e}"
+            );
+            let difference = (&got - &expected).amax();
+            assert!(
+                difference <= 1e-8 * expected.amax(),
+                "n = {n}: {difference:e}"
+            );
+        }
+        let singular = nalgebra::DMatrix::<f64>::from_row_slice(2, 2, &[1.0, 2.0, 2.0, 4.0]);
+        assert!(DenseLu::new(singular).is_none());
+        assert!(DenseLu::new(nalgebra::DMatrix::from_element(2, 2, f64::NAN)).is_none());
+        assert!(DenseLu::new(nalgebra::DMatrix::zeros(2, 3)).is_none());
+        let empty = DenseLu::new(nalgebra::DMatrix::zeros(0, 0)).unwrap();
+        assert!(empty.is_empty() && empty.solve(&mut []));
     }
 
     #[test]

@@ -81,6 +81,51 @@ impl Operator {
         !self.columns.is_empty()
     }
 
+    /// The starting columns as `(node, entries)`, `entries[k] = M[k, node]` for every node
+    /// `k = 0..=N` (zero where `k` is not a row, or is at distance 0): what a solver that
+    /// applies the plain operator by FFT adds beside it. Empty for the paper's operators.
+    pub(crate) fn end_columns(&self) -> Vec<(usize, Vec<f64>)> {
+        let rows = self.rows();
+        self.columns
+            .iter()
+            .map(|(node, weights)| {
+                let entry = |k: usize| match self.distance(k) {
+                    d if d >= 1 && rows.contains(&k) => self.scale * weights[d - 1],
+                    _ => 0.0,
+                };
+                (*node, (0..=self.n).map(entry).collect())
+            })
+            .collect()
+    }
+
+    /// Adds the starting columns' part of `Δ Q` to `out` (`N` values on the rows): what a
+    /// product of the Toeplitz part alone (by FFT) leaves out.
+    pub(crate) fn add_end_columns<const D: usize>(&self, q: &[Vector<D>], out: &mut [Vector<D>]) {
+        for (node, weights) in &self.columns {
+            for (i, k) in self.rows().enumerate() {
+                if let Some(d) = self.distance(k).checked_sub(1) {
+                    out[i] += q[*node] * (self.scale * weights[d]);
+                }
+            }
+        }
+    }
+
+    /// Adds the starting columns' part of `Δᵀ W` to `out` (`N + 1` nodes), as
+    /// [`add_end_columns`](Self::add_end_columns) for the transpose.
+    pub(crate) fn add_end_columns_transpose<const D: usize>(
+        &self,
+        w: &[Vector<D>],
+        out: &mut [Vector<D>],
+    ) {
+        for (node, weights) in &self.columns {
+            for (i, k) in self.rows().enumerate() {
+                if let Some(d) = self.distance(k).checked_sub(1) {
+                    out[*node] += w[i] * (self.scale * weights[d]);
+                }
+            }
+        }
+    }
+
     /// Row `k`'s distance from the node where the sums are cut.
     fn distance(&self, k: usize) -> usize {
         match self.side {

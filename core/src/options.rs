@@ -64,8 +64,7 @@ pub enum FractionalSolver {
     /// Dense LU when the system is small (`(N − 1)·d ≤`
     /// [`DENSE_LIMIT`](Self::DENSE_LIMIT)), the fast path otherwise; when the fast path's Krylov
     /// solver fails on a system of at most [`DENSE_FALLBACK_LIMIT`](Self::DENSE_FALLBACK_LIMIT)
-    /// unknowns, the problem is solved again by dense LU. The corrected Gauss-GLEσ
-    /// (`Embedding::corrected_grunwald_letnikov`) is always solved by dense LU.
+    /// unknowns, the problem is solved again by dense LU.
     #[default]
     Auto,
     /// Always dense LU: `O((N d)²)` memory and `O((N d)³)` time per Newton iteration (its

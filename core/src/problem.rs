@@ -181,8 +181,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Problem<'l, L, D> {
 
     /// The same problem with another linear solver for the boundary value problems of the
     /// fractional embeddings (default [`FractionalSolver::Auto`]: dense LU for small systems,
-    /// the FFT Newton–Krylov fast path above; dense LU always for the corrected Gauss-GLEσ,
-    /// which refuses [`FractionalSolver::Fast`]). The classical embeddings ignore it.
+    /// the FFT Newton–Krylov fast path above). The classical embeddings ignore it.
     ///
     /// # Example
     ///

@@ -2,8 +2,9 @@
 //! path's time and peak resident memory per solve at N = 10⁵, 10⁶ (and 10⁷).
 //!
 //! Pendulum `L = ½v² + cos x`, Gauss-GLE− with α = 0.7 on `[0, 1]`, `Q_0 = 0`, `Q_N = 1`.
-//! Three solves side by side: dense LU, the fast path at the default Newton tolerance (1e-12
-//! relative), and the fast path run to round-off (`fast_floor`: tolerance 1e-16, so Newton stops
+//! Five solves side by side: dense LU, the fast path at the default Newton tolerance (1e-12
+//! relative), the corrected Gauss-GLE−'s direct scheme on both (`corrected_dense`,
+//! `corrected_fast`: GMRES), and the fast path run to round-off (`fast_floor`: tolerance 1e-16, so Newton stops
 //! when the residual stops falling; `tests/tests/classical/residual_floor.rs` shows that this is the residual of
 //! the exact discrete solution rounded to doubles). Before timing each size, the solve is run
 //! once and its Newton iterations and reached residual are printed (see `report`).
@@ -31,12 +32,24 @@ use varembed::__private::operator::Operator;
 use varembed::{Embedding, FractionalSolver, Grid, NewtonOptions, Problem, Scheme, Side};
 use varembed_tests::models::hand::Pendulum;
 
-/// One of the timed solves: its name, its linear algebra, its Newton tolerance.
+/// One of the timed solves: its name, its linear algebra, its Newton tolerance, and whether
+/// it is the corrected Gauss-GLE− (its direct scheme) rather than the paper's (variational).
 #[derive(Clone, Copy)]
 struct Variant {
     name: &'static str,
     solver: FractionalSolver,
     tolerance: f64,
+    corrected: bool,
+}
+
+impl Variant {
+    fn scheme(&self) -> Scheme {
+        if self.corrected {
+            Scheme::Direct
+        } else {
+            Scheme::Variational
+        }
+    }
 }
 
 const DEFAULT_TOLERANCE: f64 = 1e-12;
@@ -46,7 +59,12 @@ const PROBE_REPEATS: usize = 3;
 
 fn problem(n: usize, variant: Variant) -> Problem<'static, Pendulum, 1> {
     let grid = Grid::new(0.0, 1.0, n).expect("valid grid");
-    let embedding = Embedding::grunwald_letnikov(Side::Backward, 0.7).expect("valid α");
+    let embedding = if variant.corrected {
+        Embedding::corrected_grunwald_letnikov(Side::Backward, 0.7)
+    } else {
+        Embedding::grunwald_letnikov(Side::Backward, 0.7)
+    };
+    let embedding = embedding.expect("valid α");
     Problem::new(&Pendulum { g: 1.0, l: 1.0 }, grid, embedding)
         .with_fractional_solver(variant.solver)
         .with_newton(NewtonOptions {
@@ -95,6 +113,7 @@ fn probe(n: usize) -> ! {
         name: "fast",
         solver: FractionalSolver::Fast,
         tolerance: DEFAULT_TOLERANCE,
+        corrected: false,
     };
     let p = problem(n, fast);
     let start = Instant::now();
@@ -212,32 +231,49 @@ fn bench(c: &mut Criterion) {
         name: "dense",
         solver: FractionalSolver::Dense,
         tolerance: DEFAULT_TOLERANCE,
+        corrected: false,
     };
     let fast = Variant {
         name: "fast",
         solver: FractionalSolver::Fast,
         tolerance: DEFAULT_TOLERANCE,
+        corrected: false,
     };
     let fast_floor = Variant {
         name: "fast_floor",
         tolerance: 1e-16,
         ..fast
     };
+    let corrected_fast = Variant {
+        name: "corrected_fast",
+        corrected: true,
+        ..fast
+    };
+    let corrected_dense = Variant {
+        name: "corrected_dense",
+        corrected: true,
+        ..dense
+    };
     for (variant, sizes) in [
         (dense, vec![250, 500, 1_000]),
+        (corrected_dense, vec![1_000]),
         (fast, fast_sizes.clone()),
+        (corrected_fast, fast_sizes.clone()),
         (fast_floor, fast_sizes),
     ] {
         for n in sizes {
-            report(n, variant);
             let p = problem(n, variant);
+            if variant.corrected {
+                let solution = p.solve_bvp(variant.scheme(), 0.0, 1.0).expect("converges");
+                eprintln!(
+                    "{} N = {n}: {} Newton iterations",
+                    variant.name, solution.newton_iterations
+                );
+            } else {
+                report(n, variant);
+            }
             group.bench_with_input(BenchmarkId::new(variant.name, n), &n, |b, _| {
-                b.iter(|| {
-                    black_box(
-                        p.solve_bvp(Scheme::Variational, 0.0, 1.0)
-                            .expect("converges"),
-                    )
-                })
+                b.iter(|| black_box(p.solve_bvp(variant.scheme(), 0.0, 1.0).expect("converges")))
             });
         }
     }

@@ -45,7 +45,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'_, L, D> {
                 };
                 let sizes: Vec<Vector<1>> = pw.p.iter().map(size).collect();
                 let products = if fft {
-                    FftOperator::new(&op).apply(&sizes)
+                    FftOperator::new(&op).apply(&sizes).map(|mut products| {
+                        op.add_end_columns(&sizes, &mut products);
+                        products
+                    })
                 } else {
                     op.apply(&sizes)
                 }
@@ -61,7 +64,12 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'_, L, D> {
                     .map(|k| size(&pw.p[k]))
                     .collect();
                 let products = if fft {
-                    FftOperator::new(&op).apply_transpose(&sizes)
+                    FftOperator::new(&op)
+                        .apply_transpose(&sizes)
+                        .map(|mut products| {
+                            op.add_end_columns_transpose(&sizes, &mut products);
+                            products
+                        })
                 } else {
                     op.apply_transpose(&sizes)
                 }
@@ -122,6 +130,7 @@ mod tests {
                     Embedding::finite_difference(side),
                     Embedding::asymmetric(side),
                     Embedding::grunwald_letnikov(side, 0.6).unwrap(),
+                    Embedding::corrected_grunwald_letnikov(side, 0.6).unwrap(),
                 ]
             });
         for embedding in embeddings {

@@ -6,7 +6,8 @@ use crate::test_models::Mixed;
 
 /// Above [`FFT_OPERATOR_THRESHOLD`] the fractional operators go by FFT: velocity, both
 /// residuals, action and energy equal the dense loops' to round-off, for both sides and
-/// both forms (Grünwald–Letnikov and Caputo).
+/// every form (Grünwald–Letnikov, Caputo, and the corrected form, whose starting columns are
+/// added beside the FFT products).
 #[test]
 fn fft_route_matches_the_dense_loops_above_the_threshold() {
     let n = 3 * FFT_OPERATOR_THRESHOLD + 7;
@@ -30,6 +31,7 @@ fn fft_route_matches_the_dense_loops_above_the_threshold() {
             [
                 Embedding::grunwald_letnikov(side, 0.65).unwrap(),
                 Embedding::caputo(side, 0.65).unwrap(),
+                Embedding::corrected_grunwald_letnikov(side, 0.65).unwrap(),
             ]
         });
     for embedding in embeddings {
@@ -114,7 +116,9 @@ fn jacobian_matches<L: Lagrangian<2>>(lagrangian: &L, fractional: bool) {
         .map(|k| Vector::<2>::new((k as f64 * 0.7).sin(), (k as f64 * 0.3).cos() - 0.5))
         .collect();
     for embedding in embeddings {
-        let disc = Discretisation::new(lagrangian, grid, embedding);
+        let mut disc = Discretisation::new(lagrangian, grid, embedding);
+        // Panels of two unknown nodes: the kinetic term's products cross panel borders.
+        disc.kinetic_panel = 2;
         for scheme in [Scheme::Direct, Scheme::Variational] {
             let pw = disc.pointwise(&q).unwrap();
             let jac = disc.dense_jacobian(scheme, &q, &pw);
@@ -136,6 +140,67 @@ fn jacobian_matches<L: Lagrangian<2>>(lagrangian: &L, fractional: bool) {
                             );
                         }
                     }
+                }
+            }
+        }
+    }
+}
+
+/// The kinetic term of a fractional Jacobian by matrix products in panels of columns equals
+/// the sum `Σ_m B[k, m] L_vv(m) D[m, j]` written out entry by entry, whatever the panel width
+/// (one node, a width that does not divide `N − 1`, all columns at once), for both sides,
+/// both schemes and every fractional form, on a model whose `L_vv` depends on `x` and `v`.
+#[test]
+fn kinetic_products_in_panels_equal_the_sum_entry_by_entry() {
+    let n = 23;
+    let grid = Grid::new(0.1, 1.0, n).unwrap();
+    let q: Vec<Vector<2>> = (0..=n)
+        .map(|k| Vector::<2>::new((k as f64 * 0.4).sin(), (k as f64 * 0.2).cos() - 0.3))
+        .collect();
+    for side in [Side::Backward, Side::Forward] {
+        for embedding in [
+            Embedding::grunwald_letnikov(side, 0.7).unwrap(),
+            Embedding::caputo(side, 0.45).unwrap(),
+            Embedding::corrected_grunwald_letnikov(side, 0.6).unwrap(),
+        ] {
+            let mut disc = Discretisation::new(&Mixed, grid, embedding);
+            let pw = disc.pointwise(&q).unwrap();
+            for scheme in [Scheme::Direct, Scheme::Variational] {
+                // The oracle: the triple sum, block by block.
+                let sigma = embedding.side().sign();
+                let size = (n - 1) * 2;
+                let mut want = nalgebra::DMatrix::<f64>::zeros(size, size);
+                let operators = (&disc.velocity, &disc.adjoint);
+                for (i, k) in disc.rows(scheme).enumerate() {
+                    for (m, b) in embedding.momentum_row(scheme, operators, k) {
+                        let vv = Mixed.hessian(&q[m], &pw.v[m], grid.t(m)).vv;
+                        for (j, c) in disc.velocity.row_entries(m) {
+                            if (1..n).contains(&j) {
+                                let mut view = want.view_mut((i * 2, (j - 1) * 2), (2, 2));
+                                view += vv * (b * -sigma * c);
+                            }
+                        }
+                    }
+                }
+                let scale = want.amax();
+                for panel in [1, 5, n] {
+                    disc.kinetic_panel = panel;
+                    let vv: Vec<_> = (0..=n)
+                        .map(|m| {
+                            let reached = embedding.quadrature_rows(n).contains(&m);
+                            reached.then(|| Mixed.hessian(&q[m], &pw.v[m], grid.t(m)).vv)
+                        })
+                        .collect();
+                    let mut got = nalgebra::DMatrix::<f64>::zeros(size, size);
+                    disc.add_kinetic_term(scheme, &vv, &mut |i, j, block| {
+                        let mut view = got.view_mut((i * 2, j * 2), (2, 2));
+                        view += block;
+                    });
+                    let error = (&got - &want).amax();
+                    assert!(
+                        error <= 1e-13 * scale,
+                        "{embedding} {scheme}, panel {panel}: {error:e} of {scale:e}"
+                    );
                 }
             }
         }

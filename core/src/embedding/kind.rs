@@ -10,7 +10,11 @@
 /// assert_eq!(kind, EmbeddingKind::GrunwaldLetnikov { alpha: 0.5 });
 /// # Ok::<(), varembed::Error>(())
 /// ```
+///
+/// Non-exhaustive: further embeddings may be added without a breaking change, so a `match` on it
+/// outside this crate ends with a wildcard arm.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[non_exhaustive]
 pub enum EmbeddingKind {
     /// Gauss-FDEσ (paper §2.1): the direct scheme substitutes `d/dt ↦ −σΔ_σ`. Not coherent.
     FiniteDifference,

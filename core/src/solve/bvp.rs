@@ -9,7 +9,7 @@ use crate::discretisation::{Discretisation, Pointwise};
 use crate::embedding::{Embedding, EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result, check_len};
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
-use crate::linalg::{BandedMatrix, factor_dense, max_norm, solve_factored};
+use crate::linalg::{BandedMatrix, DenseLu, max_norm};
 use crate::memory::reserve;
 use crate::options::{FractionalSolver, SolverOptions};
 use crate::regularity::{
@@ -23,7 +23,7 @@ use crate::solve::conditioning::{
 use crate::solve::fractional;
 use crate::solve::newton::{LineSearch, at_round_off, two_norm};
 use crate::solve::solution::{Solution, Warning};
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
 /// Where the Jacobian blocks of the global system go (banded or dense storage).
 trait BlockSink<const D: usize> {
@@ -193,33 +193,15 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
         return Ok(finish(q, 0));
     }
     if embedding.is_fractional() {
-        // The corrected form's starting columns are not in the fast path's FFT products: it
-        // is solved densely.
-        let corrected = matches!(
-            embedding.kind(),
-            EmbeddingKind::CorrectedGrunwaldLetnikov { .. }
-        );
-        if corrected && options.fractional == FractionalSolver::Fast {
-            return Err(Error::Unsupported {
-                operation: "the fast fractional solver (FractionalSolver::Fast); use Dense or Auto",
-                embedding: embedding.to_string(),
-            });
-        }
         let fast = match options.fractional {
             FractionalSolver::Dense => false,
             FractionalSolver::Fast => true,
-            FractionalSolver::Auto => unknowns > FractionalSolver::DENSE_LIMIT && !corrected,
+            FractionalSolver::Auto => unknowns > FractionalSolver::DENSE_LIMIT,
         };
         if !fast && unknowns > FractionalSolver::DENSE_MAX {
             let m = unknowns as f64;
-            let remedy = if corrected {
-                "the corrected form has only this solver: use fewer steps (being second \
-                 order where the paper's scheme is not, it needs far fewer for an error), or \
-                 Embedding::grunwald_letnikov with the fast solver"
-            } else {
-                "use FractionalSolver::Fast or Auto, whose Newton–Krylov iterations cost \
-                 O(N log N)"
-            };
+            let remedy = "use FractionalSolver::Fast or Auto, whose Newton–Krylov iterations cost \
+                 O(N log N)";
             return Err(Error::TooLarge {
                 what: format!(
                     "the dense fractional solver at {unknowns} unknowns factorises a \
@@ -280,14 +262,15 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
                 .row_iter()
                 .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
                 .fold(0.0, f64::max);
-            let lu = factor_dense(jac).ok_or(Error::SingularJacobian { at })?;
-            let x = solve_factored(&lu, &DVector::from_vec(rhs))
-                .ok_or(Error::SingularJacobian { at })?;
-            rhs = x.as_slice().to_vec();
+            let lu = DenseLu::new(jac).ok_or(Error::SingularJacobian { at })?;
+            if !lu.solve(&mut rhs) {
+                return Err(Error::SingularJacobian { at });
+            }
             let done = converged(j_norm);
-            let solve = |v: &mut [f64]| match lu.solve(&DVector::from_column_slice(v)) {
-                Some(y) => v.copy_from_slice(y.as_slice()),
-                None => v.fill(f64::NAN),
+            let solve = |v: &mut [f64]| {
+                if !lu.solve(v) {
+                    v.fill(f64::NAN);
+                }
             };
             let inverse = done.then(|| inverse_iteration(unknowns, solve)).flatten();
             // The ill-posedness measure against the kinetic part itself (see the conditioning

@@ -16,8 +16,8 @@
 //!
 //! Beside the pendulum, a problem on generic data with an exact solution ([`GenericData`]: a
 //! momentum vanishing at neither end) at α = 0.6 and 0.8, as two lines each: the paper's scheme
-//! on the fast path, and the direct scheme of the corrected Gauss-GLE− (starting weights at
-//! both ends; not coherent) on dense LU, its only solver.
+//! and the direct scheme of the corrected Gauss-GLE− (starting weights at both ends; not
+//! coherent), both on the fast path.
 
 use crate::scene::{
     Context, Doubling, Figure, SceneReport, Series, SweepLine, doubling, failed_table,
@@ -190,9 +190,8 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
         .count();
     cx.progress
         .inc_length((embeddings.len() * (3 + cx.repeats * (sizes.count + dense_sizes + 2))) as u64);
-    let corrected_levels = corrected_levels(&sizes);
     cx.progress
-        .inc_length((GENERIC_ALPHAS.len() * cx.repeats * (sizes.count + corrected_levels)) as u64);
+        .inc_length((GENERIC_ALPHAS.len() * cx.repeats * 2 * sizes.count) as u64);
     let mut tables = Vec::new();
     let mut sweep = Vec::new();
     let mut trajectories = Vec::new();
@@ -320,20 +319,9 @@ pub fn run(cx: &Context) -> varembed::Result<SceneReport> {
 /// The orders of the generic-data lines.
 pub const GENERIC_ALPHAS: [f64; 2] = [0.6, 0.8];
 
-/// The largest `N` of the corrected scheme's line: its dense solve grows like `N³` (0.9 s at
-/// `N = 800`, 7.7 s at 1600 in a release build), and the line is second order well before.
-const CORRECTED_LARGEST: usize = 800;
-
-/// The number of the scene's sizes the corrected line takes (up to [`CORRECTED_LARGEST`]).
-fn corrected_levels(sizes: &Doubling) -> usize {
-    (0..sizes.count)
-        .take_while(|&j| sizes.n0 << j <= CORRECTED_LARGEST)
-        .count()
-}
-
 /// The generic-data problem ([`GenericData`]) against its exact solution, per α: the paper's
-/// scheme on the fast path over the scene's sizes, and the corrected Gauss-GLE− direct scheme
-/// (dense LU, its only solver) up to `N =` [`CORRECTED_LARGEST`].
+/// scheme and the corrected Gauss-GLE− direct scheme, both on the fast path over the scene's
+/// sizes.
 fn generic_lines(
     cx: &Context,
     sizes: &Doubling,
@@ -353,24 +341,21 @@ fn generic_lines(
         let (qa, qb) = (data.q(0.0), data.q(1.0));
         let plain = Embedding::grunwald_letnikov(Side::Backward, alpha)?;
         let corrected = Embedding::corrected_grunwald_letnikov(Side::Backward, alpha)?;
-        for (embedding, scheme, solver, levels, line) in [
+        for (embedding, scheme, line) in [
             (
                 plain,
                 Scheme::Variational,
-                FractionalSolver::Fast,
-                sizes.count,
                 "paper's scheme, FFT Newton–Krylov",
             ),
             (
                 corrected,
                 Scheme::Direct,
-                FractionalSolver::Dense,
-                corrected_levels(sizes),
-                "corrected direct, dense LU",
+                "corrected direct, FFT Newton–GMRES",
             ),
         ] {
-            let problem = Problem::new(&model, coarsest, embedding).with_fractional_solver(solver);
-            let run = cx.timed(|| problem.convergence_bvp(scheme, qa, qb, &options, levels));
+            let problem = Problem::new(&model, coarsest, embedding)
+                .with_fractional_solver(FractionalSolver::Fast);
+            let run = cx.timed(|| problem.convergence_bvp(scheme, qa, qb, &options, sizes.count));
             cx.record_run(
                 NAME,
                 &format!("{} (generic data)", describe(embedding, scheme)),
@@ -388,7 +373,8 @@ fn generic_lines(
          `F = D^α_+ p` (infinite at `t = 1`, where no row reads it). The paper's scheme loses \
          its order there (about 0.55 at α = 0.6, 0.75 at α = 0.8); the corrected Gauss-GLE− \
          (`Embedding::corrected_grunwald_letnikov`, starting weights at both ends) is second \
-         order with its direct scheme, on the dense solver, its only one. On the pendulum \
+         order with its direct scheme, on the same fast solver (GMRES: its Jacobian is not \
+         symmetric). On the pendulum \
          above the corrections do not help: its solution is singular at `t = 1` in a way \
          they are not built for (`core/docs/schemes.md`)."
             .to_string(),

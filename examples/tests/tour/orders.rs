@@ -152,7 +152,7 @@ fn fractional_orders_are_two_alpha_minus_one_and_two_at_alpha_one() {
     // α = 0.8).
     for alpha in fractional::GENERIC_ALPHAS {
         let line = |name: &str| format!("generic data α = {alpha}, {name}");
-        let corrected = line("corrected direct, dense LU");
+        let corrected = line("corrected direct, FFT Newton–GMRES");
         assert_order("fractional", &report.sweep, &corrected, 2.0, 0.1);
         let plain = line("paper's scheme, FFT Newton–Krylov");
         let plain = report.sweep.iter().find(|l| l.label == plain).unwrap();

@@ -334,7 +334,10 @@ fn invalid_dimension_reports_reads_beyond_n() {
 /// written with a loop, so it implements `DynLagrangian` as every such model does, equal bit
 /// for bit to its `Lagrangian<2>` (the differential fuzzer's seed 11 found it missing).
 #[lagrangian]
-#[allow(clippy::eq_op, reason = "the constant condition is the case under test")]
+#[allow(
+    clippy::eq_op,
+    reason = "the constant condition is the case under test"
+)]
 pub fn folded_sum(x: [f64; 2], v: [f64; 2], k: f64) -> f64 {
     let s: f64 = (0..2).map(|i| (x[(i + 1) % 2] - v[0]).sin()).sum();
     let kept = if v[1] - v[1] >= 0.1 {

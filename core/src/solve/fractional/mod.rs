@@ -58,6 +58,7 @@
 //! S. C. Eisenstat and H. F. Walker, *Choosing the forcing terms in an inexact Newton method*,
 //! SIAM J. Sci. Comput. 17 (1996) (choice 2).
 
+mod end_columns;
 mod preconditioner;
 mod residual;
 mod system;
@@ -76,6 +77,7 @@ use crate::solve::krylov::{KrylovFailure, KrylovOptions, gmres};
 use crate::solve::minres::{MinresWork, Tridiagonal, minres_in, ritz_values};
 use crate::solve::newton::{LineSearch, at_round_off};
 use crate::solve::solution::{Solution, Warning};
+use end_columns::EndColumns;
 use residual::{Evaluation, evaluate};
 use system::FastSystem;
 
@@ -84,8 +86,9 @@ use system::FastSystem;
 const ETA_MAX: f64 = 0.1;
 
 /// Solves `J δ = rhs` to the relative tolerance `eta`: MINRES, then GMRES when MINRES breaks
-/// down (a preconditioner that is not positive definite: some `L_vv` is not). Accepts an
-/// iterate below [`ETA_MAX`] as an inexact step.
+/// down (a preconditioner that is not positive definite: some `L_vv` is not); GMRES alone
+/// when `J` is not symmetric (the corrected form's direct scheme). Accepts an iterate below
+/// [`ETA_MAX`] as an inexact step.
 fn solve_newton_system<const D: usize>(
     system: &mut FastSystem<'_, D>,
     rhs: &[f64],
@@ -100,17 +103,27 @@ fn solve_newton_system<const D: usize>(
         max_iterations: budget.minres_iterations,
         restart: budget.restart,
     };
-    let failure = match minres_in(system, rhs, delta, &options, None, work) {
-        Ok(stats) => return Ok(stats.iterations),
-        Err(failure @ KrylovFailure::MaxIterations { .. }) => failure,
-        Err(breakdown) => {
-            options.max_iterations = budget.gmres_iterations;
-            match gmres(system, rhs, delta, &options) {
-                Ok(stats) => return Ok(breakdown.iterations() + stats.iterations),
-                Err(failure) => failure,
+    // MINRES needs a symmetric J: the corrected form's direct scheme goes to GMRES at once.
+    let mut before_gmres = 0;
+    if system.symmetric() {
+        match minres_in(system, rhs, delta, &options, None, work) {
+            Ok(stats) => return Ok(stats.iterations),
+            Err(failure @ KrylovFailure::MaxIterations { .. }) => {
+                return accept_or_fail(failure, at);
             }
+            Err(breakdown) => before_gmres = breakdown.iterations(),
         }
-    };
+    }
+    options.max_iterations = budget.gmres_iterations;
+    match gmres(system, rhs, delta, &options) {
+        Ok(stats) => Ok(before_gmres + stats.iterations),
+        Err(failure) => accept_or_fail(failure, at),
+    }
+}
+
+/// The iterations of a Krylov solve that stopped short of its tolerance, if its relative
+/// residual is below [`ETA_MAX`] (an inexact Newton step still), or the error.
+fn accept_or_fail(failure: KrylovFailure, at: Location) -> Result<usize> {
     if failure.relative_residual() <= ETA_MAX {
         return Ok(failure.iterations());
     }
@@ -152,7 +165,11 @@ fn ill_posedness<const D: usize>(
         max_iterations: LANCZOS_STEPS,
         restart: 0,
     };
+    // Lanczos needs a symmetric J: the corrected form's is measured without its starting
+    // columns (a low-rank change of the same problem's linearisation).
+    system.plain = true;
     let _ = minres_in(system, &b, x, &options, Some(&mut lanczos), work);
+    system.plain = false;
     ritz_values(&lanczos)
         .into_iter()
         .filter(|(theta, bound)| theta.abs() + bound < ILL_POSED_BELOW)
@@ -181,7 +198,8 @@ fn solve_with<L: Lagrangian<D> + ?Sized, const D: usize>(
 ) -> Result<Solution<D>> {
     let n = disc.grid().n();
     let opts = options.newton;
-    let mut system = FastSystem::<D>::new(disc.velocity_operator(), fft);
+    let columns = EndColumns::new(scheme, disc.velocity_operator(), disc.adjoint_operator());
+    let mut system = FastSystem::<D>::new(disc.velocity_operator(), columns, fft);
     let mut q = guess.to_vec();
     let mut eval = Evaluation::new(n);
     evaluate(disc, &mut system, &q, 0, &mut eval)?;

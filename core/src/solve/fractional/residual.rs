@@ -1,5 +1,6 @@
 //! The residual of the fractional fast path at an iterate, `r_j = f_j + (Dᵀ p)_j` on the
-//! interior nodes, by FFT in the workspace of the [`FastSystem`], into reused buffers.
+//! interior nodes (`(B p)_j` with the corrected form's starting columns), by FFT in the
+//! workspace of the [`FastSystem`], into reused buffers.
 
 use super::system::FastSystem;
 use crate::discretisation::Discretisation;
@@ -84,6 +85,17 @@ pub(super) fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
             .velocity
             .apply_by_differences_with(|k| q[k][c] - base, |i, y| v[i * D + c] = y * minus_sigma);
     }
+    if let Some(columns) = &system.columns {
+        columns.add_velocity(
+            |j| q[j],
+            system.first_row,
+            |i, a| {
+                for c in 0..D {
+                    v[i * D + c] += a[c];
+                }
+            },
+        );
+    }
     // r starts as f on the interior nodes; p goes in the rows' buffer.
     let mut f_max = 0.0f64;
     for i in 0..n {
@@ -108,6 +120,17 @@ pub(super) fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
             |j, y| {
                 if (1..n).contains(&j) {
                     r[(j - 1) * D + c] += y * minus_sigma;
+                }
+            },
+        );
+    }
+    if let Some(columns) = &system.columns {
+        columns.add_momentum(
+            |i| p[i],
+            system.first_row,
+            |j, e| {
+                for c in 0..D {
+                    r[(j - 1) * D + c] += e[c];
                 }
             },
         );

@@ -1,7 +1,10 @@
 //! The Newton system of the fractional fast path at one iterate, known through products:
 //! `J = L_xx + L_xv D + Dᵀ L_vx + Dᵀ L_vv D` on the interior unknowns, with `D = −σ Δ^α_σ`
-//! applied by FFT, and the [`Preconditioner`] of its kinetic part.
+//! applied by FFT, and the [`Preconditioner`] of its kinetic part. The corrected form adds its
+//! starting columns ([`EndColumns`]) to `D` and to the momenta's operator, which for its
+//! direct scheme is not `Dᵀ`; the preconditioner stays the paper's operator's.
 
+use super::end_columns::EndColumns;
 use super::preconditioner::{Preconditioner, extra_row};
 use crate::discretisation::Discretisation;
 use crate::error::{Error, Location, Result};
@@ -35,11 +38,21 @@ pub(super) struct FastSystem<'a, const D: usize> {
     pub(super) preconditioner: Preconditioner<'a, D>,
     /// Values on the rows (`N`): `a = D x` in a product, `p` in an evaluation.
     pub(super) rows: Vec<Vector<D>>,
+    /// The corrected form's starting columns; `None` for the paper's operators.
+    pub(super) columns: Option<EndColumns>,
+    /// Whether the products leave the starting columns out: the paper's symmetric Jacobian at
+    /// the same iterate, which the ill-posedness check's Lanczos process needs.
+    pub(super) plain: bool,
 }
 
 impl<'a, const D: usize> FastSystem<'a, D> {
-    /// For `velocity = Δ^α_σ` on `N ≥ 2` steps, with its FFT form.
-    pub(super) fn new(velocity: &'a Operator, fft: &'a mut FftOperator) -> Self {
+    /// For `velocity = Δ^α_σ` on `N ≥ 2` steps, with its FFT form (of the plain operator), and
+    /// the starting columns of a corrected form's `velocity` and momentum operator `adjoint`.
+    pub(super) fn new(
+        velocity: &'a Operator,
+        columns: Option<EndColumns>,
+        fft: &'a mut FftOperator,
+    ) -> Self {
         let n = fft.n();
         let zero = Hessian {
             xx: Matrix::<D>::zeros(),
@@ -56,22 +69,40 @@ impl<'a, const D: usize> FastSystem<'a, D> {
             velocity: fft,
             hessians: vec![zero; n],
             rows: vec![Vector::<D>::zeros(); n],
+            columns,
+            plain: false,
         }
+    }
+
+    /// The starting columns, unless the products leave them out.
+    fn active_columns(&self) -> Option<&EndColumns> {
+        self.columns.as_ref().filter(|_| !self.plain)
+    }
+
+    /// Whether `J` is symmetric (the momenta's operator is `Dᵀ`).
+    pub(super) fn symmetric(&self) -> bool {
+        self.active_columns().is_none_or(EndColumns::symmetric)
     }
 
     /// A bound on `‖J‖∞` from the last linearisation: with `‖D‖∞ ≤ 2h^{−α}` (the
     /// Grünwald–Letnikov weights have `Σ|α_r| ≤ 2`),
     /// `‖J‖∞ ≤ max‖L_xx‖ + 4h^{−α} max‖L_xv‖ + 4h^{−2α} max‖L_vv‖`. Zero before the first one.
+    /// The starting columns add their row sums to the bounds of `D` and of the momenta's
+    /// operator.
     pub(super) fn jacobian_bound(&self) -> f64 {
         let norm = |m: &Matrix<D>| {
             m.row_iter()
                 .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
                 .fold(0.0, f64::max)
         };
-        let s = self.scale;
+        let (c, e) = self
+            .columns
+            .as_ref()
+            .map_or((0.0, 0.0), EndColumns::row_sums);
+        let (d, b) = (2.0 * self.scale + c, 2.0 * self.scale + e);
         self.hessians
             .iter()
-            .map(|h| norm(&h.xx) + 4.0 * s * norm(&h.xv) + 4.0 * s * s * norm(&h.vv))
+            .map(|h| norm(&h.xx) + (d + b) * norm(&h.xv) + b * d * norm(&h.vv))
             .fold(0.0, f64::max)
     }
 
@@ -141,7 +172,6 @@ impl<'a, const D: usize> FastSystem<'a, D> {
                 }
             }
         }
-        let (hessians, rows, first_row) = (&self.hessians, &self.rows, self.first_row);
         let node_vector = |k: usize| {
             if (1..n).contains(&k) {
                 block::<D>(x, k - 1)
@@ -149,6 +179,12 @@ impl<'a, const D: usize> FastSystem<'a, D> {
                 Vector::<D>::zeros()
             }
         };
+        let first_row = self.first_row;
+        if let Some(columns) = self.columns.as_ref().filter(|_| !self.plain) {
+            let rows = &mut self.rows;
+            columns.add_velocity(node_vector, first_row, |i, a| rows[i] += a);
+        }
+        let (hessians, rows) = (&self.hessians, &self.rows);
         for c in 0..D {
             // b_i = L_vx δ + L_vv a on the rows, component c, formed as the product reads it;
             // y_j = L_xx δ + L_xv a + (Dᵀ b)_j written as the product yields it.
@@ -163,6 +199,17 @@ impl<'a, const D: usize> FastSystem<'a, D> {
                     y[(j - 1) * D + c] = h.xx.row(c).tr_dot(&node_vector(j))
                         + h.xv.row(c).tr_dot(&rows[i])
                         + dt_b * minus_sigma;
+                }
+            });
+        }
+        if let Some(columns) = self.active_columns() {
+            let b = |i: usize| {
+                let h = &hessians[i];
+                h.xv.transpose() * node_vector(i + first_row) + h.vv * rows[i]
+            };
+            columns.add_momentum(b, first_row, |j, e| {
+                for c in 0..D {
+                    y[(j - 1) * D + c] += e[c];
                 }
             });
         }

@@ -15,7 +15,19 @@ fn linearized<'a, L: Lagrangian<D>, const D: usize>(
     fft: &'a mut FftOperator,
     q: &[Vector<D>],
 ) -> (FastSystem<'a, D>, Evaluation<D>) {
-    let mut system = FastSystem::<D>::new(disc.velocity_operator(), fft);
+    linearized_for(disc, Scheme::Variational, fft, q)
+}
+
+/// [`linearized`] for `scheme` (which matters for the corrected form only).
+fn linearized_for<'a, L: Lagrangian<D>, const D: usize>(
+    disc: &'a Discretisation<'_, L, D>,
+    scheme: Scheme,
+    fft: &'a mut FftOperator,
+    q: &[Vector<D>],
+) -> (FastSystem<'a, D>, Evaluation<D>) {
+    let (velocity, adjoint) = (disc.velocity_operator(), disc.adjoint_operator());
+    let columns = EndColumns::new(scheme, velocity, adjoint);
+    let mut system = FastSystem::<D>::new(velocity, columns, fft);
     let mut eval = Evaluation::new(disc.grid().n());
     evaluate(disc, &mut system, q, 0, &mut eval).unwrap();
     system
@@ -34,36 +46,63 @@ fn curve(n: usize) -> Vec<Vector<2>> {
 }
 
 /// The matrix-free `J δ` and the residual by FFT equal the assembled dense Jacobian and the
-/// dense residual, for both sides.
+/// dense residual, for both sides, for the paper's operators and for the corrected form's
+/// (both schemes: the starting columns beside the FFT products), `J δ` both by FFT and from
+/// the preconditioner's image.
 #[test]
 fn matrix_free_jacobian_and_residual_match_the_dense_ones() {
     let n = 13;
     let grid = Grid::new(0.2, 1.5, n).unwrap();
     for side in [Side::Backward, Side::Forward] {
-        let embedding = Embedding::grunwald_letnikov(side, 0.6).unwrap();
-        let disc = Discretisation::new(&Mixed, grid, embedding);
-        let q = curve(n);
-        let mut fft = FftOperator::new(disc.velocity_operator());
-        let (mut system, eval) = linearized(&disc, &mut fft, &q);
-        let dense_r = disc.residual(Scheme::Variational, &q).unwrap();
-        for (j, b) in dense_r.iter().enumerate() {
-            let a = block::<2>(&eval.r, j);
-            assert!((a - b).amax() < 1e-12, "{side:?}: {a} vs {b}");
-        }
-        let pw = disc.pointwise(&q).unwrap();
-        let m = (n - 1) * 2;
-        let jac = disc.dense_jacobian(Scheme::Variational, &q, &pw);
-        let x: Vec<f64> = (0..m).map(|i| ((3 * i + 1) as f64).sin()).collect();
-        let mut y = vec![0.0; m];
-        system.apply(&x, &mut y);
-        let want = &jac * nalgebra::DVector::from_vec(x.clone());
-        for i in 0..m {
-            assert!(
-                (y[i] - want[i]).abs() < 1e-11 * want.amax(),
-                "{side:?} row {i}: {} vs {}",
-                y[i],
-                want[i]
-            );
+        let cases = [
+            (
+                Embedding::grunwald_letnikov(side, 0.6).unwrap(),
+                Scheme::Variational,
+            ),
+            (
+                Embedding::corrected_grunwald_letnikov(side, 0.6).unwrap(),
+                Scheme::Direct,
+            ),
+            (
+                Embedding::corrected_grunwald_letnikov(side, 0.6).unwrap(),
+                Scheme::Variational,
+            ),
+        ];
+        for (embedding, scheme) in cases {
+            let what = format!("{embedding} {scheme}");
+            let disc = Discretisation::new(&Mixed, grid, embedding);
+            let q = curve(n);
+            let mut fft = FftOperator::new(disc.velocity_operator());
+            let (mut system, eval) = linearized_for(&disc, scheme, &mut fft, &q);
+            assert_eq!(system.symmetric(), scheme == Scheme::Variational, "{what}");
+            let dense_r = disc.residual(scheme, &q).unwrap();
+            for (j, b) in dense_r.iter().enumerate() {
+                let a = block::<2>(&eval.r, j);
+                assert!((a - b).amax() < 1e-12, "{what}: {a} vs {b}");
+            }
+            let pw = disc.pointwise(&q).unwrap();
+            let m = (n - 1) * 2;
+            let jac = disc.dense_jacobian(scheme, &q, &pw);
+            let x: Vec<f64> = (0..m).map(|i| ((3 * i + 1) as f64).sin()).collect();
+            let (mut z, mut image) = (vec![0.0; m], vec![0.0; m]);
+            system.precondition_with_image(&x, &mut z, &mut image);
+            for (input, image) in [(&x, None), (&z, Some(&image))] {
+                let mut y = vec![0.0; m];
+                match image {
+                    None => system.apply(input, &mut y),
+                    Some(image) => system.apply_with_image(input, image, &mut y),
+                }
+                let want = &jac * nalgebra::DVector::from_vec(input.clone());
+                for i in 0..m {
+                    assert!(
+                        (y[i] - want[i]).abs() < 1e-11 * want.amax(),
+                        "{what}, image {}: row {i}: {} vs {}",
+                        image.is_some(),
+                        y[i],
+                        want[i]
+                    );
+                }
+            }
         }
     }
 }
