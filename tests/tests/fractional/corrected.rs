@@ -294,3 +294,28 @@ fn a_solution_singular_at_b_keeps_its_order() {
     assert!(corrected.iter().all(|o| (0.56..0.61).contains(o)), "{what}");
     assert!(plain.iter().all(|o| (0.53..0.59).contains(o)), "{what}");
 }
+
+/// Past the rows whose starting weights come from direct sums (8192: the far rows' weights go
+/// by FFT, whose rounding is relative to the largest value), the fast solver keeps the order:
+/// N = 4096 … 32768 at α = 0.6 and 0.8, a momentum vanishing at neither end. The errors, from
+/// 1.8e-9 down to 2.9e-11 at α = 0.6, come near what the Newton tolerance leaves, which makes
+/// the local orders scatter (measured 1.78, 2.19, 1.95): the order over the whole range is
+/// held to 1.9, each local one to 1.7.
+#[test]
+fn the_fast_solver_keeps_the_order_past_the_direct_sums() {
+    let ns = [4096, 8192, 16384, 32768];
+    for alpha in [0.6, 0.8] {
+        let exact = exact(alpha, &[1.0, 1.0, -0.5]);
+        let e = errors(
+            &exact,
+            corrected(Side::Backward, alpha),
+            Scheme::Direct,
+            &ns,
+        );
+        let orders = observed_orders(&e);
+        let overall = (e[0].1 / e[3].1).log2() / 3.0;
+        let what = format!("α = {alpha}: {e:?}, orders {orders:?}, overall {overall}");
+        eprintln!("{what}");
+        assert!(overall >= 1.9 && orders.iter().all(|o| *o >= 1.7), "{what}");
+    }
+}
