@@ -55,9 +55,8 @@ pub struct FftOperator {
 
 impl FftOperator {
     /// The FFT form of `op` (its weights transformed once): of its Toeplitz part only. A
-    /// corrected operator's starting columns are not in it; the fast solver adds them beside its
-    /// products, and the discretisation's own evaluations keep such an operator off the FFT
-    /// route.
+    /// corrected operator's starting columns are not in it; its users (the fast solver, the
+    /// discretisation's evaluations) add them beside its products.
     pub fn new(op: &Operator) -> Self {
         let n = op.rows().count();
         let mut column = vec![0.0; n + 1];

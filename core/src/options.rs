@@ -68,8 +68,7 @@ pub enum FractionalSolver {
     #[default]
     Auto,
     /// Always dense LU: `O((N d)²)` memory and `O((N d)³)` time per Newton iteration (its
-    /// residual, like `Problem::residual`, goes by FFT on grids of more than 256 steps, except
-    /// for the corrected Gauss-GLEσ, whose operators are applied by their loops). The
+    /// residual, like `Problem::residual`, goes by FFT on grids of more than 256 steps). The
     /// reference the fast path is tested against: the assembled Jacobian and LU share nothing
     /// with it.
     Dense,

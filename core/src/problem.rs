@@ -48,8 +48,8 @@ pub fn curve_from_flat<const D: usize>(values: &[f64]) -> Result<Vec<Vector<D>>>
 /// [`action`](Self::action) and [`quadrature_energies`](Self::quadrature_energies) (and so the comparisons and the dense-LU Newton's residual) apply
 /// them by FFT, `O(N log N)`, instead of `O(N²)` loops, with the weights transformed once per
 /// problem. The two routes agree to round-off. The corrected Gauss-GLEσ
-/// ([`Embedding::corrected_grunwald_letnikov`]) applies its operators by the loops at every
-/// size (the FFT form does not carry its starting columns).
+/// ([`Embedding::corrected_grunwald_letnikov`]) adds its starting columns beside the FFT
+/// products.
 ///
 /// # Example
 ///

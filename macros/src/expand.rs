@@ -169,8 +169,10 @@ fn expand_with(
 
 /// Whether the model takes the loop path: a named dimension, a sum, or an index or number
 /// that names a const the macro does not know (`x[M]`, `M as f64`). A sum counts even when a
-/// constant condition folded it out of `L` (`if v[1] - v[1] > 0.1 { s } else { … }`): a model
-/// written with loops implements `DynLagrangian`, whatever its simplification leaves.
+/// constant condition folded it out of `L` (`if v[1] - v[1] > 0.1 { s } else { … }`), so that
+/// such a model implements `DynLagrangian` as the others with loops do. (A sum whose body
+/// folds to zero, or that the parser unrolls, leaves no `Sum` node: such a model takes the
+/// loop-free path.)
 fn has_loops(model: &Model) -> bool {
     model.dim_name.is_some()
         || model.runtime_dim.is_some()

@@ -7,8 +7,9 @@
 //! of the rows, one matrix product `K_a = B G_a` (`G_a` the rows `a` of `G`'s blocks): the
 //! same flops at the speed of a blocked GEMM (nalgebra's, through `matrixmultiply`), over only
 //! the rows `m` where `G`'s columns are not zero (`D` is triangular with a few starting
-//! columns: about half of them). The unknown columns go in panels, so that `G_a` and `K_a`
-//! take `O(N · panel)` memory beside the Jacobian.
+//! columns: about half of them). The unknown columns go in panels, so that `D`'s columns,
+//! `G_a` and `K_a` take `O(N · panel)` memory; `B` is kept whole, `N²` numbers: as much
+//! again as the Jacobian's `(N d)²` for `d = 1`, freed before the factorisation.
 
 use super::Discretisation;
 use crate::embedding::Scheme;
@@ -40,28 +41,29 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'_, L, D> {
                 b[(i, m)] += c;
             }
         }
-        // D[m, j] = −σ Δ_σ[m, j] on the unknown columns (column j − 1), on the rows B reads.
-        let mut d = DMatrix::<f64>::zeros(n + 1, n - 1);
-        for m in (0..=n).filter(|&m| vv[m].is_some()) {
-            for (j, c) in self.velocity.row_entries(m) {
-                if (1..n).contains(&j) {
-                    d[(m, j - 1)] -= sigma * c;
-                }
-            }
-        }
         let panel = self.kinetic_panel.max(1);
         let mut block = Matrix::<D>::zeros();
         for start in (0..n - 1).step_by(panel) {
             let width = panel.min(n - 1 - start);
-            let reads = |m: &usize| (start..start + width).any(|j| d[(*m, j)] != 0.0);
+            // D[m, j] = −σ Δ_σ[m, j] on this panel's unknown columns (j = start + 1 + c), on the
+            // rows B reads, read by columns: O(N) per column.
+            let mut d = DMatrix::<f64>::zeros(n + 1, width);
+            for c in 0..width {
+                for (m, entry) in self.velocity.column_entries(start + 1 + c) {
+                    if vv[m].is_some() {
+                        d[(m, c)] -= sigma * entry;
+                    }
+                }
+            }
+            let reads = |m: &usize| (0..width).any(|c| d[(*m, c)] != 0.0);
             let (Some(lo), Some(last)) = ((0..=n).find(reads), (0..=n).rfind(reads)) else {
                 continue;
             };
             let products: Vec<DMatrix<f64>> = (0..D)
                 .map(|a| {
                     let g = DMatrix::from_fn(last + 1 - lo, width * D, |r, c| {
-                        let (m, j) = (lo + r, start + c / D);
-                        vv[m].map_or(0.0, |vv| vv[(a, c % D)] * d[(m, j)])
+                        let m = lo + r;
+                        vv[m].map_or(0.0, |vv| vv[(a, c % D)] * d[(m, c / D)])
                     });
                     b.columns(lo, last + 1 - lo) * g
                 })

@@ -77,7 +77,7 @@ pub enum EmbeddingKind {
     /// not the transpose of the corrected velocity operator, so the direct scheme is not the
     /// Euler–Lagrange equation of a discrete action, and the variational scheme (the gradient
     /// of `h Σ L(Q_k, Ṽ_k)` with the corrected velocity `Ṽ`) keeps the low order. Only
-    /// boundary value problems, on the dense solver.
+    /// boundary value problems, on both fractional solvers.
     CorrectedGrunwaldLetnikov {
         /// The order `0 < α ≤ 1`.
         alpha: f64,

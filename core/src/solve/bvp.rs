@@ -206,9 +206,10 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
                 what: format!(
                     "the dense fractional solver at {unknowns} unknowns factorises a \
                      {unknowns} × {unknowns} matrix at every Newton iteration ({:.1e} flops, \
-                     {:.1e} bytes each), minutes to hours; {remedy}",
+                     {:.1e} bytes with the momenta's operator it is assembled from), minutes \
+                     to hours; {remedy}",
                     m * m * m / 3.0,
-                    8.0 * m * m
+                    8.0 * (m * m + (n * n) as f64)
                 ),
             });
         }

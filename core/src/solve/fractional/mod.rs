@@ -3,8 +3,10 @@
 //!
 //! Gauss-GLEσ is coherent, so its direct and variational schemes are the same equations; the
 //! fast path solves the variational form `r_j = f_j + (Dᵀ p)_j = 0` on the interior nodes
-//! `j = 1..N−1`, with `D = −σ Δ^α_σ` and `V = D Q`. Its Jacobian, restricted to the interior
-//! unknowns (the boundary nodes are fixed), is the symmetric
+//! `j = 1..N−1`, with `D = −σ Δ^α_σ` and `V = D Q`. (The corrected Gauss-GLEσ adds its
+//! starting columns to `D` and to the momenta's operator, which for its direct scheme is not
+//! `Dᵀ`, so that its `J` is not symmetric: see `end_columns`.) Its Jacobian, restricted to the
+//! interior unknowns (the boundary nodes are fixed), is the symmetric
 //!
 //! `J = L_xx + L_xv D + Dᵀ L_vx + Dᵀ L_vv D`,
 //!
@@ -17,7 +19,8 @@
 //! reason the iteration counts stay flat as `N` grows), `residual` (the evaluation at an
 //! iterate), and here the inexact Newton driver.
 //!
-//! **Linear solves.** `J` is symmetric (the Hessian of the discrete action) and the
+//! **Linear solves.** `J` is symmetric (the Hessian of the discrete action; the corrected
+//! direct scheme's goes to GMRES with the same preconditioner) and the
 //! preconditioner `P'` is symmetric positive definite wherever every `L_vv` is, so the Newton
 //! systems go to preconditioned MINRES ([`minres`]), which needs no definite `J`. A potential
 //! whose `L_xx` outweighs the kinetic term makes `J` indefinite: on `L = ½v² − 12.5x² + x` at
@@ -165,9 +168,9 @@ fn ill_posedness<const D: usize>(
         max_iterations: LANCZOS_STEPS,
         restart: 0,
     };
-    // Lanczos needs a symmetric J: the corrected form's is measured without its starting
-    // columns (a low-rank change of the same problem's linearisation).
-    system.plain = true;
+    // Lanczos needs a symmetric J: the corrected direct scheme's is measured without its
+    // starting columns (a low-rank change of the same problem's linearisation).
+    system.plain = !system.symmetric();
     let _ = minres_in(system, &b, x, &options, Some(&mut lanczos), work);
     system.plain = false;
     ritz_values(&lanczos)
