@@ -25,6 +25,13 @@ pub fn set_block<const D: usize>(x: &mut [f64], j: usize, v: &Vector<D>) {
     x[j * D..(j + 1) * D].copy_from_slice(v.as_slice());
 }
 
+/// Adds `v` to block `j` of a vector of `D`-blocks stored flat.
+pub fn add_to_block<const D: usize>(x: &mut [f64], j: usize, v: &Vector<D>) {
+    for (x, v) in x[j * D..(j + 1) * D].iter_mut().zip(v.iter()) {
+        *x += v;
+    }
+}
+
 /// A pivot smaller than this times the largest entry of its column block is treated as zero:
 /// the matrix is numerically singular and the caller reports a typed error.
 const SINGULAR_RATIO: f64 = 1e-14;

@@ -81,31 +81,18 @@ impl Operator {
         !self.columns.is_empty()
     }
 
-    /// The starting columns as `(node, entries)`, `entries[k] = M[k, node]` for every node
-    /// `k = 0..=N` (zero where `k` is not a row, or is at distance 0): what a solver that
-    /// applies the plain operator by FFT adds beside it. Empty for the paper's operators.
-    pub(crate) fn end_columns(&self) -> Vec<(usize, Vec<f64>)> {
-        let rows = self.rows();
-        self.columns
-            .iter()
-            .map(|(node, weights)| {
-                let entry = |k: usize| match self.distance(k) {
-                    d if d >= 1 && rows.contains(&k) => self.scale * weights[d - 1],
-                    _ => 0.0,
-                };
-                (*node, (0..=self.n).map(entry).collect())
-            })
-            .collect()
+    /// The nodes of the starting columns, in the order
+    /// [`column_entries_in_row`](Self::column_entries_in_row) lists their entries.
+    pub(crate) fn end_column_nodes(&self) -> impl Iterator<Item = usize> + '_ {
+        self.columns.iter().map(|(node, _)| *node)
     }
 
     /// Adds the starting columns' part of `Δ Q` to `out` (`N` values on the rows): what a
     /// product of the Toeplitz part alone (by FFT) leaves out.
     pub(crate) fn add_end_columns<const D: usize>(&self, q: &[Vector<D>], out: &mut [Vector<D>]) {
-        for (node, weights) in &self.columns {
-            for (i, k) in self.rows().enumerate() {
-                if let Some(d) = self.distance(k).checked_sub(1) {
-                    out[i] += q[*node] * (self.scale * weights[d]);
-                }
+        for (i, k) in self.rows().enumerate() {
+            for (node, c) in self.column_entries_in_row(k) {
+                out[i] += q[node] * c;
             }
         }
     }
@@ -117,11 +104,9 @@ impl Operator {
         w: &[Vector<D>],
         out: &mut [Vector<D>],
     ) {
-        for (node, weights) in &self.columns {
-            for (i, k) in self.rows().enumerate() {
-                if let Some(d) = self.distance(k).checked_sub(1) {
-                    out[*node] += w[i] * (self.scale * weights[d]);
-                }
+        for (i, k) in self.rows().enumerate() {
+            for (node, c) in self.column_entries_in_row(k) {
+                out[node] += w[i] * c;
             }
         }
     }
@@ -136,7 +121,10 @@ impl Operator {
 
     /// The starting columns' entries `(node, M[k, node])` in row `k` (`k ≤ N`); none in a
     /// row at distance 0, which no corrected operator has among its rows.
-    fn column_entries_in_row(&self, k: usize) -> impl Iterator<Item = (usize, f64)> + '_ {
+    pub(crate) fn column_entries_in_row(
+        &self,
+        k: usize,
+    ) -> impl Iterator<Item = (usize, f64)> + '_ {
         let distance = if k > self.n { 0 } else { self.distance(k) };
         self.columns
             .iter()

@@ -51,6 +51,18 @@ fn errors(
         .collect()
 }
 
+/// The corrected Gauss-GLE− direct scheme's errors on `ns` steps, and their observed orders.
+fn corrected_direct(exact: &ExactSolution, ns: &[usize]) -> (Vec<(usize, f64)>, Vec<f64>) {
+    let e = errors(
+        exact,
+        corrected(Side::Backward, exact.alpha),
+        Scheme::Direct,
+        ns,
+    );
+    let orders = observed_orders(&e);
+    (e, orders)
+}
+
 fn corrected(side: Side, alpha: f64) -> Embedding {
     Embedding::corrected_grunwald_letnikov(side, alpha).unwrap()
 }
@@ -240,13 +252,7 @@ fn the_target_on_generic_data_is_met_at_2048_nodes() {
     let ns = [256, 512, 1024, 2048];
     for alpha in [0.6, 0.8] {
         let exact = exact(alpha, &[1.0, 1.0, -0.5]);
-        let e = errors(
-            &exact,
-            corrected(Side::Backward, alpha),
-            Scheme::Direct,
-            &ns,
-        );
-        let orders = observed_orders(&e);
+        let (e, orders) = corrected_direct(&exact, &ns);
         let plain: Vec<(usize, f64)> = ns
             .iter()
             .map(|&n| {
@@ -307,13 +313,7 @@ fn the_fast_solver_keeps_the_order_past_the_direct_sums() {
     let ns = [4096, 8192, 16384, 32768];
     for alpha in [0.6, 0.8] {
         let exact = exact(alpha, &[1.0, 1.0, -0.5]);
-        let e = errors(
-            &exact,
-            corrected(Side::Backward, alpha),
-            Scheme::Direct,
-            &ns,
-        );
-        let orders = observed_orders(&e);
+        let (e, orders) = corrected_direct(&exact, &ns);
         let overall = (e[0].1 / e[3].1).log2() / 3.0;
         let what = format!("α = {alpha}: {e:?}, orders {orders:?}, overall {overall}");
         eprintln!("{what}");

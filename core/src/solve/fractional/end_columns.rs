@@ -15,24 +15,28 @@ use crate::embedding::Scheme;
 use crate::lagrangian::Vector;
 use crate::operator::Operator;
 
-/// `C` and `E` of the module docs, as columns by node.
-pub(super) struct EndColumns {
+/// `C` and `E` of the module docs, read from the operators' starting columns.
+pub(super) struct EndColumns<'a> {
     sigma: f64,
-    /// `(node, c)` with `c[k] = C[k, node]`, `k = 0..=N`.
-    velocity: Vec<(usize, Vec<f64>)>,
-    /// The direct scheme's `E` as `(node m, e)` with `e[j] = E[j, m]`; `None` for the
+    /// The velocity operator, whose starting columns are `C`.
+    velocity: &'a Operator,
+    /// The direct scheme's momentum operator, whose starting columns are `E`; `None` for the
     /// variational scheme (`E = Cᵀ`).
-    momentum: Option<Vec<(usize, Vec<f64>)>>,
+    momentum: Option<&'a Operator>,
 }
 
-impl EndColumns {
+impl<'a> EndColumns<'a> {
     /// The columns of `velocity` and, for the direct scheme, of `adjoint` (the momentum
     /// operator); `None` for the paper's operators, which have none.
-    pub(super) fn new(scheme: Scheme, velocity: &Operator, adjoint: &Operator) -> Option<Self> {
+    pub(super) fn new(
+        scheme: Scheme,
+        velocity: &'a Operator,
+        adjoint: &'a Operator,
+    ) -> Option<Self> {
         velocity.has_end_columns().then(|| EndColumns {
             sigma: velocity.side().sign(),
-            velocity: velocity.end_columns(),
-            momentum: (scheme == Scheme::Direct).then(|| adjoint.end_columns()),
+            velocity,
+            momentum: (scheme == Scheme::Direct).then_some(adjoint),
         })
     }
 
@@ -44,22 +48,40 @@ impl EndColumns {
     /// The largest row sum of `|C|` and of `|E|`: what the columns add to the bounds
     /// `‖Δ‖∞ ≤ 2h^{−α}` and `‖Δᵀ‖∞` of the plain operator.
     pub(super) fn row_sums(&self) -> (f64, f64) {
-        let largest = |columns: &[(usize, Vec<f64>)], len: usize| {
-            (0..len)
-                .map(|k| columns.iter().map(|(_, c)| c[k].abs()).sum::<f64>())
+        let largest = |op: &Operator| {
+            op.rows()
+                .map(|k| {
+                    op.column_entries_in_row(k)
+                        .map(|(_, c)| c.abs())
+                        .sum::<f64>()
+                })
                 .fold(0.0, f64::max)
         };
-        let len = self.velocity.first().map_or(0, |(_, c)| c.len());
-        let momentum = match &self.momentum {
-            Some(e) => largest(e, len),
+        let momentum = match self.momentum {
+            Some(op) => largest(op),
             // Cᵀ: a row of it is a whole column of C.
             None => self
-                .velocity
-                .iter()
-                .map(|(_, c)| c.iter().map(|x| x.abs()).sum::<f64>())
+                .column_sums(0.0, |_| 1.0, |c| c.abs())
+                .into_iter()
                 .fold(0.0, f64::max),
         };
-        (largest(&self.velocity, len), momentum)
+        (largest(self.velocity), momentum)
+    }
+
+    /// For each starting column of `C`, in order, `Σ_k f(C[k, node]) · b(i)` over the rows
+    /// `k = i + first_row`.
+    fn column_sums<T>(&self, zero: T, b: impl Fn(usize) -> T, f: impl Fn(f64) -> f64) -> Vec<T>
+    where
+        T: std::ops::Mul<f64, Output = T> + std::ops::Add<Output = T> + Copy,
+    {
+        let mut sums = vec![zero; self.velocity.end_column_nodes().count()];
+        for (i, k) in self.velocity.rows().enumerate() {
+            let bi = b(i);
+            for (sum, (_, c)) in sums.iter_mut().zip(self.velocity.column_entries_in_row(k)) {
+                *sum = *sum + bi * f(c);
+            }
+        }
+        sums
     }
 
     /// Hands `(i, −σ (C x)_k)` to `add` for the `N` rows `k = i + first_row`, with `node(j)`
@@ -70,10 +92,15 @@ impl EndColumns {
         first_row: usize,
         mut add: impl FnMut(usize, Vector<D>),
     ) {
-        for (j, c) in &self.velocity {
-            let x = node(*j) * -self.sigma;
-            for i in 0..c.len() - 1 {
-                add(i, x * c[i + first_row]);
+        let x: Vec<Vector<D>> = self
+            .velocity
+            .end_column_nodes()
+            .map(|j| node(j) * -self.sigma)
+            .collect();
+        for (i, k) in self.velocity.rows().enumerate() {
+            debug_assert_eq!(k, i + first_row);
+            for (x, (_, c)) in x.iter().zip(self.velocity.column_entries_in_row(k)) {
+                add(i, x * c);
             }
         }
     }
@@ -86,22 +113,24 @@ impl EndColumns {
         first_row: usize,
         mut out: impl FnMut(usize, Vector<D>),
     ) {
-        let n = self.velocity.first().map_or(0, |(_, c)| c.len() - 1);
-        match &self.momentum {
-            Some(columns) => {
-                for (m, e) in columns {
-                    let bm = b(m - first_row) * -self.sigma;
-                    for j in 1..n {
-                        out(j, bm * e[j]);
+        let n = self.velocity.rows().count();
+        match self.momentum {
+            Some(op) => {
+                let bm: Vec<Vector<D>> = op
+                    .end_column_nodes()
+                    .map(|m| b(m - first_row) * -self.sigma)
+                    .collect();
+                for j in 1..n {
+                    for (bm, (_, e)) in bm.iter().zip(op.column_entries_in_row(j)) {
+                        out(j, bm * e);
                     }
                 }
             }
             None => {
-                for (j, c) in &self.velocity {
-                    if (1..n).contains(j) {
-                        let sum = (0..n)
-                            .fold(Vector::<D>::zeros(), |acc, i| acc + b(i) * c[i + first_row]);
-                        out(*j, sum * -self.sigma);
+                let sums = self.column_sums(Vector::<D>::zeros(), &b, |c| c);
+                for (j, sum) in self.velocity.end_column_nodes().zip(sums) {
+                    if (1..n).contains(&j) {
+                        out(j, sum * -self.sigma);
                     }
                 }
             }

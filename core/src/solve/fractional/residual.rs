@@ -6,7 +6,7 @@ use super::system::FastSystem;
 use crate::discretisation::Discretisation;
 use crate::error::{Error, Location, Result, check_len};
 use crate::lagrangian::{Lagrangian, Vector};
-use crate::linalg::{block, max_norm, set_block};
+use crate::linalg::{add_to_block, block, max_norm, set_block};
 
 /// The residual at an iterate, with what the Jacobian needs. Its buffers are reused from one
 /// evaluation to the next (at `N = 10⁷` a fresh `N`-vector costs its page faults: tens of
@@ -86,15 +86,7 @@ pub(super) fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
             .apply_by_differences_with(|k| q[k][c] - base, |i, y| v[i * D + c] = y * minus_sigma);
     }
     if let Some(columns) = &system.columns {
-        columns.add_velocity(
-            |j| q[j],
-            system.first_row,
-            |i, a| {
-                for c in 0..D {
-                    v[i * D + c] += a[c];
-                }
-            },
-        );
+        columns.add_velocity(|j| q[j], system.first_row, |i, a| add_to_block(v, i, &a));
     }
     // r starts as f on the interior nodes; p goes in the rows' buffer.
     let mut f_max = 0.0f64;
@@ -128,11 +120,7 @@ pub(super) fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
         columns.add_momentum(
             |i| p[i],
             system.first_row,
-            |j, e| {
-                for c in 0..D {
-                    r[(j - 1) * D + c] += e[c];
-                }
-            },
+            |j, e| add_to_block(r, j - 1, &e),
         );
     }
     eval.scale = f_max + system.scale * max_norm(&system.rows);

@@ -10,7 +10,7 @@ use crate::discretisation::Discretisation;
 use crate::error::{Error, Location, Result};
 use crate::fft_operator::FftOperator;
 use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
-use crate::linalg::block;
+use crate::linalg::{add_to_block, block};
 use crate::operator::Operator;
 use crate::solve::krylov::KrylovSystem;
 
@@ -39,7 +39,7 @@ pub(super) struct FastSystem<'a, const D: usize> {
     /// Values on the rows (`N`): `a = D x` in a product, `p` in an evaluation.
     pub(super) rows: Vec<Vector<D>>,
     /// The corrected form's starting columns; `None` for the paper's operators.
-    pub(super) columns: Option<EndColumns>,
+    pub(super) columns: Option<EndColumns<'a>>,
     /// Whether the products leave the starting columns out: the paper's symmetric Jacobian at
     /// the same iterate, which the ill-posedness check's Lanczos process needs.
     pub(super) plain: bool,
@@ -50,7 +50,7 @@ impl<'a, const D: usize> FastSystem<'a, D> {
     /// the starting columns of a corrected form's `velocity` and momentum operator `adjoint`.
     pub(super) fn new(
         velocity: &'a Operator,
-        columns: Option<EndColumns>,
+        columns: Option<EndColumns<'a>>,
         fft: &'a mut FftOperator,
     ) -> Self {
         let n = fft.n();
@@ -75,7 +75,7 @@ impl<'a, const D: usize> FastSystem<'a, D> {
     }
 
     /// The starting columns, unless the products leave them out.
-    fn active_columns(&self) -> Option<&EndColumns> {
+    fn active_columns(&self) -> Option<&EndColumns<'a>> {
         self.columns.as_ref().filter(|_| !self.plain)
     }
 
@@ -207,11 +207,7 @@ impl<'a, const D: usize> FastSystem<'a, D> {
                 let h = &hessians[i];
                 h.xv.transpose() * node_vector(i + first_row) + h.vv * rows[i]
             };
-            columns.add_momentum(b, first_row, |j, e| {
-                for c in 0..D {
-                    y[(j - 1) * D + c] += e[c];
-                }
-            });
+            columns.add_momentum(b, first_row, |j, e| add_to_block(y, j - 1, &e));
         }
     }
 }
