@@ -23,6 +23,16 @@
 //! own twiddles (48 bytes per `K` with the real passes' tables, measured: 475 MB of plans at
 //! `K = 10⁷`). The pass's own twiddles `e^{−πi m/K}`, `m ≤ K/2`, are 8 bytes per `K`.
 //!
+//! **Two halves, two cores.** `K` is even, and each complex FFT of length `K` is taken as two
+//! of length `K/2` (one radix-2 step of decimation in time by hand): `Z_m = E_{m'} ± W^{m'}
+//! O_{m'}`, `m' = m mod K/2`, `W = e^{−2πi/K}`, with `E`, `O` the transforms of the even- and
+//! odd-indexed entries. The loading writes the entries straight into the two halves, the pass
+//! and the reading combine `E` and `O` as they go, so the step costs no sweep over memory of
+//! its own, and the two half-length FFTs run on two threads (rayon's `join`, with the
+//! `parallel` feature, from [`PARALLEL_FROM`] on): the FFTs are most of a large fractional
+//! solve's time. The twiddles `W^j` are those of the pass (`W^j = e^{−πi 2j/K}`), so the step
+//! keeps no table of its own, and the half-length plan's tables are half as long.
+//!
 //! ## Reference
 //!
 //! R. M. Gray, *Toeplitz and circulant matrices: a review*, §4 (circulant embedding).
@@ -33,11 +43,120 @@ use rustfft::num_complex::Complex;
 use rustfft::{Fft, FftPlanner};
 use std::sync::Arc;
 
-/// The complex FFT of length `K` and the twiddles `e^{−πi m/K}`, `m = 0..=K/2`, of the pass
-/// between real and half-length complex transforms.
+/// The complex FFT of length `K/2` (the two halves of one of length `K`) and the twiddles
+/// `e^{−πi m/K}`, `m = 0..=K/2`, of the pass between real and half-length complex transforms.
 struct Plan {
-    fft: Arc<dyn Fft<f64>>,
+    half: Arc<dyn Fft<f64>>,
+    /// `K/2`.
+    h: usize,
     twiddles: Vec<Complex<f64>>,
+}
+
+/// The half length from which the two half-length FFTs run on two threads: below it a
+/// transform takes a few microseconds, the cost of handing one to another thread.
+pub const PARALLEL_FROM: usize = 1 << 14;
+
+impl Plan {
+    fn new(k: usize) -> Self {
+        let half = FftPlanner::<f64>::new().plan_fft_forward(k / 2);
+        let step = -std::f64::consts::PI / k as f64;
+        let twiddles = (0..=k / 2)
+            .map(|m| Complex::from_polar(1.0, step * m as f64))
+            .collect();
+        Plan {
+            half,
+            h: k / 2,
+            twiddles,
+        }
+    }
+
+    /// `K`, the length of the complex transform.
+    fn len(&self) -> usize {
+        2 * self.h
+    }
+
+    /// `W^j = e^{−2πi j/K}` for `j < K/2`, from the pass's twiddles `e^{−πi m/K}`, `m ≤ K/2`:
+    /// `W^j = t_{2j}` for `j ≤ K/4`, and `W^j = −conj(W^{K/2−j})` past it.
+    #[inline]
+    fn w(&self, j: usize) -> Complex<f64> {
+        if 2 * j <= self.h {
+            self.twiddles[2 * j]
+        } else {
+            -self.twiddles[2 * (self.h - j)].conj()
+        }
+    }
+
+    /// Where entry `j` of a length-`K` input sits in the halves: even `j` in the first, odd in
+    /// the second.
+    #[inline]
+    fn slot(&self, j: usize) -> usize {
+        (j >> 1) + (j & 1) * self.h
+    }
+
+    /// The forward FFT of length `K` of `input` (in halves, [`slot`](Self::slot)), as the two
+    /// half-length transforms `E`, `O` in the halves of `output` ([`entry`](Self::entry) reads
+    /// it); `input` is destroyed.
+    fn forward(
+        &self,
+        input: &mut [Complex<f64>],
+        output: &mut [Complex<f64>],
+        scratch: &mut [Complex<f64>],
+    ) {
+        let h = self.h;
+        let (input_e, input_o) = input.split_at_mut(h);
+        let (output_e, output_o) = output.split_at_mut(h);
+        let (scratch_e, scratch_o) = scratch.split_at_mut(scratch.len() / 2);
+        let mut even = || {
+            self.half
+                .process_outofplace_with_scratch(input_e, output_e, scratch_e)
+        };
+        let mut odd = || {
+            self.half
+                .process_outofplace_with_scratch(input_o, output_o, scratch_o)
+        };
+        #[cfg(feature = "parallel")]
+        if h >= PARALLEL_FROM {
+            rayon::join(even, odd);
+            return;
+        }
+        even();
+        odd();
+    }
+
+    /// Entry `m < K` of the length-`K` transform held as its halves `E`, `O` in `z`.
+    #[inline]
+    fn entry(&self, z: &[Complex<f64>], m: usize) -> Complex<f64> {
+        let h = self.h;
+        let j = if m < h { m } else { m - h };
+        let t = self.w(j) * z[h + j];
+        if m < h { z[j] + t } else { z[j] - t }
+    }
+
+    /// `pair(m, Z_m, Z_{K−m})` for `m = 1..=K/2`, in some order, of the length-`K` transform
+    /// held as its halves in `z`. The entries `m`, `K/2 + m`, `K/2 − m`, `K − m` come from
+    /// `E` and `O` at `m` and `K/2 − m` with one twiddle (`W^{K/2−m} = −conj W^m`), so each
+    /// quadruple is read once.
+    #[inline]
+    fn for_each_pair(
+        &self,
+        z: &[Complex<f64>],
+        mut pair: impl FnMut(usize, Complex<f64>, Complex<f64>),
+    ) {
+        let h = self.h;
+        let (e, o) = z.split_at(h);
+        for m in 1..h.div_ceil(2) {
+            let w = self.twiddles[2 * m];
+            let (t, t_mirror) = (w * o[m], -(w.conj() * o[h - m]));
+            // (m, K − m) and (K/2 − m, K/2 + m).
+            pair(m, e[m] + t, e[h - m] - t_mirror);
+            pair(h - m, e[h - m] + t_mirror, e[m] - t);
+        }
+        if h.is_multiple_of(2) {
+            let m = h / 2;
+            pair(m, self.entry(z, m), self.entry(z, 2 * h - m));
+        }
+        pair(h, self.entry(z, h), self.entry(z, h));
+    }
 }
 
 /// A lower-triangular Toeplitz matrix of order `M` (and its transpose), applied by FFT.
@@ -64,9 +183,11 @@ impl std::fmt::Debug for TriangularToeplitz {
 /// allocates nothing.
 #[derive(Clone, Debug)]
 pub struct Workspace {
-    /// The packed vector: `x_{2j} + i x_{2j+1}` before a product, the result after it.
+    /// The packed vector `x_{2j} + i x_{2j+1}` (in halves, [`Plan::slot`]) before a product,
+    /// the product's packed spectrum before the inverse transform.
     packed: Vec<Complex<f64>>,
-    /// The transform of `packed`, and the input buffer (destroyed) of the inverse transform.
+    /// The transform of `packed` (as its halves, [`Plan::entry`]): the input's, then the
+    /// product's.
     spectrum: Vec<Complex<f64>>,
     scratch: Vec<Complex<f64>>,
 }
@@ -74,12 +195,13 @@ pub struct Workspace {
 impl Workspace {
     /// Buffers for `matrix` (and for any matrix of the same FFT length).
     pub fn new(matrix: &TriangularToeplitz) -> Self {
-        let fft = &matrix.plan.fft;
-        let k = fft.len();
+        let plan = &matrix.plan;
+        let k = plan.len();
         Workspace {
             packed: vec![Complex::new(0.0, 0.0); k],
             spectrum: vec![Complex::new(0.0, 0.0); k],
-            scratch: vec![Complex::new(0.0, 0.0); fft.get_outofplace_scratch_len()],
+            // One scratch per half-length transform, since the two may run at once.
+            scratch: vec![Complex::new(0.0, 0.0); 2 * plan.half.get_outofplace_scratch_len()],
         }
     }
 }
@@ -102,8 +224,9 @@ fn smooth(k: usize) -> usize {
     best
 }
 
-/// The FFT length used for order `m`: `L = 2K` with `K` the smallest `2^a 3^b 5^c ≥ m` with
-/// `c ≤ 2`, so `L ≥ 2m − 1` and the real transform runs on a complex FFT of length `K`.
+/// The FFT length used for order `m`: `L = 2K` with `K` the smallest even `2^a 3^b 5^c ≥ m`
+/// with `c ≤ 2`, so `L ≥ 2m − 1` and the real transform runs on a complex FFT of length `K`
+/// (two of length `K/2`).
 ///
 /// rustfft has fast butterflies for these radices, and such a `K` is within 15% of `m` where a
 /// power of two can be almost twice as long. Factors of 5 are capped because at large `K`, where
@@ -112,7 +235,7 @@ fn smooth(k: usize) -> usize {
 /// takes 12.0 ms, `K = 1 036 800 = 2⁹3⁴5²` 10.3 ms; `K = 10 125 = 3⁴5³` 0.044 ms,
 /// `K = 10 240 = 2¹¹5` 0.037 ms.
 pub fn fft_len(m: usize) -> usize {
-    2 * smooth(m.max(1))
+    4 * smooth(m.max(1).div_ceil(2))
 }
 
 impl TriangularToeplitz {
@@ -125,13 +248,7 @@ impl TriangularToeplitz {
     /// [`Workspace`]); the length used is [`fft_len`] of `max(len/2, column.len())`.
     pub fn with_fft_len(column: &[f64], len: usize) -> Self {
         let len = fft_len(column.len().max(len.div_ceil(2)));
-        let k = len / 2;
-        let fft = FftPlanner::<f64>::new().plan_fft_forward(k);
-        let step = -std::f64::consts::PI / k as f64;
-        let twiddles = (0..=k / 2)
-            .map(|m| Complex::from_polar(1.0, step * m as f64))
-            .collect();
-        Self::with_plan(column, Arc::new(Plan { fft, twiddles }))
+        Self::with_plan(column, Arc::new(Plan::new(len / 2)))
     }
 
     /// Another matrix of the same FFT length, sharing this one's FFT plan (its twiddle
@@ -146,7 +263,7 @@ impl TriangularToeplitz {
     }
 
     fn with_plan(column: &[f64], plan: Arc<Plan>) -> Self {
-        let k = plan.fft.len();
+        let k = plan.len();
         let mut matrix = TriangularToeplitz {
             order: column.len(),
             spectrum: Vec::new(),
@@ -157,15 +274,16 @@ impl TriangularToeplitz {
         matrix.transform_forward(&mut ws);
         let inv_len = 1.0 / (2 * k) as f64;
         let mut spectrum = vec![Complex::new(0.0, 0.0); k + 1];
-        let z = &ws.spectrum;
-        let tw = &matrix.plan.twiddles;
-        spectrum[0] = Complex::new((z[0].re + z[0].im) * inv_len, 0.0);
-        spectrum[k] = Complex::new((z[0].re - z[0].im) * inv_len, 0.0);
-        for m in 1..=k / 2 {
-            let (xm, xkm) = unpack(z[m], z[k - m], tw[m]);
+        let (z, plan) = (&ws.spectrum, &matrix.plan);
+        let tw = &plan.twiddles;
+        let z0 = plan.entry(z, 0);
+        spectrum[0] = Complex::new((z0.re + z0.im) * inv_len, 0.0);
+        spectrum[k] = Complex::new((z0.re - z0.im) * inv_len, 0.0);
+        plan.for_each_pair(z, |m, zm, zkm| {
+            let (xm, xkm) = unpack(zm, zkm, tw[m]);
             spectrum[m] = xm * inv_len;
             spectrum[k - m] = xkm * inv_len;
-        }
+        });
         matrix.spectrum = spectrum;
         matrix
     }
@@ -177,7 +295,7 @@ impl TriangularToeplitz {
 
     /// The FFT length `L` (of the real transform; the complex one is `L/2`).
     pub fn fft_len(&self) -> usize {
-        2 * self.plan.fft.len()
+        2 * self.plan.len()
     }
 
     /// The general product: `out(k, (T x)_k)` (or `Tᵀ x` when `transpose`) for `k = 0..M`,
@@ -203,11 +321,18 @@ impl TriangularToeplitz {
     /// reads its input from the vector it writes the output to needs no buffer of its own.
     pub fn load(&self, ws: &mut Workspace, mut input: impl FnMut(usize) -> f64) {
         let m = self.order;
-        for (j, z) in ws.packed.iter_mut().enumerate() {
-            let (even, odd) = (2 * j, 2 * j + 1);
-            let re = if even < m { input(even) } else { 0.0 };
-            let im = if odd < m { input(odd) } else { 0.0 };
-            *z = Complex::new(re, im);
+        let (first, second) = ws.packed.split_at_mut(self.plan.h);
+        let mut value = |k: usize| if k < m { input(k) } else { 0.0 };
+        // z_{2i} = x_{4i} + i x_{4i+1} into the first half, z_{2i+1} into the second.
+        for (i, (a, b)) in first.iter_mut().zip(second.iter_mut()).enumerate() {
+            let x = 4 * i;
+            if x >= m {
+                *a = Complex::new(0.0, 0.0);
+                *b = Complex::new(0.0, 0.0);
+                continue;
+            }
+            *a = Complex::new(value(x), value(x + 1));
+            *b = Complex::new(value(x + 2), value(x + 3));
         }
     }
 
@@ -218,34 +343,36 @@ impl TriangularToeplitz {
     /// If `ws` was built for another FFT length (an internal misuse, never user input).
     pub fn mul_loaded(&self, transpose: bool, ws: &mut Workspace) {
         self.transform_forward(ws);
-        let k = self.plan.fft.len();
-        let (z, s, tw) = (&mut ws.spectrum, &self.spectrum, &self.plan.twiddles);
+        let plan = &self.plan;
+        let k = plan.len();
+        let (z, w, s, tw) = (&ws.spectrum, &mut ws.packed, &self.spectrum, &plan.twiddles);
         let filter = |c: Complex<f64>| if transpose { c.conj() } else { c };
         // m = 0 and m = K: x̂_0 and x̂_K are real (a NaN input stays in the real parts).
-        let y0 = (z[0].re + z[0].im) * filter(s[0]).re;
-        let yk = (z[0].re - z[0].im) * filter(s[k]).re;
+        let z0 = plan.entry(z, 0);
+        let y0 = (z0.re + z0.im) * filter(s[0]).re;
+        let yk = (z0.re - z0.im) * filter(s[k]).re;
         // conj(W_0) for W_0 = (ŷ_0 + ŷ_K) + i(ŷ_0 − ŷ_K).
-        z[0] = Complex::new(y0 + yk, -(y0 - yk));
-        for m in 1..=k / 2 {
-            let (xm, xkm) = unpack(z[m], z[k - m], tw[m]);
+        w[0] = Complex::new(y0 + yk, -(y0 - yk));
+        plan.for_each_pair(z, |m, zm, zkm| {
+            let (xm, xkm) = unpack(zm, zkm, tw[m]);
             let (ym, ykm) = (xm * filter(s[m]), xkm * filter(s[k - m]));
             let (wm, wkm) = pack_conjugate(ym, ykm, tw[m]);
-            z[m] = wm;
-            z[k - m] = wkm;
-        }
-        // The inverse transform as the forward one of the conjugate, into `packed`.
-        self.plan.fft.process_outofplace_with_scratch(
-            &mut ws.spectrum,
-            &mut ws.packed,
-            &mut ws.scratch,
-        );
+            w[plan.slot(m)] = wm;
+            w[plan.slot(k - m)] = wkm;
+        });
+        // The inverse transform as the forward one of the conjugate, into `spectrum`.
+        self.transform_forward(ws);
     }
 
     /// Reads the result of [`mul_loaded`](Self::mul_loaded): `out(k, y_k)` for `k = 0..M`.
     pub fn store(&self, ws: &Workspace, mut out: impl FnMut(usize, f64)) {
         let m = self.order;
-        for (j, z) in ws.packed.iter().enumerate().take(m.div_ceil(2)) {
-            // The packed result is conj(FFT(conj W)): y_{2j} = Re, y_{2j+1} = −Im.
+        let (plan, z) = (&self.plan, &ws.spectrum);
+        let (e, o) = z.split_at(plan.h);
+        for j in 0..m.div_ceil(2) {
+            // The packed result is conj(FFT(conj W)): y_{2j} = Re, y_{2j+1} = −Im. (j < K/2,
+            // since m ≤ K.)
+            let z = e[j] + plan.w(j) * o[j];
             out(2 * j, z.re);
             if 2 * j + 1 < m {
                 out(2 * j + 1, -z.im);
@@ -253,13 +380,11 @@ impl TriangularToeplitz {
         }
     }
 
-    /// `packed` → `spectrum` by the forward FFT (`packed` is its scratch and is destroyed).
+    /// `packed` → `spectrum` by the forward FFT, left as its halves ([`Plan::forward`];
+    /// `packed` is destroyed).
     fn transform_forward(&self, ws: &mut Workspace) {
-        self.plan.fft.process_outofplace_with_scratch(
-            &mut ws.packed,
-            &mut ws.spectrum,
-            &mut ws.scratch,
-        );
+        self.plan
+            .forward(&mut ws.packed, &mut ws.spectrum, &mut ws.scratch);
     }
 
     /// `T x` (or `Tᵀ x`) into `y`. A slice `x` shorter than `M` is padded with zeros, a longer `y`
@@ -363,6 +488,34 @@ mod tests {
                         assert!((g - w).abs() <= 1e-13 * scale, "m = {m}: {g} vs {w}");
                     }
                 }
+            }
+        }
+    }
+
+    /// Past [`PARALLEL_FROM`], where the two half-length transforms may run on two threads,
+    /// the products still equal the sums, checked at rows spread over the whole range.
+    #[test]
+    fn long_products_match_the_sums() {
+        let m = 3 * PARALLEL_FROM;
+        let c: Vec<f64> = (0..m).map(|r| 1.0 / (1.0 + r as f64).powf(1.7)).collect();
+        let x: Vec<f64> = (0..m).map(|r| ((r * 5 + 1) as f64).cos()).collect();
+        let t = TriangularToeplitz::new(&c);
+        assert!(t.fft_len() / 4 >= PARALLEL_FROM);
+        let mut ws = Workspace::new(&t);
+        for transpose in [false, true] {
+            let mut y = vec![0.0; m];
+            t.mul(transpose, &mut ws, &x, &mut y);
+            for k in (0..m).step_by(997).chain([1, m - 2, m - 1]) {
+                let want: f64 = if transpose {
+                    (0..m - k).map(|r| c[r] * x[k + r]).sum()
+                } else {
+                    (0..=k).map(|r| c[r] * x[k - r]).sum()
+                };
+                assert!(
+                    (y[k] - want).abs() < 1e-12,
+                    "{transpose} {k}: {} vs {want}",
+                    y[k]
+                );
             }
         }
     }

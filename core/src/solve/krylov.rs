@@ -49,6 +49,21 @@ pub trait KrylovSystem {
         let _ = image;
         self.apply(x, y);
     }
+    /// `y = A x` for `x = factor · M r` (the preconditioner's output for `r`, scaled), given
+    /// `image = C x`. A system whose preconditioner is the exact inverse of a part `P` of `A`
+    /// may compute `A x = factor · r + (A − P) x` and spare the products with `P`; the default
+    /// applies `A`.
+    fn apply_preconditioned(
+        &mut self,
+        x: &[f64],
+        image: &[f64],
+        r: &[f64],
+        factor: f64,
+        y: &mut [f64],
+    ) {
+        let _ = (r, factor);
+        self.apply_with_image(x, image, y);
+    }
 }
 
 /// Stopping rule and sizes of the Krylov solvers.

@@ -13,7 +13,9 @@
 //!
 //! Each iteration costs one product with `A` and one with `M`, as a CG iteration does, and
 //! the same [`KrylovSystem::image_len`] by-product applies: `A` is only ever applied to the
-//! preconditioned vectors `z_j`. The residual `b − A x` is carried along in the 2-norm, so the
+//! preconditioned vectors `z_j`, and since `z_j = M v_j / γ_j`, a system whose preconditioner
+//! inverts a part of `A` exactly is handed `v_j` with it
+//! ([`KrylovSystem::apply_preconditioned`]). The residual `b − A x` is carried along in the 2-norm, so the
 //! stopping rule is that of the other solvers, `‖b − A x‖₂ ≤ tolerance · ‖b‖₂`, by a
 //! recurrence on the Lanczos vectors that needs no vector of its own: with
 //! `ṽ_j = v_j/γ_j`, the Lanczos relation `A Z_k = Ṽ_{k+1} T̄_k` (`T̄_k` the `(k+1) × k`
@@ -201,7 +203,8 @@ pub(crate) fn minres_in(
         let inverse = 1.0 / gamma;
         z.iter_mut().for_each(|zi| *zi *= inverse);
         z_image.iter_mut().for_each(|zi| *zi *= inverse);
-        system.apply_with_image(z, z_image, az);
+        // z = (scale/γ) M v: a system that inverts part of A exactly uses v.
+        system.apply_preconditioned(z, z_image, v, scale * inverse, az);
         az.iter_mut().for_each(|x| *x /= scale);
         let delta = dot(az, z);
         // v_{j+1} into v_old's storage, then the two swap places.

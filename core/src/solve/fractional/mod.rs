@@ -11,8 +11,11 @@
 //! `J = L_xx + L_xv D + Dᵀ L_vx + Dᵀ L_vv D`,
 //!
 //! never formed: `J δ` costs two FFT products (`a = D δ`, then `Dᵀ(L_vx δ + L_vv a)`), and
-//! inside CG only one, since the preconditioner hands CG the product with `D`'s square block
-//! ([`KrylovSystem::image_len`](crate::solve::krylov::KrylovSystem::image_len)).
+//! inside the Krylov solver only one, since the preconditioner hands it the product with `D`'s
+//! square block
+//! ([`KrylovSystem::image_len`](crate::solve::krylov::KrylovSystem::image_len)), or none when
+//! every `L_xv` is zero, since the preconditioner inverts the kinetic part exactly
+//! (`preconditioner`).
 //!
 //! The parts: `system` (the Newton system at one iterate, known through products),
 //! `preconditioner` (the inverse of its kinetic part `Dᵀ L_vv D`, by FFT and Woodbury; the

@@ -33,6 +33,17 @@
 //! for its output `z` ([`Preconditioner::apply`]'s image); CG carries it along its recurrence,
 //! and a CG iteration costs three FFT products instead of four, with the same iterates.
 //!
+//! **The kinetic product from its inverse.** Where every `L_vv` block is inverted and the
+//! Woodbury term formed, this is `P'⁻¹` exactly, so for `z = P'⁻¹ r` the Jacobian's product is
+//! `J z = r + (L_xx z + L_xv D z + Dᵀ L_vx z)`: the product `Dᵀ L_vv D z` is `r`, already at
+//! hand ([`KrylovSystem::apply_preconditioned`]). With every `L_xv` zero (all `T(v) − U(x)`,
+//! the pendulum among them) a MINRES iteration then costs the preconditioner's two products
+//! and no third; otherwise `Dᵀ L_vx z` is the one product left. Rounding: `r − P' z` is of the
+//! size of the error of computing `P' z` by FFT, so the iterates differ by rounding only
+//! (unit test `products_from_the_preconditioner_match_the_dense_jacobian`).
+//!
+//! [`KrylovSystem::apply_preconditioned`]: crate::solve::krylov::KrylovSystem::apply_preconditioned
+//!
 //! ## Reference
 //!
 //! Triangular Toeplitz inverses: D. Bini, *Parallel solution of certain Toeplitz linear
@@ -76,6 +87,9 @@ pub(super) struct Preconditioner<'a, const D: usize> {
     vv_inverse: Vec<Matrix<D>>,
     /// The extra row's term (module docs), when it can be formed.
     pub(super) correction: Option<Correction<D>>,
+    /// Whether every `L_vv` block was inverted at the last [`update`](Self::update) (where
+    /// one was not, the preconditioner holds a stand-in for it).
+    all_inverted: bool,
     /// `H_e` of the last [`update_correction`](Self::update_correction): when no `L_vv`
     /// changed since (a kinetic term independent of `x`, `v` and `t`, as the pendulum's), the
     /// correction is still right and its `d²` products are not repeated.
@@ -113,6 +127,7 @@ impl<'a, const D: usize> Preconditioner<'a, D> {
             weights: velocity.weights(),
             vv_inverse: vec![Matrix::<D>::identity(); n - 1],
             correction: None,
+            all_inverted: true,
             corrected_for: None,
         }
     }
@@ -132,9 +147,11 @@ impl<'a, const D: usize> Preconditioner<'a, D> {
         // Where an L_vv block cannot be inverted the preconditioner keeps the identity there:
         // it only has to be good, and the Krylov solver reports what it cannot solve.
         let mut changed = false;
+        self.all_inverted = true;
         for j in 1..self.n {
             let vv = &hessians[j - first_row].vv;
             let inv = vv.try_inverse().filter(|m| m.iter().all(|c| c.is_finite()));
+            self.all_inverted &= inv.is_some();
             let size = vv.amax();
             let inv = inv.unwrap_or_else(|| {
                 if size > 0.0 {
@@ -181,6 +198,12 @@ impl<'a, const D: usize> Preconditioner<'a, D> {
             .map(|inv| inv * h_e)
             .filter(|k| k.iter().all(|c| c.is_finite()));
         self.correction = k.map(|k| Correction { u, k });
+    }
+
+    /// Whether this is the exact inverse of the kinetic part `P'` at the last update: every
+    /// `L_vv` block inverted and the extra row's term formed.
+    pub(super) fn is_exact(&self) -> bool {
+        self.all_inverted && self.correction.is_some()
     }
 
     /// `x ↦ Gᵀ x` (transpose) or `G x` in place on `x`, one real product per component.

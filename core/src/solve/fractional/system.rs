@@ -10,7 +10,7 @@ use crate::discretisation::Discretisation;
 use crate::error::{Error, Location, Result};
 use crate::fft_operator::FftOperator;
 use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
-use crate::linalg::{add_to_block, block};
+use crate::linalg::{add_to_block, block, set_block};
 use crate::operator::Operator;
 use crate::solve::krylov::KrylovSystem;
 
@@ -43,6 +43,8 @@ pub(super) struct FastSystem<'a, const D: usize> {
     /// Whether the products leave the starting columns out: the paper's symmetric Jacobian at
     /// the same iterate, which the ill-posedness check's Lanczos process needs.
     pub(super) plain: bool,
+    /// Whether some `L_xv` block is non-zero at the last linearisation.
+    mixed: bool,
 }
 
 impl<'a, const D: usize> FastSystem<'a, D> {
@@ -71,6 +73,7 @@ impl<'a, const D: usize> FastSystem<'a, D> {
             rows: vec![Vector::<D>::zeros(); n],
             columns,
             plain: false,
+            mixed: true,
         }
     }
 
@@ -132,6 +135,7 @@ impl<'a, const D: usize> FastSystem<'a, D> {
                 return Err(Error::NotFinite { at });
             }
         }
+        self.mixed = self.hessians.iter().any(|h| h.xv != Matrix::<D>::zeros());
         self.preconditioner.update(
             &self.hessians,
             self.first_row,
@@ -140,9 +144,33 @@ impl<'a, const D: usize> FastSystem<'a, D> {
         Ok(())
     }
 
+    /// Whether `J x = P' x + (J − P') x` may be formed from `P' x` given: the preconditioner
+    /// inverts `P'` exactly and the products leave out no term of `P'` it does not hold (the
+    /// starting columns).
+    pub(super) fn kinetic_known(&self) -> bool {
+        self.preconditioner.is_exact() && self.active_columns().is_none()
+    }
+
     /// `y = J x`; `a = D x` by FFT, or, given `image = D_a x`, from it and the one extra row.
-    fn jacobian_product(&mut self, x: &[f64], image: Option<&[f64]>, y: &mut [f64]) {
+    /// Given `kinetic = P' x` (as `factor · r`, from `x = factor · P'⁻¹ r`), the kinetic part
+    /// `Dᵀ L_vv D x` is taken from it: `J x = P' x + L_xx x + L_xv a + Dᵀ L_vx x`, no FFT
+    /// product at all when every `L_xv` is zero.
+    fn jacobian_product(
+        &mut self,
+        x: &[f64],
+        image: Option<&[f64]>,
+        kinetic: Option<(&[f64], f64)>,
+        y: &mut [f64],
+    ) {
         let n = self.n;
+        if let Some((r, factor)) = kinetic.filter(|_| !self.mixed) {
+            for j in 1..n {
+                let xx = &self.hessians[j - self.first_row].xx;
+                let v = block::<D>(r, j - 1) * factor + xx * block::<D>(x, j - 1);
+                set_block(y, j - 1, &v);
+            }
+            return;
+        }
         // Node k of x (zero at the fixed ends), component c.
         let node = |k: usize, c: usize| {
             if (1..n).contains(&k) {
@@ -188,17 +216,22 @@ impl<'a, const D: usize> FastSystem<'a, D> {
         for c in 0..D {
             // b_i = L_vx δ + L_vv a on the rows, component c, formed as the product reads it;
             // y_j = L_xx δ + L_xv a + (Dᵀ b)_j written as the product yields it.
+            // Without the kinetic part, b_i = L_vx δ and y_j gains (P' x)_j instead.
+            let with_vv = if kinetic.is_some() { 0.0 } else { 1.0 };
             let b = |i: usize| {
                 let h = &hessians[i];
-                (h.xv.column(c).dot(&node_vector(i + first_row))) + h.vv.row(c).tr_dot(&rows[i])
+                (h.xv.column(c).dot(&node_vector(i + first_row)))
+                    + with_vv * h.vv.row(c).tr_dot(&rows[i])
             };
             self.velocity.apply_transpose_with(b, |j, dt_b| {
                 if (1..n).contains(&j) {
                     let i = j - first_row;
                     let h = &hessians[i];
+                    let known = kinetic.map_or(0.0, |(r, factor)| r[(j - 1) * D + c] * factor);
                     y[(j - 1) * D + c] = h.xx.row(c).tr_dot(&node_vector(j))
                         + h.xv.row(c).tr_dot(&rows[i])
-                        + dt_b * minus_sigma;
+                        + dt_b * minus_sigma
+                        + known;
                 }
             });
         }
@@ -219,7 +252,7 @@ impl<const D: usize> KrylovSystem for FastSystem<'_, D> {
 
     /// `J δ` with `a = D δ`, `b = L_vx δ + L_vv a` (on the rows), `J δ = L_xx δ + L_xv a + Dᵀ b`.
     fn apply(&mut self, x: &[f64], y: &mut [f64]) {
-        self.jacobian_product(x, None, y);
+        self.jacobian_product(x, None, None, y);
     }
 
     /// `z = P'⁻¹ r` ([`Preconditioner`]).
@@ -241,6 +274,20 @@ impl<const D: usize> KrylovSystem for FastSystem<'_, D> {
 
     /// `J x` with the interior rows of `a = D x` taken from `image` (one FFT product, `Dᵀ b`).
     fn apply_with_image(&mut self, x: &[f64], image: &[f64], y: &mut [f64]) {
-        self.jacobian_product(x, Some(image), y);
+        self.jacobian_product(x, Some(image), None, y);
+    }
+
+    /// `J x` for `x = factor · P'⁻¹ r`: `factor · r` stands for `P' x` when the preconditioner
+    /// is exact, sparing the product `Dᵀ L_vv D x`.
+    fn apply_preconditioned(
+        &mut self,
+        x: &[f64],
+        image: &[f64],
+        r: &[f64],
+        factor: f64,
+        y: &mut [f64],
+    ) {
+        let kinetic = Some((r, factor)).filter(|_| self.kinetic_known());
+        self.jacobian_product(x, Some(image), kinetic, y);
     }
 }

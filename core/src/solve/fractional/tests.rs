@@ -107,6 +107,73 @@ fn matrix_free_jacobian_and_residual_match_the_dense_ones() {
     }
 }
 
+/// `L = ½(1 + t)(v₀² + v₀v₁ + v₁²) + cos x₀ + x₀x₁`: every `L_xv` zero, `L_vv` varying
+/// along the grid, `L_xx` coupling the components.
+struct Unmixed;
+
+impl Lagrangian<2> for Unmixed {
+    fn value(&self, x: &Vector<2>, v: &Vector<2>, t: f64) -> f64 {
+        0.5 * (1.0 + t) * (v[0] * v[0] + v[0] * v[1] + v[1] * v[1]) + x[0].cos() + x[0] * x[1]
+    }
+    fn gradient(&self, x: &Vector<2>, v: &Vector<2>, t: f64) -> (Vector<2>, Vector<2>) {
+        let dx = Vector::<2>::new(-x[0].sin() + x[1], x[0]);
+        let dv = Vector::<2>::new(v[0] + 0.5 * v[1], 0.5 * v[0] + v[1]) * (1.0 + t);
+        (dx, dv)
+    }
+    fn hessian(&self, x: &Vector<2>, _v: &Vector<2>, t: f64) -> Hessian<2> {
+        Hessian {
+            xx: Matrix::<2>::new(-x[0].cos(), 1.0, 1.0, 0.0),
+            xv: Matrix::<2>::zeros(),
+            vv: Matrix::<2>::new(1.0, 0.5, 0.5, 1.0) * (1.0 + t),
+        }
+    }
+}
+
+/// `J z` for `z = f · P'⁻¹ r`, formed from `f r` in place of the kinetic product, equals the
+/// dense Jacobian's `J z`: with and without `L_xv` terms, both sides, and for the corrected
+/// form (whose products keep computing the kinetic part).
+#[test]
+fn products_from_the_preconditioner_match_the_dense_jacobian() {
+    fn check<L: Lagrangian<2>>(model: &L, embedding: Embedding, kinetic_known: bool) {
+        let n = 17;
+        let grid = Grid::new(0.2, 1.5, n).unwrap();
+        let what = format!("{embedding}");
+        let disc = Discretisation::new(model, grid, embedding);
+        let q = curve(n);
+        let mut fft = FftOperator::new(disc.velocity_operator());
+        let (mut system, _) = linearized(&disc, &mut fft, &q);
+        assert_eq!(system.kinetic_known(), kinetic_known, "{what}");
+        let m = (n - 1) * 2;
+        let r: Vec<f64> = (0..m).map(|i| ((7 * i + 3) as f64).sin()).collect();
+        let factor = 0.37;
+        let (mut z, mut image) = (vec![0.0; m], vec![0.0; m]);
+        system.precondition_with_image(&r, &mut z, &mut image);
+        z.iter_mut()
+            .chain(image.iter_mut())
+            .for_each(|x| *x *= factor);
+        let mut y = vec![0.0; m];
+        system.apply_preconditioned(&z, &image, &r, factor, &mut y);
+        let pw = disc.pointwise(&q).unwrap();
+        let jac = disc.dense_jacobian(Scheme::Variational, &q, &pw);
+        let want = &jac * nalgebra::DVector::from_vec(z.clone());
+        for i in 0..m {
+            assert!(
+                (y[i] - want[i]).abs() < 1e-11 * want.amax(),
+                "{what}: row {i}: {} vs {}",
+                y[i],
+                want[i]
+            );
+        }
+    }
+    for side in [Side::Backward, Side::Forward] {
+        let paper = Embedding::grunwald_letnikov(side, 0.65).unwrap();
+        let corrected = Embedding::corrected_grunwald_letnikov(side, 0.65).unwrap();
+        check(&Mixed, paper, true);
+        check(&Unmixed, paper, true);
+        check(&Unmixed, corrected, false);
+    }
+}
+
 /// The preconditioner's by-product is `D_a z`, and `J z` from it equals `J z` by FFT.
 #[test]
 fn preconditioner_images_are_the_square_block_products() {
