@@ -22,7 +22,7 @@
 //! on α only; at α = 1 every one is zero (the classical differences are exact on these
 //! functions at those points).
 
-use crate::toeplitz::{TriangularToeplitz, Workspace};
+use crate::toeplitz::TriangularToeplitz;
 use crate::weights::grunwald_letnikov;
 
 /// The role of a corrected operator, which fixes the functions it is made exact on.
@@ -140,8 +140,7 @@ fn convolve(w: &[f64], x: &[f64]) -> Vec<f64> {
     if len <= DIRECT_SUMS_UP_TO + 1 {
         return (0..len).map(direct).collect();
     }
-    let toeplitz = TriangularToeplitz::new(&w[..len]);
-    let mut workspace = Workspace::new(&toeplitz);
+    let (toeplitz, mut workspace) = TriangularToeplitz::with_workspace(&w[..len]);
     let mut y = vec![0.0; len];
     toeplitz.mul(false, &mut workspace, x, &mut y);
     for (m, y) in y.iter_mut().enumerate().take(DIRECT_SUMS_UP_TO + 1) {

@@ -63,8 +63,7 @@ impl FftOperator {
         for (c, w) in column.iter_mut().zip(op.weights()) {
             *c = *w;
         }
-        let toeplitz = TriangularToeplitz::new(&column);
-        let ws = Workspace::new(&toeplitz);
+        let (toeplitz, ws) = TriangularToeplitz::with_workspace(&column);
         FftOperator {
             side: op.side(),
             n,
@@ -81,10 +80,10 @@ impl FftOperator {
         self.n
     }
 
-    /// The Toeplitz matrix of the weights, whose plans other matrices can share
-    /// ([`TriangularToeplitz::with_same_plans`]).
-    pub(crate) fn toeplitz(&self) -> &TriangularToeplitz {
-        &self.toeplitz
+    /// A Toeplitz matrix of the first column `column` sharing this operator's plans and
+    /// workspace ([`TriangularToeplitz::with_same_plans`]).
+    pub(crate) fn with_same_plans(&mut self, column: &[f64]) -> TriangularToeplitz {
+        self.toeplitz.with_same_plans(column, &mut self.ws)
     }
 
     /// The buffers of the products, to share with other matrices of the same FFT length.
@@ -185,10 +184,10 @@ impl FftOperator {
         mut out: impl FnMut(usize, f64),
     ) {
         let (n, s, alpha) = (self.n, self.scale, self.alpha);
-        let toeplitz = &self.toeplitz;
+        let (toeplitz, ws) = (&self.toeplitz, &mut self.ws);
         let (t, g) = self.differences.get_or_insert_with(|| {
             let g = grunwald_letnikov_inverse(1.0 - alpha, n + 1);
-            (toeplitz.with_same_plans(&g), g)
+            (toeplitz.with_same_plans(&g, ws), g)
         });
         match self.side {
             // Rows 1..=N of T Q.

@@ -195,7 +195,10 @@ pub struct Workspace {
 impl Workspace {
     /// Buffers for `matrix` (and for any matrix of the same FFT length).
     pub fn new(matrix: &TriangularToeplitz) -> Self {
-        let plan = &matrix.plan;
+        Self::for_plan(&matrix.plan)
+    }
+
+    fn for_plan(plan: &Plan) -> Self {
         let k = plan.len();
         Workspace {
             packed: vec![Complex::new(0.0, 0.0); k],
@@ -241,37 +244,41 @@ pub fn fft_len(m: usize) -> usize {
 impl TriangularToeplitz {
     /// The lower-triangular Toeplitz matrix of order `column.len()` with first column `column`.
     pub fn new(column: &[f64]) -> Self {
-        Self::with_fft_len(column, fft_len(column.len()))
+        Self::with_workspace(column).0
     }
 
-    /// The same, padded to at least a given FFT length (so that several matrices can share a
-    /// [`Workspace`]); the length used is [`fft_len`] of `max(len/2, column.len())`.
-    pub fn with_fft_len(column: &[f64], len: usize) -> Self {
-        let len = fft_len(column.len().max(len.div_ceil(2)));
-        Self::with_plan(column, Arc::new(Plan::new(len / 2)))
+    /// [`new`](Self::new), and the [`Workspace`] its spectrum was computed in, for its
+    /// products: a workspace of a long matrix is hundreds of megabytes, which a second one
+    /// would fault in and clear again.
+    pub fn with_workspace(column: &[f64]) -> (Self, Workspace) {
+        let plan = Plan::new(fft_len(column.len()) / 2);
+        let mut ws = Workspace::for_plan(&plan);
+        let matrix = Self::with_plan(column, Arc::new(plan), &mut ws);
+        (matrix, ws)
     }
 
     /// Another matrix of the same FFT length, sharing this one's FFT plan (its twiddle
-    /// tables) and [`Workspace`]s.
+    /// tables) and [`Workspace`]s; its spectrum is computed in `ws`, one of those.
     ///
     /// # Panics
     ///
-    /// If `column` is longer than half the FFT length (an internal misuse, never user input).
-    pub fn with_same_plans(&self, column: &[f64]) -> Self {
+    /// If `column` is longer than half the FFT length, or `ws` is of another length (an
+    /// internal misuse, never user input).
+    pub fn with_same_plans(&self, column: &[f64], ws: &mut Workspace) -> Self {
         assert!(2 * column.len() <= self.fft_len(), "column too long");
-        Self::with_plan(column, self.plan.clone())
+        Self::with_plan(column, self.plan.clone(), ws)
     }
 
-    fn with_plan(column: &[f64], plan: Arc<Plan>) -> Self {
+    fn with_plan(column: &[f64], plan: Arc<Plan>, ws: &mut Workspace) -> Self {
         let k = plan.len();
-        let mut matrix = TriangularToeplitz {
+        let matrix = TriangularToeplitz {
             order: column.len(),
             spectrum: Vec::new(),
             plan,
         };
-        let mut ws = Workspace::new(&matrix);
-        matrix.load(&mut ws, |r| column[r]);
-        matrix.transform_forward(&mut ws);
+        matrix.load(ws, |r| column[r]);
+        matrix.transform_forward(ws);
+        let mut matrix = matrix;
         let inv_len = 1.0 / (2 * k) as f64;
         let mut spectrum = vec![Complex::new(0.0, 0.0); k + 1];
         let (z, plan) = (&ws.spectrum, &matrix.plan);
@@ -526,11 +533,10 @@ mod tests {
         let m = 40;
         let c: Vec<f64> = (0..m).map(|r| 1.0 / (1.0 + r as f64)).collect();
         let x: Vec<f64> = (0..m).map(|r| ((r * 3) as f64).sin()).collect();
-        let host = TriangularToeplitz::new(&vec![1.0; m + 7]);
-        let shared = host.with_same_plans(&c);
+        let (host, mut ws) = TriangularToeplitz::with_workspace(&vec![1.0; m + 7]);
+        let shared = host.with_same_plans(&c, &mut ws);
         assert_eq!(shared.fft_len(), host.fft_len());
         let alone = TriangularToeplitz::new(&c);
-        let mut ws = Workspace::new(&host);
         let mut ws_alone = Workspace::new(&alone);
         for transpose in [false, true] {
             let (mut a, mut b) = (vec![0.0; m], vec![0.0; m]);

@@ -108,12 +108,12 @@ pub(super) fn extra_row(side: Side, n: usize) -> usize {
 impl<'a, const D: usize> Preconditioner<'a, D> {
     /// For `velocity = Δ^α_σ` on `N ≥ 2` steps; `fft` is its FFT form, whose plans `G` shares
     /// (order `N + 1 ≥ N − 1`), so that both use one workspace and one set of twiddle tables.
-    pub(super) fn new(velocity: &'a Operator, fft: &FftOperator) -> Self {
+    pub(super) fn new(velocity: &'a Operator, fft: &mut FftOperator) -> Self {
         let n = fft.n();
         // g_0..g_{N−1}: G (order N − 1) uses the first N − 1, D_a⁻ᵀ e also g_{N−1}.
         let g_all = grunwald_letnikov_inverse(velocity.alpha(), n);
         let side = velocity.side();
-        let inverse = fft.toeplitz().with_same_plans(&g_all[..n - 1]);
+        let inverse = fft.with_same_plans(&g_all[..n - 1]);
         let extra_solved = match side {
             Side::Backward => (0..n - 1).map(|p| -g_all[n - 1 - p]).collect(),
             Side::Forward => (0..n - 1).map(|p| -g_all[p + 1]).collect(),
