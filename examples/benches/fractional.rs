@@ -16,6 +16,8 @@
 //! `VAREMBED_BENCH_BASELINE=<another build of this bench>` the same probes run that binary too,
 //! alternately with this one, so that two builds of the library are compared in one run under
 //! the same load. Each probe runs [`PROBE_REPEATS`] times; the table gives the fastest time.
+//! The corrected Gauss-GLE− (its direct scheme, on the fast path) is probed too, by this build
+//! only (`VAREMBED_BENCH_PROBE_CORRECTED=1`, which a build from before it ignores).
 //!
 //! `cargo bench -p varembed-examples --bench fractional -- --warm-up-time 1 --measurement-time 3`;
 //! set `VAREMBED_BENCH_MILLION=1` to include N = 10⁶ in the criterion timings, and
@@ -113,12 +115,12 @@ fn probe(n: usize) -> ! {
         name: "fast",
         solver: FractionalSolver::Fast,
         tolerance: DEFAULT_TOLERANCE,
-        corrected: false,
+        corrected: std::env::var_os("VAREMBED_BENCH_PROBE_CORRECTED").is_some(),
     };
     let p = problem(n, fast);
     let start = Instant::now();
     let sol = p
-        .solve_bvp(Scheme::Variational, 0.0, 1.0)
+        .solve_bvp(fast.scheme(), 0.0, 1.0)
         .expect("the pendulum BVP converges");
     let seconds = start.elapsed().as_secs_f64();
     let status = std::fs::read_to_string("/proc/self/status").expect("/proc/self/status");
@@ -147,12 +149,15 @@ struct ProbeResult {
     q: String,
 }
 
-/// Runs `binary` as a probe of `n` steps and reads its line.
-fn run_probe(binary: &std::path::Path, n: usize) -> ProbeResult {
-    let output = Command::new(binary)
-        .env("VAREMBED_BENCH_PROBE", n.to_string())
-        .output()
-        .expect("the probe process starts");
+/// Runs `binary` as a probe of `n` steps (of the corrected scheme if `corrected`) and reads
+/// its line.
+fn run_probe(binary: &std::path::Path, n: usize, corrected: bool) -> ProbeResult {
+    let mut command = Command::new(binary);
+    command.env("VAREMBED_BENCH_PROBE", n.to_string());
+    if corrected {
+        command.env("VAREMBED_BENCH_PROBE_CORRECTED", "1");
+    }
+    let output = command.output().expect("the probe process starts");
     let stdout = String::from_utf8_lossy(&output.stdout);
     let line = stdout
         .lines()
@@ -180,19 +185,20 @@ fn scaling_table() {
         sizes.push(10_000_000);
     }
     let this = std::env::current_exe().expect("the bench binary's path");
-    let mut builds = vec![("this build", this)];
+    let mut builds = vec![("this build", this.clone(), false)];
     if let Some(baseline) = std::env::var_os("VAREMBED_BENCH_BASELINE") {
-        builds.push(("baseline", baseline.into()));
+        builds.push(("baseline", baseline.into(), false));
     }
+    builds.push(("corrected", this, true));
     eprintln!("scaling table (fastest of {PROBE_REPEATS} solves, one process per solve):");
     for n in sizes {
         let mut results: Vec<Vec<ProbeResult>> = builds.iter().map(|_| Vec::new()).collect();
         for _ in 0..PROBE_REPEATS {
             for (build, results) in builds.iter().zip(results.iter_mut()) {
-                results.push(run_probe(&build.1, n));
+                results.push(run_probe(&build.1, n, build.2));
             }
         }
-        for ((name, _), results) in builds.iter().zip(&results) {
+        for ((name, _, _), results) in builds.iter().zip(&results) {
             let fastest = results
                 .iter()
                 .map(|r| r.seconds)
