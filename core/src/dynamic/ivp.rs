@@ -55,6 +55,16 @@ pub struct DynRun {
     pub linear_solve: Option<LinearSolve>,
 }
 
+/// How a run gets its second node `Q_1`.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum SecondNode<'a> {
+    /// From the initial velocity, by a start.
+    Start(Start),
+    /// Given: the run from its first two nodes, whose initial data are `q0` and the velocity
+    /// `(Q_1 − Q_0)/h` (what the const-generic path checks and warns at).
+    Given(&'a [f64]),
+}
+
 /// The parts of a run-time-dimension problem an initial value problem reads.
 pub(crate) struct DynIvp<'a, L: ?Sized> {
     pub(crate) lagrangian: &'a L,
@@ -73,22 +83,33 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         step_kind(&self.embedding, scheme)
     }
 
-    /// The run of `scheme` from `q(a) = q0`, `q̇(a) = v0` with `start` for `Q_1`, each node
-    /// `Q_0, …, Q_N` handed to `observe` in order (as [`DynNode`] says), with its velocity,
-    /// momentum and energy when `values` (empty slices and `None` otherwise, for a caller that
-    /// reads only the positions).
+    /// The run of `scheme` from `q(a) = q0`, `q̇(a) = v0` with `second` for `Q_1` (`v0` is
+    /// not read when `Q_1` is given), each node `Q_0, …, Q_N` handed to `observe` in order (as
+    /// [`DynNode`] says), with its velocity, momentum and energy when `values` (empty slices
+    /// and `None` otherwise, for a caller that reads only the positions).
     pub(crate) fn run(
         &self,
         scheme: Scheme,
         (q0, v0): (&[f64], &[f64]),
-        (start, values): (Start, bool),
+        (second, values): (SecondNode<'_>, bool),
         mut observe: impl FnMut(DynNode<'_>),
     ) -> Result<DynRun> {
         if let EmbeddingKind::GaussLegendre { stages } = self.embedding.kind() {
-            // A one-step map: no start, and the momenta carried from node to node.
-            return self.run_gauss((scheme, stages), (q0, v0), values, observe);
+            return match second {
+                // A one-step map: no start, and the momenta carried from node to node.
+                SecondNode::Start(_) => self.run_gauss((scheme, stages), (q0, v0), values, observe),
+                SecondNode::Given(_) => Err(Error::Unsupported {
+                    operation: "a three-point recurrence from two nodes",
+                    embedding: self.embedding.to_string(),
+                }),
+            };
         }
         let kind = self.step_kind(scheme)?;
+        let from_nodes = match second {
+            SecondNode::Given(q1) => Some(self.velocity_from_nodes(q0, q1)?),
+            SecondNode::Start(_) => None,
+        };
+        let v0 = from_nodes.as_deref().unwrap_or(v0);
         let (mut vv, hessian, sawtooth) = self.check_initial_data(q0, v0)?;
         let (grid, h) = (self.grid, self.grid.h());
         // The resolution at the initial data, while `∂²L/∂v²` there is factorised; the
@@ -115,13 +136,17 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             }
         };
         let mut pi = vec![0.0; d];
-        let mut b = match start {
-            Start::Legendre => {
-                // Not needed by this start: freed before the run, whose memory is O(d b).
+        let mut b = match second {
+            SecondNode::Start(Start::SecondOrder) => self.second_order_start(q0, v0, vv)?,
+            // Not needed by these: freed before the run, whose memory is O(d b).
+            SecondNode::Start(Start::Legendre) => {
                 drop(vv);
                 self.legendre_start(kind, q0, v0, &mut pi)?
             }
-            Start::SecondOrder => self.second_order_start(q0, v0, vv)?,
+            SecondNode::Given(q1) => {
+                drop(vv);
+                q1.to_vec()
+            }
         };
         let mut a = q0.to_vec();
         if grid.n() == 1 {
@@ -257,6 +282,21 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
                 at: Location::Step(1),
             })
         }
+    }
+
+    /// `(Q_1 − Q_0)/h` of given first nodes, after checking that both have the model's
+    /// dimension and that `Q_1` is finite (`Q_0` is checked with the initial data).
+    fn velocity_from_nodes(&self, q0: &[f64], q1: &[f64]) -> Result<Vec<f64>> {
+        let d = self.lagrangian.dimension();
+        crate::error::check_len("q0", d, q0.len())?;
+        crate::error::check_len("q1", d, q1.len())?;
+        if let Some(i) = q1.iter().position(|c| !c.is_finite()) {
+            return Err(Error::NonFiniteInput {
+                what: format!("q1[{i}] = {}", q1[i]),
+            });
+        }
+        let inv_h = 1.0 / self.grid.h();
+        Ok(q0.iter().zip(q1).map(|(a, b)| (b - a) * inv_h).collect())
     }
 
     /// The checks before any step: the model at its dimension, finite constants, the initial

@@ -2,6 +2,7 @@
 //! solver.
 
 use super::Problem;
+use crate::dynamic::ivp::SecondNode;
 use crate::dynamic::problem::DynProblem;
 use crate::embedding::{EmbeddingKind, Scheme};
 use crate::error::Result;
@@ -20,13 +21,14 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// The run of a model that is also a [`DynLagrangian`](crate::DynLagrangian) (see
     /// [`Lagrangian::run_time`]) with [`RUN_TIME_FROM`] or more degrees of freedom, by the
     /// run-time engine with this problem's options; `None` for any other run, which stays on
-    /// the const-generic path (a fractional embedding, and a model whose run-time form has
-    /// another dimension than `D`).
+    /// the const-generic path (a fractional embedding, a model whose run-time form has
+    /// another dimension than `D`, and a Gauss–Legendre run from given nodes, which has none).
+    /// `second` is how `Q_1` is had: by a start from `v0`, or given (`v0` then unread).
     fn on_run_time_engine(
         &self,
         scheme: Scheme,
         (q0, v0): (&Vector<D>, &Vector<D>),
-        start: Start,
+        second: SecondNode<'_>,
     ) -> Option<Result<Solution<D>>> {
         if D < RUN_TIME_FROM {
             return None;
@@ -47,9 +49,16 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         let problem = DynProblem::new(model, *self.discretisation.grid(), embedding)
             .with_newton(self.options.newton)
             .with_blow_up_guard(self.options.blow_up_guard)
-            .with_resolution_check(self.options.resolution_check)
-            .with_start(start);
-        let run = problem.solve_ivp(scheme, q0.as_slice(), v0.as_slice());
+            .with_resolution_check(self.options.resolution_check);
+        let run = match second {
+            SecondNode::Start(start) => {
+                problem
+                    .with_start(start)
+                    .solve_ivp(scheme, q0.as_slice(), v0.as_slice())
+            }
+            SecondNode::Given(_) if embedding.is_one_step() => return None,
+            SecondNode::Given(q1) => problem.solve_ivp_from_nodes(scheme, q0.as_slice(), q1),
+        };
         Some(run.map(|solution| solution.into_nodes()))
     }
 
@@ -130,7 +139,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         start: Start,
     ) -> Result<Solution<D>> {
         let (q0, v0) = (q0.into_vector(), v0.into_vector());
-        if let Some(run) = self.on_run_time_engine(scheme, (&q0, &v0), start) {
+        if let Some(run) = self.on_run_time_engine(scheme, (&q0, &v0), SecondNode::Start(start)) {
             return run;
         }
         self.ivp().solve(scheme, q0, v0, start)
@@ -189,6 +198,11 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
 
     /// Runs the recurrence of `scheme` from given first nodes `Q_0`, `Q_1`.
     ///
+    /// A model that is also a [`DynLagrangian`](crate::DynLagrangian) with
+    /// [`RUN_TIME_FROM`](crate::RUN_TIME_FROM) or more degrees of freedom is run by the
+    /// run-time-dimension engine, as in [`solve_ivp`](Self::solve_ivp)
+    /// ([`DynProblem::solve_ivp_from_nodes`](crate::DynProblem::solve_ivp_from_nodes)).
+    ///
     /// # Example
     ///
     /// ```
@@ -206,7 +220,12 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         q0: impl IntoVector<D>,
         q1: impl IntoVector<D>,
     ) -> Result<Solution<D>> {
-        self.ivp()
-            .solve_from_nodes(scheme, q0.into_vector(), q1.into_vector())
+        let (q0, q1) = (q0.into_vector(), q1.into_vector());
+        let given = SecondNode::Given(q1.as_slice());
+        // v0 is not read when Q_1 is given.
+        if let Some(run) = self.on_run_time_engine(scheme, (&q0, &Vector::<D>::zeros()), given) {
+            return run;
+        }
+        self.ivp().solve_from_nodes(scheme, q0, q1)
     }
 }

@@ -104,9 +104,58 @@ fn a_ring_of_256_runs_through_problem_on_a_two_megabyte_stack() {
                 for (k, node) in run.q.iter().enumerate() {
                     assert_eq!(node.as_slice(), reference.node(k), "{embedding} {scheme:?}");
                 }
+                // From given first nodes: the run-time engine's run from the same nodes.
+                let x1 = run.q[1] + Vector::<RING>::from_element(1e-3);
+                let from_nodes = Problem::new(&model, grid, embedding)
+                    .solve_ivp_from_nodes(scheme, x0, x1)
+                    .unwrap();
+                let reference = DynProblem::new(&model, grid, embedding)
+                    .solve_ivp_from_nodes(scheme, &q0, x1.as_slice())
+                    .unwrap();
+                assert_eq!(from_nodes.q[1], x1);
+                for (k, node) in from_nodes.q.iter().enumerate() {
+                    assert_eq!(node.as_slice(), reference.node(k), "{embedding} {scheme:?}");
+                }
             }
         }
+        // Gauss–Legendre is a one-step map of (q, p): no run from two nodes on either path.
+        let gauss = Embedding::gauss_legendre(2).unwrap();
+        let x0 = Vector::<RING>::from_column_slice(&q0);
+        let routed =
+            Problem::new(&model, grid, gauss).solve_ivp_from_nodes(Scheme::Variational, x0, x0);
+        let run_time = DynProblem::new(&model, grid, gauss).solve_ivp_from_nodes(
+            Scheme::Variational,
+            &q0,
+            &q0,
+        );
+        for result in [routed.map(|_| ()), run_time.map(|_| ())] {
+            assert!(
+                matches!(result, Err(Error::Unsupported { .. })),
+                "{result:?}"
+            );
+        }
     });
+}
+
+/// Given first nodes of the wrong length or not finite are errors that name `q1`.
+#[test]
+fn bad_first_nodes_are_named() {
+    let model = SmallRing { c: 4.0 };
+    let grid = Grid::new(0.0, 1.0, 10).unwrap();
+    let problem = DynProblem::new(&model, grid, Embedding::midpoint());
+    let q0 = vec![0.1; SMALL];
+    let short = problem.solve_ivp_from_nodes(Scheme::Variational, &q0, &q0[1..]);
+    assert!(
+        matches!(short, Err(Error::WrongLength { what: "q1", expected: SMALL, found }) if found == SMALL - 1),
+        "{short:?}"
+    );
+    let mut q1 = q0.clone();
+    q1[5] = f64::NAN;
+    let message = problem
+        .solve_ivp_from_nodes(Scheme::Variational, &q0, &q1)
+        .unwrap_err()
+        .to_string();
+    assert!(message.contains("q1[5]"), "{message}");
 }
 
 #[test]
@@ -134,6 +183,15 @@ fn at_the_threshold_problem_gives_the_const_generic_nodes() {
                     .unwrap();
                 let gap = relative_gap(&routed, &reference);
                 assert!(gap <= 1e-12, "{embedding} {scheme:?}: {gap:e}");
+                let x1 = routed.q[1] + Vector::<SMALL>::from_element(1e-3);
+                let routed = Problem::new(&model, grid, embedding)
+                    .solve_ivp_from_nodes(scheme, x0, x1)
+                    .unwrap();
+                let reference = Problem::new(&Dense(&model), grid, embedding)
+                    .solve_ivp_from_nodes(scheme, x0, x1)
+                    .unwrap();
+                let gap = relative_gap(&routed, &reference);
+                assert!(gap <= 1e-12, "from nodes, {embedding} {scheme:?}: {gap:e}");
             }
         }
     });
