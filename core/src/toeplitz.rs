@@ -23,15 +23,16 @@
 //! own twiddles (48 bytes per `K` with the real passes' tables, measured: 475 MB of plans at
 //! `K = 10⁷`). The pass's own twiddles `e^{−πi m/K}`, `m ≤ K/2`, are 8 bytes per `K`.
 //!
-//! **Two halves, two cores.** `K` is even, and each complex FFT of length `K` is taken as two
-//! of length `K/2` (one radix-2 step of decimation in time by hand): `Z_m = E_{m'} ± W^{m'}
-//! O_{m'}`, `m' = m mod K/2`, `W = e^{−2πi/K}`, with `E`, `O` the transforms of the even- and
-//! odd-indexed entries. The loading writes the entries straight into the two halves, the pass
-//! and the reading combine `E` and `O` as they go, so the step costs no sweep over memory of
-//! its own, and the two half-length FFTs run on two threads (rayon's `join`, with the
-//! `parallel` feature, from [`PARALLEL_FROM`] on): the FFTs are most of a large fractional
-//! solve's time. The twiddles `W^j` are those of the pass (`W^j = e^{−πi 2j/K}`), so the step
-//! keeps no table of its own, and the half-length plan's tables are half as long.
+//! **Two halves, two cores.** From `K/2 =` [`SPLIT_FROM`] on (with the `parallel` feature),
+//! each complex FFT of length `K` is taken as two of length `K/2` (one radix-2 step of
+//! decimation in time by hand): `Z_m = E_{m'} ± W^{m'} O_{m'}`, `m' = m mod K/2`,
+//! `W = e^{−2πi/K}`, with `E`, `O` the transforms of the even- and odd-indexed entries. The
+//! loading writes the entries straight into the two halves, the pass and the reading combine
+//! `E` and `O` as they go, so the step costs no sweep over memory of its own, and the two
+//! half-length FFTs run on two threads (rayon's `join`): the FFTs are most of a large
+//! fractional solve's time. The twiddles `W^j` are those of the pass (`W^j = e^{−πi 2j/K}`),
+//! so the step keeps no table of its own, and the half-length plan's tables are half as long.
+//! `K` is always even, so that the length does not depend on the choice.
 //!
 //! ## Reference
 //!
@@ -43,31 +44,47 @@ use rustfft::num_complex::Complex;
 use rustfft::{Fft, FftPlanner};
 use std::sync::Arc;
 
-/// The complex FFT of length `K/2` (the two halves of one of length `K`) and the twiddles
-/// `e^{−πi m/K}`, `m = 0..=K/2`, of the pass between real and half-length complex transforms.
+/// The complex FFT of length `K` (whole), or of length `K/2` for the two halves of one of
+/// length `K` (split, from [`SPLIT_FROM`] on), and the twiddles `e^{−πi m/K}`, `m = 0..=K/2`,
+/// of the pass between real and half-length complex transforms.
 struct Plan {
-    half: Arc<dyn Fft<f64>>,
+    fft: Arc<dyn Fft<f64>>,
+    /// Whether `fft` is the half-length transform of the two halves.
+    split: bool,
     /// `K/2`.
     h: usize,
     twiddles: Vec<Complex<f64>>,
 }
 
-/// The half length from which the two half-length FFTs run on two threads: below it a
-/// transform takes a few microseconds, the cost of handing one to another thread.
-pub const PARALLEL_FROM: usize = 1 << 14;
+/// The half length `K/2` from which each transform is taken as two halves on two threads
+/// (with the `parallel` feature; one thread has no use for the halves). Below it the halves
+/// gained nothing and their combination cost up to a tenth of a solve (measured at
+/// `K/2 = 51 200`, the corrected fractional solve at `N = 10⁵`), at `K/2 ≈ 1.5·10⁵` the two
+/// ran even, at `K/2 ≈ 5·10⁵` the halves were clearly faster (BENCHMARKS.md).
+pub const SPLIT_FROM: usize = 1 << 17;
 
 impl Plan {
     fn new(k: usize) -> Self {
-        let half = FftPlanner::<f64>::new().plan_fft_forward(k / 2);
+        let split = cfg!(feature = "parallel") && k / 2 >= SPLIT_FROM;
+        let len = if split { k / 2 } else { k };
+        let fft = FftPlanner::<f64>::new().plan_fft_forward(len);
         let step = -std::f64::consts::PI / k as f64;
         let twiddles = (0..=k / 2)
             .map(|m| Complex::from_polar(1.0, step * m as f64))
             .collect();
         Plan {
-            half,
+            fft,
+            split,
             h: k / 2,
             twiddles,
         }
+    }
+
+    /// The scratch length of [`forward`](Self::forward): one per half-length transform, since
+    /// the two run at once.
+    fn scratch_len(&self) -> usize {
+        let one = self.fft.get_outofplace_scratch_len();
+        if self.split { 2 * one } else { one }
     }
 
     /// `K`, the length of the complex transform.
@@ -86,46 +103,59 @@ impl Plan {
         }
     }
 
-    /// Where entry `j` of a length-`K` input sits in the halves: even `j` in the first, odd in
-    /// the second.
+    /// Where entry `j` of a length-`K` input sits: in place when whole; when split, even `j`
+    /// in the first half and odd in the second.
     #[inline]
     fn slot(&self, j: usize) -> usize {
-        (j >> 1) + (j & 1) * self.h
+        if self.split {
+            (j >> 1) + (j & 1) * self.h
+        } else {
+            j
+        }
     }
 
-    /// The forward FFT of length `K` of `input` (in halves, [`slot`](Self::slot)), as the two
-    /// half-length transforms `E`, `O` in the halves of `output` ([`entry`](Self::entry) reads
-    /// it); `input` is destroyed.
+    /// The forward FFT of length `K` of `input` (laid out by [`slot`](Self::slot)) into
+    /// `output`, whole or, when split, as the two half-length transforms `E`, `O` in its
+    /// halves ([`entry`](Self::entry) reads either); `input` is destroyed.
     fn forward(
         &self,
         input: &mut [Complex<f64>],
         output: &mut [Complex<f64>],
         scratch: &mut [Complex<f64>],
     ) {
+        if !self.split {
+            self.fft
+                .process_outofplace_with_scratch(input, output, scratch);
+            return;
+        }
         let h = self.h;
         let (input_e, input_o) = input.split_at_mut(h);
         let (output_e, output_o) = output.split_at_mut(h);
         let (scratch_e, scratch_o) = scratch.split_at_mut(scratch.len() / 2);
-        let mut even = || {
-            self.half
+        let even = || {
+            self.fft
                 .process_outofplace_with_scratch(input_e, output_e, scratch_e)
         };
-        let mut odd = || {
-            self.half
+        let odd = || {
+            self.fft
                 .process_outofplace_with_scratch(input_o, output_o, scratch_o)
         };
         #[cfg(feature = "parallel")]
-        if h >= PARALLEL_FROM {
-            rayon::join(even, odd);
-            return;
+        rayon::join(even, odd);
+        #[cfg(not(feature = "parallel"))]
+        {
+            let (mut even, mut odd) = (even, odd);
+            even();
+            odd();
         }
-        even();
-        odd();
     }
 
-    /// Entry `m < K` of the length-`K` transform held as its halves `E`, `O` in `z`.
+    /// Entry `m < K` of the length-`K` transform in `z` (its halves `E`, `O` when split).
     #[inline]
     fn entry(&self, z: &[Complex<f64>], m: usize) -> Complex<f64> {
+        if !self.split {
+            return z[m];
+        }
         let h = self.h;
         let j = if m < h { m } else { m - h };
         let t = self.w(j) * z[h + j];
@@ -133,9 +163,9 @@ impl Plan {
     }
 
     /// `pair(m, Z_m, Z_{K−m})` for `m = 1..=K/2`, in some order, of the length-`K` transform
-    /// held as its halves in `z`. The entries `m`, `K/2 + m`, `K/2 − m`, `K − m` come from
-    /// `E` and `O` at `m` and `K/2 − m` with one twiddle (`W^{K/2−m} = −conj W^m`), so each
-    /// quadruple is read once.
+    /// in `z`. When split, the entries `m`, `K/2 + m`, `K/2 − m`, `K − m` come from `E` and `O`
+    /// at `m` and `K/2 − m` with one twiddle (`W^{K/2−m} = −conj W^m`), so each quadruple is
+    /// read once.
     #[inline]
     fn for_each_pair(
         &self,
@@ -143,6 +173,12 @@ impl Plan {
         mut pair: impl FnMut(usize, Complex<f64>, Complex<f64>),
     ) {
         let h = self.h;
+        if !self.split {
+            for m in 1..=h {
+                pair(m, z[m], z[2 * h - m]);
+            }
+            return;
+        }
         let (e, o) = z.split_at(h);
         for m in 1..h.div_ceil(2) {
             let w = self.twiddles[2 * m];
@@ -203,8 +239,7 @@ impl Workspace {
         Workspace {
             packed: vec![Complex::new(0.0, 0.0); k],
             spectrum: vec![Complex::new(0.0, 0.0); k],
-            // One scratch per half-length transform, since the two may run at once.
-            scratch: vec![Complex::new(0.0, 0.0); 2 * plan.half.get_outofplace_scratch_len()],
+            scratch: vec![Complex::new(0.0, 0.0); plan.scratch_len()],
         }
     }
 }
@@ -328,8 +363,14 @@ impl TriangularToeplitz {
     /// reads its input from the vector it writes the output to needs no buffer of its own.
     pub fn load(&self, ws: &mut Workspace, mut input: impl FnMut(usize) -> f64) {
         let m = self.order;
-        let (first, second) = ws.packed.split_at_mut(self.plan.h);
         let mut value = |k: usize| if k < m { input(k) } else { 0.0 };
+        if !self.plan.split {
+            for (j, z) in ws.packed.iter_mut().enumerate() {
+                *z = Complex::new(value(2 * j), value(2 * j + 1));
+            }
+            return;
+        }
+        let (first, second) = ws.packed.split_at_mut(self.plan.h);
         // z_{2i} = x_{4i} + i x_{4i+1} into the first half, z_{2i+1} into the second.
         for (i, (a, b)) in first.iter_mut().zip(second.iter_mut()).enumerate() {
             let x = 4 * i;
@@ -379,7 +420,11 @@ impl TriangularToeplitz {
         for j in 0..m.div_ceil(2) {
             // The packed result is conj(FFT(conj W)): y_{2j} = Re, y_{2j+1} = −Im. (j < K/2,
             // since m ≤ K.)
-            let z = e[j] + plan.w(j) * o[j];
+            let z = if plan.split {
+                e[j] + plan.w(j) * o[j]
+            } else {
+                z[j]
+            };
             out(2 * j, z.re);
             if 2 * j + 1 < m {
                 out(2 * j + 1, -z.im);
@@ -499,15 +544,15 @@ mod tests {
         }
     }
 
-    /// Past [`PARALLEL_FROM`], where the two half-length transforms may run on two threads,
+    /// Past [`SPLIT_FROM`], where the two half-length transforms may run on two threads,
     /// the products still equal the sums, checked at rows spread over the whole range.
     #[test]
     fn long_products_match_the_sums() {
-        let m = 3 * PARALLEL_FROM;
+        let m = 3 * SPLIT_FROM;
         let c: Vec<f64> = (0..m).map(|r| 1.0 / (1.0 + r as f64).powf(1.7)).collect();
         let x: Vec<f64> = (0..m).map(|r| ((r * 5 + 1) as f64).cos()).collect();
         let t = TriangularToeplitz::new(&c);
-        assert!(t.fft_len() / 4 >= PARALLEL_FROM);
+        assert!(t.fft_len() / 4 >= SPLIT_FROM);
         let mut ws = Workspace::new(&t);
         for transpose in [false, true] {
             let mut y = vec![0.0; m];
