@@ -13,7 +13,10 @@
 //!   recurrence.
 //! - [`gmres`]: right-preconditioned, `A M y = b`, `x = M y`; Arnoldi with modified
 //!   Gram–Schmidt and Givens rotations, restarted every `restart` iterations. It needs only a
-//!   nonsingular `A`.
+//!   nonsingular `A`. It too applies `A` to preconditioned vectors only inside a cycle, with
+//!   their images and the vector preconditioned
+//!   ([`KrylovSystem::apply_preconditioned`]), and takes the first cycle's residual as `b`
+//!   (from `x = 0`) without a product.
 //!
 //! ## Reference
 //!
@@ -221,14 +224,18 @@ pub fn gmres(
     let mut r = b.to_vec();
     let mut w = vec![0.0; n];
     let mut z = vec![0.0; n];
+    let mut z_image = vec![0.0; system.image_len()];
     let mut basis: Vec<Vec<f64>> = Vec::with_capacity(m + 1);
     let mut iterations = 0;
     let mut relative = 1.0;
+    let mut x_is_zero = true;
     while iterations < options.max_iterations {
-        // r = b − A x
-        system.apply(x, &mut w);
-        for i in 0..n {
-            r[i] = b[i] - w[i];
+        // r = b − A x (b itself in the first cycle, from x = 0: no product).
+        if !x_is_zero {
+            system.apply(x, &mut w);
+            for i in 0..n {
+                r[i] = b[i] - w[i];
+            }
         }
         let beta = norm(&r);
         relative = beta / b_norm;
@@ -250,8 +257,8 @@ pub fn gmres(
         g[0] = beta;
         let mut inner = 0;
         while inner < m && iterations < options.max_iterations {
-            system.precondition(&basis[inner], &mut z);
-            system.apply(&z, &mut w);
+            system.precondition_with_image(&basis[inner], &mut z, &mut z_image);
+            system.apply_preconditioned(&z, &z_image, &basis[inner], 1.0, &mut w);
             iterations += 1;
             let mut h = vec![0.0; inner + 2];
             for (j, v) in basis.iter().enumerate() {
@@ -311,6 +318,7 @@ pub fn gmres(
         for i in 0..n {
             x[i] += z[i];
         }
+        x_is_zero = false;
         if !x.iter().all(|v| v.is_finite()) {
             break;
         }
