@@ -201,6 +201,9 @@ pub enum LinearSolve {
     SparseLuAfterMinres {
         /// Why MINRES gave way.
         reason: String,
+        /// The products with the Jacobian MINRES made before it gave way (the cost of the
+        /// attempt, on top of the sparse LU's).
+        products: usize,
     },
 }
 

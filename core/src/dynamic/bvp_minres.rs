@@ -108,7 +108,10 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
         Ok(
             match minres_newton(rows, &self.newton, guess, self.posedness_check)? {
                 Ok((converged, products)) => (converged, LinearSolve::Minres { products }),
-                Err(reason) => (by_lu()?, LinearSolve::SparseLuAfterMinres { reason }),
+                Err((reason, products)) => (
+                    by_lu()?,
+                    LinearSolve::SparseLuAfterMinres { reason, products },
+                ),
             },
         )
     }
@@ -209,14 +212,17 @@ impl KrylovSystem for Preconditioned<'_> {
     }
 }
 
+/// Why MINRES gave way, and the products with the Jacobian it had made by then.
+type GaveWay = (String, usize);
+
 /// `J x = b` by MINRES to the relative residual `tolerance`: the products made, or why it
-/// stopped short.
+/// stopped short and the products it made.
 fn solve(
     system: &mut Preconditioned<'_>,
     (b, x): (&[f64], &mut [f64]),
     tolerance: f64,
     work: &mut MinresWork,
-) -> std::result::Result<usize, String> {
+) -> std::result::Result<usize, GaveWay> {
     let options = KrylovOptions {
         tolerance,
         max_iterations: BUDGET,
@@ -225,16 +231,18 @@ fn solve(
     minres_in(system, b, x, &options, None, work)
         .map(|stats| stats.iterations)
         .map_err(|failure| {
-            format!(
+            let reason = format!(
                 "MINRES stopped at relative residual {:.1e} after {} products (asked {tolerance:.0e})",
                 failure.relative_residual(),
                 failure.iterations()
-            )
+            );
+            (reason, failure.iterations())
         })
 }
 
 /// Newton's method on the rows from `guess` with MINRES solves (module docs): the converged
-/// iterate and the products with the Jacobian, or the reason MINRES gave way. The errors of
+/// iterate and the products with the Jacobian, or the reason MINRES gave way and the
+/// products it had made. The errors of
 /// the problem itself (a non-finite evaluation, a Newton iteration that does not converge, a
 /// singular linearisation at the solution) are the sparse LU path's.
 fn minres_newton<L: DynLagrangian + ?Sized>(
@@ -242,7 +250,7 @@ fn minres_newton<L: DynLagrangian + ?Sized>(
     options: &NewtonOptions,
     guess: &[f64],
     posedness_check: bool,
-) -> Result<std::result::Result<(Converged, usize), String>> {
+) -> Result<std::result::Result<(Converged, usize), GaveWay>> {
     let (n, d) = (rows.grid.n(), rows.d);
     let unknowns = n.saturating_sub(1) * d;
     let mut q = guess.to_vec();
@@ -281,10 +289,11 @@ fn minres_newton<L: DynLagrangian + ?Sized>(
             Ok(t) => t,
             Err(u) => {
                 let (k, c) = (u / d + 1, u % d);
-                return Ok(Err(format!(
+                let reason = format!(
                     "the time-tridiagonal preconditioner is not positive definite at Q_{k}[{c}] \
                      (Newton iteration {iteration})"
-                )));
+                );
+                return Ok(Err((reason, products)));
             }
         };
         let mut system = Preconditioned {
@@ -308,16 +317,16 @@ fn minres_newton<L: DynLagrangian + ?Sized>(
                     &mut work,
                 ) {
                     Ok(used) => products += used,
-                    Err(reason) => {
+                    Err((reason, used)) => {
+                        products += used;
                         failed.get_or_insert(reason);
                         x.fill(f64::NAN);
                     }
                 }
             });
             if let Some(reason) = failed {
-                return Ok(Err(format!(
-                    "in the conditioning check at the solution: {reason}"
-                )));
+                let reason = format!("in the conditioning check at the solution: {reason}");
+                return Ok(Err((reason, products)));
             }
             let condition = condition_bound(j_norm, inverse, unknowns, correction);
             if condition >= NUMERICALLY_SINGULAR {
@@ -352,12 +361,14 @@ fn minres_newton<L: DynLagrangian + ?Sized>(
         previous_merit = Some(merit);
         match solve(&mut system, (&current.r, &mut delta), forcing, &mut work) {
             Ok(used) => products += used,
-            Err(reason) => return Ok(Err(format!("{reason} at Newton iteration {iteration}"))),
+            Err((reason, used)) => {
+                let reason = format!("{reason} at Newton iteration {iteration}");
+                return Ok(Err((reason, products + used)));
+            }
         }
         if !delta.iter().all(|c| c.is_finite()) {
-            return Ok(Err(format!(
-                "a non-finite MINRES direction at Newton iteration {iteration}"
-            )));
+            let reason = format!("a non-finite MINRES direction at Newton iteration {iteration}");
+            return Ok(Err((reason, products)));
         }
         correction = if res > 0.0 {
             max_norm(&delta) / res

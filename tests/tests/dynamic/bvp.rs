@@ -530,6 +530,53 @@ fn minres_gives_the_nodes_of_sparse_lu_for_every_variational_scheme() {
     }
 }
 
+/// Where the couplings the time-tridiagonal preconditioner leaves out are not small, MINRES
+/// exhausts its budget and gives way to sparse LU, and the report counts the products it spent
+/// (those its reason names among them); the nodes are the sparse LU's. The model couples two
+/// coordinates only through `−κ x₀ x₁`, so the preconditioner is the kinetic part alone and
+/// `P⁻¹J = I ∓ κ h² (second difference)⁻¹` spreads over hundreds of eigenvalues of both signs.
+#[test]
+fn minres_that_gives_way_reports_the_products_it_spent() {
+    use varembed::{BvpSolver, LinearSolve};
+    #[lagrangian]
+    fn coupled(x: &[f64], v: &[f64], n: usize, kappa: f64) -> f64 {
+        let mut l = 0.0;
+        for i in 0..n {
+            l += 0.5 * v[i] * v[i];
+        }
+        l - kappa * x[0] * x[1]
+    }
+    let model = Coupled { n: 2, kappa: 1e6 };
+    let grid = Grid::new(0.0, 1.0, 2000).unwrap();
+    let problem = || DynProblem::new(&model, grid, Embedding::midpoint());
+    let (qa, qb) = ([0.1, 0.2], [0.3, -0.1]);
+    let minres = problem()
+        .with_bvp_solver(BvpSolver::Minres)
+        .solve_bvp(Scheme::Variational, &qa, &qb)
+        .unwrap();
+    let lu = problem()
+        .with_bvp_solver(BvpSolver::SparseLu)
+        .solve_bvp(Scheme::Variational, &qa, &qb)
+        .unwrap();
+    match &minres.run.linear_solve {
+        Some(LinearSolve::SparseLuAfterMinres { reason, products }) => {
+            let spent: usize = reason
+                .split("after ")
+                .nth(1)
+                .and_then(|rest| rest.split(' ').next())
+                .and_then(|count| count.parse().ok())
+                .unwrap_or_else(|| panic!("no count in {reason}"));
+            assert!(reason.contains("MINRES stopped"), "{reason}");
+            assert!(
+                spent > 0 && *products >= spent,
+                "{products} < {spent}: {reason}"
+            );
+        }
+        other => panic!("{other:?}"),
+    }
+    assert_eq!(lu.q, minres.q);
+}
+
 /// Where the time-tridiagonal preconditioner is not positive definite (oscillators with
 /// `ω h = 3`, so `2/h² − ω² < 0`), MINRES gives way to sparse LU and says why; the nodes are the
 /// sparse LU's. A direct scheme is always solved by sparse LU. A resonance is flagged on the
@@ -559,8 +606,10 @@ fn minres_gives_way_to_sparse_lu_with_the_reason() {
         .solve_bvp(Scheme::Variational, &qa, &qb)
         .unwrap();
     match &minres.run.linear_solve {
-        Some(LinearSolve::SparseLuAfterMinres { reason }) => {
-            assert!(reason.contains("not positive definite"), "{reason}")
+        // Found before the first product.
+        Some(LinearSolve::SparseLuAfterMinres { reason, products }) => {
+            assert!(reason.contains("not positive definite"), "{reason}");
+            assert_eq!(*products, 0);
         }
         other => panic!("{other:?}"),
     }

@@ -1,0 +1,158 @@
+//! The FFT plan of the Toeplitz products: one complex transform of length `K`, or, from
+//! [`SPLIT_FROM`] on, two of length `K/2` on two threads, combined by one radix-2 step as the
+//! entries are written and read (the parent module's docs, "Two halves, two cores").
+
+use rustfft::num_complex::Complex;
+use rustfft::{Fft, FftPlanner};
+use std::sync::Arc;
+
+/// The complex FFT of length `K` (whole), or of length `K/2` for the two halves of one of
+/// length `K` (split, from [`SPLIT_FROM`] on), and the twiddles `e^{−πi m/K}`, `m = 0..=K/2`,
+/// of the pass between real and half-length complex transforms.
+pub(super) struct Plan {
+    fft: Arc<dyn Fft<f64>>,
+    /// Whether `fft` is the half-length transform of the two halves.
+    pub(super) split: bool,
+    /// `K/2`.
+    pub(super) h: usize,
+    pub(super) twiddles: Vec<Complex<f64>>,
+}
+
+/// The half length `K/2` from which each transform is taken as two halves on two threads
+/// (with the `parallel` feature; one thread has no use for the halves). Below it the halves
+/// gained nothing and their combination cost up to a tenth of a solve (measured at
+/// `K/2 = 51 200`, the corrected fractional solve at `N = 10⁵`), at `K/2 ≈ 1.5·10⁵` the two
+/// ran even, at `K/2 ≈ 5·10⁵` the halves were clearly faster (BENCHMARKS.md).
+pub const SPLIT_FROM: usize = 1 << 17;
+
+impl Plan {
+    pub(super) fn new(k: usize) -> Self {
+        let split = cfg!(feature = "parallel") && k / 2 >= SPLIT_FROM;
+        let len = if split { k / 2 } else { k };
+        let fft = FftPlanner::<f64>::new().plan_fft_forward(len);
+        let step = -std::f64::consts::PI / k as f64;
+        let twiddles = (0..=k / 2)
+            .map(|m| Complex::from_polar(1.0, step * m as f64))
+            .collect();
+        Plan {
+            fft,
+            split,
+            h: k / 2,
+            twiddles,
+        }
+    }
+
+    /// The scratch length of [`forward`](Self::forward): one per half-length transform, since
+    /// the two run at once.
+    pub(super) fn scratch_len(&self) -> usize {
+        let one = self.fft.get_outofplace_scratch_len();
+        if self.split { 2 * one } else { one }
+    }
+
+    /// `K`, the length of the complex transform.
+    pub(super) fn len(&self) -> usize {
+        2 * self.h
+    }
+
+    /// `W^j = e^{−2πi j/K}` for `j < K/2`, from the pass's twiddles `e^{−πi m/K}`, `m ≤ K/2`:
+    /// `W^j = t_{2j}` for `j ≤ K/4`, and `W^j = −conj(W^{K/2−j})` past it.
+    #[inline]
+    pub(super) fn w(&self, j: usize) -> Complex<f64> {
+        if 2 * j <= self.h {
+            self.twiddles[2 * j]
+        } else {
+            -self.twiddles[2 * (self.h - j)].conj()
+        }
+    }
+
+    /// Where entry `j` of a length-`K` input sits: in place when whole; when split, even `j`
+    /// in the first half and odd in the second.
+    #[inline]
+    pub(super) fn slot(&self, j: usize) -> usize {
+        if self.split {
+            (j >> 1) + (j & 1) * self.h
+        } else {
+            j
+        }
+    }
+
+    /// The forward FFT of length `K` of `input` (laid out by [`slot`](Self::slot)) into
+    /// `output`, whole or, when split, as the two half-length transforms `E`, `O` in its
+    /// halves ([`entry`](Self::entry) reads either); `input` is destroyed.
+    pub(super) fn forward(
+        &self,
+        input: &mut [Complex<f64>],
+        output: &mut [Complex<f64>],
+        scratch: &mut [Complex<f64>],
+    ) {
+        if !self.split {
+            self.fft
+                .process_outofplace_with_scratch(input, output, scratch);
+            return;
+        }
+        let h = self.h;
+        let (input_e, input_o) = input.split_at_mut(h);
+        let (output_e, output_o) = output.split_at_mut(h);
+        let (scratch_e, scratch_o) = scratch.split_at_mut(scratch.len() / 2);
+        let even = || {
+            self.fft
+                .process_outofplace_with_scratch(input_e, output_e, scratch_e)
+        };
+        let odd = || {
+            self.fft
+                .process_outofplace_with_scratch(input_o, output_o, scratch_o)
+        };
+        #[cfg(feature = "parallel")]
+        rayon::join(even, odd);
+        #[cfg(not(feature = "parallel"))]
+        {
+            let (mut even, mut odd) = (even, odd);
+            even();
+            odd();
+        }
+    }
+
+    /// Entry `m < K` of the length-`K` transform in `z` (its halves `E`, `O` when split).
+    #[inline]
+    pub(super) fn entry(&self, z: &[Complex<f64>], m: usize) -> Complex<f64> {
+        if !self.split {
+            return z[m];
+        }
+        let h = self.h;
+        let j = if m < h { m } else { m - h };
+        let t = self.w(j) * z[h + j];
+        if m < h { z[j] + t } else { z[j] - t }
+    }
+
+    /// `pair(m, Z_m, Z_{K−m})` for `m = 1..=K/2`, in some order, of the length-`K` transform
+    /// in `z`. When split, the entries `m`, `K/2 + m`, `K/2 − m`, `K − m` come from `E` and `O`
+    /// at `m` and `K/2 − m` with one twiddle (`W^{K/2−m} = −conj W^m`), so each quadruple is
+    /// read once.
+    #[inline]
+    pub(super) fn for_each_pair(
+        &self,
+        z: &[Complex<f64>],
+        mut pair: impl FnMut(usize, Complex<f64>, Complex<f64>),
+    ) {
+        let h = self.h;
+        if !self.split {
+            for m in 1..=h {
+                pair(m, z[m], z[2 * h - m]);
+            }
+            return;
+        }
+        let (e, o) = z.split_at(h);
+        for m in 1..h.div_ceil(2) {
+            let w = self.twiddles[2 * m];
+            let (t, t_mirror) = (w * o[m], -(w.conj() * o[h - m]));
+            // (m, K − m) and (K/2 − m, K/2 + m).
+            pair(m, e[m] + t, e[h - m] - t_mirror);
+            pair(h - m, e[h - m] + t_mirror, e[m] - t);
+        }
+        if h.is_multiple_of(2) {
+            let m = h / 2;
+            pair(m, self.entry(z, m), self.entry(z, 2 * h - m));
+        }
+        pair(h, self.entry(z, h), self.entry(z, h));
+    }
+}
