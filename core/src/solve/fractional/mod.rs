@@ -192,16 +192,18 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
     guess: &[Vector<D>],
 ) -> Result<Solution<D>> {
     disc.with_velocity_fft(|fft| solve_with(disc, fft, options, scheme, guess))
+        .map(|(solution, _)| solution)
 }
 
-/// [`solve`] with `fft`, the FFT form of the discretisation's `Δ^α_σ`.
+/// [`solve`] with `fft`, the FFT form of the discretisation's `Δ^α_σ`; with the solution, the
+/// Krylov iterations of each Newton step.
 fn solve_with<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     fft: &mut FftOperator,
     options: &SolverOptions,
     scheme: Scheme,
     guess: &[Vector<D>],
-) -> Result<Solution<D>> {
+) -> Result<(Solution<D>, Vec<usize>)> {
     let n = disc.grid().n();
     let opts = options.newton;
     let columns = EndColumns::new(scheme, disc.velocity_operator(), disc.adjoint_operator());
@@ -217,6 +219,7 @@ fn solve_with<L: Lagrangian<D> + ?Sized, const D: usize>(
     let mut previous_res = f64::INFINITY;
     let mut merit = eval.two_norm();
     let mut line_search = LineSearch::new(&q, merit);
+    let mut krylov_iterations = Vec::new();
     for iteration in 0..=opts.max_iterations {
         let at = Location::Newton(iteration);
         let res = eval.max_norm();
@@ -236,7 +239,7 @@ fn solve_with<L: Lagrangian<D> + ?Sized, const D: usize>(
                 let measure = ill_posedness(&mut system, &mut delta, &mut work);
                 warnings.extend(measure.map(|measure| Warning::IllPosed { measure }));
             }
-            return Ok(Solution {
+            let solution = Solution {
                 scheme,
                 embedding: *disc.embedding(),
                 grid: *disc.grid(),
@@ -245,7 +248,8 @@ fn solve_with<L: Lagrangian<D> + ?Sized, const D: usize>(
                 explicit_steps: 0,
                 momenta: Vec::new(),
                 warnings,
-            });
+            };
+            return Ok((solution, krylov_iterations));
         }
         if iteration == opts.max_iterations {
             break;
@@ -265,7 +269,15 @@ fn solve_with<L: Lagrangian<D> + ?Sized, const D: usize>(
         previous_norm = Some(norm);
         system.linearize(disc, &q, &eval.v, at)?;
         let budget = &options.krylov;
-        solve_newton_system(&mut system, &eval.r, &mut delta, eta, budget, at, &mut work)?;
+        krylov_iterations.push(solve_newton_system(
+            &mut system,
+            &eval.r,
+            &mut delta,
+            eta,
+            budget,
+            at,
+            &mut work,
+        )?);
         // A trial's evaluation borrows the idle Krylov vectors, and the replaced one gives
         // its vectors back: no N-vector is allocated or added to the peak per Newton step.
         let (trial, next, _, next_merit) = line_search.step(&q, merit, &delta, |trial| {
