@@ -261,20 +261,30 @@ impl<const D: usize> KrylovSystem for FastSystem<'_, D> {
         self.preconditioner.apply(r, z, None, ws);
     }
 
-    /// The images are `D_a x` (`N − 1` interior rows).
+    /// The images are `D_a x` (`N − 1` interior rows); none where the products take the
+    /// kinetic part from the preconditioner's input and no `L_xv` reads `D x` (two vectors of
+    /// MINRES fewer, 16 bytes a node at `d = 1`).
     fn image_len(&self) -> usize {
-        self.len()
+        if self.kinetic_known() && !self.mixed {
+            0
+        } else {
+            self.len()
+        }
     }
 
-    /// `P'⁻¹ r`, whose middle vector yields `D_a z` on the way.
+    /// `P'⁻¹ r`, whose middle vector yields `D_a z` on the way (into `image` unless it is
+    /// empty).
     fn precondition_with_image(&mut self, r: &[f64], z: &mut [f64], image: &mut [f64]) {
         let ws = self.velocity.workspace_mut();
-        self.preconditioner.apply(r, z, Some(image), ws);
+        let image = Some(image).filter(|image| !image.is_empty());
+        self.preconditioner.apply(r, z, image, ws);
     }
 
     /// `J x` with the interior rows of `a = D x` taken from `image` (one FFT product, `Dᵀ b`).
     fn apply_with_image(&mut self, x: &[f64], image: &[f64], y: &mut [f64]) {
-        self.jacobian_product(x, Some(image), None, y);
+        // No image where none is kept (`image_len`): `D x` by FFT.
+        let image = Some(image).filter(|image| !image.is_empty());
+        self.jacobian_product(x, image, None, y);
     }
 
     /// `J x` for `x = factor · P'⁻¹ r`: `factor · r` stands for `P' x` when the preconditioner
@@ -288,6 +298,7 @@ impl<const D: usize> KrylovSystem for FastSystem<'_, D> {
         y: &mut [f64],
     ) {
         let kinetic = Some((r, factor)).filter(|_| self.kinetic_known());
-        self.jacobian_product(x, Some(image), kinetic, y);
+        let image = Some(image).filter(|image| !image.is_empty());
+        self.jacobian_product(x, image, kinetic, y);
     }
 }
