@@ -201,7 +201,11 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// A model that is also a [`DynLagrangian`](crate::DynLagrangian) with
     /// [`RUN_TIME_FROM`](crate::RUN_TIME_FROM) or more degrees of freedom is run by the
     /// run-time-dimension engine, as in [`solve_ivp`](Self::solve_ivp)
-    /// ([`DynProblem::solve_ivp_from_nodes`](crate::DynProblem::solve_ivp_from_nodes)).
+    /// ([`DynProblem::solve_ivp_from_nodes`](crate::DynProblem::solve_ivp_from_nodes)), whose
+    /// checks differ: it checks its initial data `Q_0`, `(Q_1 − Q_0)/h` at `a` (with the
+    /// Störmer–Verlet stability verdict there, [`Error::Unstable`](crate::Error::Unstable)),
+    /// where this path checks `∂²L/∂v²` and the domain at `Q_1` and the degeneracy again at the
+    /// last nodes.
     ///
     /// # Example
     ///

@@ -67,9 +67,10 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
     /// The run of the recurrence of `scheme` from given first nodes `Q_0 = q0`, `Q_1 = q1`,
     /// storing every node: the same call as
     /// [`Problem::solve_ivp_from_nodes`](crate::Problem::solve_ivp_from_nodes). The initial
-    /// data checked (and, with the resolution check, warned at) are `q0` and the velocity
-    /// `(Q_1 − Q_0)/h`. [`Error::Unsupported`] under Gauss–Legendre, a one-step map of
-    /// `(q, p)` that runs from `q(a)`, `q̇(a)`.
+    /// data checked as those of [`solve_ivp`](Self::solve_ivp) (and, with the resolution
+    /// check, warned at) are `q0` and the velocity `(Q_1 − Q_0)/h` at `a`; a `q1` of the wrong
+    /// length or not finite is an error naming `q1`. [`Error::Unsupported`] under
+    /// Gauss–Legendre, a one-step map of `(q, p)` that runs from `q(a)`, `q̇(a)`.
     ///
     /// # Example
     ///

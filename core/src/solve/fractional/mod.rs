@@ -14,8 +14,8 @@
 //! inside the Krylov solver only one, since the preconditioner hands it the product with `D`'s
 //! square block
 //! ([`KrylovSystem::image_len`](crate::solve::krylov::KrylovSystem::image_len)), or none when
-//! every `L_xv` is zero, since the preconditioner inverts the kinetic part exactly
-//! (`preconditioner`).
+//! every `L_xv` is zero, no starting columns are in the products and the preconditioner
+//! inverts the kinetic part exactly (`preconditioner`).
 //!
 //! The parts: `system` (the Newton system at one iterate, known through products),
 //! `preconditioner` (the inverse of its kinetic part `Dᵀ L_vv D`, by FFT and Woodbury; the

@@ -38,9 +38,11 @@
 //! `J z = r + (L_xx z + L_xv D z + Dᵀ L_vx z)`: the product `Dᵀ L_vv D z` is `r`, already at
 //! hand ([`KrylovSystem::apply_preconditioned`]). With every `L_xv` zero (all `T(v) − U(x)`,
 //! the pendulum among them) a MINRES iteration then costs the preconditioner's two products
-//! and no third; otherwise `Dᵀ L_vx z` is the one product left. Rounding: `r − P' z` is of the
-//! size of the error of computing `P' z` by FFT, so the iterates differ by rounding only
-//! (unit test `products_from_the_preconditioner_match_the_dense_jacobian`).
+//! and no third; otherwise `Dᵀ L_vx z` is the one product left. Rounding: the operator the
+//! Krylov solver sees changes by `r − P' z`, the rounding error of the preconditioner's
+//! products, of the order of that of computing `P' z` by FFT (unit test
+//! `products_from_the_preconditioner_match_the_dense_jacobian`: both agree with the assembled
+//! Jacobian to 1e-11 relative). The Newton residual itself is always evaluated in full.
 //!
 //! [`KrylovSystem::apply_preconditioned`]: crate::solve::krylov::KrylovSystem::apply_preconditioned
 //!

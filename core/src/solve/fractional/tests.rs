@@ -129,23 +129,57 @@ impl Lagrangian<2> for Unmixed {
     }
 }
 
+/// `L = ½(t − t₅)² v₀² + ½v₁² + cos x₀`: `L_vv` singular at the node `t₅` of the grid of
+/// [`products_from_the_preconditioner_match_the_dense_jacobian`], where the preconditioner
+/// holds a stand-in for its inverse.
+struct VanishingMass {
+    at: f64,
+}
+
+impl Lagrangian<2> for VanishingMass {
+    fn value(&self, x: &Vector<2>, v: &Vector<2>, t: f64) -> f64 {
+        let m = t - self.at;
+        0.5 * m * m * v[0] * v[0] + 0.5 * v[1] * v[1] + x[0].cos()
+    }
+    fn gradient(&self, x: &Vector<2>, v: &Vector<2>, t: f64) -> (Vector<2>, Vector<2>) {
+        let m = t - self.at;
+        let dx = Vector::<2>::new(-x[0].sin(), 0.0);
+        (dx, Vector::<2>::new(m * m * v[0], v[1]))
+    }
+    fn hessian(&self, x: &Vector<2>, _v: &Vector<2>, t: f64) -> Hessian<2> {
+        let m = t - self.at;
+        Hessian {
+            xx: Matrix::<2>::new(-x[0].cos(), 0.0, 0.0, 0.0),
+            xv: Matrix::<2>::zeros(),
+            vv: Matrix::<2>::new(m * m, 0.0, 0.0, 1.0),
+        }
+    }
+}
+
 /// `J z` for `z = f · P'⁻¹ r`, formed from `f r` in place of the kinetic product, equals the
-/// dense Jacobian's `J z`: with and without `L_xv` terms, both sides, and for the corrected
-/// form (whose products keep computing the kinetic part).
+/// dense Jacobian's `J z`: with and without `L_xv` terms, both sides, for the corrected
+/// form's direct scheme with its columns left out (the ill-posedness check's `plain`
+/// products: the paper's operators, with the Hessians at the corrected velocities), and where the kinetic part is not known (the corrected
+/// form's columns in the products; an `L_vv` the preconditioner could not invert), whose
+/// products keep computing it.
 #[test]
 fn products_from_the_preconditioner_match_the_dense_jacobian() {
+    const N: usize = 17;
+    let grid = Grid::new(0.2, 1.5, N).unwrap();
+    // `reference`: the embedding whose assembled variational Jacobian the products must equal.
     fn check<L: Lagrangian<2>>(
         (model, model_is_mixed): (&L, bool),
-        embedding: Embedding,
+        (embedding, scheme, plain): (Embedding, Scheme, bool),
+        reference: Embedding,
         kinetic_known: bool,
     ) {
-        let n = 17;
-        let grid = Grid::new(0.2, 1.5, n).unwrap();
-        let what = format!("{embedding}");
+        let (n, grid) = (N, Grid::new(0.2, 1.5, N).unwrap());
+        let what = format!("{embedding} {scheme:?}, plain {plain}");
         let disc = Discretisation::new(model, grid, embedding);
         let q = curve(n);
         let mut fft = FftOperator::new(disc.velocity_operator());
-        let (mut system, _) = linearized(&disc, &mut fft, &q);
+        let (mut system, _) = linearized_for(&disc, scheme, &mut fft, &q);
+        system.plain = plain;
         assert_eq!(system.kinetic_known(), kinetic_known, "{what}");
         let m = (n - 1) * 2;
         let r: Vec<f64> = (0..m).map(|i| ((7 * i + 3) as f64).sin()).collect();
@@ -160,8 +194,9 @@ fn products_from_the_preconditioner_match_the_dense_jacobian() {
             .for_each(|x| *x *= factor);
         let mut y = vec![0.0; m];
         system.apply_preconditioned(&z, &image, &r, factor, &mut y);
-        let pw = disc.pointwise(&q).unwrap();
-        let jac = disc.dense_jacobian(Scheme::Variational, &q, &pw);
+        let reference = Discretisation::new(model, grid, reference);
+        let pw = reference.pointwise(&q).unwrap();
+        let jac = reference.dense_jacobian(Scheme::Variational, &q, &pw);
         let want = &jac * nalgebra::DVector::from_vec(z.clone());
         for i in 0..m {
             assert!(
@@ -172,12 +207,19 @@ fn products_from_the_preconditioner_match_the_dense_jacobian() {
             );
         }
     }
+    let vanishing = VanishingMass { at: grid.t(5) };
     for side in [Side::Backward, Side::Forward] {
         let paper = Embedding::grunwald_letnikov(side, 0.65).unwrap();
         let corrected = Embedding::corrected_grunwald_letnikov(side, 0.65).unwrap();
-        check((&Mixed, true), paper, true);
-        check((&Unmixed, false), paper, true);
-        check((&Unmixed, false), corrected, false);
+        let variational = |e| (e, Scheme::Variational, false);
+        check((&Mixed, true), variational(paper), paper, true);
+        check((&Unmixed, false), variational(paper), paper, true);
+        check((&vanishing, false), variational(paper), paper, false);
+        check((&Unmixed, false), variational(corrected), corrected, false);
+        // The plain products take the Hessians at the corrected velocities: the paper's
+        // assembled Jacobian is their reference where the Hessians do not depend on v.
+        let plain_direct = (corrected, Scheme::Direct, true);
+        check((&Unmixed, false), plain_direct, paper, true);
     }
 }
 
