@@ -20,9 +20,9 @@ pub(super) struct Plan {
 
 /// The half length `K/2` from which each transform is taken as two halves on two threads
 /// (with the `parallel` feature; one thread has no use for the halves). Below it the halves
-/// gained nothing and their combination cost up to a tenth of a solve (measured at
-/// `K/2 = 51 200`, the corrected fractional solve at `N = 10⁵`), at `K/2 ≈ 1.5·10⁵` the two
-/// ran even, at `K/2 ≈ 5·10⁵` the halves were clearly faster (BENCHMARKS.md).
+/// gained nothing measurable (at `K/2 = 51 200`, the fractional solves at `N = 10⁵`: probes
+/// equal either way, one criterion run up to a tenth slower with them), at `K/2 ≈ 1.5·10⁵`
+/// the two ran even, at `K/2 ≈ 5·10⁵` the halves were clearly faster (BENCHMARKS.md).
 pub const SPLIT_FROM: usize = 1 << 17;
 
 impl Plan {
