@@ -159,14 +159,13 @@ impl TriangularToeplitz {
 
     fn with_plan(column: &[f64], plan: Arc<Plan>, ws: &mut Workspace) -> Self {
         let k = plan.len();
-        let matrix = TriangularToeplitz {
+        let mut matrix = TriangularToeplitz {
             order: column.len(),
             spectrum: Vec::new(),
             plan,
         };
         matrix.load(ws, |r| column[r]);
         matrix.transform_forward(ws);
-        let mut matrix = matrix;
         let inv_len = 1.0 / (2 * k) as f64;
         let mut spectrum = vec![Complex::new(0.0, 0.0); k + 1];
         let (z, plan) = (&ws.spectrum, &matrix.plan);
@@ -227,11 +226,6 @@ impl TriangularToeplitz {
         // z_{2i} = x_{4i} + i x_{4i+1} into the first half, z_{2i+1} into the second.
         for (i, (a, b)) in first.iter_mut().zip(second.iter_mut()).enumerate() {
             let x = 4 * i;
-            if x >= m {
-                *a = Complex::new(0.0, 0.0);
-                *b = Complex::new(0.0, 0.0);
-                continue;
-            }
             *a = Complex::new(value(x), value(x + 1));
             *b = Complex::new(value(x + 2), value(x + 3));
         }
@@ -268,16 +262,9 @@ impl TriangularToeplitz {
     /// Reads the result of [`mul_loaded`](Self::mul_loaded): `out(k, y_k)` for `k = 0..M`.
     pub fn store(&self, ws: &Workspace, mut out: impl FnMut(usize, f64)) {
         let m = self.order;
-        let (plan, z) = (&self.plan, &ws.spectrum);
-        let (e, o) = z.split_at(plan.h);
         for j in 0..m.div_ceil(2) {
-            // The packed result is conj(FFT(conj W)): y_{2j} = Re, y_{2j+1} = −Im. (j < K/2,
-            // since m ≤ K.)
-            let z = if plan.split {
-                e[j] + plan.w(j) * o[j]
-            } else {
-                z[j]
-            };
+            // The packed result is conj(FFT(conj W)): y_{2j} = Re, y_{2j+1} = −Im.
+            let z = self.plan.entry(&ws.spectrum, j);
             out(2 * j, z.re);
             if 2 * j + 1 < m {
                 out(2 * j + 1, -z.im);
