@@ -353,7 +353,8 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
             // The same for all rows at once (the rows 1..=N−1 are rows of Δ^α_{−σ} either way).
             EmbeddingKind::GrunwaldLetnikov { .. }
             | EmbeddingKind::Caputo { .. }
-            | EmbeddingKind::CorrectedGrunwaldLetnikov { .. } => {
+            | EmbeddingKind::CorrectedGrunwaldLetnikov { .. }
+            | EmbeddingKind::CorrectedCaputo { .. } => {
                 let first = self.adjoint.first_row();
                 let adjoint_p = self.apply_adjoint(&pw.p).expect("p has one value per node");
                 rows.map(|k| pw.f[k] - adjoint_p[k - first] * sigma)

@@ -245,6 +245,44 @@ impl Embedding {
         })
     }
 
+    /// The Caputo form corrected at the ends ([`EmbeddingKind::CorrectedCaputo`]) of order α:
+    /// [`corrected_grunwald_letnikov`](Self::corrected_grunwald_letnikov)'s operators on the
+    /// curve minus its value `Q_e` at the end where the derivative starts, as in
+    /// [`caputo`](Self::caputo). Errors unless `0 < α ≤ 1`. Its **direct** scheme is second
+    /// order on data with `q(a) ≠ 0` (σ = −) and a momentum vanishing at neither end, where the
+    /// Caputo form's order is below 1.
+    ///
+    /// # Example
+    ///
+    /// ```
+    /// use varembed::{Embedding, Grid, Problem, Scheme, Side, lagrangian};
+    ///
+    /// // q = 0.5 + t^{0.6}/Γ(1.6) has the Caputo momentum p = D^{0.6}_− (q − q(0)) = 1, so it
+    /// // solves L = ½v² − F(t) x with F = D^{0.6}_+ p = (1 − t)^{−0.6}/Γ(0.4).
+    /// #[lagrangian]
+    /// fn forced(x: f64, v: f64, t: f64) -> f64 {
+    ///     0.5 * v * v - x * (1.0 - t).powf(-0.6) / 2.218_159_543_757_688
+    /// }
+    ///
+    /// let corrected = Embedding::corrected_caputo(Side::Backward, 0.6)?;
+    /// assert_eq!(corrected.to_string(), "corrected Caputo Gauss-GLE− (α = 0.6)");
+    /// let q = |t: f64| 0.5 + t.powf(0.6) / 0.893_515_349_287_690_3; // Γ(1.6)
+    /// let grid = Grid::new(0.0, 1.0, 64)?;
+    /// let max_error = |embedding| -> Result<f64, varembed::Error> {
+    ///     let run = Problem::new(&Forced, grid, embedding).solve_bvp(Scheme::Direct, q(0.0), q(1.0))?;
+    ///     let nodes = grid.nodes().into_iter().zip(&run.q);
+    ///     Ok(nodes.fold(0.0f64, |m, (t, x)| m.max((x[0] - q(t)).abs())))
+    /// };
+    /// assert!(max_error(corrected)? < 1e-10);
+    /// assert!(max_error(Embedding::caputo(Side::Backward, 0.6)?)? > 1e-3);
+    /// # Ok::<(), varembed::Error>(())
+    /// ```
+    pub fn corrected_caputo(side: Side, alpha: f64) -> Result<Self> {
+        fractional(side, alpha, |alpha| EmbeddingKind::CorrectedCaputo {
+            alpha,
+        })
+    }
+
     /// The variational Gauss–Legendre integrator of `stages` stages (order `2·stages`);
     /// errors unless `1 ≤ stages ≤ 4`. It has no side: [`side`](Self::side) reports
     /// [`Side::Backward`], which nothing reads.
@@ -374,7 +412,8 @@ impl Embedding {
         match self.kind {
             EmbeddingKind::GrunwaldLetnikov { alpha }
             | EmbeddingKind::Caputo { alpha }
-            | EmbeddingKind::CorrectedGrunwaldLetnikov { alpha } => alpha,
+            | EmbeddingKind::CorrectedGrunwaldLetnikov { alpha }
+            | EmbeddingKind::CorrectedCaputo { alpha } => alpha,
             _ => 1.0,
         }
     }
@@ -394,15 +433,20 @@ impl Embedding {
             EmbeddingKind::GrunwaldLetnikov { .. }
                 | EmbeddingKind::Caputo { .. }
                 | EmbeddingKind::CorrectedGrunwaldLetnikov { .. }
+                | EmbeddingKind::CorrectedCaputo { .. }
         )
     }
 
     /// The node whose value the velocity subtracts from the curve: `Some(0)` (σ = −) or
-    /// `Some(N)` (σ = +) for the Caputo form, `None` for every other embedding.
+    /// `Some(N)` (σ = +) for the Caputo forms, `None` for every other embedding.
     pub(crate) fn caputo_end(&self, n: usize) -> Option<usize> {
-        match (self.kind, self.side) {
-            (EmbeddingKind::Caputo { .. }, Side::Backward) => Some(0),
-            (EmbeddingKind::Caputo { .. }, Side::Forward) => Some(n),
+        match self.kind {
+            EmbeddingKind::Caputo { .. } | EmbeddingKind::CorrectedCaputo { .. } => {
+                Some(match self.side {
+                    Side::Backward => 0,
+                    Side::Forward => n,
+                })
+            }
             _ => None,
         }
     }
@@ -510,7 +554,8 @@ impl Embedding {
             EmbeddingKind::FiniteDifference | EmbeddingKind::Asymmetric => Some(1),
             EmbeddingKind::GrunwaldLetnikov { alpha }
             | EmbeddingKind::Caputo { alpha }
-            | EmbeddingKind::CorrectedGrunwaldLetnikov { alpha } => (alpha == 1.0).then_some(1),
+            | EmbeddingKind::CorrectedGrunwaldLetnikov { alpha }
+            | EmbeddingKind::CorrectedCaputo { alpha } => (alpha == 1.0).then_some(1),
             // Variational only: no order for a direct scheme that does not exist.
             EmbeddingKind::GaussLegendre { stages } => {
                 (scheme == Scheme::Variational).then_some(2 * stages as u32)
@@ -529,6 +574,9 @@ impl fmt::Display for Embedding {
             EmbeddingKind::Caputo { alpha } => write!(f, "Caputo Gauss-GLE{s} (α = {alpha})"),
             EmbeddingKind::CorrectedGrunwaldLetnikov { alpha } => {
                 write!(f, "corrected Gauss-GLE{s} (α = {alpha})")
+            }
+            EmbeddingKind::CorrectedCaputo { alpha } => {
+                write!(f, "corrected Caputo Gauss-GLE{s} (α = {alpha})")
             }
             EmbeddingKind::GaussLegendre { stages } => write!(f, "Gauss–Legendre s = {stages}"),
             EmbeddingKind::Midpoint => f.write_str("midpoint"),

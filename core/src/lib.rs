@@ -88,7 +88,8 @@
 //! | an equation, not a Lagrangian | [`DifferentialOperator`], [`DirectEmbedding`] | 1 | nothing | implicit |
 //! | a fractional boundary value problem | [`Embedding::corrected_grunwald_letnikov`], [`Scheme::Direct`] | 2 where the momentum does not vanish at the ends | nothing | a dense global system (FFT Newton–GMRES) |
 //! | the same, the paper's scheme | [`Embedding::grunwald_letnikov`], either scheme (coherent) | 0.5–0.8 on such data, 2 on compatible data | nothing | a dense global system (FFT Newton–Krylov) |
-//! | the same, with data not vanishing where the derivative starts | [`Embedding::caputo`] (the Caputo derivative), either scheme | α, or more where the momentum vanishes there | nothing | as above |
+//! | the same, with data not vanishing where the derivative starts (the Caputo derivative) | [`Embedding::corrected_caputo`], [`Scheme::Direct`] | 2 where the momentum does not vanish at the ends | nothing | as the corrected form |
+//! | the same, uncorrected | [`Embedding::caputo`], either scheme (coherent) | α, or more where the momentum vanishes there | nothing | as above |
 //!
 //! The paper's Gauss-FDEσ schemes are first order, and their direct schemes do not conserve
 //! energy (σ = − loses it, σ = + gains it): use them to reproduce the paper or in the cases

@@ -1,7 +1,7 @@
 //! [`EmbeddingKind`]: the families of discrete embeddings, with what each is.
 
 /// The families of discrete embeddings: the three of the paper, the Caputo form of its
-/// fractional one and its form corrected at the ends, and the two symmetric ones (midpoint and trapezoidal) whose discrete
+/// fractional one, the forms of both corrected at the ends, and the two symmetric ones (midpoint and trapezoidal) whose discrete
 /// Lagrangians are second order.
 ///
 /// ```
@@ -79,6 +79,19 @@ pub enum EmbeddingKind {
     /// of `h Σ L(Q_k, Ṽ_k)` with the corrected velocity `Ṽ`) keeps the low order. Only
     /// boundary value problems, on both fractional solvers.
     CorrectedGrunwaldLetnikov {
+        /// The order `0 < α ≤ 1`.
+        alpha: f64,
+    },
+    /// The Caputo form with the corrected operators: the velocity
+    /// `Ṽ = −σ (Δ^α_σ + C)(Q − Q_e)` of [`CorrectedGrunwaldLetnikov`](Self::CorrectedGrunwaldLetnikov)'s
+    /// operator on the curve shifted as in [`Caputo`](Self::Caputo), and that form's corrected
+    /// momentum operator in the direct scheme. A Caputo solution with `q(a) ≠ 0` has
+    /// `q − q(a) ~ t^α, t^{1+α}` next to `a` (σ = −), exactly the terms the starting columns
+    /// are made exact on, so the direct scheme is second order on data with `q(a) ≠ 0` and a
+    /// momentum not vanishing at `b`, where the Caputo form's order is below 1. Not coherent,
+    /// for the corrected form's reason; its variational scheme keeps the low order. Only
+    /// boundary value problems, on both fractional solvers.
+    CorrectedCaputo {
         /// The order `0 < α ≤ 1`.
         alpha: f64,
     },

@@ -65,10 +65,14 @@ impl Embedding {
                 fractional(alpha)
             }
             // Starting columns need two nodes besides the one where the sums are cut.
-            EmbeddingKind::CorrectedGrunwaldLetnikov { alpha } if grid.n() >= 2 => {
+            EmbeddingKind::CorrectedGrunwaldLetnikov { alpha }
+            | EmbeddingKind::CorrectedCaputo { alpha }
+                if grid.n() >= 2 =>
+            {
                 fractional(alpha).with_end_columns(role)
             }
-            EmbeddingKind::CorrectedGrunwaldLetnikov { alpha } => fractional(alpha),
+            EmbeddingKind::CorrectedGrunwaldLetnikov { alpha }
+            | EmbeddingKind::CorrectedCaputo { alpha } => fractional(alpha),
             _ => Operator::finite_difference(side, grid),
         }
     }

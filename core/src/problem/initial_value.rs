@@ -4,7 +4,7 @@
 use super::Problem;
 use crate::dynamic::ivp::SecondNode;
 use crate::dynamic::problem::DynProblem;
-use crate::embedding::{EmbeddingKind, Scheme};
+use crate::embedding::Scheme;
 use crate::error::Result;
 use crate::lagrangian::{IntoVector, Lagrangian, Vector};
 use crate::options::RUN_TIME_FROM;
@@ -40,10 +40,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
             return None;
         }
         let embedding = *self.discretisation.embedding();
-        if let EmbeddingKind::GrunwaldLetnikov { .. }
-        | EmbeddingKind::Caputo { .. }
-        | EmbeddingKind::CorrectedGrunwaldLetnikov { .. } = embedding.kind()
-        {
+        if embedding.is_fractional() {
             return None;
         }
         let problem = DynProblem::new(model, *self.discretisation.grid(), embedding)

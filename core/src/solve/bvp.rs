@@ -6,7 +6,7 @@
 //! the FFT Newton–Krylov fast path of [`fractional`], as chosen by [`FractionalSolver`].
 
 use crate::discretisation::{Discretisation, Pointwise};
-use crate::embedding::{Embedding, EmbeddingKind, Scheme};
+use crate::embedding::{Embedding, Scheme};
 use crate::error::{Error, Location, Result, check_len};
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::linalg::{BandedMatrix, DenseLu, max_norm};
@@ -348,7 +348,7 @@ const END_VALUE_NEGLIGIBLE: f64 = 1e-8;
 /// every problem of order `α ≤ 1/2` ([`Warning::IllPosedFractional`], since telling compatible
 /// end values from generic ones would take another solve), and a Gauss-GLEσ problem of order
 /// `1/2 ≤ α < 1` whose value at the end where the derivative starts is not zero
-/// ([`Warning::InfiniteFractionalAction`]; the Caputo form subtracts that value and is never
+/// ([`Warning::InfiniteFractionalAction`]; the Caputo forms subtract that value and are never
 /// flagged).
 fn fractional_warnings<const D: usize>(embedding: &Embedding, q: &[Vector<D>]) -> Vec<Warning> {
     let mut warnings = Vec::new();
@@ -359,10 +359,8 @@ fn fractional_warnings<const D: usize>(embedding: &Embedding, q: &[Vector<D>]) -
     if alpha <= 0.5 {
         warnings.push(Warning::IllPosedFractional { alpha });
     }
-    let riemann_liouville = matches!(
-        embedding.kind(),
-        EmbeddingKind::GrunwaldLetnikov { .. } | EmbeddingKind::CorrectedGrunwaldLetnikov { .. }
-    );
+    // The Caputo forms subtract the end value: only the Riemann–Liouville ones are flagged.
+    let riemann_liouville = embedding.caputo_end(q.len() - 1).is_none();
     if riemann_liouville && (0.5..1.0).contains(&alpha) {
         let end = match side {
             Side::Backward => 0,

@@ -79,7 +79,8 @@ pub(crate) fn interpolant(
         | (
             EmbeddingKind::GrunwaldLetnikov { .. }
             | EmbeddingKind::Caputo { .. }
-            | EmbeddingKind::CorrectedGrunwaldLetnikov { .. },
+            | EmbeddingKind::CorrectedGrunwaldLetnikov { .. }
+            | EmbeddingKind::CorrectedCaputo { .. },
             _,
         ) => Err(Error::Unsupported {
             operation,

@@ -43,7 +43,8 @@ pub(crate) fn step_kind(embedding: &Embedding, scheme: Scheme) -> Result<StepKin
         (
             EmbeddingKind::GrunwaldLetnikov { .. }
             | EmbeddingKind::Caputo { .. }
-            | EmbeddingKind::CorrectedGrunwaldLetnikov { .. },
+            | EmbeddingKind::CorrectedGrunwaldLetnikov { .. }
+            | EmbeddingKind::CorrectedCaputo { .. },
             _,
             _,
         ) => Err(Error::Unsupported {

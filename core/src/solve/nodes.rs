@@ -180,7 +180,8 @@ pub(crate) fn rule(embedding: &Embedding, scheme: Scheme) -> Result<NodeRule> {
         | (
             EmbeddingKind::GrunwaldLetnikov { .. }
             | EmbeddingKind::Caputo { .. }
-            | EmbeddingKind::CorrectedGrunwaldLetnikov { .. },
+            | EmbeddingKind::CorrectedGrunwaldLetnikov { .. }
+            | EmbeddingKind::CorrectedCaputo { .. },
             _,
         ) => Err(unsupported()),
     }

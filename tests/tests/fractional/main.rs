@@ -4,6 +4,7 @@ mod alpha_one;
 mod caputo;
 mod caputo_input;
 mod corrected;
+mod corrected_caputo;
 mod end_forcing;
 mod fractional_fast;
 mod fractional_orders;

@@ -24,7 +24,7 @@ use nalgebra::SVector;
 use super::ConstrainedSolution;
 use crate::constraint::{Constraint, check_end_value, check_rank, project_position};
 use crate::discretisation::{Discretisation, Pointwise};
-use crate::embedding::{EmbeddingKind, Scheme};
+use crate::embedding::Scheme;
 use crate::error::{Error, Location, Result};
 use crate::lagrangian::{Lagrangian, Vector};
 use crate::linalg::BandedMatrix;
@@ -83,11 +83,7 @@ where
     C: Constraint<D, M> + ?Sized,
 {
     let embedding = *disc.embedding();
-    if let EmbeddingKind::GaussLegendre { .. }
-    | EmbeddingKind::GrunwaldLetnikov { .. }
-    | EmbeddingKind::Caputo { .. }
-    | EmbeddingKind::CorrectedGrunwaldLetnikov { .. } = embedding.kind()
-    {
+    if embedding.is_one_step() || embedding.is_fractional() {
         // Gauss–Legendre has no rows on the nodes; a fractional row reads every node, so its
         // constrained system would be dense.
         return Err(Error::Unsupported {

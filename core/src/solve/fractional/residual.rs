@@ -86,7 +86,13 @@ pub(super) fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
             .apply_by_differences_with(|k| q[k][c] - base, |i, y| v[i * D + c] = y * minus_sigma);
     }
     if let Some(columns) = &system.columns {
-        columns.add_velocity(|j| q[j], system.first_row, |i, a| add_to_block(v, i, &a));
+        // The starting columns read the same shifted curve.
+        let base = end.map_or(Vector::<D>::zeros(), |e| q[e]);
+        columns.add_velocity(
+            |j| q[j] - base,
+            system.first_row,
+            |i, a| add_to_block(v, i, &a),
+        );
     }
     // r starts as f on the interior nodes; p goes in the rows' buffer.
     let mut f_max = 0.0f64;
