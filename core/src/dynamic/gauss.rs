@@ -49,7 +49,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             });
         }
         let l = self.lagrangian;
-        let (mut vv, hessian, _) = self.check_initial_data(q0, v0)?;
+        let (mut vv, hessian) = self.check_initial_data(q0, v0)?;
         // The scale the degeneracy checks along the run measure against.
         let reference = vv.pivot_range().1;
         let (grid, h, d) = (self.grid, self.grid.h(), q0.len());

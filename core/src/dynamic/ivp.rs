@@ -23,7 +23,7 @@ use super::band::BandSystem;
 use super::observer::{DynNode, NodeObserver};
 use super::slices::max_norm;
 use super::sparse::SparseHessian;
-use super::stability::{resolution_warning, verlet_unstable};
+use super::stability::{mode_unstable, modes_decouple, resolution_warning};
 use super::step::{EnergySample, StepSolver};
 
 /// What a run reports beyond its nodes.
@@ -110,8 +110,21 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             SecondNode::Start(_) => None,
         };
         let v0 = from_nodes.as_deref().unwrap_or(v0);
-        let (mut vv, hessian, sawtooth) = self.check_initial_data(q0, v0)?;
+        let (mut vv, hessian) = self.check_initial_data(q0, v0)?;
         let (grid, h) = (self.grid, self.grid.h());
+        // The recurrence's linear stability at the initial data, where the model's modes
+        // decouple (the blow-up guard watches every run).
+        let l = self.lagrangian;
+        if modes_decouple(&hessian, &l.hessian_dependence(), l.is_forced())
+            && let Some((lambda, largest_stable_step)) = mode_unstable(kind, &hessian.xx, h)
+        {
+            return Err(Error::Unstable {
+                at: Location::Step(0),
+                re: lambda.re,
+                im: lambda.im,
+                largest_stable_step: Some(largest_stable_step),
+            });
+        }
         // The resolution at the initial data, while `∂²L/∂v²` there is factorised; the
         // warning is attached to a run that returns.
         let warning = self
@@ -164,19 +177,6 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         let mut y = vec![0.0; d];
         let (mut iterations, mut explicit_steps) = (0, 0);
         let verlet = solver.is_verlet();
-        // The Störmer–Verlet recurrence's linear stability at the initial data (the implicit
-        // steps have no such bound; the guard watches every run).
-        if let (true, Some(re)) = (verlet, sawtooth) {
-            // The mode's `h²κ = 2 − λ − 1/λ` (the recurrence's characteristic equation), and
-            // Störmer–Verlet's limit `h √κ = 2`.
-            let kappa = (2.0 - re - 1.0 / re) / (h * h);
-            return Err(Error::Unstable {
-                at: Location::Step(0),
-                re,
-                im: 0.0,
-                largest_stable_step: (kappa > 0.0).then(|| 2.0 / kappa.sqrt()),
-            });
-        }
         for n in 2..=grid.n() {
             let times = (grid.t(n - 2), grid.t(n - 1));
             let sample = guard.is_enabled() && (n - 2) % stride == 0;
@@ -301,15 +301,13 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
 
     /// The checks before any step: the model at its dimension, finite constants, the initial
     /// data of the right length and finite, `L` and its derivatives finite there, and
-    /// `∂²L/∂v²` not degenerate there. Returns `∂²L/∂v²` there, factorised, the second
-    /// derivatives there, and the step map's eigenvalue below −1 if the Störmer–Verlet
-    /// recurrence of step `h` is proven unstable there (read only by a run that takes
-    /// Störmer–Verlet steps).
+    /// `∂²L/∂v²` not degenerate there. Returns `∂²L/∂v²` there, factorised, and the second
+    /// derivatives there.
     pub(super) fn check_initial_data(
         &self,
         q0: &[f64],
         v0: &[f64],
-    ) -> Result<(BandSystem, SparseHessian, Option<f64>)> {
+    ) -> Result<(BandSystem, SparseHessian)> {
         let l = self.lagrangian;
         if let Some(reason) = l.invalid_dimension() {
             return Err(Error::InvalidModel { reason });
@@ -344,9 +342,8 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             });
         }
         let (system, measure) = vv_factorised(d, l.hessian_bandwidth(), &hessian);
-        let sawtooth = verlet_unstable(&hessian.xx, self.grid.h());
         match system {
-            Some(system) if measure >= DEGENERACY_THRESHOLD => Ok((system, hessian, sawtooth)),
+            Some(system) if measure >= DEGENERACY_THRESHOLD => Ok((system, hessian)),
             _ => Err(Error::DegenerateLagrangian {
                 at: Location::Step(0),
                 measure,

@@ -1,28 +1,40 @@
-//! The linear stability of the Störmer–Verlet recurrence of a run-time-dimension model, checked
-//! before its first step, without the `2d × 2d` eigenproblem of the const-generic check.
+//! The linear stability of a run-time-dimension model's recurrence, checked before its first
+//! step, without the `2d × 2d` eigenproblem of the const-generic check.
 //!
-//! On `L = ½|v|² − U(x)` the recurrence `Q_n = 2Q_{n−1} − Q_{n−2} + h² f(Q_{n−1})` perturbs
-//! mode by mode: with `κ` an eigenvalue of `K = −∂²L/∂x² = U″` at the state, the step map has
-//! the eigenvalues `λ` of `λ² − (2 − h²κ) λ + 1 = 0`, and is unstable for `h²κ > 4` (a real
-//! `λ < −1`: the sawtooth mode of an under-resolved step). Two bounds decide it in `O(nnz)`
-//! work per product with `K`:
+//! On a model whose modes decouple, `L = ½|v|² − U(x, t)` (`∂²L/∂v² = I` and `∂²L/∂x∂v = 0`
+//! at every point, no generalised force), every classical step kind linearised at a state acts
+//! mode by mode: with `κ` an eigenvalue of `K = −∂²L/∂x² = U″` there, the step map on that mode
+//! is the kind's step map on the harmonic oscillator of frequency `ω = √κ`. The const-generic
+//! verdict flags that map beyond the kind's limit `hω = z*` (2 for Störmer–Verlet, whose step
+//! map then has a real eigenvalue `λ < −1`, the sawtooth mode of an under-resolved step; `√3`
+//! for the direct σ = + step, whose eigenvalues reach modulus 2 there; none for the A-stable
+//! ones). So the run is unstable at its initial data exactly when the largest eigenvalue of `K`
+//! exceeds `z*²/h²`. Two bounds decide that in `O(nnz)` work per product with `K`:
 //!
 //! - Gershgorin: every eigenvalue of the symmetric `K` lies below its largest absolute row sum
-//!   `G`, so `h² G ≤ 4` proves the step stable at once (every run well inside the limit);
+//!   `G`, so `h² G ≤ z*²` proves the step stable at once (every run well inside the limit);
 //! - a Rayleigh quotient `xᵀKx / xᵀx` never exceeds the largest eigenvalue, so once one
-//!   exceeds `4/h²` the step is unstable. The quotients come from power iteration on
+//!   exceeds `z*²/h²` the step is unstable. The quotients come from power iteration on
 //!   `K + G I` (its spectrum in `[0, 2G]`, the largest eigenvalue of `K` its largest), from
 //!   the alternating vector `(−1)^i`, the shape of a chain's highest mode.
 //!
 //! The check reports only what it proves: between the two bounds, after its iterations, it
-//! gives no verdict, and the blow-up guard watches the run as before.
+//! gives no verdict, and the blow-up guard watches the run as before. A model whose modes do
+//! not decouple gets no check here.
 //!
 //! The same linearisation at the initial data gives the resolution check
 //! ([`resolution_warning`]): the const-generic path's power iteration on the sparse blocks,
 //! skipped when a norm bound already proves the step resolved.
 
+use std::sync::OnceLock;
+
+use nalgebra::Complex;
+
+use crate::lagrangian::{Dependence, HessianDependence, Matrix};
 use crate::solve::resolution::{dominant_rate, proved_resolved, under_resolved};
 use crate::solve::solution::Warning;
+use crate::solve::stability::{Verdict, oscillator_limit, oscillator_step_map, step_map_verdict};
+use crate::step::StepKind;
 
 use super::band::BandSystem;
 use super::sparse::{SparseBlock, SparseHessian};
@@ -30,10 +42,69 @@ use super::sparse::{SparseBlock, SparseHessian};
 /// Power iterations before the check gives no verdict.
 const ITERATIONS: usize = 64;
 
-/// The eigenvalue `λ < −1` of the step map of the Störmer–Verlet recurrence with step `h`,
-/// for `xx = ∂²L/∂x²` at the state (its entries listed), when it is proven unstable there;
-/// `None` otherwise.
-pub(crate) fn verlet_unstable(xx: &SparseBlock, h: f64) -> Option<f64> {
+/// The verdict at the initial data of a run of `kind` with step `h`, for a model whose modes
+/// decouple (module docs) with `xx = ∂²L/∂x²` there (its entries listed): the flagged eigenvalue
+/// of the step map on the mode of the best Rayleigh quotient `κ` found above `z*²/h²`, and the
+/// largest stable step `z*/√κ` that quotient gives; `None` when no instability is proven.
+pub(crate) fn mode_unstable(
+    kind: StepKind,
+    xx: &SparseBlock,
+    h: f64,
+) -> Option<(Complex<f64>, f64)> {
+    let limit = oscillator_limit_of(kind)?;
+    let kappa = rayleigh_quotient_above(xx, (limit / h) * (limit / h))?;
+    // The mode's map is the unit oscillator's with the step `z = h√κ`.
+    let z = h * kappa.sqrt();
+    let (a, b) = oscillator_step_map(kind, z)?;
+    match step_map_verdict(&Matrix::<1>::new(a), &Matrix::<1>::new(b), z) {
+        Verdict::Unstable(lambda) => Some((lambda, limit / kappa.sqrt())),
+        Verdict::Stable | Verdict::Undecided => None,
+    }
+}
+
+/// Whether the model's modes decouple (module docs): `∂²L/∂v²` and `∂²L/∂x∂v` depend on
+/// nothing (`dependence`), no generalised force (`forced`), and at the initial data (`hessian`,
+/// entries listed) they are the identity and zero.
+pub(crate) fn modes_decouple(
+    hessian: &SparseHessian,
+    dependence: &HessianDependence,
+    forced: bool,
+) -> bool {
+    let mut diagonal = vec![0.0; hessian.vv.dimension()];
+    let mut off_diagonal = false;
+    for &(i, j, value) in hessian.vv.entries() {
+        if i == j {
+            diagonal[i] += value;
+        } else {
+            off_diagonal |= value != 0.0;
+        }
+    }
+    !forced
+        && dependence.vv == Dependence::NONE
+        && dependence.xv == Dependence::NONE
+        && !off_diagonal
+        && diagonal.iter().all(|&c| c == 1.0)
+        && hessian.xv.entries().iter().all(|e| e.2 == 0.0)
+}
+
+/// [`oscillator_limit`] of `kind`, computed once per process (a scan and a bisection of the
+/// one-dimensional step map); `None` for the kinds without a limit.
+fn oscillator_limit_of(kind: StepKind) -> Option<f64> {
+    static LIMITS: OnceLock<Vec<(StepKind, Option<f64>)>> = OnceLock::new();
+    let limits = LIMITS.get_or_init(|| {
+        StepKind::ALL
+            .iter()
+            .map(|&kind| (kind, oscillator_limit(kind)))
+            .collect()
+    });
+    let limit = limits.iter().find(|(k, _)| *k == kind)?.1?;
+    (limit > 0.0).then_some(limit)
+}
+
+/// A Rayleigh quotient of `K = −xx` (entries listed) proven above `limit` (by a margin for
+/// its rounding), from the power iteration of the module docs; `None` when Gershgorin's bound
+/// is within `limit` or no quotient clearly exceeds it.
+fn rayleigh_quotient_above(xx: &SparseBlock, limit: f64) -> Option<f64> {
     let d = xx.dimension();
     // K = −L_xx; a repeated entry is summed by the products below.
     let entries = xx.entries();
@@ -43,7 +114,6 @@ pub(crate) fn verlet_unstable(xx: &SparseBlock, h: f64) -> Option<f64> {
     }
     let bound = row_sums.iter().fold(0.0f64, |m, &s| m.max(s));
     drop(row_sums);
-    let limit = 4.0 / (h * h);
     if !bound.is_finite() || bound <= limit {
         return None;
     }
@@ -80,12 +150,8 @@ pub(crate) fn verlet_unstable(xx: &SparseBlock, h: f64) -> Option<f64> {
         }
         v.iter_mut().for_each(|c| *c /= norm);
     }
-    // A margin for the rounding of the quotient: only a clear excess is reported, with the
-    // eigenvalue of the best bound (the true one is at least as far below −1).
-    (best > limit * (1.0 + 1e-9)).then(|| {
-        let b = 2.0 - h * h * best;
-        (b - (b * b - 4.0).sqrt()) / 2.0
-    })
+    // A margin for the rounding of the quotient: only a clear excess is reported.
+    (best > limit * (1.0 + 1e-9)).then_some(best)
 }
 
 /// [`Warning::UnderResolved`] when the step `h` does not resolve the fastest rate of the
@@ -205,21 +271,81 @@ mod tests {
         let x = vec![0.0; n];
         let mut hessian = SparseHessian::new(n);
         springs.hessian(&x, &x, 0.0, &mut hessian);
+        let dependence = HessianDependence {
+            xx: Dependence::ALL,
+            xv: Dependence::NONE,
+            vv: Dependence::NONE,
+        };
+        assert!(modes_decouple(&hessian, &dependence, false));
+        assert!(!modes_decouple(&hessian, &HessianDependence::ALL, false));
+        assert!(!modes_decouple(&hessian, &dependence, true));
         let xx = &hessian.xx;
+        let verlet = StepKind::VariationalBackward;
         let largest = 2.0 - 2.0 * (n as f64 * std::f64::consts::PI / (n as f64 + 1.0)).cos();
         // Inside Gershgorin's bound: proven stable without an iteration.
-        assert_eq!(verlet_unstable(xx, 0.99), None);
+        assert_eq!(mode_unstable(verlet, xx, 0.99), None);
         // Between the largest eigenvalue and the bound: stable, and never reported.
         let h = (4.0 / (0.5 * (largest + 4.0))).sqrt();
-        assert_eq!(verlet_unstable(xx, h), None);
-        // Beyond the largest eigenvalue: the sawtooth mode's eigenvalue, from within.
+        assert_eq!(mode_unstable(verlet, xx, h), None);
+        // Beyond the largest eigenvalue: the sawtooth mode's eigenvalue, from within, and a
+        // largest stable step at most 1 % above the exact `2/√κ_max`.
         let h = (4.0 / (largest - 0.05)).sqrt();
         let mu = h * h * largest;
         let exact = ((2.0 - mu) - ((2.0 - mu).powi(2) - 4.0).sqrt()) / 2.0;
-        let reported = verlet_unstable(xx, h).expect("unstable");
+        let (reported, step) = mode_unstable(verlet, xx, h).expect("unstable");
         assert!(
-            exact <= reported && reported < -1.0 && reported - exact < 0.01 * exact.abs(),
+            exact <= reported.re
+                && reported.re < -1.0
+                && reported.re - exact < 0.01 * exact.abs()
+                && reported.im == 0.0,
             "{reported} against {exact}"
         );
+        let limit = 2.0 / largest.sqrt();
+        assert!(
+            limit <= step && step < 1.01 * limit,
+            "{step} against {limit}"
+        );
+    }
+
+    /// The kinds' limits on the chain: the direct σ = + step from `h√κ = √3` with an
+    /// eigenvalue of modulus 2 or more (`λ = 1 ± i h√κ`), the direct midpoint one from 2, the
+    /// A-stable kinds never; each reported only past its own limit.
+    #[test]
+    fn each_kind_is_checked_against_its_own_limit() {
+        let n = 20;
+        let x = vec![0.0; n];
+        let mut hessian = SparseHessian::new(n);
+        Springs { n }.hessian(&x, &x, 0.0, &mut hessian);
+        let largest = 2.0 - 2.0 * (n as f64 * std::f64::consts::PI / (n as f64 + 1.0)).cos();
+        let at = |z: f64| z / largest.sqrt();
+        let cases = [
+            (StepKind::DirectForward, Some(3f64.sqrt())),
+            (StepKind::MidpointDirect, Some(2.0)),
+            (StepKind::TrapezoidalVariational, Some(2.0)),
+            (StepKind::DirectBackward, None),
+            (StepKind::MidpointVariational, None),
+        ];
+        for (kind, limit) in cases {
+            match limit {
+                Some(z) => {
+                    assert_eq!(
+                        mode_unstable(kind, &hessian.xx, at(0.97 * z)),
+                        None,
+                        "{kind:?}"
+                    );
+                    let (lambda, _) = mode_unstable(kind, &hessian.xx, at(1.03 * z))
+                        .unwrap_or_else(|| panic!("{kind:?} past its limit"));
+                    assert!(
+                        lambda.norm() >= 2.0 || lambda.re < -1.0,
+                        "{kind:?}: {lambda}"
+                    );
+                }
+                None => assert_eq!(mode_unstable(kind, &hessian.xx, at(50.0)), None, "{kind:?}"),
+            }
+        }
+        let h = at(1.03 * 3f64.sqrt());
+        let (lambda, _) = mode_unstable(StepKind::DirectForward, &hessian.xx, h).unwrap();
+        let z = h * largest.sqrt();
+        assert!((lambda.re - 1.0).abs() < 0.02 && (lambda.im.abs() - z).abs() < 0.02 * z);
     }
 }

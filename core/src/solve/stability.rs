@@ -110,7 +110,7 @@ impl Lagrangian<1> for UnitOscillator {
 /// The step map `Q_n = A Q_{n−2} + B Q_{n−1}` of `kind` on [`UnitOscillator`] with step `h`,
 /// from the step's own residual: it is affine in the newest node, so one Newton step from zero
 /// solves it exactly. `None` when the step's Jacobian vanishes.
-fn oscillator_step_map(kind: StepKind, h: f64) -> Option<(f64, f64)> {
+pub(crate) fn oscillator_step_map(kind: StepKind, h: f64) -> Option<(f64, f64)> {
     let times = StepTimes::new(h, 0.0, h, 2.0 * h);
     let solve = |a: f64, b: f64| {
         let (a, b) = (Vector::<1>::new(a), Vector::<1>::new(b));

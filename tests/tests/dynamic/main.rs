@@ -10,4 +10,5 @@ mod ivp;
 mod node_values;
 mod resolution;
 mod scale_invariance;
+mod stability;
 mod through_problem;
