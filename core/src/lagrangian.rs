@@ -343,7 +343,9 @@ pub trait Lagrangian<const D: usize> {
     /// [`RUN_TIME_FROM`](crate::RUN_TIME_FROM) degrees of freedom on, [`Problem`](crate::Problem) then solves its
     /// initial value problems (every classical embedding, Gauss–Legendre included) and its
     /// Gauss-FDEσ and asymmetric boundary value problems with the run-time engine: the same steps, faster there, and with no `D × D` block on the stack
-    /// (a `Hessian<256>` by value is 1.5 MB, most of a test thread's 2 MiB stack). A run-time
+    /// (a `Hessian<256>` by value is 1.5 MB, most of a test thread's 2 MiB stack; a model that
+    /// stays on the const-generic path gets a stack segment sized for its blocks when the
+    /// thread's stack is short). A run-time
     /// form whose `dimension()` is not `D` is not this model's, and is not used.
     ///
     /// # Example

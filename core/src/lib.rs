@@ -208,6 +208,7 @@ mod problem;
 mod regularity;
 mod side;
 mod solve;
+mod stack;
 mod step;
 #[cfg(test)]
 mod test_models;

@@ -10,6 +10,7 @@ use crate::lagrangian::{IntoVector, Lagrangian, Vector};
 use crate::options::RUN_TIME_FROM;
 use crate::solve::bvp;
 use crate::solve::solution::Solution;
+use crate::stack::with_room_for;
 
 impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// Solves the boundary value problem `Q_0 = qa`, `Q_N = qb` for `scheme`, from the straight
@@ -77,10 +78,12 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         if let Some(solved) = self.bvp_on_run_time_engine(scheme, guess) {
             return solved;
         }
-        if self.discretisation.embedding().is_one_step() {
-            return self.gauss_legendre_bvp(scheme, guess);
-        }
-        bvp::solve(&self.discretisation, &self.options, scheme, guess)
+        with_room_for::<D, _>(|| {
+            if self.discretisation.embedding().is_one_step() {
+                return self.gauss_legendre_bvp(scheme, guess);
+            }
+            bvp::solve(&self.discretisation, &self.options, scheme, guess)
+        })
     }
 
     /// The boundary value problem of a Gauss–Legendre integrator: the run-time engine's global

@@ -13,6 +13,7 @@ use crate::solve::bvp;
 use crate::solve::ivp::Ivp;
 use crate::solve::solution::Solution;
 use crate::solve::start::Start;
+use crate::stack::with_room_for;
 
 /// The kinds of problem a comparison names.
 const IVP: &str = "initial value problem";
@@ -70,7 +71,9 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         start: Start,
     ) -> impl Fn(Scheme, Grid) -> Result<Solution<D>> {
         move |scheme, grid| {
-            Ivp::new(&self.on_grid(grid), &self.options).solve(scheme, q0, v0, start)
+            with_room_for::<D, _>(|| {
+                Ivp::new(&self.on_grid(grid), &self.options).solve(scheme, q0, v0, start)
+            })
         }
     }
 
@@ -83,7 +86,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     ) -> impl Fn(Scheme, Grid) -> Result<Solution<D>> {
         move |scheme, grid| {
             let guess = bvp::straight_line(qa, qb, grid.n())?;
-            bvp::solve(&self.on_grid(grid), &self.options, scheme, &guess)
+            with_room_for::<D, _>(|| bvp::solve(&self.on_grid(grid), &self.options, scheme, &guess))
         }
     }
 

@@ -8,6 +8,7 @@ use crate::error::Result;
 use crate::lagrangian::{IntoVector, Lagrangian, Vector};
 use crate::solve::bvp;
 use crate::solve::constrained::{self, ConstrainedSolution};
+use crate::stack::with_room_for;
 
 impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` under the holonomic
@@ -61,13 +62,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         q0: impl IntoVector<D>,
         v0: impl IntoVector<D>,
     ) -> Result<ConstrainedSolution<D, M>> {
-        constrained::solve(
-            &self.ivp(),
-            constraint,
-            scheme,
-            q0.into_vector(),
-            v0.into_vector(),
-        )
+        let (q0, v0) = (q0.into_vector(), v0.into_vector());
+        with_room_for::<D, _>(|| constrained::solve(&self.ivp(), constraint, scheme, q0, v0))
     }
 
     /// Solves the boundary value problem `Q_0 = qa`, `Q_N = qb` under the holonomic constraints
@@ -143,12 +139,14 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         constraint: &C,
         guess: &[Vector<D>],
     ) -> Result<ConstrainedSolution<D, M>> {
-        constrained::solve_bvp(
-            &self.discretisation,
-            &self.options,
-            constraint,
-            scheme,
-            guess,
-        )
+        with_room_for::<D, _>(|| {
+            constrained::solve_bvp(
+                &self.discretisation,
+                &self.options,
+                constraint,
+                scheme,
+                guess,
+            )
+        })
     }
 }

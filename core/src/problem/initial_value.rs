@@ -11,6 +11,7 @@ use crate::options::RUN_TIME_FROM;
 use crate::solve::ivp::Ivp;
 use crate::solve::solution::Solution;
 use crate::solve::start::Start;
+use crate::stack::with_room_for;
 
 impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// The parts of this problem an initial value problem needs.
@@ -80,8 +81,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         q0: impl IntoVector<D>,
         v0: impl IntoVector<D>,
     ) -> Result<Vector<D>> {
-        self.ivp()
-            .legendre_start(q0.into_vector(), v0.into_vector())
+        let (q0, v0) = (q0.into_vector(), v0.into_vector());
+        with_room_for::<D, _>(|| self.ivp().legendre_start(q0, v0))
     }
 
     /// The second-order start `Q_1 = Q_0 + h q̇(a) + ½h² q̈(a)`, with `q̈(a)` solved from the
@@ -108,8 +109,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         q0: impl IntoVector<D>,
         v0: impl IntoVector<D>,
     ) -> Result<Vector<D>> {
-        self.ivp()
-            .second_order_start(q0.into_vector(), v0.into_vector())
+        let (q0, v0) = (q0.into_vector(), v0.into_vector());
+        with_room_for::<D, _>(|| self.ivp().second_order_start(q0, v0))
     }
 
     /// Solves the initial value problem with the chosen [`Start`] for `Q_1`, whatever
@@ -139,7 +140,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         if let Some(run) = self.on_run_time_engine(scheme, (&q0, &v0), SecondNode::Start(start)) {
             return run;
         }
-        self.ivp().solve(scheme, q0, v0, start)
+        with_room_for::<D, _>(|| self.ivp().solve(scheme, q0, v0, start))
     }
 
     /// Solves the initial value problem `q(a) = q0`, `q̇(a) = v0` with `scheme`, from the start
@@ -166,7 +167,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// [`Error::SingularJacobian`](crate::Error::SingularJacobian), [`Error::NewtonDidNotConverge`](crate::Error::NewtonDidNotConverge) (with the last residual) or
     /// [`Error::Unstable`](crate::Error::Unstable) (the linearised step map, checked at step 2 and every 1024 steps, has
     /// a real eigenvalue below −1 or one of modulus ≥ 2: the step is too large for the scheme;
-    /// on a run handed to the run-time engine only a Störmer–Verlet run, at its initial data)
+    /// on a run handed to the run-time engine, at its initial data and where the model's modes
+    /// decouple, see [`DynProblem`](crate::DynProblem))
     /// or [`Error::NotFinite`](crate::Error::NotFinite) (e.g. a recurrence overflowing between two checks); for a
     /// Lagrangian that does not depend on `t`, [`Error::BlowUp`](crate::Error::BlowUp) over a window of steps where the
     /// energy grew far beyond the early run's (see
@@ -200,7 +202,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// run-time-dimension engine, as in [`solve_ivp`](Self::solve_ivp)
     /// ([`DynProblem::solve_ivp_from_nodes`](crate::DynProblem::solve_ivp_from_nodes)), whose
     /// checks differ: it checks its initial data `Q_0`, `(Q_1 − Q_0)/h` at `a` (with the
-    /// Störmer–Verlet stability verdict there, [`Error::Unstable`](crate::Error::Unstable)),
+    /// stability verdict there, [`Error::Unstable`](crate::Error::Unstable)),
     /// where this path checks `∂²L/∂v²` and the domain at `Q_1` and the degeneracy again at the
     /// last nodes.
     ///
@@ -227,6 +229,6 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
         if let Some(run) = self.on_run_time_engine(scheme, (&q0, &Vector::<D>::zeros()), given) {
             return run;
         }
-        self.ivp().solve_from_nodes(scheme, q0, q1)
+        with_room_for::<D, _>(|| self.ivp().solve_from_nodes(scheme, q0, q1))
     }
 }
