@@ -437,18 +437,22 @@ impl Embedding {
         )
     }
 
+    /// Whether the velocity differentiates the curve minus its value at the end where the
+    /// derivative starts: the Caputo form, corrected or not.
+    pub(crate) fn is_caputo(&self) -> bool {
+        matches!(
+            self.kind,
+            EmbeddingKind::Caputo { .. } | EmbeddingKind::CorrectedCaputo { .. }
+        )
+    }
+
     /// The node whose value the velocity subtracts from the curve: `Some(0)` (σ = −) or
     /// `Some(N)` (σ = +) for the Caputo forms, `None` for every other embedding.
     pub(crate) fn caputo_end(&self, n: usize) -> Option<usize> {
-        match self.kind {
-            EmbeddingKind::Caputo { .. } | EmbeddingKind::CorrectedCaputo { .. } => {
-                Some(match self.side {
-                    Side::Backward => 0,
-                    Side::Forward => n,
-                })
-            }
-            _ => None,
-        }
+        self.is_caputo().then_some(match self.side {
+            Side::Backward => 0,
+            Side::Forward => n,
+        })
     }
     /// The quadrature node whose force `∂L/∂x` no row of either scheme reads, for the
     /// fractional embeddings: the end where the right derivative of their Euler–Lagrange
@@ -468,8 +472,9 @@ impl Embedding {
     /// Gauss-GLEσ's rows at its own velocity. Gauss-FDEσ is not; neither are the midpoint and
     /// trapezoidal embeddings, whose direct scheme evaluates `∂L/∂x` once at the node where
     /// the variational one averages it over the two neighbouring intervals
-    /// ([schemes](crate::guide::schemes)); nor is the corrected Gauss-GLEσ, whose corrected
-    /// momentum operator is not the transpose of its corrected velocity operator; the
+    /// ([schemes](crate::guide::schemes)); nor are the corrected Gauss-GLEσ and its Caputo form,
+    /// whose corrected momentum operator is not the transpose of the corrected velocity
+    /// operator; the
     /// Gauss–Legendre integrators have no direct scheme to be coherent with.
     ///
     /// ```

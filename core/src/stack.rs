@@ -14,8 +14,11 @@
 /// `D × D` blocks of room a solve gets. Measured at the test profile (opt-level 1): a solve of
 /// each three-point embedding and scheme of a 256-site ring, initial and boundary value
 /// problems, overflowed a segment of 64 blocks and passed with 128 (its inlined steps keep
-/// many block temporaries in one frame); twice that, for unoptimised builds. A segment is
-/// reserved address space: only the pages a solve touches are ever backed.
+/// many block temporaries in one frame). Twice that, as a margin: unoptimised builds, whose
+/// frames are larger, were not measured. A segment is mapped read-write for its whole size
+/// (128 MiB at `D = 256`, one per solve and per thread that solves at once), though only the
+/// pages a solve touches are backed: under strict overcommit or a low `ulimit -v` the mapping
+/// can fail, and `stacker` then panics.
 const BLOCKS: usize = 256;
 
 /// Room for everything else a solve keeps on the stack (its frames, vectors of length `D`).
@@ -23,7 +26,8 @@ const BASE: usize = 256 << 10;
 
 /// The stack a solve of a `D`-dimensional model needs.
 pub(crate) const fn room_for(d: usize) -> usize {
-    BASE + BLOCKS * d * d * std::mem::size_of::<f64>()
+    let blocks = BLOCKS.saturating_mul(d).saturating_mul(d);
+    BASE.saturating_add(blocks.saturating_mul(std::mem::size_of::<f64>()))
 }
 
 /// `f` with at least [`room_for`]`(D)` bytes of stack: on the thread's stack when it has them

@@ -8,8 +8,11 @@
 //! verdict flags that map beyond the kind's limit `hω = z*` (2 for Störmer–Verlet, whose step
 //! map then has a real eigenvalue `λ < −1`, the sawtooth mode of an under-resolved step; `√3`
 //! for the direct σ = + step, whose eigenvalues reach modulus 2 there; none for the A-stable
-//! ones). So the run is unstable at its initial data exactly when the largest eigenvalue of `K`
-//! exceeds `z*²/h²`. Two bounds decide that in `O(nnz)` work per product with `K`:
+//! ones). So, for the modes with `κ ≥ 0`, the run linearised at its initial data is flagged
+//! exactly when the largest eigenvalue of `K` exceeds `z*²/h²` (the steps read `K` at `Q_1` or
+//! at midpoints, the same to `O(h)`, exactly for a quadratic `U`; an inverted mode, `κ < 0`,
+//! which the const-generic verdict may flag, is not looked at). Two bounds decide that in
+//! `O(nnz)` work per product with `K`:
 //!
 //! - Gershgorin: every eigenvalue of the symmetric `K` lies below its largest absolute row sum
 //!   `G`, so `h² G ≤ z*²` proves the step stable at once (every run well inside the limit);

@@ -88,7 +88,7 @@ pub enum EmbeddingKind {
     /// momentum operator in the direct scheme. A Caputo solution with `q(a) ≠ 0` has
     /// `q − q(a) ~ t^α, t^{1+α}` next to `a` (σ = −), exactly the terms the starting columns
     /// are made exact on, so the direct scheme is second order on data with `q(a) ≠ 0` and a
-    /// momentum not vanishing at `b`, where the Caputo form's order is below 1. Not coherent,
+    /// momentum vanishing at neither end, where the Caputo form's order is below 1. Not coherent,
     /// for the corrected form's reason; its variational scheme keeps the low order. Only
     /// boundary value problems, on both fractional solvers.
     CorrectedCaputo {

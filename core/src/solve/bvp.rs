@@ -360,7 +360,7 @@ fn fractional_warnings<const D: usize>(embedding: &Embedding, q: &[Vector<D>]) -
         warnings.push(Warning::IllPosedFractional { alpha });
     }
     // The Caputo forms subtract the end value: only the Riemann–Liouville ones are flagged.
-    let riemann_liouville = embedding.caputo_end(q.len() - 1).is_none();
+    let riemann_liouville = !embedding.is_caputo();
     if riemann_liouville && (0.5..1.0).contains(&alpha) {
         let end = match side {
             Side::Backward => 0,

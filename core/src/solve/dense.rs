@@ -32,6 +32,7 @@ use crate::grid::Grid;
 use crate::lagrangian::{Lagrangian, Vector};
 use crate::solve::nodes::{NodeState, invert_momentum};
 use crate::solve::solution::Solution;
+use crate::stack::with_room_for;
 
 /// The most nodes a stencil reads: `2s + 2 = 10` for the positions-only polynomial of
 /// Gauss–Legendre with 4 stages.
@@ -285,23 +286,26 @@ impl<const D: usize> Solution<D> {
         t: f64,
         lagrangian: &L,
     ) -> Result<NodeState<D>> {
-        let interpolant = interpolant(&self.embedding, self.scheme, "Solution::state_at")?;
-        let (q, v) = match interpolant.hermite {
-            Some(points) => self.hermite_at(t, lagrangian, points)?,
-            None => self.lagrange_at(t, interpolant.points)?,
-        };
-        let (_, p) = lagrangian.gradient(&q, &v, t);
-        let energy = (!lagrangian.dependence().t).then(|| v.dot(&p) - lagrangian.value(&q, &v, t));
-        if !(p.iter().all(|x| x.is_finite()) && energy.is_none_or(f64::is_finite)) {
-            return Err(Error::OutsideDomain {
-                what: format!(
-                    "the interpolated state q = {:?}, v = {:?} at t = {t}",
-                    q.as_slice(),
-                    v.as_slice()
-                ),
-            });
-        }
-        Ok(NodeState { t, q, v, p, energy })
+        with_room_for::<D, _>(|| {
+            let interpolant = interpolant(&self.embedding, self.scheme, "Solution::state_at")?;
+            let (q, v) = match interpolant.hermite {
+                Some(points) => self.hermite_at(t, lagrangian, points)?,
+                None => self.lagrange_at(t, interpolant.points)?,
+            };
+            let (_, p) = lagrangian.gradient(&q, &v, t);
+            let energy =
+                (!lagrangian.dependence().t).then(|| v.dot(&p) - lagrangian.value(&q, &v, t));
+            if !(p.iter().all(|x| x.is_finite()) && energy.is_none_or(f64::is_finite)) {
+                return Err(Error::OutsideDomain {
+                    what: format!(
+                        "the interpolated state q = {:?}, v = {:?} at t = {t}",
+                        q.as_slice(),
+                        v.as_slice()
+                    ),
+                });
+            }
+            Ok(NodeState { t, q, v, p, energy })
+        })
     }
 
     /// The stencil of `points` nodes at `t`, after the checks every form makes.

@@ -6,6 +6,7 @@ use crate::grid::Grid;
 use crate::lagrangian::{Lagrangian, Vector};
 use crate::side::Side;
 use crate::solve::nodes::NodeValues;
+use crate::stack::with_room_for;
 use std::fmt;
 
 /// Something a caller should know about a returned solution that is not an error: the solve
@@ -56,8 +57,9 @@ pub enum Warning {
     /// do not converge as `N` grows (on `L = ½v² − ½x² + x`, `q(0) = 0.3`, `q(1) = 1`, σ = −,
     /// `α = 0.9`, the convergence study's error estimates are 0.0145, 0.0147, 0.0148, 0.0149 at
     /// `N = 50, 100, 200, 400`).
-    /// The [Caputo form](crate::Embedding::caputo) differentiates `q − q(a)` instead and has a
-    /// finite action for any end values. For `α < 1/2` the singular term is square integrable
+    /// The Caputo forms ([`Embedding::caputo`](crate::Embedding::caputo), and
+    /// [`Embedding::corrected_caputo`](crate::Embedding::corrected_caputo), second order on such
+    /// data) differentiate `q − q(a)` instead and have a finite action for any end values. For `α < 1/2` the singular term is square integrable
     /// and nothing is flagged here (such problems carry [`Warning::IllPosedFractional`]); at
     /// `α = 1` the operator is the classical difference, which has no singular term. The end
     /// value counts as not zero above `10⁻⁸` times the solution's largest node
@@ -123,9 +125,9 @@ impl fmt::Display for Warning {
                      {value:.3e}), so its Riemann–Liouville derivative of order α = {alpha} \
                      behaves like {sign} there, whose square is not integrable for α ≥ 1/2: \
                      every curve with these end values has infinite action and the discrete \
-                     solutions need not converge as N grows. Use the Caputo form \
-                     (Embedding::caputo), which differentiates q − q({end}), or data vanishing \
-                     at {end}"
+                     solutions need not converge as N grows. Use a Caputo form \
+                     (Embedding::corrected_caputo, second order, or Embedding::caputo), which \
+                     differentiates q − q({end}), or data vanishing at {end}"
                 )
             }
             Warning::IllPosed { measure } => write!(
@@ -255,13 +257,15 @@ impl<const D: usize> Solution<D> {
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn node_values<L: Lagrangian<D> + ?Sized>(&self, lagrangian: &L) -> Result<NodeValues<D>> {
-        NodeValues::new(
-            lagrangian,
-            &self.grid,
-            &self.embedding,
-            self.scheme,
-            (&self.q, &self.momenta),
-        )
+        with_room_for::<D, _>(|| {
+            NodeValues::new(
+                lagrangian,
+                &self.grid,
+                &self.embedding,
+                self.scheme,
+                (&self.q, &self.momenta),
+            )
+        })
     }
 
     /// Component `i` of every node, `None` when `i ≥ D`.

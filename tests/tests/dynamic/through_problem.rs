@@ -478,7 +478,9 @@ fn const_generic_runs<const D: usize, L: Lagrangian<D> + Sync>(
 
 /// A const-generic model's solves hold `D × D` blocks on the stack (a `Hessian<64>` by value
 /// is 98 kB): on a thread of 256 KiB they run on a stack segment sized for them, with the nodes
-/// of the same solves on the main thread, to the bit.
+/// of the same solves on a thread of 64 MiB (room enough: no segment there), to the bit; and a
+/// solution's values at and between its nodes (`node_values`, `state_at`, which solve with
+/// `∂²L/∂v²`) on a thread of 64 KiB, less than one `Hessian<64>`.
 #[test]
 fn const_generic_solves_run_on_a_short_stack() {
     let model = SmallRing { c: 1.0 };
@@ -490,10 +492,27 @@ fn const_generic_solves_run_on_a_short_stack() {
         (backward, Scheme::Direct),
     ];
     let short = on_thread(256 << 10, || const_generic_runs(&model, 6, &cases));
-    let main = const_generic_runs(&model, 6, &cases);
-    for (short, main) in short.iter().zip(&main) {
-        assert_eq!(short.q, main.q);
+    let roomy = on_thread(64 << 20, || const_generic_runs(&model, 6, &cases));
+    for (short, roomy) in short.iter().zip(&roomy) {
+        assert_eq!(short.q, roomy.q);
     }
+    let run = &short[0];
+    let (values, state) = on_thread(64 << 10, || {
+        let dense = Dense(&model);
+        (
+            run.node_values(&dense).unwrap(),
+            run.state_at(0.05, &dense).unwrap(),
+        )
+    });
+    let (roomy_values, roomy_state) = on_thread(64 << 20, || {
+        let dense = Dense(&model);
+        (
+            run.node_values(&dense).unwrap(),
+            run.state_at(0.05, &dense).unwrap(),
+        )
+    });
+    assert_eq!((values.v, values.p), (roomy_values.v, roomy_values.p));
+    assert_eq!((state.q, state.v), (roomy_state.q, roomy_state.v));
 }
 
 /// The target size: the sine-Gordon ring of 256 sites kept on the const-generic path (no
