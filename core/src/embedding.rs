@@ -474,8 +474,7 @@ impl Embedding {
     /// the variational one averages it over the two neighbouring intervals
     /// ([schemes](crate::guide::schemes)); nor are the corrected Gauss-GLEσ and its Caputo form,
     /// whose corrected momentum operator is not the transpose of the corrected velocity
-    /// operator; the
-    /// Gauss–Legendre integrators have no direct scheme to be coherent with.
+    /// operator; the Gauss–Legendre integrators have no direct scheme to be coherent with.
     ///
     /// ```
     /// use varembed::{Embedding, EmbeddingKind, Side};

@@ -283,35 +283,33 @@ impl<const D: usize> DirectEmbedding<'_, '_, D> {
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn solve_ivp(&self, derivatives: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
-        with_room_for::<D, _>(|| {
-            let (n, m) = (self.grid.n(), self.operator.order());
-            check_len(
-                "initial derivatives q(a), q'(a), …, q^(m−1)(a), m the operator's order",
-                m,
-                derivatives.len(),
-            )?;
-            if let Some(i) = derivatives
-                .iter()
-                .position(|x| !x.iter().all(|c| c.is_finite()))
-            {
-                return Err(Error::NonFiniteInput {
-                    what: format!("initial derivative q^({i})(a)"),
-                });
-            }
-            let h = self.grid.h();
-            let start: Vec<Vector<D>> = (0..m.min(n + 1))
-                .map(|j| {
-                    // Σ_i (jh)^i / i! q^(i)(a), its powers accumulated term by term.
-                    let (mut node, mut power) = (Vector::<D>::zeros(), 1.0);
-                    for (i, derivative) in derivatives.iter().enumerate() {
-                        node += derivative * power;
-                        power *= j as f64 * h / (i + 1) as f64;
-                    }
-                    node
-                })
-                .collect();
-            self.solve_ivp_from_nodes(&start)
-        })
+        let (n, m) = (self.grid.n(), self.operator.order());
+        check_len(
+            "initial derivatives q(a), q'(a), …, q^(m−1)(a), m the operator's order",
+            m,
+            derivatives.len(),
+        )?;
+        if let Some(i) = derivatives
+            .iter()
+            .position(|x| !x.iter().all(|c| c.is_finite()))
+        {
+            return Err(Error::NonFiniteInput {
+                what: format!("initial derivative q^({i})(a)"),
+            });
+        }
+        let h = self.grid.h();
+        let start: Vec<Vector<D>> = (0..m.min(n + 1))
+            .map(|j| {
+                // Σ_i (jh)^i / i! q^(i)(a), its powers accumulated term by term.
+                let (mut node, mut power) = (Vector::<D>::zeros(), 1.0);
+                for (i, derivative) in derivatives.iter().enumerate() {
+                    node += derivative * power;
+                    power *= j as f64 * h / (i + 1) as f64;
+                }
+                node
+            })
+            .collect();
+        self.solve_ivp_from_nodes(&start)
     }
 
     /// Solves `O^h(Q) = 0` forward in time from given first nodes `Q_0..Q_{m−1}` (all `N + 1`
@@ -335,65 +333,70 @@ impl<const D: usize> DirectEmbedding<'_, '_, D> {
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn solve_ivp_from_nodes(&self, initial: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
-        with_room_for::<D, _>(|| {
-            let (n, m) = (self.grid.n(), self.operator.order());
-            check_len("initial nodes Q_0..Q_{m−1}", m.min(n + 1), initial.len())?;
-            if let Some(k) = initial
-                .iter()
-                .position(|x| !x.iter().all(|c| c.is_finite()))
-            {
-                return Err(Error::NonFiniteInput {
-                    what: format!("initial node Q_{k}"),
+        // The Newton steps hold a `D × D` Jacobian and its LU (see the stack module).
+        with_room_for::<D, _>(|| self.steps_from(initial))
+    }
+
+    /// The steps of [`solve_ivp_from_nodes`](Self::solve_ivp_from_nodes), which runs them
+    /// where the stack has room for their blocks.
+    fn steps_from(&self, initial: &[Vector<D>]) -> Result<Vec<Vector<D>>> {
+        let (n, m) = (self.grid.n(), self.operator.order());
+        check_len("initial nodes Q_0..Q_{m−1}", m.min(n + 1), initial.len())?;
+        if let Some(k) = initial
+            .iter()
+            .position(|x| !x.iter().all(|c| c.is_finite()))
+        {
+            return Err(Error::NonFiniteInput {
+                what: format!("initial node Q_{k}"),
+            });
+        }
+        let mut q = initial.to_vec();
+        q.resize(n + 1, Vector::<D>::zeros());
+        for newest in m..=n {
+            let k = match self.side {
+                Side::Backward => newest,
+                Side::Forward => newest - m,
+            };
+            let at = Location::Step(newest);
+            if newest > 0 {
+                q[newest] = q[newest - 1];
+            }
+            let mut converged = false;
+            let mut residual = f64::INFINITY;
+            for _ in 0..=self.newton.max_iterations {
+                let (r, scale) = self.row(&q, k);
+                if !r.iter().all(|c| c.is_finite()) {
+                    return Err(Error::NotFinite { at });
+                }
+                residual = r.amax();
+                // Against the terms the row sums (no absolute part): the round-off of the
+                // residual is a few ε of them, far below the tolerance.
+                if residual <= self.newton.tolerance * scale {
+                    converged = true;
+                    break;
+                }
+                let mut jac = Matrix::<D>::zeros();
+                for j in 0..D {
+                    let y = q[newest][j];
+                    let step = 1e-6 * (1.0 + y.abs());
+                    q[newest][j] = y + step;
+                    let (plus, _) = self.row(&q, k);
+                    q[newest][j] = y - step;
+                    let (minus, _) = self.row(&q, k);
+                    q[newest][j] = y;
+                    jac.set_column(j, &((plus - minus) / (2.0 * step)));
+                }
+                let delta = solve_small(&jac, &r).ok_or(Error::SingularJacobian { at })?;
+                q[newest] -= delta;
+            }
+            if !converged {
+                return Err(Error::NewtonDidNotConverge {
+                    at,
+                    iterations: self.newton.max_iterations,
+                    residual,
                 });
             }
-            let mut q = initial.to_vec();
-            q.resize(n + 1, Vector::<D>::zeros());
-            for newest in m..=n {
-                let k = match self.side {
-                    Side::Backward => newest,
-                    Side::Forward => newest - m,
-                };
-                let at = Location::Step(newest);
-                if newest > 0 {
-                    q[newest] = q[newest - 1];
-                }
-                let mut converged = false;
-                let mut residual = f64::INFINITY;
-                for _ in 0..=self.newton.max_iterations {
-                    let (r, scale) = self.row(&q, k);
-                    if !r.iter().all(|c| c.is_finite()) {
-                        return Err(Error::NotFinite { at });
-                    }
-                    residual = r.amax();
-                    // Against the terms the row sums (no absolute part): the round-off of the
-                    // residual is a few ε of them, far below the tolerance.
-                    if residual <= self.newton.tolerance * scale {
-                        converged = true;
-                        break;
-                    }
-                    let mut jac = Matrix::<D>::zeros();
-                    for j in 0..D {
-                        let y = q[newest][j];
-                        let step = 1e-6 * (1.0 + y.abs());
-                        q[newest][j] = y + step;
-                        let (plus, _) = self.row(&q, k);
-                        q[newest][j] = y - step;
-                        let (minus, _) = self.row(&q, k);
-                        q[newest][j] = y;
-                        jac.set_column(j, &((plus - minus) / (2.0 * step)));
-                    }
-                    let delta = solve_small(&jac, &r).ok_or(Error::SingularJacobian { at })?;
-                    q[newest] -= delta;
-                }
-                if !converged {
-                    return Err(Error::NewtonDidNotConverge {
-                        at,
-                        iterations: self.newton.max_iterations,
-                        residual,
-                    });
-                }
-            }
-            Ok(q)
-        })
+        }
+        Ok(q)
     }
 }

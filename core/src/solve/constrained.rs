@@ -76,44 +76,53 @@ impl<const D: usize, const M: usize> ConstrainedSolution<D, M> {
         L: Lagrangian<D> + ?Sized,
         C: Constraint<D, M> + ?Sized,
     {
-        with_room_for::<D, _>(|| {
-            let mut nodes = self.solution.node_values(lagrangian)?;
-            for k in 0..nodes.len() {
-                let (q, t) = (nodes.q[k], nodes.t[k]);
-                let at = Location::Node(k);
-                let mass = lagrangian.hessian(&q, &nodes.v[k], t).vv;
-                let g = constraint.jacobian(&q);
-                // M⁻¹ Gᵀ column by column, then the M × M system for ν.
-                let mut spread = SMatrix::<f64, D, M>::zeros();
-                for i in 0..M {
-                    let column = solve_small(&mass, &g.row(i).transpose())
-                        .ok_or(Error::SingularJacobian { at })?;
-                    spread.set_column(i, &column);
-                }
-                let schur = g * spread;
-                let rhs = g * nodes.v[k];
-                let nu = DMatrix::from_column_slice(M, M, schur.as_slice())
-                    .lu()
-                    .solve(&DVector::from_column_slice(rhs.as_slice()))
-                    .filter(|nu| nu.iter().all(|c| c.is_finite()));
-                let Some(nu) = nu else {
-                    check_rank(&g, at)?;
-                    return Err(Error::SingularJacobian { at });
-                };
-                let nu = SVector::<f64, M>::from_column_slice(nu.as_slice());
-                let p = nodes.p[k] - g.transpose() * nu;
-                let guess = nodes.v[k] - spread * nu;
-                nodes.v[k] = invert_momentum(lagrangian, &q, t, &p, guess, k)?;
-                nodes.p[k] = p;
+        // Each node solves with `∂²L/∂v²` (see the stack module).
+        with_room_for::<D, _>(|| self.project_node_values(lagrangian, constraint))
+    }
+
+    /// The values of [`node_values`](Self::node_values), which computes them where the stack
+    /// has room for the blocks they solve with.
+    fn project_node_values<L, C>(&self, lagrangian: &L, constraint: &C) -> Result<NodeValues<D>>
+    where
+        L: Lagrangian<D> + ?Sized,
+        C: Constraint<D, M> + ?Sized,
+    {
+        let mut nodes = self.solution.node_values(lagrangian)?;
+        for k in 0..nodes.len() {
+            let (q, t) = (nodes.q[k], nodes.t[k]);
+            let at = Location::Node(k);
+            let mass = lagrangian.hessian(&q, &nodes.v[k], t).vv;
+            let g = constraint.jacobian(&q);
+            // M⁻¹ Gᵀ column by column, then the M × M system for ν.
+            let mut spread = SMatrix::<f64, D, M>::zeros();
+            for i in 0..M {
+                let column = solve_small(&mass, &g.row(i).transpose())
+                    .ok_or(Error::SingularJacobian { at })?;
+                spread.set_column(i, &column);
             }
-            if let Some(energy) = nodes.energy.as_mut() {
-                for (k, e) in energy.iter_mut().enumerate() {
-                    let (q, v, t) = (&nodes.q[k], &nodes.v[k], nodes.t[k]);
-                    *e = v.dot(&nodes.p[k]) - lagrangian.value(q, v, t);
-                }
+            let schur = g * spread;
+            let rhs = g * nodes.v[k];
+            let nu = DMatrix::from_column_slice(M, M, schur.as_slice())
+                .lu()
+                .solve(&DVector::from_column_slice(rhs.as_slice()))
+                .filter(|nu| nu.iter().all(|c| c.is_finite()));
+            let Some(nu) = nu else {
+                check_rank(&g, at)?;
+                return Err(Error::SingularJacobian { at });
+            };
+            let nu = SVector::<f64, M>::from_column_slice(nu.as_slice());
+            let p = nodes.p[k] - g.transpose() * nu;
+            let guess = nodes.v[k] - spread * nu;
+            nodes.v[k] = invert_momentum(lagrangian, &q, t, &p, guess, k)?;
+            nodes.p[k] = p;
+        }
+        if let Some(energy) = nodes.energy.as_mut() {
+            for (k, e) in energy.iter_mut().enumerate() {
+                let (q, v, t) = (&nodes.q[k], &nodes.v[k], nodes.t[k]);
+                *e = v.dot(&nodes.p[k]) - lagrangian.value(q, v, t);
             }
-            Ok(nodes)
-        })
+        }
+        Ok(nodes)
     }
 }
 

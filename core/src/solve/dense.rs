@@ -286,26 +286,24 @@ impl<const D: usize> Solution<D> {
         t: f64,
         lagrangian: &L,
     ) -> Result<NodeState<D>> {
-        with_room_for::<D, _>(|| {
-            let interpolant = interpolant(&self.embedding, self.scheme, "Solution::state_at")?;
-            let (q, v) = match interpolant.hermite {
-                Some(points) => self.hermite_at(t, lagrangian, points)?,
-                None => self.lagrange_at(t, interpolant.points)?,
-            };
-            let (_, p) = lagrangian.gradient(&q, &v, t);
-            let energy =
-                (!lagrangian.dependence().t).then(|| v.dot(&p) - lagrangian.value(&q, &v, t));
-            if !(p.iter().all(|x| x.is_finite()) && energy.is_none_or(f64::is_finite)) {
-                return Err(Error::OutsideDomain {
-                    what: format!(
-                        "the interpolated state q = {:?}, v = {:?} at t = {t}",
-                        q.as_slice(),
-                        v.as_slice()
-                    ),
-                });
-            }
-            Ok(NodeState { t, q, v, p, energy })
-        })
+        let interpolant = interpolant(&self.embedding, self.scheme, "Solution::state_at")?;
+        let (q, v) = match interpolant.hermite {
+            // The Hermite derivatives solve with `∂²L/∂v²` (see the stack module).
+            Some(points) => with_room_for::<D, _>(|| self.hermite_at(t, lagrangian, points))?,
+            None => self.lagrange_at(t, interpolant.points)?,
+        };
+        let (_, p) = lagrangian.gradient(&q, &v, t);
+        let energy = (!lagrangian.dependence().t).then(|| v.dot(&p) - lagrangian.value(&q, &v, t));
+        if !(p.iter().all(|x| x.is_finite()) && energy.is_none_or(f64::is_finite)) {
+            return Err(Error::OutsideDomain {
+                what: format!(
+                    "the interpolated state q = {:?}, v = {:?} at t = {t}",
+                    q.as_slice(),
+                    v.as_slice()
+                ),
+            });
+        }
+        Ok(NodeState { t, q, v, p, energy })
     }
 
     /// The stencil of `points` nodes at `t`, after the checks every form makes.
