@@ -22,10 +22,11 @@ fn unstable(error: Error) -> (Location, f64, f64, f64) {
     }
 }
 
-/// A harmonic chain of 64 particles (fixed ends, `κ_max = 2 − 2cos(64π/65)`), 10 % past each
-/// kind's limit `h√κ_max = z*`: the run-time engine refuses it before its first step, and the
-/// const-generic path at its first check (step 2), with the same flagged eigenvalue to 1 % and
-/// largest stable steps within 1 % of each other and of `z*/√κ_max`. 10 % inside the limit the
+/// An FPUT chain of 64 particles displaced by `10⁻³`, nearly harmonic (fixed ends,
+/// `κ_max ≈ 2 − 2cos(64π/65)`), 10 % past each kind's limit `h√κ_max = z*`: the run-time
+/// engine refuses it before its first step, and the const-generic path at its first check
+/// (step 2), with flagged eigenvalues of the same modulus to 1 % and real parts of the same
+/// sign, and largest stable steps within 1 % of `z*/√κ_max`. 10 % inside the limit the
 /// variational steps run to the end; the direct σ = + step is unstable at every step size (its
 /// amplitude grows by `(1 + h²κ)^{1/2}` a step) and is only flagged past its limit.
 #[test]
