@@ -60,7 +60,8 @@ pub enum Warning {
     /// The Caputo forms ([`Embedding::caputo`](crate::Embedding::caputo), and
     /// [`Embedding::corrected_caputo`](crate::Embedding::corrected_caputo), second order on such
     /// data) differentiate `q − q(a)` instead and have a finite action for any end values. For
-    /// `α < 1/2` the singular term is square integrable and nothing is flagged here (such problems carry [`Warning::IllPosedFractional`]); at
+    /// `α < 1/2` the singular term is square integrable and nothing is flagged here (such
+    /// problems carry [`Warning::IllPosedFractional`]); at
     /// `α = 1` the operator is the classical difference, which has no singular term. The end
     /// value counts as not zero above `10⁻⁸` times the solution's largest node
     /// ([solvers](crate::guide::solvers) says why).
