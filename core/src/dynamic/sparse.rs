@@ -109,6 +109,38 @@ impl SparseBlock {
         degenerate_directions(d, |i, j| dense[i * d + j])
     }
 
+    /// Whether the block is the identity: every diagonal entry summing to exactly 1, and no
+    /// nonzero value off the diagonal (listed or in the band).
+    pub(crate) fn is_identity(&self) -> bool {
+        let mut diagonal = vec![0.0; self.dimension];
+        let mut off_diagonal = false;
+        let mut each = |i: usize, j: usize, value: f64| {
+            if i == j {
+                diagonal[i] += value;
+            } else {
+                off_diagonal |= value != 0.0;
+            }
+        };
+        for &(i, j, value) in &self.entries {
+            each(i, j, value);
+        }
+        if let Some(band) = &self.band {
+            let b = band.half_width;
+            for (k, &value) in band.values.iter().enumerate() {
+                // Row i, column j = i + (k mod (2b + 1)) − b (zeros outside the block).
+                let (i, offset) = (k / band.width, k % band.width);
+                each(i, (i + offset).wrapping_sub(b), value);
+            }
+        }
+        !off_diagonal && diagonal.iter().all(|&c| c == 1.0)
+    }
+
+    /// Whether every value, listed or in the band, is zero.
+    pub(crate) fn is_zero(&self) -> bool {
+        let banded = self.band.as_ref().map_or(&[][..], |band| &band.values);
+        self.entries.iter().all(|e| e.2 == 0.0) && banded.iter().all(|&v| v == 0.0)
+    }
+
     /// Entry `(i, j)`: the sum of its values (`O(entries)`; for tests and small blocks).
     pub fn get(&self, i: usize, j: usize) -> f64 {
         let listed: f64 = self
@@ -264,5 +296,38 @@ impl SparseForceJacobian {
     pub fn clear(&mut self) {
         self.x.clear();
         self.v.clear();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::SparseBlock;
+
+    /// The same entries listed and in band storage give the same answers; repeated entries
+    /// are summed on the diagonal.
+    #[test]
+    fn identity_and_zero_read_listed_and_banded_entries() {
+        for banded in [false, true] {
+            let block = |entries: &[(usize, usize, f64)]| {
+                let mut b = if banded {
+                    SparseBlock::with_band(4, 1)
+                } else {
+                    SparseBlock::new(4)
+                };
+                entries.iter().for_each(|&(i, j, v)| b.add(i, j, v));
+                b
+            };
+            let diagonal: Vec<_> = (0..4).map(|i| (i, i, 1.0)).collect();
+            assert!(block(&diagonal).is_identity());
+            let mut halves: Vec<_> = (0..4).map(|i| (i, i, 0.5)).collect();
+            halves.extend_from_slice(&halves.clone());
+            assert!(block(&halves).is_identity());
+            let mut coupled = diagonal.clone();
+            coupled.push((1, 2, 1e-3));
+            assert!(!block(&coupled).is_identity() && !block(&coupled).is_zero());
+            assert!(!block(&diagonal[..3]).is_identity());
+            assert!(block(&[]).is_zero() && block(&[(0, 1, 0.0)]).is_zero());
+            assert!(!block(&[(3, 3, 2.0)]).is_zero());
+        }
     }
 }

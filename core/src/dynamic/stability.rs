@@ -73,21 +73,11 @@ pub(crate) fn modes_decouple(
     dependence: &HessianDependence,
     forced: bool,
 ) -> bool {
-    let mut diagonal = vec![0.0; hessian.vv.dimension()];
-    let mut off_diagonal = false;
-    for &(i, j, value) in hessian.vv.entries() {
-        if i == j {
-            diagonal[i] += value;
-        } else {
-            off_diagonal |= value != 0.0;
-        }
-    }
     !forced
         && dependence.vv == Dependence::NONE
         && dependence.xv == Dependence::NONE
-        && !off_diagonal
-        && diagonal.iter().all(|&c| c == 1.0)
-        && hessian.xv.entries().iter().all(|e| e.2 == 0.0)
+        && hessian.vv.is_identity()
+        && hessian.xv.is_zero()
 }
 
 /// [`oscillator_limit`] of `kind`, computed once per process (a scan and a bisection of the

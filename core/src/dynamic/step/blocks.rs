@@ -82,21 +82,9 @@ pub(super) fn scaled_jacobian_is_identity(terms: &Terms, h: f64, hessian: &Spars
         return false;
     };
     let w = term.block_weights(h);
-    let d = hessian.vv.dimension();
-    let mut diagonal = vec![0.0; d];
-    let mut off_diagonal = false;
-    for &(i, j, value) in hessian.vv.entries() {
-        if i == j {
-            diagonal[i] += value;
-        } else {
-            off_diagonal |= value != 0.0;
-        }
-    }
-    let zero = |block: &SparseBlock| block.entries().iter().all(|e| e.2 == 0.0);
     h.is_finite()
         && w.vv == 1.0
-        && !off_diagonal
-        && diagonal.iter().all(|&c| c == 1.0)
-        && (w.xv == 0.0 && w.vx == 0.0 || zero(&hessian.xv))
-        && (w.xx == 0.0 || zero(&hessian.xx))
+        && hessian.vv.is_identity()
+        && (w.xv == 0.0 && w.vx == 0.0 || hessian.xv.is_zero())
+        && (w.xx == 0.0 || hessian.xx.is_zero())
 }
