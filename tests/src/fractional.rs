@@ -12,7 +12,10 @@
 
 use crate::curve::v1;
 use crate::special::gamma;
-use varembed::{Hessian, Lagrangian, Matrix, Vector};
+use varembed::{
+    Embedding, FractionalSolver, Grid, Hessian, Lagrangian, Matrix, Problem, Scheme, Side,
+    Solution, Vector,
+};
 
 /// An exact solution `q = q_a + I^α p`, `p = Σ_k p[k] tᵏ`.
 #[derive(Clone, Debug)]
@@ -64,6 +67,43 @@ impl ExactSolution {
             }
         }
         total
+    }
+
+    /// `q(t)` on the problem of `side`: the σ = − curve, read at `1 − t` for σ = + (the mirror
+    /// image).
+    pub fn q_on(&self, side: Side, t: f64) -> f64 {
+        self.q(if side == Side::Forward { 1.0 - t } else { t })
+    }
+
+    /// The boundary value problem of this solution on `n` steps of `[0, 1]` (the mirror image
+    /// for an `embedding` of side σ = +), solved by `scheme` with `solver`: the solution, and
+    /// its max nodal error against [`q_on`](Self::q_on).
+    ///
+    /// # Panics
+    ///
+    /// When the solve fails.
+    pub fn solve(
+        &self,
+        (embedding, scheme): (Embedding, Scheme),
+        solver: FractionalSolver,
+        n: usize,
+    ) -> (Solution<1>, f64) {
+        let side = embedding.side();
+        let grid = Grid::new(0.0, 1.0, n).unwrap();
+        let model = ForcedByExact {
+            exact: self,
+            mirrored: side == Side::Forward,
+        };
+        let solution = Problem::new(&model, grid, embedding)
+            .with_fractional_solver(solver)
+            .solve_bvp(scheme, self.q_on(side, 0.0), self.q_on(side, 1.0))
+            .unwrap_or_else(|e| panic!("{embedding} {scheme}, N = {n}: {e}"));
+        let error = solution
+            .q
+            .iter()
+            .zip(grid.nodes())
+            .fold(0.0f64, |m, (x, t)| m.max((x[0] - self.q_on(side, t)).abs()));
+        (solution, error)
     }
 
     /// The forcing `F = D^α_+ p − c sin q` of the σ = − problem.

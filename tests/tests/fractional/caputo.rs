@@ -11,7 +11,7 @@
 
 use varembed::{Embedding, FractionalSolver, Grid, Problem, Scheme, Side, Vector, observed_orders};
 use varembed_tests::curve::v1;
-use varembed_tests::fractional::{ExactSolution, ForcedByExact};
+use varembed_tests::fractional::ExactSolution;
 
 /// The max nodal error of the Caputo solution on `N` steps.
 fn error(
@@ -21,21 +21,10 @@ fn error(
     solver: FractionalSolver,
     n: usize,
 ) -> f64 {
-    let mirrored = side == Side::Forward;
-    let model = ForcedByExact { exact, mirrored };
-    let q = |t: f64| exact.q(if mirrored { 1.0 - t } else { t });
     let embedding = Embedding::caputo(side, exact.alpha).unwrap();
-    let grid = Grid::new(0.0, 1.0, n).unwrap();
-    let solution = Problem::new(&model, grid, embedding)
-        .with_fractional_solver(solver)
-        .solve_bvp(scheme, q(0.0), q(1.0))
-        .unwrap();
+    let (solution, error) = exact.solve((embedding, scheme), solver, n);
     assert!(solution.warnings.is_empty(), "{:?}", solution.warnings);
-    solution
-        .q
-        .iter()
-        .zip(grid.nodes())
-        .fold(0.0f64, |m, (x, t)| m.max((x[0] - q(t)).abs()))
+    error
 }
 
 /// `p = 1 + t − 2t²` (`p(0) = 1`): `q − q_a ~ t^α/Γ(1 + α)` next to `a`, the generic

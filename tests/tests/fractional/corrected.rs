@@ -21,22 +21,12 @@ fn exact(alpha: f64, p: &[f64]) -> ExactSolution {
 
 /// The max nodal error of `embedding`'s `scheme` on `n` steps (σ = + on the mirror image).
 fn error(exact: &ExactSolution, embedding: Embedding, scheme: Scheme, n: usize) -> f64 {
-    let mirrored = embedding.side() == Side::Forward;
-    let q = |t: f64| exact.q(if mirrored { 1.0 - t } else { t });
-    let grid = Grid::new(0.0, 1.0, n).unwrap();
-    let model = ForcedByExact { exact, mirrored };
-    let solution = Problem::new(&model, grid, embedding)
-        .solve_bvp(scheme, q(0.0), q(1.0))
-        .unwrap();
+    let (solution, error) = exact.solve((embedding, scheme), FractionalSolver::Auto, n);
     // Well posed (α > ½, data vanishing where the velocity's derivative starts): no warning.
     if exact.alpha > 0.5 {
         assert!(solution.warnings.is_empty(), "{:?}", solution.warnings);
     }
-    solution
-        .q
-        .iter()
-        .zip(grid.nodes())
-        .fold(0.0f64, |m, (x, t)| m.max((x[0] - q(t)).abs()))
+    error
 }
 
 /// [`error`] on each of `ns` steps, with `N`.
@@ -212,22 +202,8 @@ fn the_fast_solver_agrees_with_dense_lu() {
     let exact = exact(0.7, &[1.0, 1.0, -0.5]);
     let n = 300;
     for side in [Side::Backward, Side::Forward] {
-        let mirrored = side == Side::Forward;
-        let model = ForcedByExact {
-            exact: &exact,
-            mirrored,
-        };
-        let q = |t: f64| exact.q(if mirrored { 1.0 - t } else { t });
-        let problem = |solver| {
-            Problem::new(
-                &model,
-                Grid::new(0.0, 1.0, n).unwrap(),
-                corrected(side, 0.7),
-            )
-            .with_fractional_solver(solver)
-        };
         for scheme in [Scheme::Direct, Scheme::Variational] {
-            let solve = |solver| problem(solver).solve_bvp(scheme, q(0.0), q(1.0)).unwrap();
+            let solve = |solver| exact.solve((corrected(side, 0.7), scheme), solver, n).0;
             let (fast, dense) = (
                 solve(FractionalSolver::Fast),
                 solve(FractionalSolver::Dense),

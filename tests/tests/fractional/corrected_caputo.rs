@@ -8,7 +8,7 @@ use varembed::{
     Embedding, Error, FractionalSolver, Grid, Problem, Scheme, Side, Vector, observed_orders,
 };
 use varembed_tests::curve::v1;
-use varembed_tests::fractional::{ExactSolution, ForcedByExact};
+use varembed_tests::fractional::ExactSolution;
 use varembed_tests::rng::Rng;
 
 fn exact(alpha: f64, qa: f64, p: &[f64]) -> ExactSolution {
@@ -33,22 +33,11 @@ fn error(
     solver: FractionalSolver,
     n: usize,
 ) -> f64 {
-    let mirrored = embedding.side() == Side::Forward;
-    let q = |t: f64| exact.q(if mirrored { 1.0 - t } else { t });
-    let grid = Grid::new(0.0, 1.0, n).unwrap();
-    let model = ForcedByExact { exact, mirrored };
-    let solution = Problem::new(&model, grid, embedding)
-        .with_fractional_solver(solver)
-        .solve_bvp(scheme, q(0.0), q(1.0))
-        .unwrap();
+    let (solution, error) = exact.solve((embedding, scheme), solver, n);
     if exact.alpha > 0.5 {
         assert!(solution.warnings.is_empty(), "{:?}", solution.warnings);
     }
-    solution
-        .q
-        .iter()
-        .zip(grid.nodes())
-        .fold(0.0f64, |m, (x, t)| m.max((x[0] - q(t)).abs()))
+    error
 }
 
 /// The direct scheme's errors on `ns` steps (the default solver: dense LU up to its limit).
@@ -161,20 +150,8 @@ fn the_fast_solver_agrees_with_dense_lu() {
     let exact = exact(0.7, -0.4, &[1.0, 1.0, -0.5]);
     let n = 300;
     for side in [Side::Backward, Side::Forward] {
-        let mirrored = side == Side::Forward;
-        let model = ForcedByExact {
-            exact: &exact,
-            mirrored,
-        };
-        let q = |t: f64| exact.q(if mirrored { 1.0 - t } else { t });
-        let grid = Grid::new(0.0, 1.0, n).unwrap();
         for scheme in [Scheme::Direct, Scheme::Variational] {
-            let solve = |solver| {
-                Problem::new(&model, grid, corrected(side, 0.7))
-                    .with_fractional_solver(solver)
-                    .solve_bvp(scheme, q(0.0), q(1.0))
-                    .unwrap()
-            };
+            let solve = |solver| exact.solve((corrected(side, 0.7), scheme), solver, n).0;
             let (fast, dense) = (
                 solve(FractionalSolver::Fast),
                 solve(FractionalSolver::Dense),

@@ -11,7 +11,7 @@
 //! both sides.
 
 use varembed::{Embedding, FractionalSolver, Grid, Problem, Scheme, Side, observed_orders};
-use varembed_tests::fractional::{ExactSolution, ForcedByExact};
+use varembed_tests::fractional::ExactSolution;
 use varembed_tests::special::gamma;
 
 /// `q = I^α p` for the momentum `p = Σ_k p[k] tᵏ`, under `L = ½v² + cos x − F(t) x`.
@@ -33,20 +33,8 @@ fn errors(exact: &ExactSolution, solver: FractionalSolver, ns: &[usize]) -> Vec<
 
 /// The max nodal error on `n` steps of Gauss-GLEσ; σ = + solves the mirror image.
 fn error(exact: &ExactSolution, side: Side, solver: FractionalSolver, n: usize) -> f64 {
-    let mirrored = side == Side::Forward;
-    let q = |t: f64| exact.q(if mirrored { 1.0 - t } else { t });
     let gle = Embedding::grunwald_letnikov(side, exact.alpha).unwrap();
-    let grid = Grid::new(0.0, 1.0, n).unwrap();
-    let model = ForcedByExact { exact, mirrored };
-    let solution = Problem::new(&model, grid, gle)
-        .with_fractional_solver(solver)
-        .solve_bvp(Scheme::Variational, q(0.0), q(1.0))
-        .unwrap();
-    solution
-        .q
-        .iter()
-        .zip(grid.nodes())
-        .fold(0.0f64, |m, (x, t)| m.max((x[0] - q(t)).abs()))
+    exact.solve((gle, Scheme::Variational), solver, n).1
 }
 
 /// The forcing's closed form against the definition: `D^α_+ p = (−d/dt) I^{1−α}_+ p`, the
