@@ -36,6 +36,8 @@ enum Kind {
     Fractional(Side, FractionalSolver),
     /// The direct scheme of the corrected Gauss-GLEσ, likewise.
     Corrected(Side, FractionalSolver),
+    /// The direct scheme of the corrected Caputo form, likewise.
+    CorrectedCaputo(Side, FractionalSolver),
 }
 
 /// Every solver of the property test, with the name its figures are reported under.
@@ -111,8 +113,12 @@ fn solve<const D: usize, L: Lagrangian<D>>(
                 .with_fractional_solver(solver)
                 .solve_bvp(Scheme::Variational, q0, qb)
         }
-        Kind::Corrected(side, solver) => {
-            let embedding = Embedding::corrected_grunwald_letnikov(side, alpha).unwrap();
+        Kind::Corrected(side, solver) | Kind::CorrectedCaputo(side, solver) => {
+            let embedding = match kind {
+                Kind::Corrected(..) => Embedding::corrected_grunwald_letnikov(side, alpha),
+                _ => Embedding::corrected_caputo(side, alpha),
+            }
+            .unwrap();
             Problem::new(lagrangian, grid, embedding)
                 .with_fractional_solver(solver)
                 .solve_bvp(Scheme::Direct, q0, qb)
@@ -183,16 +189,35 @@ fn every_solver_gives_c_l_the_nodes_of_l() {
 /// there `c L` must fail as `L` does.
 #[test]
 fn the_corrected_form_gives_c_l_the_nodes_of_l() {
+    let solvers = on_both_sides_and_solvers("corrected Gauss-GLE", Kind::Corrected);
+    property(&solvers, 0xC0DE, 80, 4, true);
+}
+
+/// The same property for the direct scheme of the corrected Caputo form (whose data need not
+/// vanish where the derivative starts), both sides, both fractional solvers: 40 cases of
+/// their own.
+#[test]
+fn the_corrected_caputo_form_gives_c_l_the_nodes_of_l() {
+    let solvers = on_both_sides_and_solvers("corrected Caputo Gauss-GLE", Kind::CorrectedCaputo);
+    property(&solvers, 0xCA9, 40, 4, true);
+}
+
+/// The fractional boundary value problems of `kind` on both sides with both fractional solvers,
+/// named after `name`, in the order the property tests draw them from.
+fn on_both_sides_and_solvers(
+    name: &str,
+    kind: fn(Side, FractionalSolver) -> Kind,
+) -> Vec<(String, Kind)> {
     let mut solvers = Vec::new();
     for side in [Side::Backward, Side::Forward] {
         for solver in [FractionalSolver::Dense, FractionalSolver::Fast] {
             solvers.push((
-                format!("fractional BVP corrected Gauss-GLE {side:?} {solver:?}"),
-                Kind::Corrected(side, solver),
+                format!("fractional BVP {name} {side:?} {solver:?}"),
+                kind(side, solver),
             ));
         }
     }
-    property(&solvers, 0xC0DE, 80, 4, true);
+    solvers
 }
 
 /// `cases` random cases drawn from `seed` over `solvers`: each solver drawn must give `c L`
