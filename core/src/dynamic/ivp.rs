@@ -23,7 +23,7 @@ use super::band::BandSystem;
 use super::observer::{DynNode, NodeObserver};
 use super::slices::max_norm;
 use super::sparse::SparseHessian;
-use super::stability::{mode_unstable, modes_decouple, resolution_warning};
+use super::stability::{decoupled_mass, mode_unstable, resolution_warning};
 use super::step::{EnergySample, StepSolver};
 
 /// What a run reports beyond its nodes.
@@ -115,8 +115,8 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         // The recurrence's linear stability at the initial data, where the model's modes
         // decouple (the blow-up guard watches every run).
         let l = self.lagrangian;
-        if modes_decouple(&hessian, &l.hessian_dependence(), l.is_forced())
-            && let Some((lambda, largest_stable_step)) = mode_unstable(kind, &hessian.xx, h)
+        if let Some(mass) = decoupled_mass(&hessian, &l.hessian_dependence(), l.is_forced())
+            && let Some((lambda, largest_stable_step)) = mode_unstable(kind, (mass, &hessian.xx), h)
         {
             return Err(Error::Unstable {
                 at: Location::Step(0),

@@ -33,10 +33,11 @@ mod initial_value;
 /// a constant step Jacobian is factorised once per run. The runs are watched by the blow-up
 /// guard of the const-generic path. The eigenvalue stability check of that path
 /// (a `2d × 2d` eigenproblem) is not run. Where the model's modes decouple
-/// (`L = ½|v|² − U(x, t)`: `∂²L/∂v² = I`, `∂²L/∂x∂v = 0`, no force) a run is checked at its
-/// initial data by bounds on the eigenvalues of `−∂²L/∂x²`, against its kind's limit on the
-/// oscillator (`h ω = 2` for Störmer–Verlet, the trapezoidal steps and the direct midpoint
-/// step, `√3` for the direct σ = + step): [`Error::Unstable`](crate::Error::Unstable) when they prove it passed. Any other
+/// (`L = ½ m|v|² − U(x, t)`: `∂²L/∂v² = m I`, `∂²L/∂x∂v = 0`, no force) a run is checked at its
+/// initial data by bounds on the eigenvalues of `−∂²L/∂x² / m`, against its kind's limit on
+/// the oscillator (`h ω = 2` for Störmer–Verlet, the trapezoidal steps and the direct
+/// midpoint step, `√3` for the direct σ = + step): [`Error::Unstable`](crate::Error::Unstable)
+/// when they prove it passed. Any other
 /// unstable step shows as [`Error::BlowUp`](crate::Error::BlowUp) or
 /// [`Error::NotFinite`](crate::Error::NotFinite) once it has grown. The const-generic path's trust checks run on its solutions, which carry their
 /// [`warnings`](DynSolution::warnings): an initial value run whose step does not resolve the

@@ -112,6 +112,12 @@ impl SparseBlock {
     /// Whether the block is the identity: every diagonal entry summing to exactly 1, and no
     /// nonzero value off the diagonal (listed or in the band).
     pub(crate) fn is_identity(&self) -> bool {
+        self.as_multiple_of_identity() == Some(1.0)
+    }
+
+    /// `m` when the block is `m I`: every diagonal entry summing to the same `m`, and no nonzero
+    /// value off the diagonal (listed or in the band); `None` otherwise.
+    pub(crate) fn as_multiple_of_identity(&self) -> Option<f64> {
         let mut diagonal = vec![0.0; self.dimension];
         let mut off_diagonal = false;
         let mut each = |i: usize, j: usize, value: f64| {
@@ -132,7 +138,8 @@ impl SparseBlock {
                 each(i, (i + offset).wrapping_sub(b), value);
             }
         }
-        !off_diagonal && diagonal.iter().all(|&c| c == 1.0)
+        let m = *diagonal.first()?;
+        (!off_diagonal && diagonal.iter().all(|&c| c == m)).then_some(m)
     }
 
     /// Whether every value, listed or in the band, is zero.
@@ -328,6 +335,12 @@ mod tests {
             assert!(!block(&diagonal[..3]).is_identity());
             assert!(block(&[]).is_zero() && block(&[(0, 1, 0.0)]).is_zero());
             assert!(!block(&[(3, 3, 2.0)]).is_zero());
+            let twice: Vec<_> = (0..4).map(|i| (i, i, 2.0)).collect();
+            assert_eq!(block(&twice).as_multiple_of_identity(), Some(2.0));
+            assert!(!block(&twice).is_identity());
+            let mut uneven = twice.clone();
+            uneven[3].2 = 3.0;
+            assert_eq!(block(&uneven).as_multiple_of_identity(), None);
         }
     }
 }

@@ -1,9 +1,10 @@
 //! The linear stability of a run-time-dimension model's recurrence, checked before its first
 //! step, without the `2d × 2d` eigenproblem of the const-generic check.
 //!
-//! On a model whose modes decouple, `L = ½|v|² − U(x, t)` (`∂²L/∂v² = I` and `∂²L/∂x∂v = 0`
-//! at every point, no generalised force), every classical step kind linearised at a state acts
-//! mode by mode: with `κ` an eigenvalue of `K = −∂²L/∂x² = U″` there, the step map on that mode
+//! On a model whose modes decouple, `L = ½ m|v|² − U(x, t)` (`∂²L/∂v² = m I`, `m > 0`, and
+//! `∂²L/∂x∂v = 0` at every point, no generalised force; `m` is what makes `c L` decouple as
+//! `L` does, with the same `K`), every classical step kind linearised at a state acts mode by
+//! mode: with `κ` an eigenvalue of `K = −∂²L/∂x² / m = U″/m` there, the step map on that mode
 //! is the kind's step map on the harmonic oscillator of frequency `ω = √κ`. The const-generic
 //! verdict flags that map beyond the kind's limit `hω = z*` (2 for Störmer–Verlet, whose step
 //! map then has a real eigenvalue `λ < −1`, the sawtooth mode of an under-resolved step; `√3`
@@ -46,16 +47,19 @@ use super::sparse::{SparseBlock, SparseHessian};
 const ITERATIONS: usize = 64;
 
 /// The verdict at the initial data of a run of `kind` with step `h`, for a model whose modes
-/// decouple (module docs) with `xx = ∂²L/∂x²` there (its entries listed): the flagged eigenvalue
-/// of the step map on the mode of the best Rayleigh quotient `κ` found above `z*²/h²`, and the
-/// largest stable step `z*/√κ` that quotient gives; `None` when no instability is proven.
+/// decouple (module docs) with the mass `m` ([`decoupled_mass`]) and `xx = ∂²L/∂x²` there (its
+/// entries listed): the flagged eigenvalue of the step map on the mode of the best Rayleigh
+/// quotient `κ` of `K = −xx/m` found above `z*²/h²`, and the largest stable step `z*/√κ` that
+/// quotient gives; `None` when no instability is proven.
 pub(crate) fn mode_unstable(
     kind: StepKind,
-    xx: &SparseBlock,
+    (mass, xx): (f64, &SparseBlock),
     h: f64,
 ) -> Option<(Complex<f64>, f64)> {
     let limit = oscillator_limit_of(kind)?;
-    let kappa = rayleigh_quotient_above(xx, (limit / h) * (limit / h))?;
+    // The quotients of `−xx` are `m` times those of `K`: a model and its multiples `c L` get
+    // the same `κ`, and the same verdict.
+    let kappa = rayleigh_quotient_above(xx, mass * (limit / h) * (limit / h))? / mass;
     // The mode's map is the unit oscillator's with the step `z = h√κ`.
     let z = h * kappa.sqrt();
     let (a, b) = oscillator_step_map(kind, z)?;
@@ -65,19 +69,20 @@ pub(crate) fn mode_unstable(
     }
 }
 
-/// Whether the model's modes decouple (module docs): `∂²L/∂v²` and `∂²L/∂x∂v` depend on
-/// nothing (`dependence`), no generalised force (`forced`), and at the initial data (`hessian`,
-/// entries listed) they are the identity and zero.
-pub(crate) fn modes_decouple(
+/// The mass `m > 0` of a model whose modes decouple (module docs): `∂²L/∂v²` and `∂²L/∂x∂v`
+/// depend on nothing (`dependence`), no generalised force (`forced`), and at the initial data
+/// (`hessian`, entries listed) they are `m I` and zero; `None` for any other model.
+pub(crate) fn decoupled_mass(
     hessian: &SparseHessian,
     dependence: &HessianDependence,
     forced: bool,
-) -> bool {
-    !forced
+) -> Option<f64> {
+    let decouple = !forced
         && dependence.vv == Dependence::NONE
         && dependence.xv == Dependence::NONE
-        && hessian.vv.is_identity()
-        && hessian.xv.is_zero()
+        && hessian.xv.is_zero();
+    let mass = hessian.vv.as_multiple_of_identity().filter(|_| decouple)?;
+    (mass > 0.0 && mass.is_finite()).then_some(mass)
 }
 
 /// [`oscillator_limit`] of `kind`, computed once per process (a scan and a bisection of the
@@ -269,23 +274,26 @@ mod tests {
             xv: Dependence::NONE,
             vv: Dependence::NONE,
         };
-        assert!(modes_decouple(&hessian, &dependence, false));
-        assert!(!modes_decouple(&hessian, &HessianDependence::ALL, false));
-        assert!(!modes_decouple(&hessian, &dependence, true));
+        assert_eq!(decoupled_mass(&hessian, &dependence, false), Some(1.0));
+        assert_eq!(
+            decoupled_mass(&hessian, &HessianDependence::ALL, false),
+            None
+        );
+        assert_eq!(decoupled_mass(&hessian, &dependence, true), None);
         let xx = &hessian.xx;
         let verlet = StepKind::VariationalBackward;
         let largest = 2.0 - 2.0 * (n as f64 * std::f64::consts::PI / (n as f64 + 1.0)).cos();
         // Inside Gershgorin's bound: proven stable without an iteration.
-        assert_eq!(mode_unstable(verlet, xx, 0.99), None);
+        assert_eq!(mode_unstable(verlet, (1.0, xx), 0.99), None);
         // Between the largest eigenvalue and the bound: stable, and never reported.
         let h = (4.0 / (0.5 * (largest + 4.0))).sqrt();
-        assert_eq!(mode_unstable(verlet, xx, h), None);
+        assert_eq!(mode_unstable(verlet, (1.0, xx), h), None);
         // Beyond the largest eigenvalue: the sawtooth mode's eigenvalue, from within, and a
         // largest stable step at most 1 % above the exact `2/√κ_max`.
         let h = (4.0 / (largest - 0.05)).sqrt();
         let mu = h * h * largest;
         let exact = ((2.0 - mu) - ((2.0 - mu).powi(2) - 4.0).sqrt()) / 2.0;
-        let (reported, step) = mode_unstable(verlet, xx, h).expect("unstable");
+        let (reported, step) = mode_unstable(verlet, (1.0, xx), h).expect("unstable");
         assert!(
             exact <= reported.re
                 && reported.re < -1.0
@@ -293,6 +301,19 @@ mod tests {
                 && reported.im == 0.0,
             "{reported} against {exact}"
         );
+        // `c L` (mass `c`, blocks `c xx`) gets the same verdict.
+        for c in [1e-9, 1e9] {
+            let mut scaled = SparseBlock::new(n);
+            xx.entries()
+                .iter()
+                .for_each(|&(i, j, v)| scaled.add(i, j, c * v));
+            let (lambda, step_c) = mode_unstable(verlet, (c, &scaled), h).expect("unstable");
+            assert!(
+                (lambda - reported).norm() <= 1e-12 * reported.norm(),
+                "c = {c:e}"
+            );
+            assert!((step_c - step).abs() <= 1e-12 * step, "c = {c:e}");
+        }
         let limit = 2.0 / largest.sqrt();
         assert!(
             limit <= step && step < 1.01 * limit,
@@ -322,22 +343,26 @@ mod tests {
             match limit {
                 Some(z) => {
                     assert_eq!(
-                        mode_unstable(kind, &hessian.xx, at(0.97 * z)),
+                        mode_unstable(kind, (1.0, &hessian.xx), at(0.97 * z)),
                         None,
                         "{kind:?}"
                     );
-                    let (lambda, _) = mode_unstable(kind, &hessian.xx, at(1.03 * z))
+                    let (lambda, _) = mode_unstable(kind, (1.0, &hessian.xx), at(1.03 * z))
                         .unwrap_or_else(|| panic!("{kind:?} past its limit"));
                     assert!(
                         lambda.norm() >= 2.0 || lambda.re < -1.0,
                         "{kind:?}: {lambda}"
                     );
                 }
-                None => assert_eq!(mode_unstable(kind, &hessian.xx, at(50.0)), None, "{kind:?}"),
+                None => assert_eq!(
+                    mode_unstable(kind, (1.0, &hessian.xx), at(50.0)),
+                    None,
+                    "{kind:?}"
+                ),
             }
         }
         let h = at(1.03 * 3f64.sqrt());
-        let (lambda, _) = mode_unstable(StepKind::DirectForward, &hessian.xx, h).unwrap();
+        let (lambda, _) = mode_unstable(StepKind::DirectForward, (1.0, &hessian.xx), h).unwrap();
         let z = h * largest.sqrt();
         assert!((lambda.re - 1.0).abs() < 0.02 && (lambda.im.abs() - z).abs() < 0.02 * z);
     }

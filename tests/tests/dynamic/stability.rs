@@ -8,6 +8,23 @@ use varembed::{
 use varembed_tests::models::chain::{FputChain, displacement};
 use varembed_tests::models::dense::ConstGeneric;
 use varembed_tests::models::generated::fput64;
+use varembed_tests::models::scaled::Scaled;
+
+/// The chain of every test here: 64 particles between walls, `α = 0.25`, `β = 0`, displaced by
+/// `10⁻³` (nearly harmonic).
+fn chain() -> FputChain {
+    FputChain {
+        n: 64,
+        alpha: 0.25,
+        beta: 0.0,
+        periodic: false,
+    }
+}
+
+/// The largest eigenvalue of the harmonic chain's `K`, `2 − 2cos(64π/65)`.
+fn kappa_max() -> f64 {
+    2.0 - 2.0 * (64.0 * std::f64::consts::PI / 65.0).cos()
+}
 
 /// The eigenvalue and the largest stable step of an `Error::Unstable`, and where it was found.
 fn unstable(error: Error) -> (Location, f64, f64, f64) {
@@ -31,17 +48,12 @@ fn unstable(error: Error) -> (Location, f64, f64, f64) {
 /// amplitude grows by `(1 + h²κ)^{1/2}` a step) and is only flagged past its limit.
 #[test]
 fn each_kind_is_stopped_past_its_own_limit_as_on_the_const_generic_path() {
-    let chain = FputChain {
-        n: 64,
-        alpha: 0.25,
-        beta: 0.0,
-        periodic: false,
-    };
+    let chain = chain();
     let oracle_model = ConstGeneric(fput64::Fput {
         alpha: 0.25,
         beta: 0.0,
     });
-    let kappa = 2.0 - 2.0 * (64.0 * std::f64::consts::PI / 65.0).cos();
+    let kappa = kappa_max();
     let q0 = displacement(64, 1e-3, 0.0);
     let cases = [
         (
@@ -124,25 +136,67 @@ impl DynLagrangian for Heavy {
     }
 }
 
-/// A model whose modes do not decouple gets no verdict at the initial data: the doubled
-/// masses move Störmer–Verlet's limit to `h√κ_max = 2√2`, and a run 10 % past the unit-mass
-/// limit (inside its own) runs to the end, where a check that ignored the mass would stop it.
+/// The heavier chain is checked against its own limit: its doubled masses move Störmer–Verlet's
+/// limit to `h√κ_max = 2√2`, so a run 10 % past the unit-mass limit (inside its own) runs to
+/// the end, where a check that ignored the mass would stop it, and a run 10 % past its own
+/// limit is refused before its first step, with the largest stable step `2√2/√κ_max` to 1 %.
 #[test]
-fn no_verdict_where_the_modes_do_not_decouple() {
-    let heavy = Heavy(FputChain {
-        n: 64,
-        alpha: 0.25,
-        beta: 0.0,
-        periodic: false,
-    });
-    let kappa = 2.0 - 2.0 * (64.0 * std::f64::consts::PI / 65.0).cos();
-    let h = 1.1 * 2.0 / kappa.sqrt();
-    let grid = Grid::new(0.0, 400.0 * h, 400).unwrap();
+fn a_heavier_chain_is_checked_against_its_own_limit() {
+    let heavy = Heavy(chain());
+    let kappa = kappa_max();
     let q0 = displacement(64, 1e-3, 0.0);
     let embedding = Embedding::finite_difference(Side::Forward);
-    let run = DynProblem::new(&heavy, grid, embedding)
-        .solve_ivp(Scheme::Variational, &q0, &[0.0; 64])
-        .unwrap();
-    let last = run.node(400);
+    let run = |h: f64| {
+        let grid = Grid::new(0.0, 400.0 * h, 400).unwrap();
+        DynProblem::new(&heavy, grid, embedding).solve_ivp(Scheme::Variational, &q0, &[0.0; 64])
+    };
+    let inside = run(1.1 * 2.0 / kappa.sqrt()).unwrap();
+    let last = inside.node(400);
     assert!(last.iter().all(|x| x.abs() < 1e-2), "bounded: {last:?}");
+    let own_limit = 2.0 * 2f64.sqrt() / kappa.sqrt();
+    let (at, _, _, step) = unstable(run(1.1 * own_limit).unwrap_err());
+    assert_eq!(at, Location::Step(0));
+    assert!(
+        (step - own_limit).abs() < 0.01 * own_limit,
+        "{step} against {own_limit}"
+    );
+}
+
+/// `c L` gets the verdict of `L`, for `c` from `10⁻⁹` to `10⁹`: the same eigenvalue and largest
+/// stable step to `10⁻⁹` relative, 10 % past the limit of each kind that has one.
+#[test]
+fn the_verdict_does_not_depend_on_the_scale_of_l() {
+    let chain = chain();
+    let kappa = kappa_max();
+    let q0 = displacement(64, 1e-3, 0.0);
+    for (embedding, scheme, limit) in [
+        (
+            Embedding::finite_difference(Side::Forward),
+            Scheme::Direct,
+            3f64.sqrt(),
+        ),
+        (Embedding::midpoint(), Scheme::Direct, 2.0),
+        (
+            Embedding::finite_difference(Side::Backward),
+            Scheme::Variational,
+            2.0,
+        ),
+    ] {
+        let grid = Grid::new(0.0, 40.0 * 1.1 * limit / kappa.sqrt(), 40).unwrap();
+        let verdict = |c: f64| {
+            let model = Scaled::new(c, &chain);
+            let run = DynProblem::new(&model, grid, embedding).solve_ivp(scheme, &q0, &[0.0; 64]);
+            unstable(run.unwrap_err())
+        };
+        let (at, re, im, step) = verdict(1.0);
+        assert_eq!(at, Location::Step(0));
+        for c in [1e-9, 1e-3, 1e3, 1e9] {
+            let (at_c, re_c, im_c, step_c) = verdict(c);
+            let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * b.abs().max(1.0);
+            assert!(
+                at_c == at && close(re_c, re) && close(im_c, im) && close(step_c, step),
+                "{embedding} {scheme}, c = {c:e}: {re_c} {im_c}i, {step_c} against {re} {im}i, {step}"
+            );
+        }
+    }
 }
