@@ -98,6 +98,10 @@ impl TridiagonalMatrix {
 
     /// The elimination of [`factorize_measured`](Self::factorize_measured), applying `P` and
     /// `L⁻¹` to `b` on the way unless `b` is empty.
+    ///
+    /// The pivot row's diagonal and right-hand side ride from one column to the next in
+    /// registers: the recurrence is a division, a product and a difference, where reading them
+    /// back from the arrays just written added a store-to-load delay to every row.
     fn eliminate(&mut self, b: &mut [f64]) -> (BandNorms, bool) {
         let n = self.order();
         let forward = !b.is_empty();
@@ -115,47 +119,61 @@ impl TridiagonalMatrix {
         measure.row(0.0, first, u.first().copied().unwrap_or(0.0));
         // The smallest pivot, and `Σ 0 / u_ii` (NaN when a reciprocal is not finite).
         let (mut smallest, mut bad_inverse) = (f64::INFINITY, 0.0);
+        // Row i's diagonal and right-hand side as elimination has left them.
+        let mut d_i = first;
+        let mut b_i = if forward { b[0] } else { 0.0 };
         for i in 0..n - 1 {
-            let next_upper = if i + 2 < n { u[i + 1] } else { 0.0 };
-            measure.row(l[i], d[i + 1], next_upper);
+            let has_fill = i + 2 < n;
+            let (l_i, u_i, d_next) = (l[i], u[i], d[i + 1]);
+            let next_upper = if has_fill { u[i + 1] } else { 0.0 };
+            measure.row(l_i, d_next, next_upper);
             // The band LU exchanges rows only for a strictly larger entry below the diagonal.
-            let exchange = l[i].abs() > d[i].abs();
+            let exchange = l_i.abs() > d_i.abs();
             self.exchanged[i] = exchange;
+            // Row i of U (pivot, entries (i, i+1), (i, i+2)) and row i + 1 after elimination.
+            let (pivot, factor, row_upper, row_fill);
             if exchange {
-                // Row i + 1 (l[i], d[i+1], u[i+1]) becomes the pivot row.
-                let factor = d[i] / l[i];
-                d[i] = l[i];
-                l[i] = factor;
-                let old_upper = u[i];
-                u[i] = d[i + 1];
-                d[i + 1] = old_upper - factor * d[i + 1];
-                if i + 2 < n {
-                    f[i] = next_upper;
+                // Row i + 1 (l_i, d_next, next_upper) becomes the pivot row.
+                factor = d_i / l_i;
+                (pivot, row_upper, row_fill) = (l_i, d_next, next_upper);
+                d_i = u_i - factor * d_next;
+                if has_fill {
                     u[i + 1] = 0.0 - factor * next_upper;
                 }
             } else {
-                let factor = l[i] / d[i];
-                l[i] = factor;
-                d[i + 1] -= factor * u[i];
-                if i + 2 < n {
-                    f[i] = 0.0;
-                }
+                factor = l_i / d_i;
+                (pivot, row_upper, row_fill) = (d_i, u_i, 0.0);
+                d_i = d_next - factor * u_i;
             }
+            l[i] = factor;
+            d[i] = pivot;
             if forward {
-                forward_step(exchange, l[i], &mut b[i..i + 2]);
+                let b_next = b[i + 1];
+                if exchange {
+                    b[i] = b_next;
+                    b_i -= factor * b_next;
+                } else {
+                    b[i] = b_i;
+                    b_i = b_next - factor * b_i;
+                }
             }
             // Row i of U is final: kept divided by its pivot, so that the back substitution
             // has no division and only one product on its recurrence.
-            inverse[i] = 1.0 / d[i];
-            u[i] *= inverse[i];
-            if i + 2 < n {
-                f[i] *= inverse[i];
+            let reciprocal = 1.0 / pivot;
+            inverse[i] = reciprocal;
+            u[i] = row_upper * reciprocal;
+            if has_fill {
+                f[i] = row_fill * reciprocal;
             }
-            smallest = smallest.min(d[i].abs());
-            bad_inverse += inverse[i] * 0.0;
+            smallest = smallest.min(pivot.abs());
+            bad_inverse += reciprocal * 0.0;
         }
-        inverse[n - 1] = 1.0 / d[n - 1];
-        smallest = smallest.min(d[n - 1].abs());
+        d[n - 1] = d_i;
+        if forward {
+            b[n - 1] = b_i;
+        }
+        inverse[n - 1] = 1.0 / d_i;
+        smallest = smallest.min(d_i.abs());
         bad_inverse += inverse[n - 1] * 0.0;
         let norms = measure.norms();
         // A zero pivot makes the later ones NaN, which `min` skips: the zero itself is kept.
@@ -185,8 +203,12 @@ impl TridiagonalMatrix {
         if n > 1 {
             b[n - 2] = b[n - 2] * inverse[n - 2] - u[n - 2] * b[n - 1];
         }
+        // x_{i+1}, x_{i+2} carried in registers (not read back from `b` just written).
+        let (mut x1, mut x2) = (b[n.saturating_sub(2)], b[n - 1]);
         for i in (0..n.saturating_sub(2)).rev() {
-            b[i] = b[i] * inverse[i] - f[i] * b[i + 2] - u[i] * b[i + 1];
+            let x = b[i] * inverse[i] - f[i] * x2 - u[i] * x1;
+            b[i] = x;
+            (x1, x2) = (x, x1);
         }
     }
 

@@ -128,7 +128,11 @@ pub(crate) fn newton(
                 diverged(iteration, previous)
             });
         }
-        let converged = within || at_round_off(residual, previous, j_norm, system.size());
+        // `‖y‖∞` only where the floor can apply (the residual did not halve): a pass saved
+        // at every iteration of a converging Newton.
+        let converged = within
+            || (residual > 0.5 * previous
+                && at_round_off(residual, previous, j_norm, system.size()));
         if !regular {
             return Err(if iteration == 0 || converged {
                 Error::SingularJacobian { at }
