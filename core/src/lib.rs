@@ -130,7 +130,8 @@
 //!   `Problem::solve_constrained_ivp` and `Problem::solve_constrained_bvp` return a
 //!   [`ConstrainedSolution`].
 //! - Models of run-time dimension with sparse second derivatives (chains, lattices, discretised
-//!   fields): [`DynLagrangian`], [`SparseHessian`], [`SparseBlock`]; solved by
+//!   fields): [`DynLagrangian`], [`SparseHessian`], [`SparseBlock`] (written in a loop through
+//!   [`HessianWriter`], [`BlockWriter`]; a force's through [`ForceJacobianWriter`]); solved by
 //!   [`DynProblem`] into a [`DynSolution`] (its state between the nodes: [`DynState`]) or,
 //!   node by node, an observer of [`DynNode`]s and a [`DynRun`]; its values at the nodes
 //!   (velocities, momenta, energy; CSV export): [`DynNodeValues`], [`DynNodeState`], by the
@@ -225,7 +226,10 @@ pub use dynamic::ivp::DynRun;
 pub use dynamic::nodes::{DynNodeState, DynNodeValues};
 pub use dynamic::observer::DynNode;
 pub use dynamic::problem::{DynProblem, DynSolution};
-pub use dynamic::sparse::{SparseBlock, SparseForceJacobian, SparseHessian};
+pub use dynamic::sparse::{
+    BlockWriter, ForceJacobianWriter, HessianWriter, SparseBlock, SparseForceJacobian,
+    SparseHessian,
+};
 pub use embedding::kind::EmbeddingKind;
 pub use embedding::{Embedding, Scheme};
 pub use ensemble::Ensemble;

@@ -66,15 +66,17 @@ pub fn emit(model: &Model, loops: &Loops<'_>, properties: &TokenStream) -> Token
     );
 
     let (code, used) = loops.body(&hessian_out, Style::Sparse);
-    let out = if used[3..].iter().chain(&dense_used).any(|&u| u) {
-        quote!(out)
+    // The blocks held open for the loop's entries (`SparseHessian::writer`): the same
+    // `out.xx.add(i, j, e)`, without reloading each block's fields after every write.
+    let (out, writer) = if used[3..].iter().chain(&dense_used).any(|&u| u) {
+        (quote!(out), quote!(let mut out = out.writer();))
     } else {
-        quote!(_out)
+        (quote!(_out), quote!())
     };
     let hessian = method(
         quote!(hessian),
         quote!(),
-        quote!(#check #values #adjoints #code #dense),
+        quote!(#check #writer #values #adjoints #code #dense),
         Some(quote!(#out: &mut #sparse)),
     );
 

@@ -124,10 +124,11 @@ pub fn emit(
     let dyn_impl = {
         let (code, _) = loops.body(&force_out, Style::Dense);
         let (sparse, used) = loops.body(&jacobian_out, Style::Sparse);
-        let out = if used[3] || used[4] {
-            quote!(out)
+        // The blocks held open for the loop's entries, as the Hessian's (`dynamic`).
+        let (out, writer) = if used[3] || used[4] {
+            (quote!(out), quote!(let mut out = out.writer();))
         } else {
-            quote!(_out)
+            (quote!(_out), quote!())
         };
         let on_slices = |name: TokenStream, body: TokenStream, output: TokenStream| {
             let t = crate::emit::param(&body, "t");
@@ -154,7 +155,7 @@ pub fn emit(
         let sparse_ty = private("SparseForceJacobian");
         let jacobian = on_slices(
             quote!(jacobian),
-            quote!(#check #sparse),
+            quote!(#check #writer #sparse),
             quote!(#out: &mut #sparse_ty),
         );
         let band = match force_bandwidth(&loops.assembly().terms) {

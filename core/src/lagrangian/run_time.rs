@@ -73,7 +73,10 @@ pub trait DynLagrangian {
     /// Adds the entries of the three second-derivative blocks at `(x, v, t)` to `out`, which
     /// the caller has cleared: `out.xx.add(i, j, ∂²L/∂x_i∂x_j)`, `out.xv.add(i, j, ∂²L/∂x_i∂v_j)`,
     /// `out.vv.add(i, j, ∂²L/∂v_i∂v_j)`. An entry may be added to more than once
-    /// (the contributions sum); an entry never added is zero.
+    /// (the contributions sum); an entry never added is zero. A loop over many entries runs
+    /// faster through [`SparseHessian::writer`] (`let mut out = out.writer();`, then the same
+    /// `out.xx.add(i, j, e)`), as `#[lagrangian]` writes it: the blocks' fields stay in local
+    /// variables instead of being read back after every entry.
     fn hessian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseHessian);
 
     /// What each second-derivative block depends on (see

@@ -282,6 +282,7 @@ impl ::varembed::__private::DynLagrangian for Chain {
     ) {
         ::core::debug_assert_eq!(x.len(), N);
         ::core::debug_assert_eq!(v.len(), N);
+        let mut out = out.writer();
         let e0 = self.alpha / 3.0;
         out.xx.add(0, 0, -1.0);
         out.xx.add(N - 1, N - 1, -1.0);

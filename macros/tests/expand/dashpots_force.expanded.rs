@@ -109,6 +109,7 @@ impl ::varembed::__private::DynForce for Dashpots {
     ) {
         ::core::debug_assert_eq!(x.len(), N);
         ::core::debug_assert_eq!(v.len(), N);
+        let mut out = out.writer();
         let e2 = -self.c;
         for i in 0..N - 1 {
             let e0 = self.k * (3.0 * (x[i + 1] - x[i]).powi(2));

@@ -375,6 +375,7 @@ impl ::varembed::__private::DynLagrangian for GuardedChain {
     ) {
         ::core::debug_assert_eq!(x.len(), N);
         ::core::debug_assert_eq!(v.len(), N);
+        let mut out = out.writer();
         let e0 = 0.25 * self.k;
         let e6 = -(e0 * 4.0);
         for i in 0..N {

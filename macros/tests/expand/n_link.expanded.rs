@@ -353,6 +353,7 @@ impl ::varembed::__private::DynLagrangian for NLink {
     ) {
         ::core::debug_assert_eq!(x.len(), N);
         ::core::debug_assert_eq!(v.len(), N);
+        let mut out = out.writer();
         for i in 0..N {
             for j in 0..N {
                 let e0 = 0.5

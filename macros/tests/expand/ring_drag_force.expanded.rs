@@ -42,6 +42,7 @@ impl ::varembed::__private::DynForce for RingDrag {
     ) {
         ::core::debug_assert_eq!(x.len(), self.n);
         ::core::debug_assert_eq!(v.len(), self.n);
+        let mut out = out.writer();
         for i in 0..self.n {
             let e0 = self.c * x[i];
             out.x.add(i, i, -(self.c * (v[i] - v[(i + 1) % self.n])));

@@ -86,6 +86,7 @@ impl ::varembed::__private::DynLagrangian for RuntimeChain {
     ) {
         ::core::debug_assert_eq!(x.len(), self.n);
         ::core::debug_assert_eq!(v.len(), self.n);
+        let mut out = out.writer();
         let e0 = self.alpha / 3.0;
         out.xx.add(0, 0, -1.0);
         out.xx.add(self.n - 1, self.n - 1, -(1.0 / (self.n as f64)));
