@@ -38,7 +38,9 @@ pub trait DynForce {
     /// Adds `f(x, v, t)` to `f`.
     fn add_force(&self, x: &[f64], v: &[f64], t: f64, f: &mut [f64]);
 
-    /// Adds the entries of `∂f/∂x` and `∂f/∂v` at `(x, v, t)` to `out` (cleared by the caller).
+    /// Adds the entries of `∂f/∂x` and `∂f/∂v` at `(x, v, t)` to `out` (cleared by the caller;
+    /// a loop over many entries runs faster through [`SparseForceJacobian::writer`], as the
+    /// `force` attribute writes it).
     fn jacobian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseForceJacobian);
 
     /// What the Jacobian's blocks depend on, as [`Force::jacobian_dependence`](super::Force::jacobian_dependence).

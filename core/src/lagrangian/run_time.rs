@@ -129,7 +129,8 @@ pub trait DynLagrangian {
     }
 
     /// Adds the entries of `∂f/∂x` and `∂f/∂v` of that force at `(x, v, t)` to `out`, which the
-    /// caller has cleared. The default adds nothing.
+    /// caller has cleared (in a loop, through [`SparseForceJacobian::writer`], as
+    /// [`hessian`](Self::hessian) through its writer). The default adds nothing.
     fn force_jacobian(&self, _x: &[f64], _v: &[f64], _t: f64, _out: &mut SparseForceJacobian) {}
 
     /// The energy `E = v·∂L/∂v − L` (allocates one buffer of length `d`).
