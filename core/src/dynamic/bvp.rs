@@ -15,8 +15,9 @@ use crate::solve::conditioning::{
     ILL_POSED_BELOW, NUMERICALLY_SINGULAR, condition_bound, ill_posedness, inverse_iteration,
     neighbour_coupling_of,
 };
-use crate::solve::newton::{LineSearch, at_round_off};
+use crate::solve::newton::{Converging, GlobalSystem, solve_global};
 use crate::solve::solution::Warning;
+use std::ops::ControlFlow;
 
 use super::DynLagrangian;
 use super::ivp::DynRun;
@@ -306,23 +307,19 @@ pub(super) struct Converged {
     pub(super) measure: Option<f64>,
 }
 
-/// Newton's method on the rows from `guess`, as the const-generic boundary value solve runs it:
-/// factorise before testing convergence (a solution where the Jacobian is singular is not
-/// isolated, and is reported), stop at the tolerance or at round-off, and globalise by the same
-/// line search (the residual's 2-norm, full steps first, with a watchdog). With `posedness_check`, the converged iterate's Jacobian and its
-/// factorisation give the ill-posedness measure (see [`measure`]).
+/// Newton's method ([`solve_global`]) on the rows from `guess` with sparse LU solves: the
+/// const-generic boundary value solve's stopping rule, line search and errors. With
+/// `posedness_check`, the converged iterate's Jacobian and its factorisation give the
+/// ill-posedness measure (see [`measure`]).
 pub(super) fn newton<L: DynLagrangian + ?Sized>(
     rows: &DynRows<'_, L>,
     options: &NewtonOptions,
     guess: &[f64],
     posedness_check: bool,
 ) -> Result<Converged> {
-    let (grid, d) = (rows.grid, rows.d);
-    let n = grid.n();
-    let mut q = guess.to_vec();
-    let unknowns = (n - 1) * d;
+    let unknowns = rows.grid.n().saturating_sub(1) * rows.d;
     if unknowns == 0 {
-        let (iterations, band, measure) = (0, 0, None);
+        let (q, iterations, band, measure) = (guess.to_vec(), 0, 0, None);
         return Ok(Converged {
             q,
             iterations,
@@ -330,80 +327,121 @@ pub(super) fn newton<L: DynLagrangian + ?Sized>(
             measure,
         });
     }
-    let mut current = rows.zero_values();
-    let mut res = evaluate(rows, &q, &mut current, 0)?;
-    let mut merit = two_norm(&current.r);
-    let mut line_search = LineSearch::new(&q, merit);
-    let mut previous = f64::INFINITY;
-    let mut hessians = HessianCache::new(d);
-    let (mut matrix, mut lu) = (None, None);
-    let mut delta = vec![0.0; unknowns];
-    for iteration in 0..=options.max_iterations {
-        let at = Location::Newton(iteration);
-        let scale = rows.scale(&current);
-        hessians.invalidate();
-        let (matrix, lu) = assemble(rows, &q, &current, &mut hessians, (&mut matrix, &mut lu))
-            .map_err(|_| Error::SingularJacobian { at })?;
-        let j_norm = newton_direction((matrix, lu), &current.r, &mut delta, at)?;
-        if res <= options.tolerance * scale || at_round_off(res, previous, j_norm, max_norm(&q)) {
-            // The ill-posedness measure reads the inverse iteration's smallest eigenvalue.
-            let sigma = isolated((matrix, lu), j_norm, (res, &delta), at)?;
-            let measure = posedness_check
-                .then(|| measure(rows, matrix, sigma?))
-                .flatten();
-            let band = matrix.bandwidth();
-            return Ok(Converged {
-                q,
-                iterations: iteration,
-                band,
-                measure,
-            });
-        }
-        if iteration == options.max_iterations {
-            break;
-        }
-        let (next, values, next_res, next_merit) =
-            search(rows, &mut line_search, (&q, merit), &delta, iteration)?;
-        (q, current, previous, res, merit) = (next, values, res, next_res, next_merit);
-    }
-    Err(Error::NewtonDidNotConverge {
-        at: Location::Newton(options.max_iterations),
-        iterations: options.max_iterations,
-        residual: res,
-    })
+    let mut system = ByLu {
+        rows,
+        posedness_check,
+        hessians: HessianCache::new(rows.d),
+        matrix: None,
+        lu: None,
+        j_norm: 0.0,
+    };
+    solve_global(&mut system, guess.to_vec(), unknowns, options)
 }
 
-/// The next iterate from `q` (merit `merit`) along the Newton direction `delta` at Newton
-/// iteration `iteration`: the line search of the const-generic solve, on the flat nodes (its
-/// nodes, their evaluation, the residual's max-norm and 2-norm).
-pub(super) fn search<L: DynLagrangian + ?Sized>(
+/// The rows' global system, its Newton systems solved by sparse LU after a fill-reducing
+/// ordering planned once (and again when the Jacobian's pattern changes).
+struct ByLu<'r, 'l, L: ?Sized> {
+    rows: &'r DynRows<'l, L>,
+    posedness_check: bool,
+    hessians: HessianCache,
+    matrix: Option<SparseRows>,
+    lu: Option<SparseLu>,
+    /// `‖J‖∞` of the last linearisation.
+    j_norm: f64,
+}
+
+impl<L: DynLagrangian + ?Sized> ByLu<'_, '_, L> {
+    /// The last linearisation and its (symbolic) factorisation.
+    fn factors(&mut self) -> (&SparseRows, &mut SparseLu) {
+        let matrix = self.matrix.as_ref().expect("linearised before");
+        (matrix, self.lu.as_mut().expect("planned with the matrix"))
+    }
+}
+
+impl<L: DynLagrangian + ?Sized> GlobalSystem for ByLu<'_, '_, L> {
+    type Iterate = Vec<f64>;
+    type Evaluation = CurveValues;
+    type Output = Converged;
+
+    fn evaluate(&mut self, q: &Vec<f64>, iteration: usize) -> Result<(CurveValues, f64, f64)> {
+        evaluate_rows(self.rows, q, iteration)
+    }
+
+    fn within(&self, e: &CurveValues, residual: f64, tolerance: f64) -> bool {
+        residual <= tolerance * self.rows.scale(e)
+    }
+
+    fn linearise(
+        &mut self,
+        q: &Vec<f64>,
+        e: &CurveValues,
+        iteration: usize,
+    ) -> Result<ControlFlow<Converged, f64>> {
+        let at = Location::Newton(iteration);
+        self.hessians.invalidate();
+        let planned = (&mut self.matrix, &mut self.lu);
+        let (matrix, _) = assemble(self.rows, q, e, &mut self.hessians, planned)
+            .map_err(|_| Error::SingularJacobian { at })?;
+        self.j_norm = jacobian_norm(matrix, at)?;
+        Ok(ControlFlow::Continue(self.j_norm))
+    }
+
+    fn converged(&mut self, c: Converging<'_, Self>) -> Result<Converged> {
+        let (at, j_norm, rows, check) = (c.at(), self.j_norm, self.rows, self.posedness_check);
+        let (matrix, lu) = self.factors();
+        lu_direction((matrix, lu), &c.evaluation.r, c.scratch, at)?;
+        let sigma = isolated((matrix, lu), j_norm, (c.residual, c.scratch), at)?;
+        let measure = check.then(|| measure(rows, matrix, sigma?)).flatten();
+        Ok(Converged {
+            q: c.q,
+            iterations: c.iteration,
+            band: matrix.bandwidth(),
+            measure,
+        })
+    }
+
+    fn direction(
+        &mut self,
+        (_, e): (&Vec<f64>, &CurveValues),
+        _: (f64, f64),
+        delta: &mut [f64],
+        iteration: usize,
+    ) -> Result<ControlFlow<Converged>> {
+        lu_direction(self.factors(), &e.r, delta, Location::Newton(iteration))?;
+        Ok(ControlFlow::Continue(()))
+    }
+}
+
+/// The rows at `q` for Newton iteration `iteration` (see [`evaluate`]): the values, the
+/// residual's max-norm and its 2-norm.
+pub(super) fn evaluate_rows<L: DynLagrangian + ?Sized>(
     rows: &DynRows<'_, L>,
-    line_search: &mut LineSearch<Vec<f64>>,
-    (q, merit): (&Vec<f64>, f64),
-    delta: &[f64],
+    q: &[f64],
     iteration: usize,
-) -> Result<(Vec<f64>, CurveValues, f64, f64)> {
-    line_search.step(q, merit, delta, |trial| {
-        let mut values = rows.zero_values();
-        let res = evaluate(rows, trial, &mut values, iteration + 1)?;
-        let merit = two_norm(&values.r);
-        Ok((values, res, merit))
-    })
+) -> Result<(CurveValues, f64, f64)> {
+    let mut values = rows.zero_values();
+    let res = evaluate(rows, q, &mut values, iteration)?;
+    let merit = two_norm(&values.r);
+    Ok((values, res, merit))
+}
+
+/// `‖J‖∞` of an assembled Jacobian; [`Error::NotFinite`] at `at` when an entry is not.
+pub(super) fn jacobian_norm(matrix: &SparseRows, at: Location) -> Result<f64> {
+    if !matrix.is_finite() {
+        return Err(Error::NotFinite { at });
+    }
+    Ok(matrix.norm_inf())
 }
 
 /// The Newton direction `δ = J⁻¹ r` into `delta` from the planned `matrix` and its `lu`
-/// (factorised here), and `‖J‖∞`: [`Error::NotFinite`] for a non-finite Jacobian,
-/// [`Error::SingularJacobian`] when the LU finds no pivot or the direction is not finite.
-pub(super) fn newton_direction(
+/// (factorised here): [`Error::SingularJacobian`] when the LU finds no pivot or the direction
+/// is not finite.
+pub(super) fn lu_direction(
     (matrix, lu): (&SparseRows, &mut SparseLu),
     r: &[f64],
     delta: &mut [f64],
     at: Location,
-) -> Result<f64> {
-    if !matrix.is_finite() {
-        return Err(Error::NotFinite { at });
-    }
-    let j_norm = matrix.norm_inf();
+) -> Result<()> {
     lu.factorize(matrix)
         .map_err(|_| Error::SingularJacobian { at })?;
     delta.copy_from_slice(r);
@@ -411,7 +449,7 @@ pub(super) fn newton_direction(
     if !delta.iter().all(|c| c.is_finite()) {
         return Err(Error::SingularJacobian { at });
     }
-    Ok(j_norm)
+    Ok(())
 }
 
 /// At a converged iterate (residual max-norm `res`, last direction `delta`), as the

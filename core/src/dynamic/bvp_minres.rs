@@ -38,12 +38,13 @@ use crate::options::{BvpSolver, LinearSolve, NewtonOptions};
 use crate::solve::conditioning::{NUMERICALLY_SINGULAR, condition_bound, inverse_iteration};
 use crate::solve::krylov::{KrylovOptions, KrylovSystem};
 use crate::solve::minres::{MinresWork, minres_in};
-use crate::solve::newton::{LineSearch, at_round_off};
+use crate::solve::newton::{Converging, GlobalSystem, solve_global};
+use std::ops::ControlFlow;
 
 use super::DynLagrangian;
-use super::bvp::{Converged, assemble_matrix, evaluate, measure, newton, search, two_norm};
+use super::bvp::{Converged, assemble_matrix, evaluate_rows, jacobian_norm, measure, newton};
 use super::problem::DynProblem;
-use super::rows::{DynRows, HessianCache};
+use super::rows::{CurveValues, DynRows, HessianCache};
 use super::slices::max_norm;
 use super::sparse_lu::SparseRows;
 
@@ -240,148 +241,194 @@ fn solve(
         })
 }
 
-/// Newton's method on the rows from `guess` with MINRES solves (module docs): the converged
-/// iterate and the products with the Jacobian, or the reason MINRES gave way and the
-/// products it had made. The errors of
-/// the problem itself (a non-finite evaluation, a Newton iteration that does not converge, a
-/// singular linearisation at the solution) are the sparse LU path's.
+/// Newton's method ([`solve_global`]) on the rows from `guess` with MINRES solves (module
+/// docs): the converged iterate and the products with the Jacobian, or the reason MINRES gave
+/// way and the products it had made. The errors of the problem itself (a non-finite
+/// evaluation, a Newton iteration that does not converge, a singular linearisation at the
+/// solution) are the sparse LU path's.
 fn minres_newton<L: DynLagrangian + ?Sized>(
     rows: &DynRows<'_, L>,
     options: &NewtonOptions,
     guess: &[f64],
     posedness_check: bool,
 ) -> Result<std::result::Result<(Converged, usize), GaveWay>> {
-    let (n, d) = (rows.grid.n(), rows.d);
-    let unknowns = n.saturating_sub(1) * d;
-    let mut q = guess.to_vec();
+    let unknowns = rows.grid.n().saturating_sub(1) * rows.d;
     if unknowns == 0 {
         let converged = Converged {
-            q,
+            q: guess.to_vec(),
             iterations: 0,
             band: 0,
             measure: None,
         };
         return Ok(Ok((converged, 0)));
     }
-    let mut current = rows.zero_values();
-    let mut res = evaluate(rows, &q, &mut current, 0)?;
-    let mut merit = two_norm(&current.r);
-    let mut line_search = LineSearch::new(&q, merit);
-    let mut previous = f64::INFINITY;
-    let mut hessians = HessianCache::new(d);
-    let mut matrix = None;
-    let mut work = MinresWork::default();
-    let mut delta = vec![0.0; unknowns];
-    let mut products = 0;
-    let mut previous_merit: Option<f64> = None;
-    // `‖δ‖∞ / ‖r‖∞` of the last Newton step (see the conditioning check).
-    let mut correction = 0.0;
-    for iteration in 0..=options.max_iterations {
+    let mut system = ByMinres {
+        rows,
+        tolerance: options.tolerance,
+        posedness_check,
+        hessians: HessianCache::new(rows.d),
+        matrix: None,
+        preconditioner: None,
+        j_norm: 0.0,
+        work: MinresWork::default(),
+        products: 0,
+        previous_merit: None,
+        correction: 0.0,
+    };
+    solve_global(&mut system, guess.to_vec(), unknowns, options)
+}
+
+/// The rows' global system, its Newton systems solved by MINRES with the time-tridiagonal
+/// preconditioner.
+struct ByMinres<'r, 'l, L: ?Sized> {
+    rows: &'r DynRows<'l, L>,
+    /// The Newton tolerance, which the forcing terms are chosen for.
+    tolerance: f64,
+    posedness_check: bool,
+    hessians: HessianCache,
+    matrix: Option<SparseRows>,
+    preconditioner: Option<TimeTridiagonals>,
+    /// `‖J‖∞` of the last linearisation.
+    j_norm: f64,
+    work: MinresWork,
+    /// The products with the Jacobian so far.
+    products: usize,
+    /// The residual's 2-norm at the last Newton direction.
+    previous_merit: Option<f64>,
+    /// `‖δ‖∞ / ‖r‖∞` of the last Newton direction (see the conditioning check).
+    correction: f64,
+}
+
+impl<L: DynLagrangian + ?Sized> ByMinres<'_, '_, L> {
+    /// The last linearisation as MINRES sees it, and MINRES's vectors.
+    fn system(&mut self) -> (Preconditioned<'_>, &mut MinresWork) {
+        let matrix = self.matrix.as_ref().expect("linearised before");
+        let preconditioner = self.preconditioner.as_ref().expect("built with the matrix");
+        let system = Preconditioned {
+            matrix,
+            preconditioner,
+        };
+        (system, &mut self.work)
+    }
+}
+
+impl<L: DynLagrangian + ?Sized> GlobalSystem for ByMinres<'_, '_, L> {
+    type Iterate = Vec<f64>;
+    type Evaluation = CurveValues;
+    type Output = std::result::Result<(Converged, usize), GaveWay>;
+
+    fn evaluate(&mut self, q: &Vec<f64>, iteration: usize) -> Result<(CurveValues, f64, f64)> {
+        evaluate_rows(self.rows, q, iteration)
+    }
+
+    fn within(&self, e: &CurveValues, residual: f64, tolerance: f64) -> bool {
+        residual <= tolerance * self.rows.scale(e)
+    }
+
+    fn linearise(
+        &mut self,
+        q: &Vec<f64>,
+        e: &CurveValues,
+        iteration: usize,
+    ) -> Result<ControlFlow<Self::Output, f64>> {
         let at = Location::Newton(iteration);
-        let scale = rows.scale(&current);
-        hessians.invalidate();
-        let (matrix, _) = assemble_matrix(rows, (&q, &current), &mut hessians, &mut matrix);
-        if !matrix.is_finite() {
-            return Err(Error::NotFinite { at });
-        }
-        let j_norm = matrix.norm_inf();
-        let preconditioner = match TimeTridiagonals::new(matrix, d) {
-            Ok(t) => t,
+        self.hessians.invalidate();
+        let (matrix, _) = assemble_matrix(self.rows, (q, e), &mut self.hessians, &mut self.matrix);
+        self.j_norm = jacobian_norm(matrix, at)?;
+        match TimeTridiagonals::new(matrix, self.rows.d) {
+            Ok(t) => self.preconditioner = Some(t),
             Err(u) => {
-                let (k, c) = (u / d + 1, u % d);
+                let (k, c) = (u / self.rows.d + 1, u % self.rows.d);
                 let reason = format!(
                     "the time-tridiagonal preconditioner is not positive definite at Q_{k}[{c}] \
                      (Newton iteration {iteration})"
                 );
-                return Ok(Err((reason, products)));
+                return Ok(ControlFlow::Break(Err((reason, self.products))));
             }
-        };
-        let mut system = Preconditioned {
-            matrix,
-            preconditioner: &preconditioner,
-        };
-        if res <= options.tolerance * scale || at_round_off(res, previous, j_norm, max_norm(&q)) {
-            // As the LU path: a lower bound of ‖J⁻¹‖∞ from the last Newton direction (taken at
-            // the iterate one step before this one), and from the inverse iteration. A nearly
-            // singular Jacobian mostly shows as MINRES exhausting its budget below, and the
-            // sparse LU path then decides.
-            // The sparse LU path's checks, on MINRES solves.
-            let mut failed = None;
-            let mut rhs = vec![0.0; unknowns];
-            let inverse = inverse_iteration(unknowns, |x| {
-                rhs.copy_from_slice(x);
-                match solve(
-                    &mut system,
-                    (&rhs, x),
-                    INVERSE_ITERATION_TOLERANCE,
-                    &mut work,
-                ) {
-                    Ok(used) => products += used,
-                    Err((reason, used)) => {
-                        products += used;
-                        failed.get_or_insert(reason);
-                        x.fill(f64::NAN);
-                    }
+        }
+        Ok(ControlFlow::Continue(self.j_norm))
+    }
+
+    fn converged(&mut self, c: Converging<'_, Self>) -> Result<Self::Output> {
+        // As the LU path: a lower bound of ‖J⁻¹‖∞ from the last Newton direction (taken at the
+        // iterate one step before this one), and from the inverse iteration, on MINRES solves.
+        // A nearly singular Jacobian mostly shows as MINRES exhausting its budget, and the
+        // sparse LU path then decides.
+        let (at, unknowns) = (c.at(), c.scratch.len());
+        let (j_norm, correction) = (self.j_norm, self.correction);
+        let (rows, check) = (self.rows, self.posedness_check);
+        let mut products = self.products;
+        let (mut system, work) = self.system();
+        let mut failed = None;
+        let rhs = c.scratch;
+        let inverse = inverse_iteration(unknowns, |x| {
+            rhs.copy_from_slice(x);
+            let used = solve(&mut system, (rhs, x), INVERSE_ITERATION_TOLERANCE, work);
+            match used {
+                Ok(used) => products += used,
+                Err((reason, used)) => {
+                    products += used;
+                    failed.get_or_insert(reason);
+                    x.fill(f64::NAN);
                 }
-            });
-            if let Some(reason) = failed {
-                let reason = format!("in the conditioning check at the solution: {reason}");
-                return Ok(Err((reason, products)));
             }
-            let condition = condition_bound(j_norm, inverse, unknowns, correction);
-            if condition >= NUMERICALLY_SINGULAR {
-                return Err(Error::IllConditioned { at, condition });
-            }
-            let sigma = inverse.map(|run| run.sigma);
-            let measure = posedness_check
-                .then(|| measure(rows, matrix, sigma?))
-                .flatten();
-            let band = matrix.bandwidth();
-            let converged = Converged {
-                q,
-                iterations: iteration,
-                band,
-                measure,
-            };
-            return Ok(Ok((converged, products)));
+        });
+        if let Some(reason) = failed {
+            let reason = format!("in the conditioning check at the solution: {reason}");
+            return Ok(Err((reason, products)));
         }
-        if iteration == options.max_iterations {
-            break;
+        let condition = condition_bound(j_norm, inverse, unknowns, correction);
+        if condition >= NUMERICALLY_SINGULAR {
+            return Err(Error::IllConditioned { at, condition });
         }
+        let sigma = inverse.map(|run| run.sigma);
+        let matrix = system.matrix;
+        let measure = check.then(|| measure(rows, matrix, sigma?)).flatten();
+        let converged = Converged {
+            q: c.q,
+            iterations: c.iteration,
+            band: matrix.bandwidth(),
+            measure,
+        };
+        Ok(Ok((converged, products)))
+    }
+
+    fn direction(
+        &mut self,
+        (_, e): (&Vec<f64>, &CurveValues),
+        (res, merit): (f64, f64),
+        delta: &mut [f64],
+        iteration: usize,
+    ) -> Result<ControlFlow<Self::Output>> {
         // What the next iterate needs to meet the stopping rule: its ∞-norm residual is at most
         // the linear residual's 2-norm, η ‖r‖₂, plus the quadratic term. Far from the solution
         // (the residual falling slowly) Eisenstat–Walker's looser 0.9 (‖r‖/‖r_prev‖)² instead,
         // at most 10⁻³.
-        let needed = 0.1 * options.tolerance * scale / merit;
-        let loose = match previous_merit {
+        let needed = 0.1 * self.tolerance * self.rows.scale(e) / merit;
+        let loose = match self.previous_merit {
             Some(previous) => (0.9 * (merit / previous).powi(2)).min(1e-3),
             None => 0.0,
         };
         let forcing = needed.max(loose).clamp(1e-13, 1e-3);
-        previous_merit = Some(merit);
-        match solve(&mut system, (&current.r, &mut delta), forcing, &mut work) {
-            Ok(used) => products += used,
+        self.previous_merit = Some(merit);
+        let (mut system, work) = self.system();
+        let used = solve(&mut system, (&e.r, delta), forcing, work);
+        match used {
+            Ok(used) => self.products += used,
             Err((reason, used)) => {
                 let reason = format!("{reason} at Newton iteration {iteration}");
-                return Ok(Err((reason, products + used)));
+                return Ok(ControlFlow::Break(Err((reason, self.products + used))));
             }
         }
         if !delta.iter().all(|c| c.is_finite()) {
             let reason = format!("a non-finite MINRES direction at Newton iteration {iteration}");
-            return Ok(Err((reason, products)));
+            return Ok(ControlFlow::Break(Err((reason, self.products))));
         }
-        correction = if res > 0.0 {
-            max_norm(&delta) / res
+        self.correction = if res > 0.0 {
+            max_norm(delta) / res
         } else {
             0.0
         };
-        let (next, values, next_res, next_merit) =
-            search(rows, &mut line_search, (&q, merit), &delta, iteration)?;
-        (q, current, previous, res, merit) = (next, values, res, next_res, next_merit);
+        Ok(ControlFlow::Continue(()))
     }
-    Err(Error::NewtonDidNotConverge {
-        at: Location::Newton(options.max_iterations),
-        iterations: options.max_iterations,
-        residual: res,
-    })
 }

@@ -41,10 +41,11 @@ use crate::gauss_legendre::GaussTableau;
 use crate::grid::Grid;
 use crate::options::{LinearSolve, NewtonOptions};
 use crate::side::Side;
-use crate::solve::newton::{Iterate, LineSearch, at_round_off};
+use crate::solve::newton::{Converging, GlobalSystem, Iterate, solve_global};
+use std::ops::ControlFlow;
 
 use super::DynLagrangian;
-use super::bvp::{check_input, check_nodes, isolated, newton_direction, posedness_at};
+use super::bvp::{check_input, check_nodes, isolated, jacobian_norm, lu_direction, posedness_at};
 use super::problem::{DynProblem, DynSolution};
 use super::rows::DynRows;
 use super::slices::max_norm;
@@ -64,6 +65,10 @@ impl Iterate for Unknowns {
                 .map(|(z, delta)| z - delta * lambda)
                 .collect(),
         )
+    }
+
+    fn size(&self) -> f64 {
+        max_norm(&self.0)
     }
 }
 
@@ -447,51 +452,88 @@ fn position_weight<L: DynLagrangian + ?Sized>(
     }
 }
 
-/// Newton's method on the global system from `z`, as the other boundary value problems run it
-/// (factorise before testing convergence, the tolerance or round-off, the same line search and
-/// errors): the solution, the iterations and `p_N`.
+/// Newton's method ([`solve_global`]) on the global system from `z`, as the other boundary
+/// value problems run it: the solution, the iterations and `p_N`.
 fn newton<L: DynLagrangian + ?Sized>(
     system: &GaussSystem<'_, L>,
     options: &NewtonOptions,
     z: Vec<f64>,
 ) -> Result<(Vec<f64>, usize, Vec<f64>)> {
-    let two_norm = |r: &[f64]| r.iter().map(|x| x * x).sum::<f64>().sqrt();
-    let mut z = Unknowns(z);
-    let mut current = system.evaluate(&z.0, 0)?;
-    let mut merit = two_norm(&current.r);
-    let mut line_search = LineSearch::new(&z, merit);
-    let mut previous = f64::INFINITY;
-    let mut factors = None;
-    let mut delta = vec![0.0; system.order()];
-    for iteration in 0..=options.max_iterations {
-        let at = Location::Newton(iteration);
-        let (matrix, lu) = system
-            .assemble(&z.0, &mut factors)
-            .map_err(|_| Error::SingularJacobian { at })?;
-        let j_norm = newton_direction((matrix, lu), &current.r, &mut delta, at)?;
-        let res = current.max;
-        let within = res <= options.tolerance * current.scale;
-        if within || at_round_off(res, previous, j_norm, max_norm(&z.0)) {
-            // A solution where the Jacobian is singular to working precision is not isolated.
-            isolated((matrix, lu), j_norm, (res, &delta), at)?;
-            return Ok((z.0, iteration, current.last_momentum));
-        }
-        if iteration == options.max_iterations {
-            break;
-        }
-        let (next, values, _, next_merit) = line_search.step(&z, merit, &delta, |trial| {
-            let values = system.evaluate(&trial.0, iteration + 1)?;
-            let (max, merit) = (values.max, two_norm(&values.r));
-            Ok((values, max, merit))
-        })?;
-        previous = res;
-        (z, current, merit) = (next, values, next_merit);
+    let unknowns = system.order();
+    let mut by_lu = ByLu {
+        system,
+        factors: None,
+        j_norm: 0.0,
+    };
+    solve_global(&mut by_lu, Unknowns(z), unknowns, options)
+}
+
+/// The collocation system with its Newton systems solved by sparse LU.
+struct ByLu<'s, 'a, L: ?Sized> {
+    system: &'s GaussSystem<'a, L>,
+    /// The last linearisation and its factorisation.
+    factors: Option<(SparseRows, SparseLu)>,
+    /// `‖J‖∞` of the last linearisation.
+    j_norm: f64,
+}
+
+impl<L: DynLagrangian + ?Sized> ByLu<'_, '_, L> {
+    fn factors(&mut self) -> (&SparseRows, &mut SparseLu) {
+        let (matrix, lu) = self.factors.as_mut().expect("linearised before");
+        (matrix, lu)
     }
-    Err(Error::NewtonDidNotConverge {
-        at: Location::Newton(options.max_iterations),
-        iterations: options.max_iterations,
-        residual: current.max,
-    })
+}
+
+impl<L: DynLagrangian + ?Sized> GlobalSystem for ByLu<'_, '_, L> {
+    type Iterate = Unknowns;
+    type Evaluation = Evaluation;
+    type Output = (Vec<f64>, usize, Vec<f64>);
+
+    fn evaluate(&mut self, z: &Unknowns, iteration: usize) -> Result<(Evaluation, f64, f64)> {
+        let values = self.system.evaluate(&z.0, iteration)?;
+        let merit = values.r.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let max = values.max;
+        Ok((values, max, merit))
+    }
+
+    fn within(&self, e: &Evaluation, residual: f64, tolerance: f64) -> bool {
+        residual <= tolerance * e.scale
+    }
+
+    fn linearise(
+        &mut self,
+        z: &Unknowns,
+        _: &Evaluation,
+        iteration: usize,
+    ) -> Result<ControlFlow<Self::Output, f64>> {
+        let at = Location::Newton(iteration);
+        let (matrix, _) = self
+            .system
+            .assemble(&z.0, &mut self.factors)
+            .map_err(|_| Error::SingularJacobian { at })?;
+        self.j_norm = jacobian_norm(matrix, at)?;
+        Ok(ControlFlow::Continue(self.j_norm))
+    }
+
+    fn converged(&mut self, c: Converging<'_, Self>) -> Result<Self::Output> {
+        // A solution where the Jacobian is singular to working precision is not isolated.
+        let (at, j_norm) = (c.at(), self.j_norm);
+        let (matrix, lu) = self.factors();
+        lu_direction((matrix, lu), &c.evaluation.r, c.scratch, at)?;
+        isolated((matrix, lu), j_norm, (c.residual, c.scratch), at)?;
+        Ok((c.q.0, c.iteration, c.evaluation.last_momentum))
+    }
+
+    fn direction(
+        &mut self,
+        (_, e): (&Unknowns, &Evaluation),
+        _: (f64, f64),
+        delta: &mut [f64],
+        iteration: usize,
+    ) -> Result<ControlFlow<Self::Output>> {
+        lu_direction(self.factors(), &e.r, delta, Location::Newton(iteration))?;
+        Ok(ControlFlow::Continue(()))
+    }
 }
 
 #[cfg(test)]

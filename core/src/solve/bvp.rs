@@ -21,9 +21,10 @@ use crate::solve::conditioning::{
     neighbour_coupling, smallest_pencil_eigenvalue,
 };
 use crate::solve::fractional;
-use crate::solve::newton::{LineSearch, at_round_off, two_norm};
+use crate::solve::newton::{Converging, GlobalSystem, solve_global, two_norm};
 use crate::solve::solution::{Solution, Warning};
 use nalgebra::DMatrix;
+use std::ops::ControlFlow;
 
 /// Where the Jacobian blocks of the global system go (banded or dense storage).
 trait BlockSink<const D: usize> {
@@ -166,8 +167,8 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
 }
 
 /// Solves the boundary value problem of `scheme` from `guess` (all `N + 1` nodes; the first and
-/// last are the boundary values): Newton's method on the residual rows, globalised by
-/// [`LineSearch`]. The fractional embeddings go to the fast path when `options` say
+/// last are the boundary values): Newton's method on the residual rows ([`solve_global`]).
+/// The fractional embeddings go to the fast path when `options` say
 /// so (falling back to dense LU as [`FractionalSolver::Auto`] describes).
 fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
@@ -177,7 +178,7 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
 ) -> Result<Solution<D>> {
     let (grid, embedding) = (*disc.grid(), *disc.embedding());
     let n = grid.n();
-    let mut q = guess.to_vec();
+    let q = guess.to_vec();
     let unknowns = (n - 1) * D;
     let finish = |q: Vec<Vector<D>>, newton_iterations| Solution {
         scheme,
@@ -222,118 +223,199 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
             }
         }
     }
-    let newton = options.newton;
-    let (mut r, mut pw) = residual_and_pointwise(disc, scheme, &q, 0)?;
-    let mut res = max_norm(&r);
-    let mut merit = two_norm(&r);
-    let mut line_search = LineSearch::new(&q, merit);
-    let mut previous = f64::INFINITY;
-    for iteration in 0..=newton.max_iterations {
-        let at = Location::Newton(iteration);
-        let scale = disc.row_scale(scheme, &pw);
-        // Factorise before testing convergence: a solution where the Jacobian is singular
-        // is not isolated, and is reported rather than returned.
-        let mut rhs: Vec<f64> = r.iter().flat_map(|x| x.iter().copied()).collect();
-        let converged = |j_norm: f64| {
-            res <= newton.tolerance * scale || at_round_off(res, previous, j_norm, max_norm(&q))
+    let mut system = ByLu {
+        disc,
+        scheme,
+        posedness_check: options.posedness_check,
+        jacobian: None,
+    };
+    let (q, newton_iterations, measure) = solve_global(&mut system, q, unknowns, &options.newton)?;
+    let mut solution = finish(q, newton_iterations);
+    let ill_posed = measure.filter(|&m| m < ILL_POSED_BELOW);
+    solution
+        .warnings
+        .extend(ill_posed.map(|measure| Warning::IllPosed { measure }));
+    Ok(solution)
+}
+
+/// A Jacobian of the global system at one iterate: dense for Gauss-GLEσ (every row reads
+/// every node), banded for the classical embeddings (every row couples three consecutive
+/// nodes).
+enum Jacobian {
+    Dense(DMatrix<f64>),
+    Banded(BandedMatrix),
+}
+
+/// The global system of `scheme` with its Newton systems solved by dense or banded LU.
+struct ByLu<'d, 'l, L: ?Sized, const D: usize> {
+    disc: &'d Discretisation<'l, L, D>,
+    scheme: Scheme,
+    posedness_check: bool,
+    /// The last linearisation and its `‖J‖∞`.
+    jacobian: Option<(Jacobian, f64)>,
+}
+
+/// A factorised Jacobian.
+enum Factors {
+    Dense(DenseLu),
+    Banded(BandedMatrix),
+}
+
+impl Factors {
+    /// `x ← J⁻¹ x`; NaN where the dense LU finds the system singular.
+    fn solve(&self, x: &mut [f64]) {
+        match self {
+            Factors::Dense(lu) => {
+                if !lu.solve(x) {
+                    x.fill(f64::NAN);
+                }
+            }
+            Factors::Banded(jac) => jac.solve_inplace(x),
+        }
+    }
+}
+
+impl<L: Lagrangian<D> + ?Sized, const D: usize> ByLu<'_, '_, L, D> {
+    /// The last linearisation factorised, and `δ = J⁻¹ r` into `delta`;
+    /// [`Error::SingularJacobian`] at `at` when it is singular.
+    fn solve(&mut self, r: &[Vector<D>], delta: &mut [f64], at: Location) -> Result<Factors> {
+        let (jacobian, _) = self.jacobian.take().expect("linearised before");
+        for (x, r) in delta.chunks_exact_mut(D).zip(r) {
+            x.copy_from_slice(r.as_slice());
+        }
+        match jacobian {
+            Jacobian::Dense(jac) => {
+                let lu = DenseLu::new(jac).ok_or(Error::SingularJacobian { at })?;
+                if !lu.solve(delta) {
+                    return Err(Error::SingularJacobian { at });
+                }
+                Ok(Factors::Dense(lu))
+            }
+            Jacobian::Banded(mut jac) => {
+                jac.factorize()
+                    .map_err(|_| Error::SingularJacobian { at })?;
+                jac.solve_inplace(delta);
+                Ok(Factors::Banded(jac))
+            }
+        }
+    }
+}
+
+impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for ByLu<'_, '_, L, D> {
+    type Iterate = Vec<Vector<D>>;
+    type Evaluation = (Vec<Vector<D>>, Pointwise<D>);
+    /// The nodes, the Newton iterations and the ill-posedness measure.
+    type Output = (Vec<Vector<D>>, usize, Option<f64>);
+
+    fn evaluate(
+        &mut self,
+        q: &Vec<Vector<D>>,
+        iteration: usize,
+    ) -> Result<(Self::Evaluation, f64, f64)> {
+        let (r, pw) = residual_and_pointwise(self.disc, self.scheme, q, iteration)?;
+        let (res, merit) = (max_norm(&r), two_norm(&r));
+        Ok(((r, pw), res, merit))
+    }
+
+    fn within(&self, (_, pw): &Self::Evaluation, residual: f64, tolerance: f64) -> bool {
+        residual <= tolerance * self.disc.row_scale(self.scheme, pw)
+    }
+
+    fn linearise(
+        &mut self,
+        q: &Vec<Vector<D>>,
+        (_, pw): &Self::Evaluation,
+        iteration: usize,
+    ) -> Result<ControlFlow<Self::Output, f64>> {
+        let (disc, scheme) = (self.disc, self.scheme);
+        let unknowns = (disc.grid().n() - 1) * D;
+        let not_finite = Error::NotFinite {
+            at: Location::Newton(iteration),
         };
-        // On convergence, the smallest eigenvalue by inverse iteration on the factorisation at
-        // hand, for the condition bound and (banded) the ill-posedness measure (see the
-        // conditioning module); the coupling the banded measure needs is read from the Jacobian
-        // before the factorisation overwrites it, and only when the check is on.
-        let check = |done: bool| done && options.posedness_check;
-        let measure = |sigma: Option<f64>, coupling: Option<f64>| {
-            let length = grid.b() - grid.a();
-            let (sigma, coupling) = (sigma?, coupling?);
-            Some(ill_posedness(
-                sigma,
-                coupling,
-                grid.h(),
-                length,
-                embedding.alpha(),
-            ))
-        };
-        let (done, j_norm, inverse, ill_posedness_measure) = if embedding.is_fractional() {
+        let (jacobian, j_norm) = if disc.embedding().is_fractional() {
             let mut jac = DMatrix::<f64>::zeros(unknowns, unknowns);
-            disc.assemble_jacobian(scheme, &q, &pw, |i, j, b| jac.add_block(i, j, b));
+            disc.assemble_jacobian(scheme, q, pw, |i, j, b| jac.add_block(i, j, b));
             if !jac.iter().all(|c| c.is_finite()) {
-                return Err(Error::NotFinite { at });
+                return Err(not_finite);
             }
             let j_norm = jac
                 .row_iter()
                 .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
                 .fold(0.0, f64::max);
-            let lu = DenseLu::new(jac).ok_or(Error::SingularJacobian { at })?;
-            if !lu.solve(&mut rhs) {
-                return Err(Error::SingularJacobian { at });
-            }
-            let done = converged(j_norm);
-            let solve = |v: &mut [f64]| {
-                if !lu.solve(v) {
-                    v.fill(f64::NAN);
-                }
-            };
-            let inverse = done.then(|| inverse_iteration(unknowns, solve)).flatten();
-            // The ill-posedness measure against the kinetic part itself (see the conditioning
-            // module).
-            let measure = check(done).then(|| {
-                let vv = kinetic_blocks(disc, &q, &pw.v);
-                smallest_pencil_eigenvalue(unknowns, |x, y| kinetic_product(disc, &vv, x, y), solve)
-            });
-            (done, j_norm, inverse, measure.flatten())
+            (Jacobian::Dense(jac), j_norm)
         } else {
             let mut jac = BandedMatrix::zeros(unknowns, 2 * D - 1, 2 * D - 1);
-            disc.assemble_jacobian(scheme, &q, &pw, |i, j, b| jac.add_block(i, j, b));
+            disc.assemble_jacobian(scheme, q, pw, |i, j, b| jac.add_block(i, j, b));
             if !jac.is_finite() {
-                return Err(Error::NotFinite { at });
+                return Err(not_finite);
             }
             let j_norm = jac.norm_inf();
-            let done = converged(j_norm);
-            let coupling =
-                check(done).then(|| neighbour_coupling(unknowns, D, |i, j| jac.get(i, j)));
-            jac.factorize()
-                .map_err(|_| Error::SingularJacobian { at })?;
-            jac.solve_inplace(&mut rhs);
-            let inverse = done
-                .then(|| inverse_iteration(unknowns, |v| jac.solve_inplace(v)))
-                .flatten();
-            let sigma = inverse.map(|run| run.sigma);
-            (done, j_norm, inverse, measure(sigma, coupling))
+            (Jacobian::Banded(jac), j_norm)
         };
-        if done {
-            // A solution whose Newton system is singular to working precision is round-off,
-            // however small its residual: an error, not an answer. The last correction
-            // `δ = J⁻¹ r` (not applied) bounds `‖J⁻¹‖` from below as well: on a recurrence
-            // amplifying a parasitic mode, far from normal, it exceeds the inverse iteration's
-            // `1/σ` by many orders.
-            let step = rhs.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-            let correction = if res > 0.0 { step / res } else { 0.0 };
-            let condition = condition_bound(j_norm, inverse, unknowns, correction);
-            if condition >= NUMERICALLY_SINGULAR {
-                return Err(Error::IllConditioned { at, condition });
-            }
-            let mut solution = finish(q, iteration);
-            let ill_posed = ill_posedness_measure.filter(|&m| m < ILL_POSED_BELOW);
-            solution
-                .warnings
-                .extend(ill_posed.map(|measure| Warning::IllPosed { measure }));
-            return Ok(solution);
-        }
-        if iteration == newton.max_iterations {
-            break;
-        }
-        let (trial, (rt, pt), rest, mt) = line_search.step(&q, merit, &rhs, |trial| {
-            let (rt, pt) = residual_and_pointwise(disc, scheme, trial, iteration + 1)?;
-            let (res, merit) = (max_norm(&rt), two_norm(&rt));
-            Ok(((rt, pt), res, merit))
-        })?;
-        (q, r, pw, previous, res, merit) = (trial, rt, pt, res, rest, mt);
+        self.jacobian = Some((jacobian, j_norm));
+        Ok(ControlFlow::Continue(j_norm))
     }
-    Err(Error::NewtonDidNotConverge {
-        at: Location::Newton(newton.max_iterations),
-        iterations: newton.max_iterations,
-        residual: res,
-    })
+
+    /// The smallest eigenvalue by inverse iteration on the factorisation, for the condition
+    /// bound and the ill-posedness measure (see the conditioning module).
+    fn converged(&mut self, c: Converging<'_, Self>) -> Result<Self::Output> {
+        let (at, disc) = (c.at(), self.disc);
+        let (grid, unknowns) = (*disc.grid(), c.scratch.len());
+        let j_norm = self.jacobian.as_ref().map_or(0.0, |(_, norm)| *norm);
+        // The banded measure's coupling is read off the Jacobian before the factorisation
+        // overwrites it, and only when the check is on.
+        let coupling = match &self.jacobian {
+            Some((Jacobian::Banded(jac), _)) if self.posedness_check => {
+                Some(neighbour_coupling(unknowns, D, |i, j| jac.get(i, j)))
+            }
+            _ => None,
+        };
+        let (r, pw) = &c.evaluation;
+        let factors = self.solve(r, c.scratch, at)?;
+        let inverse = inverse_iteration(unknowns, |v| factors.solve(v));
+        let measure = if !self.posedness_check {
+            None
+        } else if disc.embedding().is_fractional() {
+            // The ill-posedness measure against the kinetic part itself (see the conditioning
+            // module).
+            let vv = kinetic_blocks(disc, &c.q, &pw.v);
+            let product = |x: &[f64], y: &mut [f64]| kinetic_product(disc, &vv, x, y);
+            smallest_pencil_eigenvalue(unknowns, product, |v| factors.solve(v))
+        } else {
+            let (sigma, length) = (inverse.map(|run| run.sigma), grid.b() - grid.a());
+            let alpha = disc.embedding().alpha();
+            sigma
+                .zip(coupling)
+                .map(|(sigma, coupling)| ill_posedness(sigma, coupling, grid.h(), length, alpha))
+        };
+        // A solution whose Newton system is singular to working precision is round-off,
+        // however small its residual: an error, not an answer. The last correction
+        // `δ = J⁻¹ r` (not applied) bounds `‖J⁻¹‖` from below as well: on a recurrence
+        // amplifying a parasitic mode, far from normal, it exceeds the inverse iteration's
+        // `1/σ` by many orders.
+        let step = c.scratch.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+        let correction = if c.residual > 0.0 {
+            step / c.residual
+        } else {
+            0.0
+        };
+        let condition = condition_bound(j_norm, inverse, unknowns, correction);
+        if condition >= NUMERICALLY_SINGULAR {
+            return Err(Error::IllConditioned { at, condition });
+        }
+        Ok((c.q, c.iteration, measure))
+    }
+
+    fn direction(
+        &mut self,
+        (_, (r, _)): (&Vec<Vector<D>>, &Self::Evaluation),
+        _: (f64, f64),
+        delta: &mut [f64],
+        iteration: usize,
+    ) -> Result<ControlFlow<Self::Output>> {
+        self.solve(r, delta, Location::Newton(iteration))?;
+        Ok(ControlFlow::Continue(()))
+    }
 }
 
 /// Below this fraction of the solution's largest node an end value counts as zero in

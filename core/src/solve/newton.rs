@@ -3,9 +3,10 @@
 
 use crate::error::{Error, Location, Result};
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
-use crate::linalg::{BandedMatrix, solve_small};
+use crate::linalg::{BandedMatrix, max_norm, solve_small};
 use crate::options::NewtonOptions;
 use crate::step::{Step, residual_and_terms};
+use std::ops::ControlFlow;
 
 /// Whether Newton has stagnated at round-off: `residual` is within the round-off level of a
 /// system with Jacobian max-norm `jacobian` at unknowns of max-norm `unknowns`, *and* the last
@@ -233,6 +234,134 @@ pub(crate) fn newton_step<const D: usize, L: Lagrangian<D> + ?Sized>(
     Ok((system.y, iterations))
 }
 
+/// A global (boundary value) system as Newton's method sees it, in any storage and with any
+/// linear solver: its evaluation at an iterate, its linearisation, the Newton direction, and
+/// what it returns at convergence. The iteration itself ([`solve_global`]: the stopping rule,
+/// its round-off floor, the line search, the errors) is written once for all of them.
+pub(crate) trait GlobalSystem {
+    /// The unknowns: what the line search moves.
+    type Iterate: Iterate;
+    /// The residual at an iterate, with what the linearisation reads there.
+    type Evaluation;
+    /// What the iteration returns: at convergence, or where a hook stops it early (a linear
+    /// solver that gives way to another, with its reason).
+    type Output;
+
+    /// The evaluation at `q` for Newton iteration `iteration`, the residual's max-norm and its
+    /// 2-norm (the line search's merit); [`Error::NotFinite`] at that iteration when any value
+    /// is not finite.
+    fn evaluate(
+        &mut self,
+        q: &Self::Iterate,
+        iteration: usize,
+    ) -> Result<(Self::Evaluation, f64, f64)>;
+
+    /// Whether the residual at `e` (max-norm `residual`) is within `tolerance` of the scale of
+    /// the terms its rows sum (relative only, so that `c L` stops where `L` does).
+    fn within(&self, e: &Self::Evaluation, residual: f64, tolerance: f64) -> bool;
+
+    /// Linearises at `q` for Newton iteration `iteration` (or only bounds the Jacobian,
+    /// where it is applied by products and not formed until a direction needs it): `‖J‖∞` or
+    /// a bound of it, for the round-off floor; or an early stop.
+    fn linearise(
+        &mut self,
+        q: &Self::Iterate,
+        e: &Self::Evaluation,
+        iteration: usize,
+    ) -> Result<ControlFlow<Self::Output, f64>>;
+
+    /// At an iterate that meets the stopping rule: the checks of the solution (an isolated
+    /// solution: a Jacobian not singular to working precision; the ill-posedness measure) and
+    /// the output. `scratch` is a vector of the unknowns' length, free for the checks.
+    fn converged(&mut self, at: Converging<'_, Self>) -> Result<Self::Output>;
+
+    /// The Newton direction `δ = J⁻¹ r` at the linearisation of the `current` iterate and
+    /// evaluation, to the linear solver's accuracy, into `delta`; or an early stop. `residual`
+    /// holds the max-norm and the 2-norm of the evaluation's residual.
+    fn direction(
+        &mut self,
+        current: (&Self::Iterate, &Self::Evaluation),
+        residual: (f64, f64),
+        delta: &mut [f64],
+        iteration: usize,
+    ) -> Result<ControlFlow<Self::Output>>;
+
+    /// An evaluation the iteration has replaced: its allocations, for the next.
+    fn recycle(&mut self, _e: Self::Evaluation) {}
+}
+
+/// What [`GlobalSystem::converged`] receives: the converged iterate, its evaluation and
+/// residual max-norm, the Newton iteration, and a free vector of the unknowns' length.
+pub(crate) struct Converging<'a, S: GlobalSystem + ?Sized> {
+    pub(crate) q: S::Iterate,
+    pub(crate) evaluation: S::Evaluation,
+    pub(crate) residual: f64,
+    pub(crate) iteration: usize,
+    pub(crate) scratch: &'a mut [f64],
+}
+
+impl<S: GlobalSystem + ?Sized> Converging<'_, S> {
+    /// Where the iteration converged.
+    pub(crate) fn at(&self) -> Location {
+        Location::Newton(self.iteration)
+    }
+}
+
+/// Newton's method on a global system of `unknowns` unknowns from `q`, globalised by
+/// [`LineSearch`]. It stops when [`GlobalSystem::within`] the tolerance of `options`, or at
+/// round-off ([`at_round_off`], with the linearisation's `‖J‖∞` and the iterate's size);
+/// [`Error::NewtonDidNotConverge`] with the last residual when `options.max_iterations`
+/// iterations did not get there. The linearisation comes before the test, so that a Jacobian
+/// that is not finite is reported even at a converged iterate, and the converged hook sees it.
+pub(crate) fn solve_global<S: GlobalSystem>(
+    system: &mut S,
+    mut q: S::Iterate,
+    unknowns: usize,
+    options: &NewtonOptions,
+) -> Result<S::Output> {
+    let (mut current, mut res, mut merit) = system.evaluate(&q, 0)?;
+    let mut line_search = LineSearch::new(&q, merit);
+    let mut previous = f64::INFINITY;
+    let mut delta = vec![0.0; unknowns];
+    for iteration in 0..=options.max_iterations {
+        let j_norm = match system.linearise(&q, &current, iteration)? {
+            ControlFlow::Continue(j_norm) => j_norm,
+            ControlFlow::Break(output) => return Ok(output),
+        };
+        if system.within(&current, res, options.tolerance)
+            || at_round_off(res, previous, j_norm, q.size())
+        {
+            return system.converged(Converging {
+                q,
+                evaluation: current,
+                residual: res,
+                iteration,
+                scratch: &mut delta,
+            });
+        }
+        if iteration == options.max_iterations {
+            break;
+        }
+        let residual = (res, merit);
+        if let ControlFlow::Break(output) =
+            system.direction((&q, &current), residual, &mut delta, iteration)?
+        {
+            return Ok(output);
+        }
+        let (next, evaluation, next_res, next_merit) =
+            line_search.step(&q, merit, &delta, |trial| {
+                system.evaluate(trial, iteration + 1)
+            })?;
+        system.recycle(std::mem::replace(&mut current, evaluation));
+        (q, previous, res, merit) = (next, res, next_res, next_merit);
+    }
+    Err(Error::NewtonDidNotConverge {
+        at: Location::Newton(options.max_iterations),
+        iterations: options.max_iterations,
+        residual: res,
+    })
+}
+
 /// Sufficient decrease of a damped step: `‖r(q − λδ)‖₂ ≤ (1 − ARMIJO λ) ‖r(q)‖₂`.
 const ARMIJO: f64 = 1e-4;
 
@@ -276,6 +405,9 @@ pub(crate) type Accepted<X, E> = (X, E, f64, f64);
 pub(crate) trait Iterate: Clone {
     /// `q − λ δ` on the interior nodes.
     fn along(&self, delta: &[f64], lambda: f64) -> Self;
+
+    /// The max-norm of every value (the round-off floor's size of the unknowns).
+    fn size(&self) -> f64;
 }
 
 /// Nodes of a fixed dimension, node `k`'s correction at `δ[(k−1)D..kD]`.
@@ -292,6 +424,9 @@ impl<const D: usize> Iterate for Vec<Vector<D>> {
             })
             .collect()
     }
+    fn size(&self) -> f64 {
+        max_norm(self)
+    }
 }
 
 /// Flat nodes of a run-time dimension `d`, node `k` at `q[kd..(k+1)d]`: `δ` covers all but
@@ -304,6 +439,9 @@ impl Iterate for Vec<f64> {
             *q -= delta * lambda;
         }
         q
+    }
+    fn size(&self) -> f64 {
+        self.iter().fold(0.0, |m, x| m.max(x.abs()))
     }
 }
 

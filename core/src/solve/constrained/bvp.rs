@@ -27,12 +27,13 @@ use crate::discretisation::{Discretisation, Pointwise};
 use crate::embedding::Scheme;
 use crate::error::{Error, Location, Result};
 use crate::lagrangian::{Lagrangian, Vector};
-use crate::linalg::BandedMatrix;
+use crate::linalg::{BandNorms, BandedMatrix};
 use crate::options::SolverOptions;
 use crate::solve::bvp::{check_input, check_nodes};
 use crate::solve::conditioning::{NUMERICALLY_SINGULAR, condition_bound, inverse_iteration};
-use crate::solve::newton::{Iterate, LineSearch, at_round_off};
+use crate::solve::newton::{Converging, GlobalSystem, Iterate, solve_global};
 use crate::solve::solution::Solution;
+use std::ops::ControlFlow;
 
 /// The iterate: the nodes (ends included, which stay) and the scaled multipliers `μ = λ / w`,
 /// one per row.
@@ -54,6 +55,12 @@ impl<const D: usize, const M: usize> Iterate for Unknowns<D, M> {
                 SVector::<f64, M>::from_column_slice(&delta[at + D..at + block]) * lambda;
         }
         next
+    }
+
+    fn size(&self) -> f64 {
+        let q = self.q.iter().map(|q| q.amax());
+        q.chain(self.mu.iter().map(|m| m.amax()))
+            .fold(0.0f64, f64::max)
     }
 }
 
@@ -111,11 +118,11 @@ where
         weight: weight(disc, constraint, scheme, &q)?,
         dimension: PhantomData,
     };
-    let mut x = Unknowns {
+    let x = Unknowns {
         q,
         mu: vec![SVector::<f64, M>::zeros(); n - 1],
     };
-    let (q, mu, iterations) = system.newton(&mut x, options)?;
+    let (q, mu, iterations) = system.newton(x, options)?;
     check_nodes(disc, &q, false)?;
     let solution = Solution {
         scheme,
@@ -240,77 +247,132 @@ where
         jac
     }
 
-    /// Newton's method with the line search of the unconstrained boundary value problems; the
-    /// nodes, the scaled multipliers and the iterations used.
+    /// Newton's method ([`solve_global`]) as the unconstrained boundary value problems run it;
+    /// the nodes, the scaled multipliers and the iterations used.
     fn newton(
         &self,
-        x: &mut Unknowns<D, M>,
+        x: Unknowns<D, M>,
         options: &SolverOptions,
     ) -> Result<(Vec<Vector<D>>, Vec<SVector<f64, M>>, usize)> {
-        let newton = options.newton;
         let n = x.q.len() - 1;
         let unknowns = (n - 1) * (D + M);
         if unknowns == 0 {
-            return Ok((x.q.clone(), x.mu.clone(), 0));
+            return Ok((x.q, x.mu, 0));
         }
-        let mut evaluation = self.evaluate(x, 0)?;
-        let norm = |rows: &[f64]| rows.iter().fold(0.0f64, |m, c| m.max(c.abs()));
-        let mut res = norm(&evaluation.rows);
-        let mut merit = two_norm_flat(&evaluation.rows);
-        let mut line_search = LineSearch::new(x, merit);
-        let mut previous = f64::INFINITY;
-        for iteration in 0..=newton.max_iterations {
+        let mut by_lu = ByBandedLu {
+            system: self,
+            jacobian: None,
+        };
+        solve_global(&mut by_lu, x, unknowns, &options.newton)
+    }
+}
+
+/// The constrained system with its Newton systems solved by banded LU.
+struct ByBandedLu<'a, 's, 'l, L: ?Sized, C: ?Sized, const D: usize, const M: usize> {
+    system: &'a System<'s, 'l, L, C, D, M>,
+    /// The last linearisation and its norms.
+    jacobian: Option<(BandedMatrix, BandNorms)>,
+}
+
+impl<L, C, const D: usize, const M: usize> ByBandedLu<'_, '_, '_, L, C, D, M>
+where
+    L: Lagrangian<D> + ?Sized,
+    C: Constraint<D, M> + ?Sized,
+{
+    /// `δ = J⁻¹ r` into `delta` at the last linearisation, at the nodes `x`, factorised here:
+    /// where it is singular, a rank-deficient `G` at some node is the cause to name
+    /// ([`check_rank`]); otherwise the scheme's own system is singular.
+    fn solve(
+        &mut self,
+        x: &Unknowns<D, M>,
+        rows: &[f64],
+        delta: &mut [f64],
+        at: Location,
+    ) -> Result<&mut BandedMatrix> {
+        let (jac, norms) = self.jacobian.as_mut().expect("linearised before");
+        if jac.factorize_scaled(norms.largest).is_err() {
+            for (k, q) in x.q.iter().enumerate() {
+                check_rank(&self.system.constraint.jacobian(q), Location::Node(k))?;
+            }
+            return Err(Error::SingularJacobian { at });
+        }
+        delta.copy_from_slice(rows);
+        jac.solve_inplace(delta);
+        Ok(jac)
+    }
+}
+
+impl<L, C, const D: usize, const M: usize> GlobalSystem for ByBandedLu<'_, '_, '_, L, C, D, M>
+where
+    L: Lagrangian<D> + ?Sized,
+    C: Constraint<D, M> + ?Sized,
+{
+    type Iterate = Unknowns<D, M>;
+    type Evaluation = Evaluation<D>;
+    type Output = (Vec<Vector<D>>, Vec<SVector<f64, M>>, usize);
+
+    fn evaluate(
+        &mut self,
+        x: &Unknowns<D, M>,
+        iteration: usize,
+    ) -> Result<(Evaluation<D>, f64, f64)> {
+        let e = self.system.evaluate(x, iteration)?;
+        let res = e.rows.iter().fold(0.0f64, |m, c| m.max(c.abs()));
+        let merit = e.rows.iter().map(|c| c * c).sum::<f64>().sqrt();
+        Ok((e, res, merit))
+    }
+
+    fn within(&self, e: &Evaluation<D>, _: f64, tolerance: f64) -> bool {
+        let within = |(residual, scale): (f64, f64)| residual <= tolerance * scale;
+        within(e.scheme) && within(e.constraints)
+    }
+
+    fn linearise(
+        &mut self,
+        x: &Unknowns<D, M>,
+        e: &Evaluation<D>,
+        iteration: usize,
+    ) -> Result<ControlFlow<Self::Output, f64>> {
+        let jac = self.system.jacobian(x, &e.pointwise);
+        let norms = jac.norms();
+        if !norms.is_finite() {
             let at = Location::Newton(iteration);
-            let mut jac = self.jacobian(x, &evaluation.pointwise);
-            let norms = jac.norms();
-            if !norms.is_finite() {
-                return Err(Error::NotFinite { at });
-            }
-            let size =
-                x.q.iter()
-                    .map(|q| q.amax())
-                    .chain(x.mu.iter().map(|m| m.amax()))
-                    .fold(0.0f64, f64::max);
-            let within = |(residual, scale): (f64, f64)| residual <= newton.tolerance * scale;
-            let done = (within(evaluation.scheme) && within(evaluation.constraints))
-                || at_round_off(res, previous, norms.inf, size);
-            if jac.factorize_scaled(norms.largest).is_err() {
-                // A rank-deficient `G` at some node is the cause to name; otherwise the
-                // scheme's own system is singular.
-                for (k, q) in x.q.iter().enumerate() {
-                    check_rank(&self.constraint.jacobian(q), Location::Node(k))?;
-                }
-                return Err(Error::SingularJacobian { at });
-            }
-            let mut delta = evaluation.rows.clone();
-            jac.solve_inplace(&mut delta);
-            if done {
-                // As for the unconstrained problems: a solution whose Newton system is singular
-                // to working precision is round-off, not an answer.
-                let step = norm(&delta);
-                let correction = if res > 0.0 { step / res } else { 0.0 };
-                let inverse = inverse_iteration(unknowns, |v| jac.solve_inplace(v));
-                let condition = condition_bound(norms.inf, inverse, unknowns, correction);
-                if condition >= NUMERICALLY_SINGULAR {
-                    return Err(Error::IllConditioned { at, condition });
-                }
-                return Ok((x.q.clone(), x.mu.clone(), iteration));
-            }
-            if iteration == newton.max_iterations {
-                break;
-            }
-            let (trial, next, rest, mt) = line_search.step(x, merit, &delta, |trial| {
-                let next = self.evaluate(trial, iteration + 1)?;
-                let (res, merit) = (norm(&next.rows), two_norm_flat(&next.rows));
-                Ok((next, res, merit))
-            })?;
-            (*x, evaluation, previous, res, merit) = (trial, next, res, rest, mt);
+            return Err(Error::NotFinite { at });
         }
-        Err(Error::NewtonDidNotConverge {
-            at: Location::Newton(newton.max_iterations),
-            iterations: newton.max_iterations,
-            residual: res,
-        })
+        self.jacobian = Some((jac, norms));
+        Ok(ControlFlow::Continue(norms.inf))
+    }
+
+    fn converged(&mut self, c: Converging<'_, Self>) -> Result<Self::Output> {
+        // As for the unconstrained problems: a solution whose Newton system is singular to
+        // working precision is round-off, not an answer.
+        let at = c.at();
+        let jac = self.solve(&c.q, &c.evaluation.rows, c.scratch, at)?;
+        let step = c.scratch.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+        let correction = if c.residual > 0.0 {
+            step / c.residual
+        } else {
+            0.0
+        };
+        let unknowns = c.scratch.len();
+        let inverse = inverse_iteration(unknowns, |v| jac.solve_inplace(v));
+        let inf = self.jacobian.as_ref().map_or(0.0, |(_, norms)| norms.inf);
+        let condition = condition_bound(inf, inverse, unknowns, correction);
+        if condition >= NUMERICALLY_SINGULAR {
+            return Err(Error::IllConditioned { at, condition });
+        }
+        Ok((c.q.q, c.q.mu, c.iteration))
+    }
+
+    fn direction(
+        &mut self,
+        (x, e): (&Unknowns<D, M>, &Evaluation<D>),
+        _: (f64, f64),
+        delta: &mut [f64],
+        iteration: usize,
+    ) -> Result<ControlFlow<Self::Output>> {
+        self.solve(x, &e.rows, delta, Location::Newton(iteration))?;
+        Ok(ControlFlow::Continue(()))
     }
 }
 
@@ -339,9 +401,4 @@ where
     } else {
         1.0
     })
-}
-
-/// The 2-norm of flat rows (the line search's merit).
-fn two_norm_flat(rows: &[f64]) -> f64 {
-    rows.iter().map(|c| c * c).sum::<f64>().sqrt()
 }

@@ -41,9 +41,9 @@
 //! solve fails with [`Error::KrylovDidNotConverge`], whose message names the remedies; with
 //! [`FractionalSolver::Auto`] a small system then falls back to dense LU.
 //!
-//! **Globalisation.** The line search of [`LineSearch`]: full steps first, in the 2-norm of
-//! the residual (the norm in which the forcing term makes an inexact step a descent
-//! direction), with a watchdog.
+//! **Globalisation.** The Newton iteration of every global system ([`solve_global`]), whose
+//! line search takes full steps first, in the 2-norm of the residual (the norm in which the
+//! forcing term makes an inexact step a descent direction), with a watchdog.
 //!
 //! **Stopping rule.** The same as the dense path: `max|r| ≤ tol · (max|f| + h^{−α} max|p|)`
 //! over the values the rows read (`f` on the interior nodes, `p` on the quadrature nodes),
@@ -76,15 +76,15 @@ use crate::embedding::Scheme;
 use crate::error::{Error, Location, Result};
 use crate::fft_operator::FftOperator;
 use crate::lagrangian::{Lagrangian, Vector};
-use crate::linalg::max_norm;
 use crate::options::{KrylovBudget, SolverOptions};
 use crate::solve::conditioning::{ILL_POSED_BELOW, start};
 use crate::solve::krylov::{KrylovFailure, KrylovOptions, gmres};
 use crate::solve::minres::{MinresWork, Tridiagonal, minres_in, ritz_values};
-use crate::solve::newton::{LineSearch, at_round_off};
+use crate::solve::newton::{Converging, GlobalSystem, solve_global};
 use crate::solve::solution::{Solution, Warning};
 use end_columns::EndColumns;
 use residual::{Evaluation, evaluate};
+use std::ops::ControlFlow;
 use system::FastSystem;
 
 /// The largest forcing term: a step whose linear residual is below this fraction of the
@@ -204,96 +204,137 @@ fn solve_with<L: Lagrangian<D> + ?Sized, const D: usize>(
     scheme: Scheme,
     guess: &[Vector<D>],
 ) -> Result<(Solution<D>, Vec<usize>)> {
-    let n = disc.grid().n();
-    let opts = options.newton;
     let columns = EndColumns::new(scheme, disc.velocity_operator(), disc.adjoint_operator());
-    let mut system = FastSystem::<D>::new(disc.velocity_operator(), columns, fft);
-    let mut q = guess.to_vec();
-    let mut eval = Evaluation::new(n);
-    evaluate(disc, &mut system, &q, 0, &mut eval)?;
-    // The vectors of the linear solves, kept from one Newton step to the next.
-    let mut work = MinresWork::default();
-    let mut delta = vec![0.0; (n - 1) * D];
-    let mut eta = ETA_MAX;
-    let mut previous_norm: Option<f64> = None;
-    let mut previous_res = f64::INFINITY;
-    let mut merit = eval.two_norm();
-    let mut line_search = LineSearch::new(&q, merit);
-    let mut krylov_iterations = Vec::new();
-    for iteration in 0..=opts.max_iterations {
-        let at = Location::Newton(iteration);
-        let res = eval.max_norm();
-        // The same rule as the dense path: tolerance, or stagnation at the round-off floor
-        // (with the Jacobian's norm bounded, since it is never assembled here).
-        let floor = at_round_off(res, previous_res, system.jacobian_bound(), max_norm(&q));
-        previous_res = res;
-        if res <= opts.tolerance * eval.scale || floor {
-            let mut warnings = Vec::new();
-            if options.posedness_check {
-                // The last Newton step's Jacobian, at an iterate within that step of this one
-                // (its eigenvalues move by the step times ∂³L, far below the threshold), or a
-                // first linearisation when the guess already converged.
-                if iteration == 0 {
-                    system.linearize(disc, &q, &eval.v, at)?;
-                }
-                let measure = ill_posedness(&mut system, &mut delta, &mut work);
-                warnings.extend(measure.map(|measure| Warning::IllPosed { measure }));
+    let mut newton = FastNewton {
+        disc,
+        options,
+        scheme,
+        system: FastSystem::<D>::new(disc.velocity_operator(), columns, fft),
+        work: MinresWork::default(),
+        eta: ETA_MAX,
+        previous_norm: None,
+        krylov_iterations: Vec::new(),
+    };
+    let unknowns = (disc.grid().n() - 1) * D;
+    solve_global(&mut newton, guess.to_vec(), unknowns, &options.newton)
+}
+
+/// The Newton iteration of the fast path: the residual by FFT, the Newton systems by
+/// preconditioned MINRES (or GMRES) to the Eisenstat–Walker forcing term.
+struct FastNewton<'d, 'l, 'f, L: ?Sized, const D: usize> {
+    disc: &'d Discretisation<'l, L, D>,
+    options: &'d SolverOptions,
+    scheme: Scheme,
+    system: FastSystem<'f, D>,
+    /// The vectors of the linear solves, kept from one Newton step to the next, and lent to
+    /// the evaluations.
+    work: MinresWork,
+    /// The forcing term of the last Newton step.
+    eta: f64,
+    /// The residual's 2-norm at the last Newton step.
+    previous_norm: Option<f64>,
+    /// The Krylov iterations of each Newton step.
+    krylov_iterations: Vec<usize>,
+}
+
+impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, '_, '_, L, D> {
+    type Iterate = Vec<Vector<D>>;
+    type Evaluation = Evaluation<D>;
+    type Output = (Solution<D>, Vec<usize>);
+
+    /// A trial's evaluation borrows the idle Krylov vectors, and [`recycle`](Self::recycle)
+    /// gives them back: no `N`-vector is allocated or added to the peak per Newton step.
+    fn evaluate(
+        &mut self,
+        q: &Vec<Vector<D>>,
+        iteration: usize,
+    ) -> Result<(Evaluation<D>, f64, f64)> {
+        let n = self.disc.grid().n();
+        let mut e = Evaluation::from_buffers(n, self.work.lend(), self.work.lend());
+        evaluate(self.disc, &mut self.system, q, iteration, &mut e)?;
+        let (res, merit) = (e.max_norm(), e.two_norm());
+        Ok((e, res, merit))
+    }
+
+    fn within(&self, e: &Evaluation<D>, residual: f64, tolerance: f64) -> bool {
+        residual <= tolerance * e.scale
+    }
+
+    /// The same rule as the dense path, with the Jacobian's norm bounded, since it is never
+    /// assembled here.
+    fn linearise(
+        &mut self,
+        _: &Vec<Vector<D>>,
+        _: &Evaluation<D>,
+        _: usize,
+    ) -> Result<ControlFlow<Self::Output, f64>> {
+        Ok(ControlFlow::Continue(self.system.jacobian_bound()))
+    }
+
+    fn converged(&mut self, c: Converging<'_, Self>) -> Result<Self::Output> {
+        let mut warnings = Vec::new();
+        if self.options.posedness_check {
+            // The last Newton step's Jacobian, at an iterate within that step of this one
+            // (its eigenvalues move by the step times ∂³L, far below the threshold), or a
+            // first linearisation when the guess already converged.
+            if c.iteration == 0 {
+                let (disc, v) = (self.disc, &c.evaluation.v);
+                self.system.linearize(disc, &c.q, v, c.at())?;
             }
-            let solution = Solution {
-                scheme,
-                embedding: *disc.embedding(),
-                grid: *disc.grid(),
-                q,
-                newton_iterations: iteration,
-                explicit_steps: 0,
-                momenta: Vec::new(),
-                warnings,
-            };
-            return Ok((solution, krylov_iterations));
+            let measure = ill_posedness(&mut self.system, c.scratch, &mut self.work);
+            warnings.extend(measure.map(|measure| Warning::IllPosed { measure }));
         }
-        if iteration == opts.max_iterations {
-            break;
-        }
-        let norm = eval.two_norm();
+        let solution = Solution {
+            scheme: self.scheme,
+            embedding: *self.disc.embedding(),
+            grid: *self.disc.grid(),
+            q: c.q,
+            newton_iterations: c.iteration,
+            explicit_steps: 0,
+            momenta: Vec::new(),
+            warnings,
+        };
+        Ok((solution, std::mem::take(&mut self.krylov_iterations)))
+    }
+
+    fn direction(
+        &mut self,
+        (q, e): (&Vec<Vector<D>>, &Evaluation<D>),
+        (_, norm): (f64, f64),
+        delta: &mut [f64],
+        iteration: usize,
+    ) -> Result<ControlFlow<Self::Output>> {
+        let (at, tolerance) = (Location::Newton(iteration), self.options.newton.tolerance);
         // Eisenstat–Walker choice 2 with its safeguard, capped at ETA_MAX; never asking for
         // more than the Newton tolerance needs (the linear residual then is at most half of it).
-        if let Some(previous) = previous_norm {
+        if let Some(previous) = self.previous_norm {
             let ratio = norm / previous;
             let mut next = 0.9 * ratio * ratio;
-            if 0.9 * eta * eta > 0.1 {
-                next = next.max(0.9 * eta * eta);
+            if 0.9 * self.eta * self.eta > 0.1 {
+                next = next.max(0.9 * self.eta * self.eta);
             }
-            eta = next.min(ETA_MAX);
+            self.eta = next.min(ETA_MAX);
         }
-        eta = eta.max(0.5 * opts.tolerance * eval.scale / norm).max(1e-13);
-        previous_norm = Some(norm);
-        system.linearize(disc, &q, &eval.v, at)?;
-        let budget = &options.krylov;
-        krylov_iterations.push(solve_newton_system(
-            &mut system,
-            &eval.r,
-            &mut delta,
-            eta,
+        self.eta = self.eta.max(0.5 * tolerance * e.scale / norm).max(1e-13);
+        self.previous_norm = Some(norm);
+        self.system.linearize(self.disc, q, &e.v, at)?;
+        let budget = &self.options.krylov;
+        let iterations = solve_newton_system(
+            &mut self.system,
+            &e.r,
+            delta,
+            self.eta,
             budget,
             at,
-            &mut work,
-        )?);
-        // A trial's evaluation borrows the idle Krylov vectors, and the replaced one gives
-        // its vectors back: no N-vector is allocated or added to the peak per Newton step.
-        let (trial, next, _, next_merit) = line_search.step(&q, merit, &delta, |trial| {
-            let mut e = Evaluation::from_buffers(n, work.lend(), work.lend());
-            evaluate(disc, &mut system, trial, iteration + 1, &mut e)?;
-            let (res, merit) = (e.max_norm(), e.two_norm());
-            Ok((e, res, merit))
-        })?;
-        for vector in std::mem::replace(&mut eval, next).into_buffers() {
-            work.give(vector);
-        }
-        (q, merit) = (trial, next_merit);
+            &mut self.work,
+        )?;
+        self.krylov_iterations.push(iterations);
+        Ok(ControlFlow::Continue(()))
     }
-    Err(Error::NewtonDidNotConverge {
-        at: Location::Newton(opts.max_iterations),
-        iterations: opts.max_iterations,
-        residual: eval.max_norm(),
-    })
+
+    fn recycle(&mut self, e: Evaluation<D>) {
+        for vector in e.into_buffers() {
+            self.work.give(vector);
+        }
+    }
 }
