@@ -528,3 +528,163 @@ impl<X: Iterate> LineSearch<X> {
 pub(crate) fn two_norm<const D: usize>(r: &[Vector<D>]) -> f64 {
     r.iter().map(|x| x.norm_squared()).sum::<f64>().sqrt()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// `c (q_k³ + q_k − b_k) = 0` on the interior entries of `q` (one coordinate a node, the
+    /// ends fixed): an independent root per node, the scale `c` of the whole system free.
+    struct Cubics {
+        b: Vec<f64>,
+        c: f64,
+        /// The Newton iteration at which [`direction`](GlobalSystem::direction) stops early.
+        stop_at: Option<usize>,
+    }
+
+    impl GlobalSystem for Cubics {
+        type Iterate = Vec<f64>;
+        type Evaluation = Vec<f64>;
+        type Output = (Vec<f64>, usize);
+
+        fn evaluate(&mut self, q: &Vec<f64>, iteration: usize) -> Result<(Vec<f64>, f64, f64)> {
+            let interior = &q[1..q.len() - 1];
+            let r: Vec<f64> = interior
+                .iter()
+                .zip(&self.b)
+                .map(|(x, b)| self.c * (x * x * x + x - b))
+                .collect();
+            if !r.iter().all(|x| x.is_finite()) {
+                let at = Location::Newton(iteration);
+                return Err(Error::NotFinite { at });
+            }
+            let max = r.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+            let merit = r.iter().map(|x| x * x).sum::<f64>().sqrt();
+            Ok((r, max, merit))
+        }
+
+        fn within(&self, _: &Vec<f64>, residual: f64, tolerance: f64) -> bool {
+            let scale = self.c * self.b.iter().fold(0.0f64, |m, b| m.max(b.abs()));
+            residual <= tolerance * scale
+        }
+
+        fn linearise(
+            &mut self,
+            q: &Vec<f64>,
+            _: &Vec<f64>,
+            _: usize,
+        ) -> Result<ControlFlow<Self::Output, f64>> {
+            let largest = q.iter().fold(0.0f64, |m, x| m.max(3.0 * x * x + 1.0));
+            Ok(ControlFlow::Continue(self.c * largest))
+        }
+
+        fn converged(&mut self, c: Converging<'_, Self>) -> Result<Self::Output> {
+            assert_eq!(c.scratch.len(), self.b.len());
+            Ok((c.q, c.iteration))
+        }
+
+        fn direction(
+            &mut self,
+            (q, r): (&Vec<f64>, &Vec<f64>),
+            _: (f64, f64),
+            delta: &mut [f64],
+            iteration: usize,
+        ) -> Result<ControlFlow<Self::Output>> {
+            if self.stop_at == Some(iteration) {
+                return Ok(ControlFlow::Break((Vec::new(), iteration)));
+            }
+            for ((d, x), r) in delta.iter_mut().zip(&q[1..]).zip(r) {
+                *d = r / (self.c * (3.0 * x * x + 1.0));
+            }
+            Ok(ControlFlow::Continue(()))
+        }
+    }
+
+    fn start(b: &[f64]) -> Vec<f64> {
+        let mut q = vec![0.0; b.len() + 2];
+        q[0] = 7.0;
+        q[b.len() + 1] = -7.0;
+        q
+    }
+
+    #[test]
+    fn the_global_iteration_finds_the_roots_and_does_not_depend_on_the_scale() {
+        let b = vec![0.5, -3.0, 10.0, 1e-3, 2.0];
+        let options = NewtonOptions::default();
+        let mut runs = Vec::new();
+        for c in [1e-9, 1.0, 1e9] {
+            let mut system = Cubics {
+                b: b.clone(),
+                c,
+                stop_at: None,
+            };
+            let (q, iterations) = solve_global(&mut system, start(&b), b.len(), &options).unwrap();
+            // The ends stay; each interior entry is the real root of x³ + x = b.
+            assert_eq!((q[0], q[b.len() + 1]), (7.0, -7.0));
+            for (x, b) in q[1..=b.len()].iter().zip(&b) {
+                assert!((x * x * x + x - b).abs() <= 1e-12 * 10.0, "{x} for {b}");
+            }
+            assert!(iterations > 2 && iterations < 20, "{iterations}");
+            runs.push((q, iterations));
+        }
+        // `c L` runs the same iterates as `L`: the stopping rule is relative.
+        assert!(runs.windows(2).all(|w| w[0].1 == w[1].1));
+        for w in runs.windows(2) {
+            let gap = w[0]
+                .0
+                .iter()
+                .zip(&w[1].0)
+                .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+            assert!(gap <= 1e-13, "{gap}");
+        }
+    }
+
+    #[test]
+    fn an_iteration_that_runs_out_reports_its_last_residual_and_a_hook_may_stop_it() {
+        let b = vec![10.0, -20.0];
+        let options = NewtonOptions {
+            max_iterations: 2,
+            ..NewtonOptions::default()
+        };
+        let mut system = Cubics {
+            b: b.clone(),
+            c: 1.0,
+            stop_at: None,
+        };
+        match solve_global(&mut system, start(&b), b.len(), &options) {
+            Err(Error::NewtonDidNotConverge {
+                at,
+                iterations,
+                residual,
+            }) => {
+                assert_eq!((at, iterations), (Location::Newton(2), 2));
+                assert!(residual > 1e-3 && residual.is_finite(), "{residual}");
+            }
+            other => panic!("expected NewtonDidNotConverge, got {other:?}"),
+        }
+        let mut system = Cubics {
+            b: b.clone(),
+            c: 1.0,
+            stop_at: Some(1),
+        };
+        let (q, iteration) =
+            solve_global(&mut system, start(&b), b.len(), &NewtonOptions::default()).unwrap();
+        assert_eq!((q.len(), iteration), (0, 1));
+        // An evaluation that fails at the start is the problem's error, at iteration 0.
+        let mut system = Cubics {
+            b: vec![f64::INFINITY],
+            c: 1.0,
+            stop_at: None,
+        };
+        let error = solve_global(&mut system, start(&[0.0]), 1, &NewtonOptions::default());
+        assert!(
+            matches!(
+                error,
+                Err(Error::NotFinite {
+                    at: Location::Newton(0)
+                })
+            ),
+            "{error:?}"
+        );
+    }
+}
