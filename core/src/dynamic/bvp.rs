@@ -150,6 +150,13 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn solve_bvp_from(&self, scheme: Scheme, guess: &[f64]) -> Result<DynSolution> {
+        self.erased().bvp_from(scheme, guess)
+    }
+}
+
+impl DynProblem<'_, dyn DynLagrangian + '_> {
+    /// [`solve_bvp_from`](DynProblem::solve_bvp_from), compiled once for every model.
+    fn bvp_from(&self, scheme: Scheme, guess: &[f64]) -> Result<DynSolution> {
         if let EmbeddingKind::GaussLegendre { stages } = self.embedding.kind() {
             return self.solve_gauss_bvp(stages, scheme, guess);
         }

@@ -82,13 +82,16 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
         self.bvp_solver = solver;
         self
     }
+}
+
+impl<'l> DynProblem<'_, dyn DynLagrangian + 'l> {
 
     /// Newton's method on `rows` from `guess` with this problem's linear solver: the converged
     /// iterate and what solved its systems (sparse LU, MINRES, or sparse LU after MINRES gave
     /// way, with the reason).
     pub(super) fn newton_by_solver(
         &self,
-        rows: &DynRows<'_, L>,
+        rows: &DynRows<'_, dyn DynLagrangian + 'l>,
         guess: &[f64],
     ) -> Result<(Converged, LinearSolve)> {
         let unknowns = self.grid.n().saturating_sub(1) * rows.d;

@@ -345,7 +345,7 @@ impl<L: DynLagrangian + ?Sized> GaussSystem<'_, L> {
     }
 }
 
-impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
+impl DynProblem<'_, dyn DynLagrangian + '_> {
     /// The boundary value problem of the Gauss–Legendre integrator with `stages` stages from
     /// the nodes `guess` (flat, `N + 1` nodes; the first and last are the ends): the global
     /// system of the module docs.

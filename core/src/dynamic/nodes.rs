@@ -191,6 +191,11 @@ impl DynSolution {
     /// # Ok::<(), varembed::Error>(())
     /// ```
     pub fn node_values<L: DynLagrangian + ?Sized>(&self, lagrangian: &L) -> Result<DynNodeValues> {
+        self.values_of(&lagrangian)
+    }
+
+    /// [`node_values`](Self::node_values), compiled once for every model.
+    fn values_of(&self, lagrangian: &dyn DynLagrangian) -> Result<DynNodeValues> {
         let run = &self.run;
         let (n, d) = (run.grid.n(), self.dimension);
         let every =

@@ -196,6 +196,25 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
         }
     }
 
+    /// This problem with its model behind `dyn DynLagrangian` (through the `&L` impl of the
+    /// trait, which any `L` has): the engine's steps, rows, Newton iterations and checks are
+    /// compiled once for every model instead of once per model type, for a virtual call per
+    /// evaluation of `L` (each of which does `O(d)` work; the large-chain bench runs measure
+    /// the cost).
+    pub(crate) fn erased(&self) -> DynProblem<'_, dyn DynLagrangian + '_> {
+        DynProblem {
+            lagrangian: &self.lagrangian,
+            grid: self.grid,
+            embedding: self.embedding,
+            newton: self.newton,
+            blow_up_guard: self.blow_up_guard,
+            start: self.start,
+            resolution_check: self.resolution_check,
+            posedness_check: self.posedness_check,
+            bvp_solver: self.bvp_solver,
+        }
+    }
+
     /// The problem of `lagrangian` on `grid` with [`Embedding::recommended`] (midpoint), as
     /// [`Problem::recommended`](crate::Problem::recommended): its variational scheme is
     /// second order, symplectic and A-stable, each step a banded Newton solve.

@@ -11,8 +11,10 @@ use crate::error::{Error, Result};
 use crate::memory::reserve;
 use crate::solve::start::Start;
 
-impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
-    fn ivp(&self) -> DynIvp<'l, L> {
+impl<'l> DynProblem<'l, dyn DynLagrangian + 'l> {
+    /// The run-time engine's run of this problem (its model erased, see
+    /// [`erased`](DynProblem::erased)).
+    fn ivp(&self) -> DynIvp<'l, dyn DynLagrangian + 'l> {
         DynIvp {
             lagrangian: self.lagrangian,
             grid: self.grid,
@@ -22,6 +24,45 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
             resolution_check: self.resolution_check,
         }
     }
+
+    /// The run from `q0` with `v0` or a given `Q_1`, storing the nodes `Q_k` with `k` a
+    /// multiple of `stride` (not 0) and the last.
+    fn store_every(
+        &self,
+        scheme: Scheme,
+        (q0, v0): (&[f64], &[f64]),
+        second: SecondNode<'_>,
+        stride: usize,
+    ) -> Result<DynSolution> {
+        let n = self.grid.n();
+        let stored = n / stride + 2;
+        let mut indices = reserve(stored, "the indices of the stored nodes")?;
+        let mut q = reserve(
+            stored.saturating_mul(q0.len()),
+            "the stored nodes of the run",
+        )?;
+        // The positions only (and the momenta a Gauss–Legendre run carries): the node values
+        // are computed from the stored nodes, if asked.
+        let mut momenta = Vec::new();
+        let run = self.ivp().run(scheme, (q0, v0), (second, false), |node| {
+            if node.index % stride == 0 || node.index == n {
+                indices.push(node.index);
+                q.extend_from_slice(node.q);
+                momenta.extend_from_slice(node.p);
+            }
+        })?;
+        Ok(DynSolution {
+            warnings: run.warnings.clone(),
+            run,
+            dimension: q0.len(),
+            indices,
+            q,
+            momenta,
+        })
+    }
+}
+
+impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
 
     /// The run of `scheme` from `q(a) = q0`, `q̇(a) = v0` (from the problem's start), storing
     /// every node: `O(N d)` memory. See [`solve_ivp_every`](Self::solve_ivp_every) and
@@ -96,7 +137,7 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
         q0: &[f64],
         q1: &[f64],
     ) -> Result<DynSolution> {
-        self.store_every(scheme, (q0, &[]), SecondNode::Given(q1), 1)
+        self.erased().store_every(scheme, (q0, &[]), SecondNode::Given(q1), 1)
     }
 
     /// The run of [`solve_ivp`](Self::solve_ivp) storing only the nodes `Q_k` with `k` a
@@ -117,43 +158,7 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
                 reason: "a stride of 0 nodes between stored nodes",
             });
         }
-        self.store_every(scheme, (q0, v0), SecondNode::Start(self.start), stride)
-    }
-
-    /// The run from `q0` with `v0` or a given `Q_1`, storing the nodes `Q_k` with `k` a
-    /// multiple of `stride` (not 0) and the last.
-    fn store_every(
-        &self,
-        scheme: Scheme,
-        (q0, v0): (&[f64], &[f64]),
-        second: SecondNode<'_>,
-        stride: usize,
-    ) -> Result<DynSolution> {
-        let n = self.grid.n();
-        let stored = n / stride + 2;
-        let mut indices = reserve(stored, "the indices of the stored nodes")?;
-        let mut q = reserve(
-            stored.saturating_mul(q0.len()),
-            "the stored nodes of the run",
-        )?;
-        // The positions only (and the momenta a Gauss–Legendre run carries): the node values
-        // are computed from the stored nodes, if asked.
-        let mut momenta = Vec::new();
-        let run = self.ivp().run(scheme, (q0, v0), (second, false), |node| {
-            if node.index % stride == 0 || node.index == n {
-                indices.push(node.index);
-                q.extend_from_slice(node.q);
-                momenta.extend_from_slice(node.p);
-            }
-        })?;
-        Ok(DynSolution {
-            warnings: run.warnings.clone(),
-            run,
-            dimension: q0.len(),
-            indices,
-            q,
-            momenta,
-        })
+        self.erased().store_every(scheme, (q0, v0), SecondNode::Start(self.start), stride)
     }
 
     /// The run of [`solve_ivp`](Self::solve_ivp) storing nothing: each node `Q_0, …, Q_N` is
@@ -191,7 +196,7 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
         v0: &[f64],
         observe: impl FnMut(DynNode<'_>),
     ) -> Result<DynRun> {
-        self.ivp().run(
+        self.erased().ivp().run(
             scheme,
             (q0, v0),
             (SecondNode::Start(self.start), false),
@@ -255,7 +260,7 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
         v0: &[f64],
         observe: impl FnMut(DynNode<'_>),
     ) -> Result<DynRun> {
-        self.ivp().run(
+        self.erased().ivp().run(
             scheme,
             (q0, v0),
             (SecondNode::Start(self.start), true),
