@@ -85,7 +85,6 @@ impl<L: DynLagrangian + ?Sized> DynProblem<'_, L> {
 }
 
 impl<'l> DynProblem<'_, dyn DynLagrangian + 'l> {
-
     /// Newton's method on `rows` from `guess` with this problem's linear solver: the converged
     /// iterate and what solved its systems (sparse LU, MINRES, or sparse LU after MINRES gave
     /// way, with the reason).

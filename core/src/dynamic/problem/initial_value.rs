@@ -63,7 +63,6 @@ impl<'l> DynProblem<'l, dyn DynLagrangian + 'l> {
 }
 
 impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
-
     /// The run of `scheme` from `q(a) = q0`, `q̇(a) = v0` (from the problem's start), storing
     /// every node: `O(N d)` memory. See [`solve_ivp_every`](Self::solve_ivp_every) and
     /// [`run_ivp`](Self::run_ivp) for long runs.
@@ -137,7 +136,8 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
         q0: &[f64],
         q1: &[f64],
     ) -> Result<DynSolution> {
-        self.erased().store_every(scheme, (q0, &[]), SecondNode::Given(q1), 1)
+        self.erased()
+            .store_every(scheme, (q0, &[]), SecondNode::Given(q1), 1)
     }
 
     /// The run of [`solve_ivp`](Self::solve_ivp) storing only the nodes `Q_k` with `k` a
@@ -158,7 +158,8 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
                 reason: "a stride of 0 nodes between stored nodes",
             });
         }
-        self.erased().store_every(scheme, (q0, v0), SecondNode::Start(self.start), stride)
+        self.erased()
+            .store_every(scheme, (q0, v0), SecondNode::Start(self.start), stride)
     }
 
     /// The run of [`solve_ivp`](Self::solve_ivp) storing nothing: each node `Q_0, …, Q_N` is
