@@ -198,9 +198,10 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
 
     /// This problem with its model behind `dyn DynLagrangian` (through the `&L` impl of the
     /// trait, which any `L` has): the engine's steps, rows, Newton iterations and checks are
-    /// compiled once for every model instead of once per model type, for a virtual call per
-    /// evaluation of `L` (each of which does `O(d)` work; the large-chain bench runs measure
-    /// the cost).
+    /// compiled once for every model instead of once per model type, for an indirect call per
+    /// evaluation of `L` (two where the model is itself a trait object, as on
+    /// [`Problem`](crate::Problem)'s route to this engine), each of which does `O(d)` work;
+    /// the large-chain bench runs measure the cost.
     pub(crate) fn erased(&self) -> DynProblem<'_, dyn DynLagrangian + '_> {
         DynProblem {
             lagrangian: &self.lagrangian,

@@ -181,6 +181,9 @@ impl<L: DynLagrangian + ?Sized> DynLagrangian for &L {
     fn force_jacobian(&self, x: &[f64], v: &[f64], t: f64, out: &mut SparseForceJacobian) {
         (**self).force_jacobian(x, v, t, out)
     }
+    fn energy(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
+        (**self).energy(x, v, t)
+    }
 }
 
 /// A const-generic [`Lagrangian<D>`](crate::Lagrangian) seen as a [`DynLagrangian`] of
@@ -259,5 +262,79 @@ impl<L: crate::Lagrangian<D> + ?Sized, const D: usize> DynLagrangian for FixedDi
     fn energy(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
         let (x, v) = Self::vectors(x, v);
         self.0.energy(&x, &v, t)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A model whose every method answers something of its own, so that a forwarding impl
+    /// that falls back to a default shows.
+    struct Distinct;
+
+    impl DynLagrangian for Distinct {
+        fn dimension(&self) -> usize {
+            2
+        }
+        fn value(&self, x: &[f64], v: &[f64], t: f64) -> f64 {
+            x[0] + 2.0 * v[1] + t
+        }
+        fn force(&self, _x: &[f64], _v: &[f64], t: f64, f: &mut [f64]) {
+            f.copy_from_slice(&[1.0, t]);
+        }
+        fn momentum(&self, _x: &[f64], _v: &[f64], t: f64, p: &mut [f64]) {
+            p.copy_from_slice(&[t, 2.0]);
+        }
+        fn hessian(&self, _x: &[f64], _v: &[f64], _t: f64, out: &mut SparseHessian) {
+            out.xv.add(0, 1, 3.0);
+        }
+        fn hessian_bandwidth(&self) -> Option<usize> {
+            Some(1)
+        }
+        fn invalid_dimension(&self) -> Option<String> {
+            Some("distinct".into())
+        }
+        fn constants(&self) -> Vec<(&'static str, f64)> {
+            vec![("c", 4.0)]
+        }
+        fn is_forced(&self) -> bool {
+            true
+        }
+        fn force_jacobian(&self, _x: &[f64], _v: &[f64], _t: f64, out: &mut SparseForceJacobian) {
+            out.v.add(1, 0, 5.0);
+        }
+        fn energy(&self, _x: &[f64], _v: &[f64], _t: f64) -> f64 {
+            -7.0
+        }
+    }
+
+    /// What the solvers see of a model through `&L` (and so behind `dyn DynLagrangian`, as
+    /// `DynProblem` hands it to the run-time engine) is what the model itself answers.
+    #[test]
+    fn a_reference_answers_as_the_model() {
+        let model = Distinct;
+        let by_reference: &dyn DynLagrangian = &&model;
+        let (x, v, t) = ([0.5, 1.5], [2.5, 3.5], 0.25);
+        assert_eq!(by_reference.dimension(), model.dimension());
+        assert_eq!(by_reference.value(&x, &v, t), model.value(&x, &v, t));
+        assert_eq!(by_reference.energy(&x, &v, t), -7.0);
+        let (mut f, mut p) = ([0.0; 2], [0.0; 2]);
+        by_reference.force(&x, &v, t, &mut f);
+        by_reference.momentum(&x, &v, t, &mut p);
+        assert_eq!((f, p), ([1.0, t], [t, 2.0]));
+        let mut hessian = SparseHessian::new(2);
+        by_reference.hessian(&x, &v, t, &mut hessian);
+        assert_eq!(hessian.xv.entries(), &[(0, 1, 3.0)]);
+        let mut jacobian = SparseForceJacobian::new(2);
+        by_reference.force_jacobian(&x, &v, t, &mut jacobian);
+        assert_eq!(jacobian.v.entries(), &[(1, 0, 5.0)]);
+        assert_eq!(by_reference.hessian_bandwidth(), Some(1));
+        assert_eq!(
+            by_reference.invalid_dimension().as_deref(),
+            Some("distinct")
+        );
+        assert_eq!(by_reference.constants(), vec![("c", 4.0)]);
+        assert!(by_reference.is_forced());
     }
 }

@@ -357,7 +357,9 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for ByLu<'_, '_, L,
     }
 
     /// The smallest eigenvalue by inverse iteration on the factorisation, for the condition
-    /// bound and the ill-posedness measure (see the conditioning module).
+    /// bound and (banded) the ill-posedness measure; the dense fractional path measures the
+    /// smallest eigenvalue of the pencil with the kinetic part instead (see the conditioning
+    /// module).
     fn converged(&mut self, c: Converging<'_, Self>) -> Result<Self::Output> {
         let (at, disc) = (c.at(), self.disc);
         let (grid, unknowns) = (*disc.grid(), c.scratch.len());

@@ -34,9 +34,10 @@ pub(crate) trait GlobalSystem {
     /// the terms its rows sum (relative only, so that `c L` stops where `L` does).
     fn within(&self, e: &Self::Evaluation, residual: f64, tolerance: f64) -> bool;
 
-    /// Linearises at `q` for Newton iteration `iteration` (or only bounds the Jacobian,
-    /// where it is applied by products and not formed until a direction needs it): `‖J‖∞` or
-    /// a bound of it, for the round-off floor; or an early stop.
+    /// Linearises at `q` for Newton iteration `iteration`: `‖J‖∞`, for the round-off floor; or
+    /// an early stop. Where the Jacobian is applied by products and formed only when a
+    /// direction needs it (the fractional fast path), this only returns a bound of `‖J‖∞` at
+    /// the last linearisation (0 before the first).
     fn linearise(
         &mut self,
         q: &Self::Iterate,
@@ -86,7 +87,8 @@ impl<S: GlobalSystem + ?Sized> Converging<'_, S> {
 /// round-off ([`at_round_off`], with the linearisation's `‖J‖∞` and the iterate's size);
 /// [`Error::NewtonDidNotConverge`] with the last residual when `options.max_iterations`
 /// iterations did not get there. The linearisation comes before the test, so that a Jacobian
-/// that is not finite is reported even at a converged iterate, and the converged hook sees it.
+/// that is not finite is reported even at a converged iterate, and the converged hook's
+/// checks read the Jacobian there.
 pub(crate) fn solve_global<S: GlobalSystem>(
     system: &mut S,
     mut q: S::Iterate,
@@ -153,8 +155,8 @@ const SHORTEST: f64 = 1.0 / 64.0;
 /// The globalisation of the boundary value Newton iterations: a line search in the 2-norm of
 /// the residual with a watchdog (Chamberlain, Powell, Lemaréchal and Pedersen, 1982).
 ///
-/// Each iteration first tries the full Newton step `q − δ` (`δ` flattened over the interior
-/// nodes, node `k` at `δ[(k−1)d..kd]`) and takes it when it decreases the residual's 2-norm
+/// Each iteration first tries the full Newton step `q − δ` (`δ` flat over the unknowns, as
+/// [`Iterate::along`] reads it) and takes it when it decreases the residual's 2-norm
 /// sufficiently. It also takes it when it does not, up to [`WATCHDOG`] times in a row and
 /// within [`GROWTH`] of the best residual so far: Newton's full steps often pass through a
 /// larger residual on their way into the region of quadratic convergence, and a line search
