@@ -345,7 +345,8 @@ pub trait Lagrangian<const D: usize> {
     /// Gauss-FDEσ and asymmetric boundary value problems with the run-time engine: the same steps, faster there, and with no `D × D` block on the stack
     /// (a `Hessian<256>` by value is 1.5 MB, most of a test thread's 2 MiB stack; a model that
     /// stays on the const-generic path gets a stack segment sized for its blocks when the
-    /// thread's stack is short). A run-time
+    /// thread's stack is short, or [`Error::TooLarge`](crate::Error::TooLarge) when the
+    /// system will not map one that large, `256 D²` values: 8.6 GB at `D = 2048`). A run-time
     /// form whose `dimension()` is not `D` is not this model's, and is not used.
     ///
     /// # Example

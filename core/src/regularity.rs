@@ -147,35 +147,132 @@ fn derivatives_in_domain<L: Lagrangian<D> + ?Sized, const D: usize>(
     finite.then_some((f, p, hs))
 }
 
+/// What the checks of the initial data read of a model, on either storage: the const-generic
+/// path's dense blocks ([`ConstPoint`]) or the run-time path's sparse ones and band.
+pub(crate) trait InitialDataModel {
+    /// The model's named constants.
+    fn constants(&self) -> Vec<(&'static str, f64)>;
+    /// Evaluates `L`, its gradient and its Hessian at `(x, v, t)`, keeps them, and says
+    /// whether all are finite there: whether the point lies in the Lagrangian's domain.
+    fn in_domain(&mut self, x: &[f64], v: &[f64], t: f64) -> bool;
+    /// The pivot ratio (see [`Error::DegenerateLagrangian`]) of the `∂²L/∂v²` kept by the last
+    /// [`in_domain`](Self::in_domain).
+    fn vv_measure(&mut self) -> f64;
+    /// The directions without inertia of that `∂²L/∂v²`, read when it is degenerate.
+    fn degenerate_directions(&self) -> Vec<Vec<(usize, f64)>>;
+}
+
 /// The checks of the initial data `q(a) = q0`, `q̇(a) = v0` at `t0` of an initial value
-/// problem, before any step: finite constants and data, a point inside the Lagrangian's domain
-/// (a velocity outside it is blamed on the velocity when the position with velocity zero is
-/// inside), and a non-degenerate `∂²L/∂v²` (at [`Location::Step`]`(0)`). Returns
-/// `(∂L/∂x, ∂L/∂v, Hessian)` at the initial data, which the starts read.
+/// problem, before any step, written once for both paths: finite constants and data, a point
+/// inside the Lagrangian's domain (a velocity outside it is blamed on the velocity when the
+/// position with velocity zero is inside), and a non-degenerate `∂²L/∂v²` (at
+/// [`Location::Step`]`(0)`). The model keeps its evaluations at the initial data, which the
+/// starts and the stability checks read.
+pub(crate) fn check_initial_point(
+    model: &mut impl InitialDataModel,
+    (q0, v0): (&[f64], &[f64]),
+    t0: f64,
+) -> Result<()> {
+    if let Some((name, value)) = model.constants().into_iter().find(|c| !c.1.is_finite()) {
+        return Err(Error::NonFiniteInput {
+            what: format!("model constant `{name}` = {value}"),
+        });
+    }
+    for (name, what, x) in [("q0", "position q(a)", q0), ("v0", "velocity q̇(a)", v0)] {
+        if let Some(i) = x.iter().position(|c| !c.is_finite()) {
+            return Err(Error::NonFiniteInput {
+                what: format!("{name}[{i}] = {} (the initial {what})", x[i]),
+            });
+        }
+    }
+    if !model.in_domain(q0, v0, t0) {
+        let what = if model.in_domain(q0, &vec![0.0; v0.len()], t0) {
+            format!(
+                "the initial velocity q̇(a) = {} (at q(a) = {}, t = {t0})",
+                shown(v0),
+                shown(q0)
+            )
+        } else {
+            format!("the initial position q(a) = {} (t = {t0})", shown(q0))
+        };
+        return Err(Error::OutsideDomain { what });
+    }
+    let measure = model.vv_measure();
+    if measure < DEGENERACY_THRESHOLD {
+        return Err(Error::DegenerateLagrangian {
+            at: Location::Step(0),
+            measure,
+            directions: model.degenerate_directions(),
+        });
+    }
+    Ok(())
+}
+
+/// `x` for a message: every coordinate up to eight, else the first three, the last and the
+/// dimension.
+fn shown(x: &[f64]) -> String {
+    match x {
+        [first, second, third, .., last] if x.len() > 8 => {
+            format!(
+                "[{first:?}, {second:?}, {third:?}, …, {last:?}] (d = {})",
+                x.len()
+            )
+        }
+        _ => format!("{x:?}"),
+    }
+}
+
+/// A [`Lagrangian<D>`] under the checks of its initial data, with the derivatives of the last
+/// point evaluated.
+struct ConstPoint<'l, L: ?Sized, const D: usize> {
+    lagrangian: &'l L,
+    derivatives: Option<(Vector<D>, Vector<D>, Hessian<D>)>,
+}
+
+impl<L: Lagrangian<D> + ?Sized, const D: usize> InitialDataModel for ConstPoint<'_, L, D> {
+    fn constants(&self) -> Vec<(&'static str, f64)> {
+        self.lagrangian.constants()
+    }
+    fn in_domain(&mut self, x: &[f64], v: &[f64], t: f64) -> bool {
+        let (x, v) = (
+            Vector::<D>::from_column_slice(x),
+            Vector::<D>::from_column_slice(v),
+        );
+        self.derivatives = derivatives_in_domain(self.lagrangian, &x, &v, t);
+        self.derivatives.is_some()
+    }
+    fn vv_measure(&mut self) -> f64 {
+        // Finite where kept: `in_domain` checked every block.
+        let measure = self
+            .derivatives
+            .as_ref()
+            .and_then(|(_, _, hs)| pivot_ratio(&hs.vv, 0.0));
+        measure.map_or(0.0, |(ratio, _)| ratio)
+    }
+    fn degenerate_directions(&self) -> Vec<Vec<(usize, f64)>> {
+        match &self.derivatives {
+            Some((_, _, hs)) => degenerate_directions(D, |i, j| hs.vv[(i, j)]),
+            None => Vec::new(),
+        }
+    }
+}
+
+/// [`check_initial_point`] of a [`Lagrangian<D>`]. Returns `(∂L/∂x, ∂L/∂v, Hessian)` at the
+/// initial data, which the starts read.
 pub(crate) fn check_initial_data<L: Lagrangian<D> + ?Sized, const D: usize>(
     lagrangian: &L,
     q0: &Vector<D>,
     v0: &Vector<D>,
     t0: f64,
 ) -> Result<(Vector<D>, Vector<D>, Hessian<D>)> {
-    check_constants(lagrangian)?;
-    check_finite("q(a)", q0)?;
-    check_finite("q̇(a)", v0)?;
-    let Some(derivatives) = derivatives_in_domain(lagrangian, q0, v0, t0) else {
-        let at_rest = hessian_in_domain(lagrangian, q0, &Vector::<D>::zeros(), t0).is_some();
-        let what = if at_rest {
-            format!(
-                "the initial velocity q̇(a) = {:?} (at q(a) = {:?}, t = {t0})",
-                v0.as_slice(),
-                q0.as_slice()
-            )
-        } else {
-            format!("the initial position q(a) = {:?} (t = {t0})", q0.as_slice())
-        };
-        return Err(Error::OutsideDomain { what });
+    let mut point = ConstPoint {
+        lagrangian,
+        derivatives: None,
     };
-    check_vv(&derivatives.2.vv, 0.0, Location::Step(0))?;
-    Ok(derivatives)
+    check_initial_point(&mut point, (q0.as_slice(), v0.as_slice()), t0)?;
+    point.derivatives.ok_or(Error::NotFinite {
+        at: Location::Step(0),
+    })
 }
 
 #[cfg(test)]

@@ -11,6 +11,8 @@
 //! once per solve and freed after it); otherwise on the thread's stack, at the cost of a
 //! thread-local read and a comparison.
 
+use crate::error::{Error, Result};
+
 /// `D × D` blocks of room a solve gets. Measured at the test profile (opt-level 1): a solve of
 /// each three-point embedding and scheme of a 256-site ring, initial and boundary value
 /// problems, overflowed a segment of 64 blocks and passed with 128 (its inlined steps keep
@@ -18,7 +20,7 @@
 /// frames are larger, were not measured. A segment is mapped read-write for its whole size
 /// (128 MiB at `D = 256`, one per solve and per thread that solves at once), though only the
 /// pages a solve touches are backed: under strict overcommit or a low `ulimit -v` the mapping
-/// can fail, and `stacker` then panics.
+/// can fail: [`with_room_for`] asks first, and returns [`Error::TooLarge`] then.
 const BLOCKS: usize = 256;
 
 /// Room for everything else a solve keeps on the stack (its frames, vectors of length `D`).
@@ -31,9 +33,32 @@ pub(crate) const fn room_for(d: usize) -> usize {
 }
 
 /// `f` with at least [`room_for`]`(D)` bytes of stack: on the thread's stack when it has them
-/// left, on a new segment of that size otherwise.
+/// left, on a new segment of that size otherwise. [`Error::TooLarge`] when the system will not
+/// map a segment of that size (at `D = 4096` it is 34 GB of address space, more than a machine
+/// without overcommit can promise): `stacker` would panic there.
 #[inline]
-pub(crate) fn with_room_for<const D: usize, R>(f: impl FnOnce() -> R) -> R {
+pub(crate) fn with_room_for<const D: usize, R>(f: impl FnOnce() -> Result<R>) -> Result<R> {
     let room = room_for(D);
-    stacker::maybe_grow(room, room, f)
+    if stacker::remaining_stack().is_some_and(|left| left >= room) {
+        return f();
+    }
+    segment_can_be_mapped(room, D)?;
+    stacker::grow(room, f)
+}
+
+/// Whether a read-write mapping of `room` bytes is granted, asked the way `stacker` will ask
+/// for its segment: an allocation this large is an anonymous private mapping of its own,
+/// granted or refused by the same overcommit rule, and freed at once (no page is touched, so
+/// none is backed).
+fn segment_can_be_mapped(room: usize, d: usize) -> Result<()> {
+    let mut probe: Vec<u8> = Vec::new();
+    probe.try_reserve_exact(room).map_err(|_| Error::TooLarge {
+        what: format!(
+            "a solve of a `Lagrangian<{d}>` on the const-generic path: its dense {d} × {d} \
+             blocks need a stack segment of {:.1e} bytes, which the system will not map; \
+             implement `DynLagrangian` for the model (`#[lagrangian]` does, for a model \
+             written with loops) and solve it through `DynProblem`, whose blocks are sparse",
+            room as f64
+        ),
+    })
 }

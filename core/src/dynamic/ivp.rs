@@ -11,16 +11,16 @@ use crate::embedding::{Embedding, EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::grid::Grid;
 use crate::options::{LinearSolve, NewtonOptions};
-use crate::regularity::DEGENERACY_THRESHOLD;
+use crate::regularity::{InitialDataModel, check_initial_point};
 use crate::solve::guard::BlowUpGuard;
 use crate::solve::ivp::step_kind;
 use crate::solve::solution::Warning;
-use crate::solve::start::Start;
+use crate::solve::start::{Start, second_order_start};
 use crate::step::StepKind;
 
 use super::DynLagrangian;
 use super::band::BandSystem;
-use super::observer::{DynNode, NodeObserver};
+use super::observer::{DynNode, DynNodeModel, NodeObserver};
 use super::slices::max_norm;
 use super::sparse::SparseHessian;
 use super::stability::{decoupled_mass, mode_unstable, resolution_warning};
@@ -150,7 +150,11 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         };
         let mut pi = vec![0.0; d];
         let mut b = match second {
-            SecondNode::Start(Start::SecondOrder) => self.second_order_start(q0, v0, vv)?,
+            SecondNode::Start(Start::SecondOrder) => {
+                drop(vv);
+                let model = &mut DynNodeModel::new(self.lagrangian, d);
+                second_order_start(model, (q0, v0), (t0, h))?
+            }
             // Not needed by these: freed before the run, whose memory is O(d b).
             SecondNode::Start(Start::Legendre) => {
                 drop(vv);
@@ -247,43 +251,6 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         Ok(b)
     }
 
-    /// `Q_1 = q0 + h v0 + ½h² q̈(a)`, the const-generic path's second-order start: the
-    /// acceleration solves the Euler–Lagrange equation at the initial data,
-    /// `L_vv q̈ = ∂L/∂x − L_vx v0 − ∂p/∂t` (`∂p/∂t` by a central difference in `t`), with
-    /// `vv` the factorised `L_vv` the checks of the initial data left.
-    fn second_order_start(&self, q0: &[f64], v0: &[f64], mut vv: BandSystem) -> Result<Vec<f64>> {
-        let l = self.lagrangian;
-        let (t, h, d) = (self.grid.t(0), self.grid.h(), q0.len());
-        let dt = 1e-5 * (1.0 + t.abs());
-        let (mut rhs, mut later, mut earlier) = (vec![0.0; d], vec![0.0; d], vec![0.0; d]);
-        l.force(q0, v0, t, &mut rhs);
-        l.momentum(q0, v0, t + dt, &mut later);
-        l.momentum(q0, v0, t - dt, &mut earlier);
-        for ((r, p1), p0) in rhs.iter_mut().zip(&later).zip(&earlier) {
-            *r -= (p1 - p0) / (2.0 * dt);
-        }
-        let mut hessian = SparseHessian::new(d);
-        l.hessian(q0, v0, t, &mut hessian);
-        // (L_vx v0)_j = Σ_i L_xv(i, j) v0_i: the block's entries, transposed.
-        for &(i, j, value) in hessian.xv.entries() {
-            rhs[j] -= value * v0[i];
-        }
-        vv.solve_in_place(&mut rhs);
-        let q1: Vec<f64> = q0
-            .iter()
-            .zip(v0)
-            .zip(&rhs)
-            .map(|((q, v), acceleration)| q + v * h + acceleration * (0.5 * h * h))
-            .collect();
-        if q1.iter().all(|c| c.is_finite()) {
-            Ok(q1)
-        } else {
-            Err(Error::NotFinite {
-                at: Location::Step(1),
-            })
-        }
-    }
-
     /// `(Q_1 − Q_0)/h` of given first nodes, after checking that both have the model's
     /// dimension and that `Q_1` is finite (`Q_0` is checked with the initial data).
     fn velocity_from_nodes(&self, q0: &[f64], q1: &[f64]) -> Result<Vec<f64>> {
@@ -299,10 +266,9 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         Ok(q0.iter().zip(q1).map(|(a, b)| (b - a) * inv_h).collect())
     }
 
-    /// The checks before any step: the model at its dimension, finite constants, the initial
-    /// data of the right length and finite, `L` and its derivatives finite there, and
-    /// `∂²L/∂v²` not degenerate there. Returns `∂²L/∂v²` there, factorised, and the second
-    /// derivatives there.
+    /// The checks before any step: the model at its dimension, the initial data of the right
+    /// length, then [`check_initial_point`] (as on the const-generic path). Returns
+    /// `∂²L/∂v²` there, factorised, and the second derivatives there.
     pub(super) fn check_initial_data(
         &self,
         q0: &[f64],
@@ -315,41 +281,53 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         let d = l.dimension();
         crate::error::check_len("q0", d, q0.len())?;
         crate::error::check_len("v0", d, v0.len())?;
-        if let Some((name, value)) = l.constants().into_iter().find(|c| !c.1.is_finite()) {
-            return Err(Error::NonFiniteInput {
-                what: format!("model constant `{name}` = {value}"),
-            });
-        }
-        for (what, x) in [("q0", q0), ("v0", v0)] {
-            if let Some(i) = x.iter().position(|c| !c.is_finite()) {
-                return Err(Error::NonFiniteInput {
-                    what: format!("{what}[{i}] = {}", x[i]),
-                });
-            }
-        }
-        let t0 = self.grid.t(0);
-        let (mut f, mut p) = (vec![0.0; d], vec![0.0; d]);
-        l.force(q0, v0, t0, &mut f);
-        l.momentum(q0, v0, t0, &mut p);
-        let mut hessian = SparseHessian::new(d);
-        l.hessian(q0, v0, t0, &mut hessian);
-        let finite = l.value(q0, v0, t0).is_finite()
-            && f.iter().chain(&p).all(|c| c.is_finite())
-            && hessian.is_finite();
-        if !finite {
-            return Err(Error::OutsideDomain {
-                what: "the initial data q0, v0".to_string(),
-            });
-        }
-        let (system, measure) = vv_factorised(d, l.hessian_bandwidth(), &hessian);
-        match system {
-            Some(system) if measure >= DEGENERACY_THRESHOLD => Ok((system, hessian)),
-            _ => Err(Error::DegenerateLagrangian {
+        let mut point = DynPoint {
+            lagrangian: l,
+            hessian: SparseHessian::new(d),
+            vv: None,
+        };
+        check_initial_point(&mut point, (q0, v0), self.grid.t(0))?;
+        match point.vv {
+            Some(vv) => Ok((vv, point.hessian)),
+            None => Err(Error::NotFinite {
                 at: Location::Step(0),
-                measure,
-                directions: hessian.vv.degenerate_directions(),
             }),
         }
+    }
+}
+
+/// A [`DynLagrangian`] under the checks of its initial data: the Hessian of the last point
+/// evaluated, and its `∂²L/∂v²` factorised as a band once measured.
+struct DynPoint<'l, L: ?Sized> {
+    lagrangian: &'l L,
+    hessian: SparseHessian,
+    vv: Option<BandSystem>,
+}
+
+impl<L: DynLagrangian + ?Sized> InitialDataModel for DynPoint<'_, L> {
+    fn constants(&self) -> Vec<(&'static str, f64)> {
+        self.lagrangian.constants()
+    }
+    fn in_domain(&mut self, x: &[f64], v: &[f64], t: f64) -> bool {
+        let (l, d) = (self.lagrangian, x.len());
+        let (mut f, mut p) = (vec![0.0; d], vec![0.0; d]);
+        l.force(x, v, t, &mut f);
+        l.momentum(x, v, t, &mut p);
+        self.hessian.clear();
+        l.hessian(x, v, t, &mut self.hessian);
+        l.value(x, v, t).is_finite()
+            && f.iter().chain(&p).all(|c| c.is_finite())
+            && self.hessian.is_finite()
+    }
+    fn vv_measure(&mut self) -> f64 {
+        let d = self.hessian.vv.dimension();
+        let bandwidth = self.lagrangian.hessian_bandwidth();
+        let (system, measure) = vv_factorised(d, bandwidth, &self.hessian);
+        self.vv = system;
+        measure
+    }
+    fn degenerate_directions(&self) -> Vec<Vec<(usize, f64)>> {
+        self.hessian.vv.degenerate_directions()
     }
 }
 

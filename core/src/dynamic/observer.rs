@@ -64,16 +64,9 @@ impl<'l, L: DynLagrangian + ?Sized> NodeObserver<'l, L> {
         d: usize,
     ) -> Result<Self> {
         let engine = NodeEngine::new(embedding, scheme, grid, d)?;
-        let vv = lagrangian.hessian_dependence().vv;
         Ok(NodeObserver {
             engine,
-            model: DynNodeModel {
-                lagrangian,
-                hessian: SparseHessian::new(d),
-                system: None,
-                constant: !(vv.x || vv.v || vv.t),
-                factorised: None,
-            },
+            model: DynNodeModel::new(lagrangian, d),
             v: vec![0.0; d],
             p: vec![0.0; d],
         })
@@ -144,7 +137,7 @@ impl<'l, L: DynLagrangian + ?Sized> NodeObserver<'l, L> {
 /// A [`DynLagrangian`] read by the node formulas: `∂²L/∂v²` assembled from the model's sparse
 /// block and solved as a band, planned at its first solve (again when an entry falls outside
 /// the band), and factorised once when the model declares it constant.
-struct DynNodeModel<'l, L: ?Sized> {
+pub(crate) struct DynNodeModel<'l, L: ?Sized> {
     lagrangian: &'l L,
     hessian: SparseHessian,
     system: Option<BandSystem>,
@@ -152,6 +145,20 @@ struct DynNodeModel<'l, L: ?Sized> {
     constant: bool,
     /// Its norm and regularity, once factorised, when constant.
     factorised: Option<(f64, bool)>,
+}
+
+impl<'l, L: DynLagrangian + ?Sized> DynNodeModel<'l, L> {
+    /// `lagrangian` at dimension `d`, nothing planned or factorised yet.
+    pub(crate) fn new(lagrangian: &'l L, d: usize) -> Self {
+        let vv = lagrangian.hessian_dependence().vv;
+        DynNodeModel {
+            lagrangian,
+            hessian: SparseHessian::new(d),
+            system: None,
+            constant: !(vv.x || vv.v || vv.t),
+            factorised: None,
+        }
+    }
 }
 
 impl<L: DynLagrangian + ?Sized> NodeModel for DynNodeModel<'_, L> {
@@ -200,6 +207,17 @@ impl<L: DynLagrangian + ?Sized> NodeModel for DynNodeModel<'_, L> {
             self.hessian = SparseHessian::new(0);
         }
         (norms.inf, regular)
+    }
+    fn subtract_vx_product(&mut self, x: &[f64], v: &[f64], t: f64, u: &[f64], out: &mut [f64]) {
+        // A constant `∂²L/∂v²`, once factorised, has freed the Hessian's buffers.
+        if self.hessian.xv.dimension() != x.len() {
+            self.hessian = SparseHessian::new(x.len());
+        }
+        self.hessian.clear();
+        self.lagrangian.hessian(x, v, t, &mut self.hessian);
+        for &(i, j, value) in self.hessian.xv.entries() {
+            out[j] -= value * u[i];
+        }
     }
     fn depends_on_time(&self) -> bool {
         self.lagrangian.dependence().t

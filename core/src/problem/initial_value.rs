@@ -63,7 +63,9 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// The discrete Legendre start: `Q_1` from `Q_0 = q(a)` and `π_0 = ∂L/∂v(q(a), q̇(a), a)`,
     /// by the variational step equation of this side (σ=−: `∂L/∂v(Q_1, (Q_1−Q_0)/h, t_1) = π_0`;
     /// σ=+: `p_0 − h f_0 = π_0` at `(Q_0, (Q_1−Q_0)/h, t_0)`; midpoint and trapezoidal:
-    /// `−D₁L_d(Q_0, Q_1) = π_0`).
+    /// `−D₁L_d(Q_0, Q_1) = π_0`). [`Error::Unsupported`](crate::Error::Unsupported) for an
+    /// embedding without a three-point recurrence (Gauss–Legendre, whose runs start from
+    /// `q(a)`, `q̇(a)` themselves, and the fractional ones).
     ///
     /// # Example
     ///

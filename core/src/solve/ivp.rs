@@ -10,7 +10,6 @@ use crate::embedding::{Embedding, EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::grid::Grid;
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
-use crate::linalg::solve_small;
 use crate::memory::reserve;
 use crate::options::{NewtonOptions, SolverOptions};
 use crate::regularity::{
@@ -20,10 +19,11 @@ use crate::side::Side;
 use crate::solve::gauss::GaussIvp;
 use crate::solve::guard::BlowUpGuard;
 use crate::solve::newton::newton_step;
+use crate::solve::nodes::ConstModel;
 use crate::solve::resolution::resolution_warning;
 use crate::solve::solution::Solution;
 use crate::solve::stability::{Verdict, largest_stable_step, step_map_verdict};
-use crate::solve::start::Start;
+use crate::solve::start::{Start, second_order_start};
 use crate::step::{Step, StepKind, StepTimes, Update, momentum_and_energy_terms};
 
 /// The step kind that advances `scheme` under `embedding`, on either path.
@@ -101,16 +101,9 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
 
     /// The discrete Legendre start (see `Problem::legendre_start`).
     pub(crate) fn legendre_start(&self, q0: Vector<D>, v0: Vector<D>) -> Result<Vector<D>> {
-        if self.embedding.is_one_step() {
-            self.step_kind(Scheme::Variational)?;
-        }
+        // The variational kind of this embedding, as on the run-time path.
+        let kind = self.step_kind(Scheme::Variational)?.legendre_start();
         let (_, pi0, _) = check_initial_data(self.lagrangian, &q0, &v0, self.grid.t(0))?;
-        let kind = match (self.embedding.kind(), self.embedding.side()) {
-            (EmbeddingKind::Midpoint, _) => StepKind::MidpointVariational,
-            (EmbeddingKind::Trapezoidal, _) => StepKind::TrapezoidalVariational,
-            (_, Side::Backward) => StepKind::VariationalBackward,
-            (_, Side::Forward) => StepKind::VariationalForward,
-        };
         let (grid, h) = (&self.grid, self.grid.h());
         let times = StepTimes::new(h, grid.t(0) - h, grid.t(0), grid.t(1));
         let step = Step {
@@ -127,21 +120,11 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
 
     /// The second-order start (see [`Problem::second_order_start`](crate::Problem::second_order_start)).
     pub(crate) fn second_order_start(&self, q0: Vector<D>, v0: Vector<D>) -> Result<Vector<D>> {
-        let (f, _, hs) = check_initial_data(self.lagrangian, &q0, &v0, self.grid.t(0))?;
-        let (t, h) = (self.grid.t(0), self.grid.h());
-        let dt = 1e-5 * (1.0 + t.abs());
-        let p_t = (self.lagrangian.gradient(&q0, &v0, t + dt).1
-            - self.lagrangian.gradient(&q0, &v0, t - dt).1)
-            / (2.0 * dt);
-        let rhs = f - hs.xv.transpose() * v0 - p_t;
-        let at = Location::Step(1);
-        let acceleration = solve_small(&hs.vv, &rhs).ok_or(Error::SingularJacobian { at })?;
-        let q1 = q0 + v0 * h + acceleration * (0.5 * h * h);
-        if q1.iter().all(|c| c.is_finite()) {
-            Ok(q1)
-        } else {
-            Err(Error::NotFinite { at })
-        }
+        check_initial_data(self.lagrangian, &q0, &v0, self.grid.t(0))?;
+        let model = &mut ConstModel::<L, D>(self.lagrangian);
+        let times = (self.grid.t(0), self.grid.h());
+        let q1 = second_order_start(model, (q0.as_slice(), v0.as_slice()), times)?;
+        Ok(Vector::<D>::from_column_slice(&q1))
     }
 
     /// The run from `q(a) = q0`, `q̇(a) = v0` with `start` for `Q_1`.

@@ -436,6 +436,13 @@ impl<const D: usize, L: Lagrangian<D> + ?Sized> NodeModel for ConstModel<'_, L, 
             None => (norm, false),
         }
     }
+    fn subtract_vx_product(&mut self, x: &[f64], v: &[f64], t: f64, u: &[f64], out: &mut [f64]) {
+        let xv = self.0.hessian(&vector(x), &vector(v), t).xv;
+        let product = xv.transpose() * vector::<D>(u);
+        for (o, p) in out.iter_mut().zip(product.iter()) {
+            *o -= p;
+        }
+    }
     fn depends_on_time(&self) -> bool {
         self.0.dependence().t
     }

@@ -283,14 +283,14 @@ fn a_non_finite_initial_value_is_named() {
                 .solve_ivp_with(Scheme::Variational, bad, fine, start)
                 .unwrap_err()
                 .to_string(),
-            "non-finite input: q(a) = [inf, 0.0]"
+            "non-finite input: q0[0] = inf (the initial position q(a))"
         );
         assert_eq!(
             problem
                 .solve_ivp_with(Scheme::Direct, fine, bad, start)
                 .unwrap_err()
                 .to_string(),
-            "non-finite input: q̇(a) = [inf, 0.0]"
+            "non-finite input: v0[0] = inf (the initial velocity q̇(a))"
         );
     }
 }

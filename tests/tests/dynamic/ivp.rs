@@ -805,3 +805,65 @@ fn the_second_order_start_is_the_const_generic_one() {
     let v0: Vec<f64> = q0.iter().map(|q| -0.3 * q).collect();
     second_order_gaps::<_, DAMPED>(&DampedChain { gamma: 0.3 }, grid, (&q0, &v0));
 }
+
+/// Twelve free relativistic particles (`c = 1`) in harmonic wells: a velocity domain `|v_i| < 1`.
+const TWELVE: usize = 12;
+
+#[lagrangian]
+fn relativistic_wells(x: [f64; TWELVE], v: [f64; TWELVE]) -> f64 {
+    let mut l = 0.0;
+    for i in 0..TWELVE {
+        l += -(1.0 - v[i] * v[i]).sqrt() - 0.5 * x[i] * x[i];
+    }
+    l
+}
+
+/// The checks of the initial data are one function on both paths: the same error, word for
+/// word, for the same bad data, whichever path and start solves it.
+#[test]
+fn bad_initial_data_reads_the_same_on_both_paths() {
+    let grid = Grid::new(0.0, 1.0, 20).unwrap();
+    let embedding = Embedding::midpoint();
+    let q0: Vec<f64> = (0..TWELVE).map(|i| 0.1 * i as f64).collect();
+    let v0 = vec![0.2; TWELVE];
+    let both = |q0: &[f64], v0: &[f64], start: Start| {
+        let model = RelativisticWells;
+        let (x0, u0) = (
+            Vector::<TWELVE>::from_column_slice(q0),
+            Vector::from_column_slice(v0),
+        );
+        let fixed = Problem::new(&model, grid, embedding)
+            .solve_ivp_with(Scheme::Variational, x0, u0, start)
+            .map(|run| run.last()[0]);
+        let dynamic = DynProblem::new(&model, grid, embedding)
+            .with_start(start)
+            .solve_ivp(Scheme::Variational, q0, v0)
+            .map(|run| run.node(grid.n())[0]);
+        (fixed, dynamic)
+    };
+    for start in [Start::Legendre, Start::SecondOrder] {
+        // Good data: the same run.
+        let (fixed, dynamic) = both(&q0, &v0, start);
+        assert!((fixed.unwrap() - dynamic.unwrap()).abs() < 1e-12);
+        // One particle faster than light: blamed on the velocity, both vectors shortened.
+        let mut fast = v0.clone();
+        fast[5] = 1.5;
+        let (fixed, dynamic) = both(&q0, &fast, start);
+        let expected = Error::OutsideDomain {
+            what: "the initial velocity q̇(a) = [0.2, 0.2, 0.2, …, 0.2] (d = 12) \
+                   (at q(a) = [0.0, 0.1, 0.2, …, 1.1] (d = 12), t = 0)"
+                .to_string(),
+        };
+        assert_eq!(fixed.unwrap_err(), expected);
+        assert_eq!(dynamic.unwrap_err(), expected);
+        // A NaN in the position is named by its index.
+        let mut nan = q0.clone();
+        nan[7] = f64::NAN;
+        let (fixed, dynamic) = both(&nan, &v0, start);
+        let expected = Error::NonFiniteInput {
+            what: "q0[7] = NaN (the initial position q(a))".to_string(),
+        };
+        assert_eq!(fixed.unwrap_err(), expected);
+        assert_eq!(dynamic.unwrap_err(), expected);
+    }
+}

@@ -11,4 +11,5 @@ mod node_values;
 mod resolution;
 mod scale_invariance;
 mod stability;
+mod stack_segments;
 mod through_problem;

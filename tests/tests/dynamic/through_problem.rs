@@ -36,11 +36,11 @@ pub(super) fn sine_gordon(x: [f64; RING], v: [f64; RING], c: f64) -> f64 {
     l
 }
 
-const SMALL: usize = 64;
+pub(super) const SMALL: usize = 64;
 
 /// The same ring at the threshold's size.
 #[lagrangian]
-fn small_ring(x: [f64; SMALL], v: [f64; SMALL], c: f64) -> f64 {
+pub(super) fn small_ring(x: [f64; SMALL], v: [f64; SMALL], c: f64) -> f64 {
     let mut l = 0.0;
     for i in 0..SMALL {
         let stretch = x[(i + 1) % SMALL] - x[i];

@@ -63,6 +63,11 @@ fn initial_value_problems_and_node_values_are_unsupported_and_name_the_embedding
             problem.compare_ivp(0.3, 0.0),
             Err(Error::Unsupported { embedding, .. }) if embedding == name
         ));
+        // No three-point recurrence, so no discrete Legendre start of one either.
+        assert!(matches!(
+            problem.legendre_start(0.3, 0.0),
+            Err(Error::Unsupported { embedding, .. }) if embedding == name
+        ));
         let solution = problem.solve_bvp(Scheme::Variational, 0.3, 1.0).unwrap();
         assert!(matches!(
             solution.node_values(&Pendulum),

@@ -17,7 +17,9 @@ use crate::options::NewtonOptions;
 use crate::side::Side;
 use crate::solve::newton::at_round_off;
 
-/// The evaluations of a Lagrangian the node formulas need, at flat slices of length `d`.
+/// The evaluations of a Lagrangian the node formulas and the second-order start
+/// ([`second_order_start`](crate::solve::start::second_order_start)) need, at flat slices of
+/// length `d`.
 pub(crate) trait NodeModel {
     /// Writes `∂L/∂x` into `f` and `∂L/∂v` into `p` at `(x, v, t)`.
     fn gradient(&mut self, x: &[f64], v: &[f64], t: f64, f: &mut [f64], p: &mut [f64]);
@@ -28,6 +30,8 @@ pub(crate) trait NodeModel {
     /// Solves `∂²L/∂v²(x, v, t) z = r`, `z` in place of `r` when regular; returns
     /// `‖∂²L/∂v²‖∞` and whether it is regular (`r` means nothing when it is not).
     fn solve_vv(&mut self, x: &[f64], v: &[f64], t: f64, r: &mut [f64]) -> (f64, bool);
+    /// Subtracts `∂²L/∂v∂x (x, v, t) u` from `out`: `out_j −= Σ_i ∂²L/∂x_i∂v_j u_i`.
+    fn subtract_vx_product(&mut self, x: &[f64], v: &[f64], t: f64, u: &[f64], out: &mut [f64]);
     /// Whether the Lagrangian depends on `t` (no energy then).
     fn depends_on_time(&self) -> bool;
 }
