@@ -198,7 +198,7 @@ pub(crate) fn check_initial_point(
         return Err(Error::OutsideDomain { what });
     }
     let measure = model.vv_measure();
-    if measure < DEGENERACY_THRESHOLD {
+    if measure.is_nan() || measure < DEGENERACY_THRESHOLD {
         return Err(Error::DegenerateLagrangian {
             at: Location::Step(0),
             measure,

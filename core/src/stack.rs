@@ -7,9 +7,9 @@
 //! `D = 256` one `Hessian<D>` is 1.5 MB, most of the 2 MiB stack of a test thread or a rayon
 //! worker, and the thread overflows its stack (an abort, not an error). So each solve of the
 //! const-generic path runs through [`with_room_for`]: where the thread has less room left than
-//! a solve of this `D` needs, on a stack segment of its own (`stacker::maybe_grow`, allocated
-//! once per solve and freed after it); otherwise on the thread's stack, at the cost of a
-//! thread-local read and a comparison.
+//! a solve of this `D` needs, on a stack segment of its own (`stacker::grow`, mapped once per
+//! solve and unmapped after it; [`Error::TooLarge`] when the system will not map it); otherwise
+//! on the thread's stack, at the cost of a thread-local read and a comparison.
 
 use crate::error::{Error, Result};
 
@@ -46,19 +46,24 @@ pub(crate) fn with_room_for<const D: usize, R>(f: impl FnOnce() -> Result<R>) ->
     stacker::grow(room, f)
 }
 
-/// Whether a read-write mapping of `room` bytes is granted, asked the way `stacker` will ask
-/// for its segment: an allocation this large is an anonymous private mapping of its own,
-/// granted or refused by the same overcommit rule, and freed at once (no page is touched, so
-/// none is backed).
+/// [`Error::TooLarge`] unless a read-write mapping of `room` bytes is granted: asked the way
+/// `stacker` will ask for its segment (an anonymous private mapping, read-write, charged to the
+/// commit limit and to the address-space limit alike), directly from the system rather than
+/// through the allocator (which may map with `MAP_NORESERVE`, keep address space after a free,
+/// or touch the pages), and unmapped at once, no page touched. Two solves that probe at once
+/// on two threads may both be granted and then not both be mapped: the probe narrows the
+/// panic to that race, it cannot close it.
 fn segment_can_be_mapped(room: usize, d: usize) -> Result<()> {
-    let mut probe: Vec<u8> = Vec::new();
-    probe.try_reserve_exact(room).map_err(|_| Error::TooLarge {
-        what: format!(
-            "a solve of a `Lagrangian<{d}>` on the const-generic path: its dense {d} × {d} \
-             blocks need a stack segment of {:.1e} bytes, which the system will not map; \
-             implement `DynLagrangian` for the model (`#[lagrangian]` does, for a model \
-             written with loops) and solve it through `DynProblem`, whose blocks are sparse",
-            room as f64
-        ),
-    })
+    match memmap2::MmapMut::map_anon(room) {
+        Ok(_) => Ok(()),
+        Err(_) => Err(Error::TooLarge {
+            what: format!(
+                "a solve of a `Lagrangian<{d}>` on the const-generic path: its dense {d} × {d} \
+                 blocks need a stack segment of {:.1e} bytes, which the system will not map; \
+                 implement `DynLagrangian` for the model (`#[lagrangian]` does, for a model \
+                 written with loops) and solve it through `DynProblem`, whose blocks are sparse",
+                room as f64
+            ),
+        }),
+    }
 }
