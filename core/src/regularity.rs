@@ -93,17 +93,6 @@ pub(crate) fn check_constants<L: Lagrangian<D> + ?Sized, const D: usize>(
     }
 }
 
-/// [`Error::NonFiniteInput`] naming `what` unless every coordinate of `x` is finite.
-pub(crate) fn check_finite<const D: usize>(what: &str, x: &Vector<D>) -> Result<()> {
-    if x.iter().all(|c| c.is_finite()) {
-        Ok(())
-    } else {
-        Err(Error::NonFiniteInput {
-            what: format!("{what} = {:?}", x.as_slice()),
-        })
-    }
-}
-
 /// The Hessian at `(x, v, t)` when `L`, its gradient and its Hessian are all finite there:
 /// whether the point lies in the Lagrangian's domain.
 pub(crate) fn hessian_in_domain<L: Lagrangian<D> + ?Sized, const D: usize>(
@@ -162,45 +151,92 @@ pub(crate) trait InitialDataModel {
     fn degenerate_directions(&self) -> Vec<Vec<(usize, f64)>>;
 }
 
-/// The checks of the initial data `q(a) = q0`, `q̇(a) = v0` at `t0` of an initial value
-/// problem, before any step, written once for both paths: finite constants and data, a point
-/// inside the Lagrangian's domain (a velocity outside it is blamed on the velocity when the
-/// position with velocity zero is inside), and a non-degenerate `∂²L/∂v²` (at
-/// [`Location::Step`]`(0)`). The model keeps its evaluations at the initial data, which the
-/// starts and the stability checks read.
+/// What an initial value problem starts from, as its checks read and name it.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum InitialData<'a> {
+    /// `q(a) = q0`, `q̇(a) = v0` at `t0`: checked there, at [`Location::Step`]`(0)`.
+    Velocity {
+        q0: &'a [f64],
+        v0: &'a [f64],
+        t0: f64,
+    },
+    /// The first nodes `Q_0 = q0`, `Q_1 = q1` of a grid of step `h`: checked at `Q_1` with the
+    /// velocity `(Q_1 − Q_0)/h` at `t1`, where the recurrence first reads them, at
+    /// [`Location::Step`]`(1)`.
+    Nodes {
+        q0: &'a [f64],
+        q1: &'a [f64],
+        t1: f64,
+        h: f64,
+    },
+}
+
+/// The checks of the data an initial value problem starts from, before any step, written once
+/// for both paths: finite constants and data (a bad coordinate named by its index), a point
+/// inside the Lagrangian's domain (for `q(a)`, `q̇(a)`, a velocity outside it is blamed on the
+/// velocity when the position with velocity zero is inside), and a non-degenerate `∂²L/∂v²`.
+/// The model keeps its evaluations at the checked point, which the starts and the stability
+/// checks read.
 pub(crate) fn check_initial_point(
     model: &mut impl InitialDataModel,
-    (q0, v0): (&[f64], &[f64]),
-    t0: f64,
+    data: InitialData<'_>,
 ) -> Result<()> {
     if let Some((name, value)) = model.constants().into_iter().find(|c| !c.1.is_finite()) {
         return Err(Error::NonFiniteInput {
             what: format!("model constant `{name}` = {value}"),
         });
     }
-    for (name, what, x) in [("q0", "position q(a)", q0), ("v0", "velocity q̇(a)", v0)] {
+    let named = match data {
+        InitialData::Velocity { q0, v0, .. } => [
+            ("q0", "the initial position q(a)", q0),
+            ("v0", "the initial velocity q̇(a)", v0),
+        ],
+        InitialData::Nodes { q0, q1, .. } => [
+            ("q0", "the first node Q_0", q0),
+            ("q1", "the second node Q_1", q1),
+        ],
+    };
+    for (name, what, x) in named {
         if let Some(i) = x.iter().position(|c| !c.is_finite()) {
             return Err(Error::NonFiniteInput {
-                what: format!("{name}[{i}] = {} (the initial {what})", x[i]),
+                what: format!("{name}[{i}] = {} ({what})", x[i]),
             });
         }
     }
-    if !model.in_domain(q0, v0, t0) {
-        let what = if model.in_domain(q0, &vec![0.0; v0.len()], t0) {
-            format!(
-                "the initial velocity q̇(a) = {} (at q(a) = {}, t = {t0})",
-                shown(v0),
-                shown(q0)
-            )
-        } else {
-            format!("the initial position q(a) = {} (t = {t0})", shown(q0))
-        };
-        return Err(Error::OutsideDomain { what });
-    }
+    let at = match data {
+        InitialData::Velocity { q0, v0, t0 } => {
+            if !model.in_domain(q0, v0, t0) {
+                let what = if model.in_domain(q0, &vec![0.0; v0.len()], t0) {
+                    format!(
+                        "the initial velocity q̇(a) = {} (at q(a) = {}, t = {t0})",
+                        shown(v0),
+                        shown(q0)
+                    )
+                } else {
+                    format!("the initial position q(a) = {} (t = {t0})", shown(q0))
+                };
+                return Err(Error::OutsideDomain { what });
+            }
+            Location::Step(0)
+        }
+        InitialData::Nodes { q0, q1, t1, h } => {
+            let v: Vec<f64> = q0.iter().zip(q1).map(|(a, b)| (b - a) / h).collect();
+            if !model.in_domain(q1, &v, t1) {
+                let what = format!(
+                    "the first nodes Q_0 = {}, Q_1 = {} (velocity {})",
+                    shown(q0),
+                    shown(q1),
+                    shown(&v)
+                );
+                return Err(Error::OutsideDomain { what });
+            }
+            Location::Step(1)
+        }
+    };
     let measure = model.vv_measure();
     if measure.is_nan() || measure < DEGENERACY_THRESHOLD {
         return Err(Error::DegenerateLagrangian {
-            at: Location::Step(0),
+            at,
             measure,
             directions: model.degenerate_directions(),
         });
@@ -208,13 +244,19 @@ pub(crate) fn check_initial_point(
     Ok(())
 }
 
-/// `x` for a message: every coordinate up to eight, else the first three, the last and the
-/// dimension.
+/// `x` for a message: every coordinate up to eight; else the first three, the last, the
+/// dimension and the coordinate largest in modulus (where a value outside the domain is most
+/// likely to be).
 fn shown(x: &[f64]) -> String {
     match x {
         [first, second, third, .., last] if x.len() > 8 => {
+            let (i, largest) = x
+                .iter()
+                .enumerate()
+                .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+                .expect("more than eight coordinates");
             format!(
-                "[{first:?}, {second:?}, {third:?}, …, {last:?}] (d = {})",
+                "[{first:?}, {second:?}, {third:?}, …, {last:?}] (d = {}; largest [{i}] = {largest:?})",
                 x.len()
             )
         }
@@ -257,19 +299,29 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> InitialDataModel for ConstPoint<
     }
 }
 
-/// [`check_initial_point`] of a [`Lagrangian<D>`]. Returns `(∂L/∂x, ∂L/∂v, Hessian)` at the
-/// initial data, which the starts read.
+/// [`check_initial_point`] of a [`Lagrangian<D>`] at `q(a) = q0`, `q̇(a) = v0`, `t0`. Returns
+/// `(∂L/∂x, ∂L/∂v, Hessian)` there, which the starts read.
 pub(crate) fn check_initial_data<L: Lagrangian<D> + ?Sized, const D: usize>(
     lagrangian: &L,
     q0: &Vector<D>,
     v0: &Vector<D>,
     t0: f64,
 ) -> Result<(Vector<D>, Vector<D>, Hessian<D>)> {
+    let (q0, v0) = (q0.as_slice(), v0.as_slice());
+    check_point(lagrangian, InitialData::Velocity { q0, v0, t0 })
+}
+
+/// [`check_initial_point`] of a [`Lagrangian<D>`]: `(∂L/∂x, ∂L/∂v, Hessian)` at the checked
+/// point.
+pub(crate) fn check_point<L: Lagrangian<D> + ?Sized, const D: usize>(
+    lagrangian: &L,
+    data: InitialData<'_>,
+) -> Result<(Vector<D>, Vector<D>, Hessian<D>)> {
     let mut point = ConstPoint {
         lagrangian,
         derivatives: None,
     };
-    check_initial_point(&mut point, (q0.as_slice(), v0.as_slice()), t0)?;
+    check_initial_point(&mut point, data)?;
     point.derivatives.ok_or(Error::NotFinite {
         at: Location::Step(0),
     })

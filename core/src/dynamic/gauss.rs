@@ -18,7 +18,7 @@ use crate::embedding::Scheme;
 use crate::error::{Error, Location, Result};
 use crate::gauss_legendre::GaussTableau;
 use crate::options::NewtonOptions;
-use crate::regularity::DEGENERACY_THRESHOLD;
+use crate::regularity::{DEGENERACY_THRESHOLD, InitialData};
 use crate::solve::gauss::{DEGENERACY_CHECK_INTERVAL, floor_size};
 use crate::solve::guard::BlowUpGuard;
 use crate::solve::newton::{StepIteration, newton};
@@ -49,7 +49,8 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             });
         }
         let l = self.lagrangian;
-        let (mut vv, hessian) = self.check_initial_data(q0, v0)?;
+        let t0 = self.grid.t(0);
+        let (mut vv, hessian) = self.check_initial_data(InitialData::Velocity { q0, v0, t0 })?;
         // The scale the degeneracy checks along the run measure against.
         let reference = vv.pivot_range().1;
         let (grid, h, d) = (self.grid, self.grid.h(), q0.len());

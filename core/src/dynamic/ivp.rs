@@ -11,7 +11,7 @@ use crate::embedding::{Embedding, EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::grid::Grid;
 use crate::options::{LinearSolve, NewtonOptions};
-use crate::regularity::{InitialDataModel, check_initial_point};
+use crate::regularity::{InitialData, InitialDataModel, check_initial_point};
 use crate::solve::guard::BlowUpGuard;
 use crate::solve::ivp::step_kind;
 use crate::solve::solution::Warning;
@@ -105,13 +105,26 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             };
         }
         let kind = self.step_kind(scheme)?;
+        let (grid, h) = (self.grid, self.grid.h());
+        let data = match second {
+            SecondNode::Given(q1) => InitialData::Nodes {
+                q0,
+                q1,
+                t1: grid.t(1),
+                h,
+            },
+            SecondNode::Start(_) => InitialData::Velocity {
+                q0,
+                v0,
+                t0: grid.t(0),
+            },
+        };
+        let (mut vv, hessian) = self.check_initial_data(data)?;
         let from_nodes = match second {
-            SecondNode::Given(q1) => Some(self.velocity_from_nodes(q0, q1)?),
+            SecondNode::Given(q1) => Some(velocity_from_nodes(q0, q1, h)),
             SecondNode::Start(_) => None,
         };
         let v0 = from_nodes.as_deref().unwrap_or(v0);
-        let (mut vv, hessian) = self.check_initial_data(q0, v0)?;
-        let (grid, h) = (self.grid, self.grid.h());
         // The recurrence's linear stability at the initial data, where the model's modes
         // decouple (the blow-up guard watches every run).
         let l = self.lagrangian;
@@ -251,42 +264,31 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         Ok(b)
     }
 
-    /// `(Q_1 − Q_0)/h` of given first nodes, after checking that both have the model's
-    /// dimension and that `Q_1` is finite (`Q_0` is checked with the initial data).
-    fn velocity_from_nodes(&self, q0: &[f64], q1: &[f64]) -> Result<Vec<f64>> {
-        let d = self.lagrangian.dimension();
-        crate::error::check_len("q0", d, q0.len())?;
-        crate::error::check_len("q1", d, q1.len())?;
-        if let Some(i) = q1.iter().position(|c| !c.is_finite()) {
-            return Err(Error::NonFiniteInput {
-                what: format!("q1[{i}] = {}", q1[i]),
-            });
-        }
-        let inv_h = 1.0 / self.grid.h();
-        Ok(q0.iter().zip(q1).map(|(a, b)| (b - a) * inv_h).collect())
-    }
-
-    /// The checks before any step: the model at its dimension, the initial data of the right
-    /// length, then [`check_initial_point`] (as on the const-generic path). Returns
-    /// `∂²L/∂v²` there, factorised, and the second derivatives there.
+    /// The checks before any step: the model at its dimension, the data of the right lengths,
+    /// then [`check_initial_point`] (as on the const-generic path). Returns `∂²L/∂v²` at the
+    /// checked point, factorised, and the second derivatives there.
     pub(super) fn check_initial_data(
         &self,
-        q0: &[f64],
-        v0: &[f64],
+        data: InitialData<'_>,
     ) -> Result<(BandSystem, SparseHessian)> {
         let l = self.lagrangian;
         if let Some(reason) = l.invalid_dimension() {
             return Err(Error::InvalidModel { reason });
         }
         let d = l.dimension();
-        crate::error::check_len("q0", d, q0.len())?;
-        crate::error::check_len("v0", d, v0.len())?;
+        let lengths = match data {
+            InitialData::Velocity { q0, v0, .. } => [("q0", q0), ("v0", v0)],
+            InitialData::Nodes { q0, q1, .. } => [("q0", q0), ("q1", q1)],
+        };
+        for (name, x) in lengths {
+            crate::error::check_len(name, d, x.len())?;
+        }
         let mut point = DynPoint {
             lagrangian: l,
             hessian: SparseHessian::new(d),
             vv: None,
         };
-        check_initial_point(&mut point, (q0, v0), self.grid.t(0))?;
+        check_initial_point(&mut point, data)?;
         match point.vv {
             Some(vv) => Ok((vv, point.hessian)),
             None => Err(Error::NotFinite {
@@ -294,6 +296,12 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             }),
         }
     }
+}
+
+/// `(Q_1 − Q_0)/h` of first nodes already checked.
+fn velocity_from_nodes(q0: &[f64], q1: &[f64], h: f64) -> Vec<f64> {
+    let inv_h = 1.0 / h;
+    q0.iter().zip(q1).map(|(a, b)| (b - a) * inv_h).collect()
 }
 
 /// A [`DynLagrangian`] under the checks of its initial data: the Hessian of the last point

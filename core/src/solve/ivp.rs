@@ -12,9 +12,7 @@ use crate::grid::Grid;
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::memory::reserve;
 use crate::options::{NewtonOptions, SolverOptions};
-use crate::regularity::{
-    check_constants, check_finite, check_initial_data, check_vv, hessian_in_domain, pivot_range,
-};
+use crate::regularity::{InitialData, check_initial_data, check_point, check_vv, pivot_range};
 use crate::side::Side;
 use crate::solve::gauss::GaussIvp;
 use crate::solve::guard::BlowUpGuard;
@@ -258,21 +256,10 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Ivp<'l, L, D> {
     #[cold]
     #[inline(never)]
     fn check_first_nodes(&self, q0: Vector<D>, q1: Vector<D>) -> Result<f64> {
-        check_constants(self.lagrangian)?;
-        check_finite("Q_0", &q0)?;
-        check_finite("Q_1", &q1)?;
-        let v = (q1 - q0) / self.grid.h();
-        let Some(hs) = hessian_in_domain(self.lagrangian, &q1, &v, self.grid.t(1)) else {
-            return Err(Error::OutsideDomain {
-                what: format!(
-                    "the first nodes Q_0 = {:?}, Q_1 = {:?} (velocity {:?})",
-                    q0.as_slice(),
-                    q1.as_slice(),
-                    v.as_slice()
-                ),
-            });
-        };
-        check_vv(&hs.vv, 0.0, Location::Step(1))
+        let (t1, h) = (self.grid.t(1), self.grid.h());
+        let (q0, q1) = (q0.as_slice(), q1.as_slice());
+        let (_, _, hs) = check_point(self.lagrangian, InitialData::Nodes { q0, q1, t1, h })?;
+        Ok(pivot_range(&hs.vv).map_or(0.0, |(_, hi)| hi))
     }
 
     /// The largest pivot of `∂²L/∂v²` at `Q_1` with the velocity `(Q_1 − Q_0)/h`: the scale the

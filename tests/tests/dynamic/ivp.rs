@@ -845,14 +845,16 @@ fn bad_initial_data_reads_the_same_on_both_paths() {
         // Good data: the same run.
         let (fixed, dynamic) = both(&q0, &v0, start);
         assert!((fixed.unwrap() - dynamic.unwrap()).abs() < 1e-12);
-        // One particle faster than light: blamed on the velocity, both vectors shortened.
+        // One particle faster than light: blamed on the velocity, both vectors shortened to
+        // their ends and their largest coordinate.
         let mut fast = v0.clone();
         fast[5] = 1.5;
         let (fixed, dynamic) = both(&q0, &fast, start);
         let expected = Error::OutsideDomain {
-            what: "the initial velocity q̇(a) = [0.2, 0.2, 0.2, …, 0.2] (d = 12) \
-                   (at q(a) = [0.0, 0.1, 0.2, …, 1.1] (d = 12), t = 0)"
-                .to_string(),
+            what:
+                "the initial velocity q̇(a) = [0.2, 0.2, 0.2, …, 0.2] (d = 12; largest [5] = 1.5) \
+                   (at q(a) = [0.0, 0.1, 0.2, …, 1.1] (d = 12; largest [11] = 1.1), t = 0)"
+                    .to_string(),
         };
         assert_eq!(fixed.unwrap_err(), expected);
         assert_eq!(dynamic.unwrap_err(), expected);
@@ -865,5 +867,49 @@ fn bad_initial_data_reads_the_same_on_both_paths() {
         };
         assert_eq!(fixed.unwrap_err(), expected);
         assert_eq!(dynamic.unwrap_err(), expected);
+    }
+    // From given first nodes, checked at `Q_1` with the velocity `(Q_1 − Q_0)/h`.
+    let from_nodes = |q0: &[f64], q1: &[f64]| {
+        let model = RelativisticWells;
+        let (x0, x1) = (
+            Vector::<TWELVE>::from_column_slice(q0),
+            Vector::from_column_slice(q1),
+        );
+        let fixed = Problem::new(&model, grid, embedding)
+            .solve_ivp_from_nodes(Scheme::Variational, x0, x1)
+            .map(|run| run.last()[0]);
+        let dynamic = DynProblem::new(&model, grid, embedding)
+            .solve_ivp_from_nodes(Scheme::Variational, q0, q1)
+            .map(|run| run.node(grid.n())[0]);
+        (fixed, dynamic)
+    };
+    let h = grid.h();
+    let q1: Vec<f64> = q0.iter().zip(&v0).map(|(q, v)| q + h * v).collect();
+    let (fixed, dynamic) = from_nodes(&q0, &q1);
+    assert!((fixed.unwrap() - dynamic.unwrap()).abs() < 1e-12);
+    let mut nan = q1.clone();
+    nan[4] = f64::INFINITY;
+    let (fixed, dynamic) = from_nodes(&q0, &nan);
+    let expected = Error::NonFiniteInput {
+        what: "q1[4] = inf (the second node Q_1)".to_string(),
+    };
+    assert_eq!(fixed.unwrap_err(), expected);
+    assert_eq!(dynamic.unwrap_err(), expected);
+    // Particle 2 moves 0.1 in one step of 0.05: twice the speed of light.
+    let mut fast = q1.clone();
+    fast[2] = q0[2] + 0.1;
+    let (fixed, dynamic) = from_nodes(&q0, &fast);
+    let (fixed, dynamic) = (fixed.unwrap_err(), dynamic.unwrap_err());
+    assert_eq!(fixed, dynamic);
+    match fixed {
+        Error::OutsideDomain { what } => {
+            assert!(
+                what.starts_with("the first nodes Q_0 = [0.0, 0.1, 0.2, …, 1.1] (d = 12;")
+                    && what.contains("(velocity [")
+                    && what.contains("largest [2] = 2.0"),
+                "{what}"
+            );
+        }
+        other => panic!("{other:?}"),
     }
 }
