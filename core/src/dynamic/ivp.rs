@@ -11,7 +11,7 @@ use crate::embedding::{Embedding, EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::grid::Grid;
 use crate::options::{LinearSolve, NewtonOptions};
-use crate::regularity::{InitialData, InitialDataModel, check_initial_point};
+use crate::regularity::{DEGENERACY_THRESHOLD, InitialData, InitialDataModel, check_initial_point};
 use crate::solve::guard::BlowUpGuard;
 use crate::solve::ivp::step_kind;
 use crate::solve::solution::Warning;
@@ -60,8 +60,8 @@ pub struct DynRun {
 pub(crate) enum SecondNode<'a> {
     /// From the initial velocity, by a start.
     Start(Start),
-    /// Given: the run from its first two nodes, whose initial data are `q0` and the velocity
-    /// `(Q_1 − Q_0)/h` (what the const-generic path checks and warns at).
+    /// Given: the run from its first two nodes, checked at `Q_1` with the velocity
+    /// `(Q_1 − Q_0)/h` and warned at `Q_0` with it, as on the const-generic path.
     Given(&'a [f64]),
 }
 
@@ -119,32 +119,47 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
                 t0: grid.t(0),
             },
         };
-        let (mut vv, hessian) = self.check_initial_data(data)?;
+        let checked = self.check_initial_data(data)?;
         let from_nodes = match second {
             SecondNode::Given(q1) => Some(velocity_from_nodes(q0, q1, h)),
             SecondNode::Start(_) => None,
         };
         let v0 = from_nodes.as_deref().unwrap_or(v0);
-        // The recurrence's linear stability at the initial data, where the model's modes
-        // decouple (the blow-up guard watches every run).
-        let l = self.lagrangian;
-        if let Some(mass) = decoupled_mass(&hessian, &l.hessian_dependence(), l.is_forced())
-            && let Some((lambda, largest_stable_step)) = mode_unstable(kind, (mass, &hessian.xx), h)
-        {
-            return Err(Error::Unstable {
-                at: Location::Step(0),
-                re: lambda.re,
-                im: lambda.im,
-                largest_stable_step: Some(largest_stable_step),
-            });
+        // The stability verdict and the resolution are read at `q0`, `v0`, `t_0`, as on the
+        // const-generic path: for given first nodes, that is `Q_0` with `(Q_1 − Q_0)/h`, which
+        // the checks (at `Q_1`) did not evaluate; neither is read where the model cannot be
+        // evaluated or factorised there.
+        let at_data = match second {
+            SecondNode::Start(_) => Some(checked),
+            SecondNode::Given(_) => {
+                drop(checked);
+                self.evaluated_at(q0, v0, grid.t(0))
+            }
+        };
+        let mut warning = None;
+        if let Some((mut vv, hessian)) = at_data {
+            // The recurrence's linear stability at the initial data, where the model's modes
+            // decouple (the blow-up guard watches every run).
+            let l = self.lagrangian;
+            if let Some(mass) = decoupled_mass(&hessian, &l.hessian_dependence(), l.is_forced())
+                && let Some((lambda, largest_stable_step)) =
+                    mode_unstable(kind, (mass, &hessian.xx), h)
+            {
+                return Err(Error::Unstable {
+                    at: Location::Step(0),
+                    re: lambda.re,
+                    im: lambda.im,
+                    largest_stable_step: Some(largest_stable_step),
+                });
+            }
+            // The resolution at the initial data, while `∂²L/∂v²` there is factorised; the
+            // warning is attached to a run that returns. Both are freed before the run, whose
+            // memory is O(d b).
+            warning = self
+                .resolution_check
+                .then(|| resolution_warning(&hessian, &mut vv, h, 1))
+                .flatten();
         }
-        // The resolution at the initial data, while `∂²L/∂v²` there is factorised; the
-        // warning is attached to a run that returns.
-        let warning = self
-            .resolution_check
-            .then(|| resolution_warning(&hessian, &mut vv, h, 1))
-            .flatten();
-        drop(hessian);
         let d = q0.len();
         let t0 = grid.t(0);
         // The node values' buffers, and a constant `∂²L/∂v²` factorised now, before the steps'
@@ -164,19 +179,11 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         let mut pi = vec![0.0; d];
         let mut b = match second {
             SecondNode::Start(Start::SecondOrder) => {
-                drop(vv);
                 let model = &mut DynNodeModel::new(self.lagrangian, d);
                 second_order_start(model, (q0, v0), (t0, h))?
             }
-            // Not needed by these: freed before the run, whose memory is O(d b).
-            SecondNode::Start(Start::Legendre) => {
-                drop(vv);
-                self.legendre_start(kind, q0, v0, &mut pi)?
-            }
-            SecondNode::Given(q1) => {
-                drop(vv);
-                q1.to_vec()
-            }
+            SecondNode::Start(Start::Legendre) => self.legendre_start(kind, q0, v0, &mut pi)?,
+            SecondNode::Given(q1) => q1.to_vec(),
         };
         let mut a = q0.to_vec();
         if grid.n() == 1 {
@@ -295,6 +302,23 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
                 at: Location::Step(0),
             }),
         }
+    }
+}
+
+impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
+    /// `∂²L/∂v²` factorised and the second derivatives at `(x, v, t)`, without the checks'
+    /// errors: `None` where they are not finite or `∂²L/∂v²` is degenerate.
+    fn evaluated_at(&self, x: &[f64], v: &[f64], t: f64) -> Option<(BandSystem, SparseHessian)> {
+        let mut point = DynPoint {
+            lagrangian: self.lagrangian,
+            hessian: SparseHessian::new(x.len()),
+            vv: None,
+        };
+        let regular = |measure: f64| measure >= DEGENERACY_THRESHOLD;
+        if !point.in_domain(x, v, t) || !regular(point.vv_measure()) {
+            return None;
+        }
+        point.vv.map(|vv| (vv, point.hessian))
     }
 }
 

@@ -202,11 +202,11 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// A model that is also a [`DynLagrangian`](crate::DynLagrangian) with
     /// [`RUN_TIME_FROM`](crate::RUN_TIME_FROM) or more degrees of freedom is run by the
     /// run-time-dimension engine, as in [`solve_ivp`](Self::solve_ivp)
-    /// ([`DynProblem::solve_ivp_from_nodes`](crate::DynProblem::solve_ivp_from_nodes)), whose
-    /// checks differ: it checks its initial data `Q_0`, `(Q_1 − Q_0)/h` at `a` (with the
-    /// stability verdict there, [`Error::Unstable`](crate::Error::Unstable)),
-    /// where this path checks `∂²L/∂v²` and the domain at `Q_1` and the degeneracy again at the
-    /// last nodes.
+    /// ([`DynProblem::solve_ivp_from_nodes`](crate::DynProblem::solve_ivp_from_nodes)). Both
+    /// paths check the first nodes alike, with the same errors: finite, and `∂²L/∂v²` and the
+    /// domain at `Q_1` with the velocity `(Q_1 − Q_0)/h`, at step 1. The run-time engine also
+    /// gives its stability verdict ([`Error::Unstable`](crate::Error::Unstable)) at `Q_0` with
+    /// that velocity; this path checks the degeneracy again at the last nodes.
     ///
     /// # Example
     ///

@@ -106,10 +106,11 @@ impl<'l, L: DynLagrangian + ?Sized> DynProblem<'l, L> {
 
     /// The run of the recurrence of `scheme` from given first nodes `Q_0 = q0`, `Q_1 = q1`,
     /// storing every node: the same call as
-    /// [`Problem::solve_ivp_from_nodes`](crate::Problem::solve_ivp_from_nodes). The initial
-    /// data checked as those of [`solve_ivp`](Self::solve_ivp) (and, with the resolution
-    /// check, warned at) are `q0` and the velocity `(Q_1 − Q_0)/h` at `a`; a `q1` of the wrong
-    /// length or not finite is an error naming `q1`. [`Error::Unsupported`] under
+    /// [`Problem::solve_ivp_from_nodes`](crate::Problem::solve_ivp_from_nodes), with the same
+    /// checks and errors: the first nodes finite (a bad coordinate named, `q1[5] = NaN`), and
+    /// the domain and `∂²L/∂v²` at `Q_1` with the velocity `(Q_1 − Q_0)/h`, at step 1. The
+    /// stability verdict and, with the resolution check, the warning are taken at `q0` with
+    /// that velocity at `a`; a `q1` of the wrong length is an error naming `q1`. [`Error::Unsupported`] under
     /// Gauss–Legendre, a one-step map of `(q, p)` that runs from `q(a)`, `q̇(a)`.
     ///
     /// # Example
