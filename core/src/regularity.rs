@@ -81,11 +81,12 @@ pub(crate) fn check_vv<const D: usize>(
 pub(crate) fn check_constants<L: Lagrangian<D> + ?Sized, const D: usize>(
     lagrangian: &L,
 ) -> Result<()> {
-    match lagrangian
-        .constants()
-        .into_iter()
-        .find(|(_, value)| !value.is_finite())
-    {
+    constants_finite(lagrangian.constants())
+}
+
+/// [`check_constants`] of a model's list of constants, whichever trait gave it.
+fn constants_finite(constants: Vec<(&'static str, f64)>) -> Result<()> {
+    match constants.into_iter().find(|(_, value)| !value.is_finite()) {
         Some((name, value)) => Err(Error::NonFiniteInput {
             what: format!("model constant `{name}` = {value}"),
         }),
@@ -181,11 +182,7 @@ pub(crate) fn check_initial_point(
     model: &mut impl InitialDataModel,
     data: InitialData<'_>,
 ) -> Result<()> {
-    if let Some((name, value)) = model.constants().into_iter().find(|c| !c.1.is_finite()) {
-        return Err(Error::NonFiniteInput {
-            what: format!("model constant `{name}` = {value}"),
-        });
-    }
+    constants_finite(model.constants())?;
     let named = match data {
         InitialData::Velocity { q0, v0, .. } => [
             ("q0", "the initial position q(a)", q0),
