@@ -172,6 +172,17 @@ pub(crate) enum InitialData<'a> {
     },
 }
 
+impl InitialData<'_> {
+    /// Where the checks place these data: step 0 for `q(a)`, `q̇(a)`; step 1 for given first
+    /// nodes, checked at `Q_1`.
+    pub(crate) fn location(&self) -> Location {
+        match self {
+            InitialData::Velocity { .. } => Location::Step(0),
+            InitialData::Nodes { .. } => Location::Step(1),
+        }
+    }
+}
+
 /// The checks of the data an initial value problem starts from, before any step, written once
 /// for both paths: finite constants and data (a bad coordinate named by its index), a point
 /// inside the Lagrangian's domain (for `q(a)`, `q̇(a)`, a velocity outside it is blamed on the
@@ -200,7 +211,7 @@ pub(crate) fn check_initial_point(
             });
         }
     }
-    let at = match data {
+    match data {
         InitialData::Velocity { q0, v0, t0 } => {
             if !model.in_domain(q0, v0, t0) {
                 let what = if model.in_domain(q0, &vec![0.0; v0.len()], t0) {
@@ -214,7 +225,6 @@ pub(crate) fn check_initial_point(
                 };
                 return Err(Error::OutsideDomain { what });
             }
-            Location::Step(0)
         }
         InitialData::Nodes { q0, q1, t1, h } => {
             let v: Vec<f64> = q0.iter().zip(q1).map(|(a, b)| (b - a) / h).collect();
@@ -227,13 +237,12 @@ pub(crate) fn check_initial_point(
                 );
                 return Err(Error::OutsideDomain { what });
             }
-            Location::Step(1)
         }
-    };
+    }
     let measure = model.vv_measure();
     if measure.is_nan() || measure < DEGENERACY_THRESHOLD {
         return Err(Error::DegenerateLagrangian {
-            at,
+            at: data.location(),
             measure,
             directions: model.degenerate_directions(),
         });
@@ -320,7 +329,7 @@ pub(crate) fn check_point<L: Lagrangian<D> + ?Sized, const D: usize>(
     };
     check_initial_point(&mut point, data)?;
     point.derivatives.ok_or(Error::NotFinite {
-        at: Location::Step(0),
+        at: data.location(),
     })
 }
 

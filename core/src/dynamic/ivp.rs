@@ -299,7 +299,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         match point.vv {
             Some(vv) => Ok((vv, point.hessian)),
             None => Err(Error::NotFinite {
-                at: Location::Step(0),
+                at: data.location(),
             }),
         }
     }
@@ -322,10 +322,10 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
     }
 }
 
-/// `(Q_1 − Q_0)/h` of first nodes already checked.
+/// `(Q_1 − Q_0)/h` of first nodes already checked: divided by `h`, as the checks and the
+/// const-generic path form it, so that all read the same velocity.
 fn velocity_from_nodes(q0: &[f64], q1: &[f64], h: f64) -> Vec<f64> {
-    let inv_h = 1.0 / h;
-    q0.iter().zip(q1).map(|(a, b)| (b - a) * inv_h).collect()
+    q0.iter().zip(q1).map(|(a, b)| (b - a) / h).collect()
 }
 
 /// A [`DynLagrangian`] under the checks of its initial data: the Hessian of the last point
