@@ -9,7 +9,8 @@
 //! | `a / b` | `(a' − n·b') / b`; `−n·(1/b)·b'` when `a' = 0` (one division fewer in series) |
 //! | `sin a`, `cos a`, `tan a` | `cos a·a'`, `−sin a·a'`, `(1 + n²)·a'` |
 //! | `asin a`, `acos a`, `atan a` | `a'/√(1 − a²)`, `−a'/√(1 − a²)`, `a'/(1 + a²)` |
-//! | `sinh a`, `cosh a`, `tanh a` | `cosh a·a'`, `sinh a·a'`, `(1 − n²)·a'` |
+//! | `sinh a`, `cosh a`, `tanh a` | `cosh a·a'`, `sinh a·a'`, `sech² a·a'` |
+//! | `sech² a` (internal: `tanh`'s derivative) | `−2 tanh a·n·a'` |
 //! | `exp a`, `ln a`, `log10 a` | `n·a'`, `a'/a`, `a'/(a·ln 10)` |
 //! | `exp_m1 a`, `ln_1p a` | `exp a·a'`, `a'/(1 + a)` |
 //! | `sqrt a`, `cbrt a`, `recip a` | `a'/(2n)`, `a'/(3n²)`, `−n²·a'` |
@@ -123,10 +124,13 @@ impl Differentiator {
                     }
                     Func::Sinh => g.call(Func::Cosh, a),
                     Func::Cosh => g.call(Func::Sinh, a),
-                    Func::Tanh => {
-                        let sq = g.mul(id, id);
-                        let one = g.num(1.0);
-                        g.sub(one, sq)
+                    // Not `1 − n²`, which cancels where `|a|` is large (see `ir::sech2`).
+                    Func::Tanh => g.call(Func::Sech2, a),
+                    Func::Sech2 => {
+                        let t = g.call(Func::Tanh, a);
+                        let minus_two = g.num(-2.0);
+                        let m = g.mul(minus_two, t);
+                        g.mul(m, id)
                     }
                     Func::Exp => id,
                     // `exp a`, not `n + 1`: exact where `n` is, and shared with an `exp a` of

@@ -16,12 +16,7 @@ use quote::{format_ident, quote};
 use crate::cse::Plans;
 use crate::ir::{Attr, Dependence, Derivatives, Graph, HessianDependence, Id, Model, Var};
 use crate::render::Render;
-
-/// `::varembed::__private::<name>`: the one path by which generated code reaches core.
-pub fn private(name: &str) -> TokenStream {
-    let name = Ident::new(name, Span::call_site());
-    quote!(::varembed::__private::#name)
-}
+pub use crate::render::private;
 
 /// The user's fn, the struct, its `DERIVATIVES` (the text `text`) and its `Lagrangian<D>` impl
 /// evaluating `d` by `plans`.

@@ -7,6 +7,12 @@ use quote::{format_ident, quote};
 use crate::cse::Plan;
 use crate::ir::{Func, Graph, Id, Node, Prec, Var, constant_name};
 
+/// `::varembed::__private::<name>`: the one path by which generated code reaches core.
+pub fn private(name: &str) -> TokenStream {
+    let name = Ident::new(name, Span::call_site());
+    quote!(::varembed::__private::#name)
+}
+
 /// Renders the nodes of one [`Plan`] as Rust tokens.
 pub struct Render<'a> {
     g: &'a Graph,
@@ -95,6 +101,11 @@ impl<'a> Render<'a> {
                     quote!(if #a > 0.0 { 1.0 } else if #a < 0.0 { -1.0 } else { 0.0 }),
                     Prec::If,
                 )
+            }
+            Node::Call(Func::Sech2, a) => {
+                let f = private("sech2");
+                let a = self.root(a);
+                (quote!(#f(#a)), Prec::Atom)
             }
             Node::Call(f, a) => {
                 let a = self.receiver(a);

@@ -189,6 +189,9 @@ impl Printer<'_> {
             Node::Call(Func::Sign, a) => {
                 Poly::atom(format!("sign({})", plain(self.normal(a))), Prec::Atom)
             }
+            Node::Call(Func::Sech2, a) => {
+                Poly::atom(format!("sech2({})", plain(self.normal(a))), Prec::Atom)
+            }
             Node::Call(f, a) => Poly::atom(
                 format!("{}.{}()", atom(self.normal(a)), f.name()),
                 Prec::Atom,
@@ -268,6 +271,7 @@ impl Printer<'_> {
             Node::Div(a, b) => bin(a, b, "/", Prec::Mul),
             Node::Neg(a) => (format!("-{}", self.wrap(a, Prec::Atom)), Prec::Neg),
             Node::Call(Func::Sign, a) => (format!("sign({})", self.go(a).0), Prec::Atom),
+            Node::Call(Func::Sech2, a) => (format!("sech2({})", self.go(a).0), Prec::Atom),
             Node::Call(f, a) => (
                 format!("{}.{}()", self.wrap(a, Prec::Atom), f.name()),
                 Prec::Atom,

@@ -152,6 +152,7 @@ const PRIVATE: &[&str] = &[
     "lagrangian_helpers",
     "linalg",
     "operator",
+    "sech2",
     "step",
     "toeplitz",
     "weights",
