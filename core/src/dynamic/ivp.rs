@@ -11,7 +11,7 @@ use crate::embedding::{Embedding, EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::grid::Grid;
 use crate::options::{LinearSolve, NewtonOptions};
-use crate::regularity::{DEGENERACY_THRESHOLD, InitialData, InitialDataModel, check_initial_point};
+use crate::regularity::{InitialData, InitialDataModel, check_initial_point};
 use crate::solve::guard::BlowUpGuard;
 use crate::solve::ivp::step_kind;
 use crate::solve::solution::Warning;
@@ -290,11 +290,7 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         for (name, x) in lengths {
             crate::error::check_len(name, d, x.len())?;
         }
-        let mut point = DynPoint {
-            lagrangian: l,
-            hessian: SparseHessian::new(d),
-            vv: None,
-        };
+        let mut point = DynPoint::new(l, d);
         check_initial_point(&mut point, data)?;
         match point.vv {
             Some(vv) => Ok((vv, point.hessian)),
@@ -303,21 +299,18 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
             }),
         }
     }
-}
 
-impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
-    /// `∂²L/∂v²` factorised and the second derivatives at `(x, v, t)`, without the checks'
-    /// errors: `None` where they are not finite or `∂²L/∂v²` is degenerate.
+    /// `∂²L/∂v²` factorised and the second derivatives at `(x, v, t)`: the checks of initial
+    /// data there, with their errors dropped (`None` where the model is not finite or
+    /// `∂²L/∂v²` is degenerate there).
     fn evaluated_at(&self, x: &[f64], v: &[f64], t: f64) -> Option<(BandSystem, SparseHessian)> {
-        let mut point = DynPoint {
-            lagrangian: self.lagrangian,
-            hessian: SparseHessian::new(x.len()),
-            vv: None,
+        let mut point = DynPoint::new(self.lagrangian, x.len());
+        let data = InitialData::Velocity {
+            q0: x,
+            v0: v,
+            t0: t,
         };
-        let regular = |measure: f64| measure >= DEGENERACY_THRESHOLD;
-        if !point.in_domain(x, v, t) || !regular(point.vv_measure()) {
-            return None;
-        }
+        check_initial_point(&mut point, data).ok()?;
         point.vv.map(|vv| (vv, point.hessian))
     }
 }
@@ -334,6 +327,17 @@ struct DynPoint<'l, L: ?Sized> {
     lagrangian: &'l L,
     hessian: SparseHessian,
     vv: Option<BandSystem>,
+}
+
+impl<'l, L: ?Sized> DynPoint<'l, L> {
+    /// `lagrangian` at dimension `d`, nothing evaluated yet.
+    fn new(lagrangian: &'l L, d: usize) -> Self {
+        DynPoint {
+            lagrangian,
+            hessian: SparseHessian::new(d),
+            vv: None,
+        }
+    }
 }
 
 impl<L: DynLagrangian + ?Sized> InitialDataModel for DynPoint<'_, L> {
