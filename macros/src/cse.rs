@@ -6,7 +6,7 @@
 //! user. Emitting temporaries in id order (a topological order) then evaluates every distinct
 //! subexpression exactly once per method.
 
-use crate::ir::{Derivatives, Func, Graph, Id, Node};
+use crate::ir::{Derivatives, Graph, Id, Node};
 
 /// One [`Plan`] per generated method.
 #[derive(Clone, Debug)]
@@ -78,8 +78,9 @@ impl Plan {
         for id in g.reachable(roots) {
             let node = g.node(id);
             for c in node.children() {
-                // `sign(a)` is emitted as an `if` that reads `a` twice: `a` must be a value.
-                uses[c] += if matches!(node, Node::Call(Func::Sign, _)) {
+                // `sign(a)` is emitted as an `if` that reads `a` twice, `1 − a²` as
+                // `(1 − a)(1 + a)`: `a` must be a value.
+                uses[c] += if matches!(node, Node::Call(f, _) if f.reads_argument_twice()) {
                     2
                 } else {
                     1

@@ -108,10 +108,11 @@ impl Differentiator {
                         let one = g.num(1.0);
                         g.add(one, sq)
                     }
+                    // Not `1 − a·a`, which cancels where `|a|` nears 1 (see
+                    // `Func::OneMinusSquare`).
                     Func::Asin | Func::Acos => {
-                        let sq = g.mul(a, a);
                         let one = g.num(1.0);
-                        let diff = g.sub(one, sq);
+                        let diff = g.call(Func::OneMinusSquare, a);
                         let root = g.call(Func::Sqrt, diff);
                         let inv = g.div(one, root);
                         if f == Func::Acos { g.neg(inv) } else { inv }
@@ -131,6 +132,10 @@ impl Differentiator {
                         let minus_two = g.num(-2.0);
                         let m = g.mul(minus_two, t);
                         g.mul(m, id)
+                    }
+                    Func::OneMinusSquare => {
+                        let minus_two = g.num(-2.0);
+                        g.mul(minus_two, a)
                     }
                     Func::Exp => id,
                     // `exp a`, not `n + 1`: exact where `n` is, and shared with an `exp a` of

@@ -107,6 +107,11 @@ impl<'a> Render<'a> {
                 let a = self.root(a);
                 (quote!(#f(#a)), Prec::Atom)
             }
+            Node::Call(Func::OneMinusSquare, a) => {
+                // `a` is a temporary or a leaf (see `cse.rs`), so it is read, not recomputed.
+                let a = self.wrapped(a, Prec::Atom);
+                (quote!((1.0 - #a) * (1.0 + #a)), Prec::Mul)
+            }
             Node::Call(f, a) => {
                 let a = self.receiver(a);
                 let m = Ident::new(f.name(), Span::call_site());

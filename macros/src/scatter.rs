@@ -138,9 +138,9 @@ impl Nest {
                 if !expanded.insert(id) {
                     continue;
                 }
-                let sign = matches!(node, Node::Call(crate::ir::Func::Sign, _));
+                let twice = matches!(node, Node::Call(f, _) if f.reads_argument_twice());
                 for c in node.children() {
-                    *uses.entry(c).or_default() += if sign { 2 } else { 1 };
+                    *uses.entry(c).or_default() += if twice { 2 } else { 1 };
                     stack.push(c);
                 }
             }

@@ -192,6 +192,10 @@ impl Printer<'_> {
             Node::Call(Func::Sech2, a) => {
                 Poly::atom(format!("sech2({})", plain(self.normal(a))), Prec::Atom)
             }
+            Node::Call(Func::OneMinusSquare, a) => {
+                let a = self.normal(a);
+                Poly::number(1.0).add(a.clone().mul(a).scale(-1.0))
+            }
             Node::Call(f, a) => Poly::atom(
                 format!("{}.{}()", atom(self.normal(a)), f.name()),
                 Prec::Atom,
@@ -272,6 +276,10 @@ impl Printer<'_> {
             Node::Neg(a) => (format!("-{}", self.wrap(a, Prec::Atom)), Prec::Neg),
             Node::Call(Func::Sign, a) => (format!("sign({})", self.go(a).0), Prec::Atom),
             Node::Call(Func::Sech2, a) => (format!("sech2({})", self.go(a).0), Prec::Atom),
+            Node::Call(Func::OneMinusSquare, a) => {
+                let a = self.wrap(a, Prec::Atom);
+                (format!("(1 - {a}) * (1 + {a})"), Prec::Mul)
+            }
             Node::Call(f, a) => (
                 format!("{}.{}()", self.wrap(a, Prec::Atom), f.name()),
                 Prec::Atom,
