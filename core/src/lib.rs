@@ -71,7 +71,7 @@
 //!
 //! The repository holds more: runnable programs to start from (`cargo run --example NAME` in
 //! its `examples/` package) and the tour of scenes (`cargo run --release -p
-//! varembed-examples`), which compares every scheme on ten problems and writes a report.
+//! varembed-examples`), which compares every scheme on thirteen problems and writes a report.
 //!
 //! # Which scheme
 //!

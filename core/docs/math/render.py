@@ -14,7 +14,7 @@ download and no network, under `cargo doc` and on docs.rs alike. Run after editi
 
     pip install latex2mathml && python3 core/docs/math/render.py
 
-`tests/tests/module_graph.rs` checks that every formula has its rendered line.
+`tests/tests/project/module_graph.rs` checks that every formula has its rendered line.
 """
 import pathlib
 import re
