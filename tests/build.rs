@@ -215,7 +215,9 @@ enum Fun {
     Cosh,
     Tanh,
     Exp,
+    ExpM1,
     Ln,
+    Ln1p,
     Log10,
     Sqrt,
     Cbrt,
@@ -236,7 +238,9 @@ impl Fun {
             Fun::Cosh => "cosh",
             Fun::Tanh => "tanh",
             Fun::Exp => "exp",
+            Fun::ExpM1 => "exp_m1",
             Fun::Ln => "ln",
+            Fun::Ln1p => "ln_1p",
             Fun::Log10 => "log10",
             Fun::Sqrt => "sqrt",
             Fun::Cbrt => "cbrt",
@@ -304,6 +308,8 @@ enum E {
     Powf(Box<E>, f64),
     Hypot(Box<E>, Box<E>),
     Max(Box<E>, Box<E>),
+    /// `a.method(b)` for a method of two arguments other than `hypot` and `max`.
+    Pair(PairFn, Box<E>, Box<E>),
     Signum(Box<E>),
     Helper(&'static str, Vec<E>),
     If(Box<Cond>, Box<E>, Box<E>),
@@ -311,6 +317,26 @@ enum E {
     Sum(String, Range, Box<E>),
     /// `{ let a = …; … e }`.
     Block(Vec<(String, E)>, Box<E>),
+}
+
+/// The methods of two arguments of [`E::Pair`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum PairFn {
+    /// `y.atan2(x)`.
+    Atan2,
+    /// `a.powf(b)` with an exponent that is an expression (num-dual's `powd`).
+    Powf,
+    Min,
+}
+
+impl PairFn {
+    fn name(self) -> &'static str {
+        match self {
+            PairFn::Atan2 => "atan2",
+            PairFn::Powf => "powf",
+            PairFn::Min => "min",
+        }
+    }
 }
 
 fn bin(op: Op, a: E, b: E) -> E {
@@ -458,6 +484,7 @@ fn render(e: &E, lang: Lang) -> (String, u8) {
         E::Powf(a, p) => (format!("{}.powf({p:?})", paren(r(a), 4)), 4),
         E::Hypot(a, b) => (format!("{}.hypot({})", paren(r(a), 4), r(b).0), 4),
         E::Max(a, b) => (format!("{}.max({})", paren(r(a), 4), r(b).0), 4),
+        E::Pair(g, a, b) => (format!("{}.{}({})", paren(r(a), 4), g.name(), r(b).0), 4),
         E::Signum(a) => (format!("{}.signum()", paren(r(a), 4)), 4),
         E::Helper(name, args) => {
             let args: Vec<String> = args.iter().map(|a| r(a).0).collect();
@@ -597,6 +624,14 @@ fn oracle(e: &E) -> (String, u8, bool) {
             (format!("({a} * {a} + {b} * {b}).sqrt()"), 4, false)
         }
         E::Max(a, b) => (format!("dual_max({}, {})", t_of(a).0, t_of(b).0), 4, false),
+        E::Pair(g, a, b) => {
+            let (a, b) = (t_of(a).0, t_of(b).0);
+            match g {
+                PairFn::Atan2 => (format!("({a}).atan2({b})"), 4, false),
+                PairFn::Powf => (format!("({a}).powd({b})"), 4, false),
+                PairFn::Min => (format!("dual_min({a}, {b})"), 4, false),
+            }
+        }
         E::Signum(a) => {
             let (s, p, scalar) = oracle(a);
             let re = if scalar {
@@ -972,7 +1007,8 @@ impl<'a> Gen<'a> {
     /// A function of `y`, applied where it is defined.
     fn smooth(&mut self, y: E) -> E {
         let half = |y: E| mul(num(0.5), y);
-        match self.rng.below(22) {
+        let pair = |g, a, b| E::Pair(g, Box::new(a), Box::new(b));
+        match self.rng.below(27) {
             0 => y,
             1 => mul(y.clone(), y),
             2 => f(Fun::Sin, y),
@@ -994,6 +1030,25 @@ impl<'a> Gen<'a> {
             18 => f(Fun::Cosh, half(y)),
             19 => f(Fun::Cbrt, positive(2.0, y)),
             20 => f(Fun::Log10, positive(1.5, y)),
+            21 => f(Fun::ExpM1, half(y)),
+            22 => f(Fun::Ln1p, half(f(Fun::Tanh, y))),
+            // The second argument at least 1.2 (the constants are positive, `t ≥ 0`), so that
+            // `(0, 0)`, where `atan2` is not differentiable, is never near.
+            23 => {
+                let x = match self.k() {
+                    Some(k) => add(num(1.5), k),
+                    None if self.time => add(num(1.2), E::T),
+                    None => num(1.2),
+                };
+                pair(PairFn::Atan2, y, x)
+            }
+            // An exponent that is an expression: of `t`, or of a component.
+            24 => {
+                let z = if self.time { E::T } else { y.clone() };
+                let e = add(num(0.75), mul(num(0.25), f(Fun::Sin, z)));
+                pair(PairFn::Powf, positive(1.0, y), e)
+            }
+            25 => pair(PairFn::Min, y, num(-0.1)),
             _ => {
                 let h = match self.k() {
                     Some(k) => k,
@@ -1716,7 +1771,9 @@ fn has_loop(stmts: &[S]) -> bool {
         match e {
             E::Sum(..) => true,
             E::Neg(a) | E::F(_, a) | E::Powi(a, _) | E::Powf(a, _) | E::Signum(a) => in_expr(a),
-            E::Bin(_, a, b) | E::Hypot(a, b) | E::Max(a, b) => in_expr(a) || in_expr(b),
+            E::Bin(_, a, b) | E::Hypot(a, b) | E::Max(a, b) | E::Pair(_, a, b) => {
+                in_expr(a) || in_expr(b)
+            }
             E::Helper(_, args) => args.iter().any(in_expr),
             E::If(_, a, b) => in_expr(a) || in_expr(b),
             E::Block(lets, v) => lets.iter().any(|l| in_expr(&l.1)) || in_expr(v),
@@ -2068,6 +2125,11 @@ fn dual_tanh<T: DualNum<Primitive = f64> + Copy>(a: T) -> T {
 /// `a.max(b)`, where `f64::max` has no num-dual counterpart: the larger by value.
 fn dual_max<T: DualNum<Primitive = f64> + Copy>(a: T, b: T) -> T {
     if a.re() >= b.re() { a } else { b }
+}
+
+/// `a.min(b)`: the smaller by value.
+fn dual_min<T: DualNum<Primitive = f64> + Copy>(a: T, b: T) -> T {
+    if a.re() <= b.re() { a } else { b }
 }
 "#;
 

@@ -20,7 +20,8 @@
 //! (squared, multiplied, divided, as a centre of mass read in a second loop), branches on
 //! real and index conditions, helper fns, neighbour `x[i + 1]`, periodic `x[(i + 1) % N]`
 //! and strided `x[2 * i + 1]` indices, time, model constants, and the `f64` functions on
-//! arguments where they are defined.
+//! arguments where they are defined (every one of the language: `exp_m1`, `ln_1p`, `atan2`,
+//! `max`, `min`, `hypot`, and `powf` with a number or an expression as exponent among them).
 //!
 //! At random points (`x`, `v` uniform in `[−1, 1]`, `t` in `[0, 2]`; 3 per program, or
 //! `VAREMBED_FUZZ_POINTS`) it checks:
