@@ -27,3 +27,18 @@ pub mod reference;
 pub mod rng;
 pub mod special;
 pub mod warnings;
+
+/// `Problem::new` with the model as a `dyn Lagrangian<D> + Sync`: every problem of a dimension
+/// then shares one copy of the solvers' code, where `Problem<Model, D>` compiles the whole
+/// const-generic engine again for each model type (the `classical` test binary compiled in half
+/// the time this way: 137 s of CPU against 262 s). The code is the same generic code, so the
+/// nodes are the same bit for bit (a call through the vtable does not change the arithmetic);
+/// what a concrete model gains, the inlining of its derivatives into the steps, is a matter of
+/// speed, which the benches and the tour measure on concrete models.
+pub fn problem<'l, const D: usize>(
+    model: &'l (dyn varembed::Lagrangian<D> + Sync),
+    grid: varembed::Grid,
+    embedding: varembed::Embedding,
+) -> varembed::Problem<'l, dyn varembed::Lagrangian<D> + Sync + 'l, D> {
+    varembed::Problem::new(model, grid, embedding)
+}

@@ -2,7 +2,7 @@
 //! oscillation and dissipation are not.
 
 use varembed::{
-    Dependence, Embedding, Error, Grid, Hessian, Lagrangian, Matrix, Problem, Scheme, Side, Vector,
+    Dependence, Embedding, Error, Grid, Hessian, Lagrangian, Matrix, Scheme, Side, Vector,
     lagrangian,
 };
 use varembed_tests::reference::DiscreteOscillation;
@@ -47,7 +47,7 @@ fn verlet_at_omega_h_two_is_a_blow_up_with_its_window() {
     for steps in [100, 10_000] {
         let grid = Grid::new(0.0, 2.0 * steps as f64, steps).unwrap();
         for side in [Side::Backward, Side::Forward] {
-            let problem = Problem::new(&model, grid, fde(side));
+            let problem = varembed_tests::problem(&model, grid, fde(side));
             match problem.solve_ivp_from_nodes(Scheme::Variational, 1.0, -3.0) {
                 Err(Error::BlowUp { from, to, growth }) => {
                     assert!(2 < from && from <= to && to <= steps, "{from}..={to}");
@@ -87,7 +87,7 @@ fn stability_limit_passes(steps: usize) {
     let model = Oscillator { omega: 1.0 };
     let grid = Grid::new(0.0, 1.99 * steps as f64, steps).unwrap();
     for side in [Side::Backward, Side::Forward] {
-        let problem = Problem::new(&model, grid, fde(side));
+        let problem = varembed_tests::problem(&model, grid, fde(side));
         assert!(problem.blow_up_guard());
         let run = problem.solve_ivp(Scheme::Variational, 1.0, 0.0).unwrap();
         let bound = DiscreteOscillation::variational(1.99, run.q[0][0], run.q[1][0]).amplitude();
@@ -112,12 +112,12 @@ fn spherical_pendulum_near_the_pole_is_a_blow_up() {
     // so φ̇ ∼ p_φ/θ² near θ = 0, which h = 1e-3 does not resolve.
     let model = Spherical { g: 9.81 };
     let grid = Grid::new(0.0, 10.0, 10_000).unwrap();
-    let problem = Problem::new(&model, grid, fde(Side::Backward));
+    let problem = varembed_tests::problem(&model, grid, fde(Side::Backward));
     let (q0, v0) = ([0.3, 0.0], [-1.0, 0.02]);
     // Unguarded, the run is Ok with its energy from −8.87 to far above 0 (about 48; how far
     // depends on the rounding of each unresolved passage: over 10³ with the stopping rule's
     // old absolute floor).
-    let run = Problem::new(&model, grid, fde(Side::Backward))
+    let run = varembed_tests::problem(&model, grid, fde(Side::Backward))
         .with_blow_up_guard(false)
         .solve_ivp(Scheme::Variational, q0, v0)
         .unwrap();
@@ -157,7 +157,7 @@ fn dissipative_direct_pendulum_long_run_passes() {
     // The direct Gauss-FDE− scheme loses energy by design: over 10⁵ steps of h = 0.01 it
     // loses most of it, and that is no blow-up.
     let grid = Grid::new(0.0, 1000.0, 100_000).unwrap();
-    let problem = Problem::new(&Pendulum, grid, fde(Side::Backward));
+    let problem = varembed_tests::problem(&Pendulum, grid, fde(Side::Backward));
     let run = problem.solve_ivp(Scheme::Direct, 2.0, 0.0).unwrap();
     let e: Vec<f64> = (problem.quadrature_energies(&run.q).unwrap())
         .into_iter()
@@ -172,7 +172,7 @@ fn dissipative_direct_pendulum_long_run_passes() {
 fn resonant_growth_of_a_driven_oscillator_is_not_flagged() {
     // Not autonomous: the guard leaves it alone, and the amplitude grows like ½t as it must.
     let grid = Grid::new(0.0, 200.0, 20_000).unwrap();
-    let problem = Problem::new(&Driven, grid, fde(Side::Backward));
+    let problem = varembed_tests::problem(&Driven, grid, fde(Side::Backward));
     assert!(Driven.dependence().t);
     let run = problem.solve_ivp(Scheme::Variational, 0.0, 0.0).unwrap();
     let max = run.q.iter().map(|x| x[0].abs()).fold(0.0, f64::max);
@@ -287,7 +287,7 @@ fn random_autonomous_runs_are_bounded_or_typed_errors() {
             Side::Forward
         };
         let (q0, v0) = (rng.uniform(-1.0, 1.0), rng.uniform(-1.0, 1.0));
-        let problem = Problem::new(&model, grid, fde(side));
+        let problem = varembed_tests::problem(&model, grid, fde(side));
         match problem.solve_ivp(Scheme::Variational, q0, v0) {
             Ok(run) => {
                 ok += 1;
@@ -326,7 +326,7 @@ fn steady_drift_of_the_direct_forward_scheme_passes() {
     // so the energy by (1 + ω²h²)^N ≈ e^0.8 over N = 2000 steps: a drift of the scheme, at the
     // rate of its early run, returned as it is.
     let grid = Grid::new(0.0, 20.0, 2000).unwrap();
-    let problem = Problem::new(&Oscillator { omega: 2.0 }, grid, fde(Side::Forward));
+    let problem = varembed_tests::problem(&Oscillator { omega: 2.0 }, grid, fde(Side::Forward));
     let run = problem.solve_ivp(Scheme::Direct, 1.0, 0.5).unwrap();
     let e: Vec<f64> = (problem.quadrature_energies(&run.q).unwrap())
         .into_iter()

@@ -1,7 +1,7 @@
 //! The classical boundary value problem, given the endpoints of an initial value
 //! run, returns that run (for every classical scheme, both sides).
 
-use varembed::{Embedding, Grid, Problem, Scheme, Side, Vector};
+use varembed::{Embedding, Grid, Scheme, Side, Vector};
 use varembed_tests::curve::max_diff;
 use varembed_tests::models::hand::{Coupled, Pendulum};
 
@@ -14,7 +14,7 @@ fn bvp_through_the_ends_of_an_ivp_run_is_that_run() {
             Embedding::finite_difference(side),
             Embedding::asymmetric(side),
         ] {
-            let problem = Problem::new(&pendulum, grid, embedding);
+            let problem = varembed_tests::problem(&pendulum, grid, embedding);
             for scheme in [Scheme::Direct, Scheme::Variational] {
                 let run = problem.solve_ivp(scheme, 0.8, -0.5).unwrap();
                 let bvp = problem.solve_bvp(scheme, run.q[0], run.last()).unwrap();
@@ -33,7 +33,7 @@ fn bvp_through_the_ends_of_an_ivp_run_is_that_run() {
 fn bvp_returns_the_run_in_two_dimensions_with_a_time_dependent_lagrangian() {
     let grid = Grid::new(0.0, 1.0, 200).unwrap();
     for side in [Side::Backward, Side::Forward] {
-        let problem = Problem::new(&Coupled, grid, Embedding::finite_difference(side));
+        let problem = varembed_tests::problem(&Coupled, grid, Embedding::finite_difference(side));
         for scheme in [Scheme::Direct, Scheme::Variational] {
             let run = problem
                 .solve_ivp(scheme, Vector::<2>::new(0.5, -0.2), [0.3, 0.4])

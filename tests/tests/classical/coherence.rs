@@ -2,7 +2,7 @@
 //! agree to round-off for the asymmetric Gauss-FDE± and Gauss-GLE± (both forms), and differ by O(1) for
 //! Gauss-FDE±.
 
-use varembed::{Embedding, Grid, Problem, Scheme, Side};
+use varembed::{Embedding, Grid, Scheme, Side};
 use varembed_tests::curve::{max_diff, max_norm};
 use varembed_tests::models::hand::Coupled;
 use varembed_tests::rng::Rng;
@@ -18,7 +18,7 @@ fn asymmetric_and_grunwald_letnikov_embeddings_are_coherent() {
             embeddings.push(Embedding::caputo(side, alpha).unwrap());
         }
         for embedding in embeddings {
-            let problem = Problem::new(&Coupled, grid, embedding);
+            let problem = varembed_tests::problem(&Coupled, grid, embedding);
             assert_eq!(
                 problem.residual_rows(Scheme::Direct),
                 problem.residual_rows(Scheme::Variational)
@@ -39,7 +39,7 @@ fn finite_difference_embedding_is_not_coherent() {
     let grid = Grid::new(0.0, 2.0, 40).unwrap();
     let mut rng = Rng(5);
     for side in [Side::Backward, Side::Forward] {
-        let problem = Problem::new(&Coupled, grid, Embedding::finite_difference(side));
+        let problem = varembed_tests::problem(&Coupled, grid, Embedding::finite_difference(side));
         let direct_rows = problem.residual_rows(Scheme::Direct);
         let expected = match side {
             Side::Backward => 2..=40,

@@ -1,8 +1,8 @@
 //! `compare_ivp` / `compare_bvp`: every number of the table checked against an oracle.
 
 use varembed::{
-    CompareOptions, Embedding, FractionalSolver, Grid, OrderStatus, Problem, Reference, Scheme,
-    Side, Start, Vector, Warning, lagrangian,
+    CompareOptions, Embedding, FractionalSolver, Grid, OrderStatus, Reference, Scheme, Side, Start,
+    Vector, Warning, lagrangian,
 };
 use varembed_tests::curve::v1;
 use varembed_tests::models::hand::Pendulum;
@@ -22,7 +22,7 @@ fn exact_oscillator(t: f64) -> Vector<1> {
 fn ivp_comparison_reports_errors_orders_energy_and_coherence() {
     let oscillator = Oscillator { omega: 1.0 };
     let grid = Grid::new(0.0, 10.0, 2000).unwrap();
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &oscillator,
         grid,
         Embedding::finite_difference(Side::Backward),
@@ -76,7 +76,7 @@ fn ivp_comparison_reports_errors_orders_energy_and_coherence() {
 fn coherent_embedding_has_round_off_cross_residuals() {
     let pendulum = Pendulum { g: 1.0, l: 1.0 };
     let grid = Grid::new(0.0, 5.0, 500).unwrap();
-    let problem = Problem::new(&pendulum, grid, Embedding::asymmetric(Side::Forward));
+    let problem = varembed_tests::problem(&pendulum, grid, Embedding::asymmetric(Side::Forward));
     let cmp = problem.compare_ivp(1.0, 0.0).unwrap();
     assert_eq!(
         cmp.max_distance, 0.0,
@@ -98,7 +98,7 @@ fn coherent_embedding_has_round_off_cross_residuals() {
 fn fractional_bvp_comparison_is_coherent() {
     let pendulum = Pendulum { g: 1.0, l: 1.0 };
     let grid = Grid::new(0.0, 1.0, 64).unwrap();
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &pendulum,
         grid,
         Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap(),
@@ -121,7 +121,8 @@ fn convergence_runs_keep_the_fractional_solver() {
     let pendulum = Pendulum { g: 1.0, l: 1.0 };
     let gle = Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap();
     let problem = |n: usize, solver| {
-        Problem::new(&pendulum, Grid::new(0.0, 1.0, n).unwrap(), gle).with_fractional_solver(solver)
+        varembed_tests::problem(&pendulum, Grid::new(0.0, 1.0, n).unwrap(), gle)
+            .with_fractional_solver(solver)
     };
     let options = CompareOptions::default();
     let mut finest = Vec::new();
@@ -156,7 +157,7 @@ fn convergence_runs_keep_the_fractional_solver() {
 fn an_ill_posed_fractional_table_shows_its_warning() {
     let pendulum = Pendulum { g: 1.0, l: 1.0 };
     let gle = Embedding::grunwald_letnikov(Side::Backward, 0.5).unwrap();
-    let problem = Problem::new(&pendulum, Grid::new(0.0, 1.0, 32).unwrap(), gle);
+    let problem = varembed_tests::problem(&pendulum, Grid::new(0.0, 1.0, 32).unwrap(), gle);
     let options = CompareOptions {
         order: false,
         ..CompareOptions::default()
@@ -176,7 +177,7 @@ fn an_ill_posed_fractional_table_shows_its_warning() {
 fn a_coarse_self_convergence_order_is_not_reported_as_settled() {
     // ωh = 1.25 at N = 40 on [0, 50], then 0.63, 0.31, 0.16: the coarse grids are far from
     // the asymptotic regime, and the table must say so rather than print a plain order.
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &Oscillator { omega: 1.0 },
         Grid::new(0.0, 50.0, 40).unwrap(),
         Embedding::finite_difference(Side::Backward),

@@ -424,7 +424,7 @@ fn at_a_node_the_position_is_the_node() {
     for (embedding, scheme) in with_node_values() {
         for n in [1, 2, 5, 16] {
             let grid = Grid::new(0.0, 1.6, n).unwrap();
-            let solution = Problem::new(&SPRING, grid, embedding)
+            let solution = varembed_tests::problem(&SPRING, grid, embedding)
                 .solve_ivp(scheme, 1.0, 0.5)
                 .unwrap();
             let nodes = solution.node_values(&SPRING).unwrap();
@@ -471,7 +471,7 @@ fn both_paths(
     stride: usize,
 ) -> (Solution<CHAIN>, DynSolution) {
     let end = [0.1, 0.4, -0.3];
-    let problem = Problem::new(&PENDULUMS, grid, embedding);
+    let problem = varembed_tests::problem(&PENDULUMS, grid, embedding);
     let dynamic = DynProblem::new(&PENDULUMS, grid, embedding);
     match run {
         Run::Ivp(start) => (
@@ -642,7 +642,7 @@ fn bad_times_and_embeddings_without_node_values_are_typed_errors() {
     // The fractional embeddings have no node values (α = 1 included, as for node_values).
     for alpha in [0.7, 1.0] {
         let gle = Embedding::grunwald_letnikov(Side::Backward, alpha).unwrap();
-        let solution = Problem::new(&Pendulum, grid, gle)
+        let solution = varembed_tests::problem(&Pendulum, grid, gle)
             .solve_bvp(Scheme::Variational, 0.0, 1.0)
             .unwrap();
         let error = solution.at(1.0).unwrap_err();
@@ -712,7 +712,7 @@ fn bad_times_and_embeddings_without_node_values_are_typed_errors() {
     cut.q.pop();
     assert!(matches!(cut.at(1.0), Err(Error::WrongLength { .. })));
     // Gauss–Legendre's Lagrangian form reads the momenta the integrator carries.
-    let gauss = Problem::new(&SPRING, grid, Embedding::gauss_legendre(2).unwrap());
+    let gauss = varembed_tests::problem(&SPRING, grid, Embedding::gauss_legendre(2).unwrap());
     let mut solution = gauss.solve_ivp(Scheme::Variational, 1.0, 0.0).unwrap();
     solution.momenta.clear();
     assert!(solution.at(1.0).is_ok());
@@ -726,7 +726,7 @@ fn bad_times_and_embeddings_without_node_values_are_typed_errors() {
 
     // A momentum that is not finite at the interpolated state (a model other than the
     // solution's, outside its domain).
-    let one = Problem::new(&SPRING, grid, Embedding::midpoint())
+    let one = varembed_tests::problem(&SPRING, grid, Embedding::midpoint())
         .solve_ivp(Scheme::Direct, 1.0, 0.0)
         .unwrap();
     assert!(

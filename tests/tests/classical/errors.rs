@@ -3,7 +3,7 @@
 
 use varembed::{
     DifferentialOperator, Embedding, Error, Grid, Hessian, Lagrangian, Location, Matrix,
-    NewtonOptions, Problem, Scheme, Side, Vector, curve_from_flat,
+    NewtonOptions, Scheme, Side, Vector, curve_from_flat,
 };
 use varembed_tests::curve::v1;
 use varembed_tests::models::hand::{Oscillator, Pendulum};
@@ -46,7 +46,7 @@ fn alpha_out_of_range() {
 fn wrong_length_dimension_and_non_finite_input() {
     let grid = Grid::new(0.0, 1.0, 4).unwrap();
     let pendulum = Pendulum { g: 1.0, l: 1.0 };
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &pendulum,
         grid,
         Embedding::finite_difference(Side::Backward),
@@ -105,7 +105,7 @@ fn wrong_length_dimension_and_non_finite_input() {
 fn fractional_initial_value_problems_are_unsupported() {
     let grid = Grid::new(0.0, 1.0, 10).unwrap();
     let pendulum = Pendulum { g: 1.0, l: 1.0 };
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &pendulum,
         grid,
         Embedding::grunwald_letnikov(Side::Forward, 0.5).unwrap(),
@@ -148,7 +148,8 @@ fn degenerate_lagrangians_are_located_before_any_step() {
         directions: vec![vec![(0, 1.0)]],
     };
     for side in [Side::Backward, Side::Forward] {
-        let problem = Problem::new(&Degenerate, grid, Embedding::finite_difference(side));
+        let problem =
+            varembed_tests::problem(&Degenerate, grid, Embedding::finite_difference(side));
         // At the initial data, before the start.
         assert_eq!(
             problem
@@ -182,7 +183,7 @@ fn degenerate_lagrangians_are_located_before_any_step() {
 #[test]
 fn a_singular_step_of_a_regular_lagrangian_is_a_singular_jacobian() {
     let grid = Grid::new(0.0, 10.0, 10).unwrap();
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &Inverted,
         grid,
         Embedding::finite_difference(Side::Backward),
@@ -194,7 +195,7 @@ fn a_singular_step_of_a_regular_lagrangian_is_a_singular_jacobian() {
         }
     );
     // At h = 0.5 the same step is regular (1/h − h = 1.5) and the run returns.
-    let fine = Problem::new(
+    let fine = varembed_tests::problem(
         &Inverted,
         Grid::new(0.0, 5.0, 10).unwrap(),
         Embedding::finite_difference(Side::Backward),
@@ -208,7 +209,7 @@ fn newton_failure_reports_step_and_residual() {
     // iterations.
     let grid = Grid::new(0.0, 50.0, 50).unwrap();
     let pendulum = Pendulum { g: 9.81, l: 1.0 };
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &pendulum,
         grid,
         Embedding::finite_difference(Side::Backward),
@@ -255,7 +256,8 @@ fn unstable_explicit_scheme_is_reported_not_returned() {
     for n in [10, 5000] {
         let grid = Grid::new(0.0, 2.01 * n as f64, n).unwrap();
         for side in [Side::Backward, Side::Forward] {
-            let problem = Problem::new(&oscillator, grid, Embedding::finite_difference(side));
+            let problem =
+                varembed_tests::problem(&oscillator, grid, Embedding::finite_difference(side));
             match problem.solve_ivp(Scheme::Variational, 1.0, 0.0) {
                 Err(
                     error @ Error::Unstable {
@@ -304,7 +306,8 @@ impl Lagrangian<1> for Inverted {
 fn physical_growth_is_not_flagged_but_overflow_is_reported() {
     // Eigenvalues ≈ e^{±h}, positive: no Unstable. cosh(t) overflows f64 near t = 710.
     let grid = Grid::new(0.0, 1000.0, 100_000).unwrap();
-    let problem = Problem::new(&Inverted, grid, Embedding::finite_difference(Side::Forward));
+    let problem =
+        varembed_tests::problem(&Inverted, grid, Embedding::finite_difference(Side::Forward));
     match problem.solve_ivp(Scheme::Variational, 1.0, 0.0) {
         Err(Error::NotFinite {
             at: Location::Step(n),
@@ -315,7 +318,7 @@ fn physical_growth_is_not_flagged_but_overflow_is_reported() {
         other => panic!("expected NotFinite, got {other:?}"),
     }
     // On a short interval the same run is a normal, accurate solution.
-    let short = Problem::new(
+    let short = varembed_tests::problem(
         &Inverted,
         Grid::new(0.0, 5.0, 5000).unwrap(),
         Embedding::finite_difference(Side::Forward),
@@ -346,7 +349,8 @@ impl Lagrangian<2> for Kepler {
 #[test]
 fn lagrangian_blowing_up_is_located_at_its_node() {
     let grid = Grid::new(0.0, 1.0, 4).unwrap();
-    let problem = Problem::new(&Kepler, grid, Embedding::finite_difference(Side::Backward));
+    let problem =
+        varembed_tests::problem(&Kepler, grid, Embedding::finite_difference(Side::Backward));
     let mut q = vec![Vector::<2>::new(1.0, 0.0); 5];
     q[3] = Vector::<2>::zeros();
     assert_eq!(
@@ -373,7 +377,7 @@ fn shared_inertia(x: [f64; 2], v: [f64; 2]) -> f64 {
 fn a_degenerate_lagrangian_names_the_direction_without_inertia() {
     // ∂²L/∂v² = [[1, 1], [1, 1]]: it vanishes along (1, −1)/√2, and the error says so.
     let grid = Grid::new(0.0, 1.0, 10).unwrap();
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &SharedInertia,
         grid,
         Embedding::finite_difference(Side::Backward),

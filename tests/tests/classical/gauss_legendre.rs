@@ -5,7 +5,7 @@
 //! particle's angular momentum and guiding centre) are conserved to round-off; the errors.
 
 use varembed::{
-    Embedding, Error, Grid, Location, NewtonOptions, Problem, Scheme, Solution, Vector, lagrangian,
+    Embedding, Error, Grid, Location, NewtonOptions, Scheme, Solution, Vector, lagrangian,
 };
 use varembed_tests::models::generated::Kepler;
 
@@ -99,7 +99,7 @@ fn the_oscillator_map_is_the_rotation_by_the_pade_phase() {
                 < 1e-14
         );
         let grid = Grid::new(0.0, h * steps as f64, steps).unwrap();
-        let run = Problem::new(&model, grid, gauss(s))
+        let run = varembed_tests::problem(&model, grid, gauss(s))
             .with_newton(TO_ROUND_OFF)
             .solve_ivp(Scheme::Variational, q0, p0)
             .unwrap();
@@ -130,7 +130,7 @@ fn the_oscillator_energy_is_conserved_at_every_step_size() {
         for h in [0.01, 1.0, 10.0, 1000.0] {
             let steps = 5000;
             let grid = Grid::new(0.0, h * steps as f64, steps).unwrap();
-            let run = Problem::new(&model, grid, gauss(s))
+            let run = varembed_tests::problem(&model, grid, gauss(s))
                 .with_newton(TO_ROUND_OFF)
                 .solve_ivp(Scheme::Variational, 1.0, 0.0)
                 .unwrap();
@@ -160,7 +160,7 @@ fn kepler_angular_momentum_is_conserved() {
     let (q0, v0) = ([1.0 - e, 0.0], [0.0, ((1.0 + e) / (1.0 - e)).sqrt()]);
     let grid = Grid::new(0.0, 4.0 * std::f64::consts::PI, 4000).unwrap();
     for s in 1..=4 {
-        let problem = Problem::new(&Kepler, grid, gauss(s)).with_newton(TO_ROUND_OFF);
+        let problem = varembed_tests::problem(&Kepler, grid, gauss(s)).with_newton(TO_ROUND_OFF);
         let run = problem.solve_ivp(Scheme::Variational, q0, v0).unwrap();
         let j = drift(&run, |q, p| q[0] * p[1] - q[1] * p[0]);
         println!("Kepler s = {s}: {j:e}");
@@ -176,7 +176,7 @@ fn magnetic_angular_momentum_and_guiding_centre_are_conserved() {
     let model = Magnetic { b };
     let grid = Grid::new(0.0, 50.0 * std::f64::consts::PI, 2000).unwrap();
     for s in 1..=4 {
-        let problem = Problem::new(&model, grid, gauss(s)).with_newton(TO_ROUND_OFF);
+        let problem = varembed_tests::problem(&model, grid, gauss(s)).with_newton(TO_ROUND_OFF);
         let run = problem
             .solve_ivp(Scheme::Variational, [0.3, -0.2], [0.5, 0.9])
             .unwrap();
@@ -205,7 +205,7 @@ fn the_blow_up_guard_covers_gauss_legendre() {
         0.5 * (p[0] * p[0] + (p[1] / q[0].sin()).powi(2)) - g * q[0].cos()
     };
     for s in [1, 2] {
-        let run = Problem::new(&model, grid, gauss(s))
+        let run = varembed_tests::problem(&model, grid, gauss(s))
             .with_blow_up_guard(false)
             .solve_ivp(Scheme::Variational, q0, v0)
             .unwrap();
@@ -217,7 +217,8 @@ fn the_blow_up_guard_covers_gauss_legendre() {
             .map(|(q, p)| energy(q, p) - e0)
             .fold(0.0, f64::max);
         assert!(gain > 5.0, "s = {s}: the energy gained only {gain}");
-        match Problem::new(&model, grid, gauss(s)).solve_ivp(Scheme::Variational, q0, v0) {
+        match varembed_tests::problem(&model, grid, gauss(s)).solve_ivp(Scheme::Variational, q0, v0)
+        {
             Err(Error::BlowUp { from, to, growth }) => {
                 assert!(
                     from <= to && to < 100 && growth > 16.0,
@@ -229,7 +230,7 @@ fn the_blow_up_guard_covers_gauss_legendre() {
     }
     for s in [3, 4] {
         for guard in [true, false] {
-            let problem = Problem::new(&model, grid, gauss(s)).with_blow_up_guard(guard);
+            let problem = varembed_tests::problem(&model, grid, gauss(s)).with_blow_up_guard(guard);
             let run = problem.solve_ivp(Scheme::Variational, q0, v0);
             assert!(
                 matches!(
@@ -255,7 +256,7 @@ fn the_errors_name_what_is_not_offered() {
     }
     let model = Oscillator { omega: 1.0 };
     let grid = Grid::new(0.0, 1.0, 10).unwrap();
-    let problem = Problem::new(&model, grid, gauss(2));
+    let problem = varembed_tests::problem(&model, grid, gauss(2));
     let unsupported = |r: Result<(), Error>| matches!(r, Err(Error::Unsupported { .. }));
     assert!(unsupported(
         problem.solve_ivp(Scheme::Direct, 1.0, 0.0).map(|_| ())
@@ -290,8 +291,8 @@ fn the_errors_name_what_is_not_offered() {
         tolerance: 1e-12,
         max_iterations: 1,
     };
-    let problem =
-        Problem::new(&pendulum, Grid::new(0.0, 5.0, 10).unwrap(), gauss(3)).with_newton(one);
+    let problem = varembed_tests::problem(&pendulum, Grid::new(0.0, 5.0, 10).unwrap(), gauss(3))
+        .with_newton(one);
     match problem.solve_ivp(Scheme::Variational, 2.0, 0.0) {
         Err(Error::NewtonDidNotConverge {
             at,
@@ -303,7 +304,7 @@ fn the_errors_name_what_is_not_offered() {
         }
         other => panic!("{other:?}"),
     }
-    let problem = Problem::new(&pendulum, Grid::new(0.0, 5.0, 10).unwrap(), gauss(3));
+    let problem = varembed_tests::problem(&pendulum, Grid::new(0.0, 5.0, 10).unwrap(), gauss(3));
     assert!(matches!(
         problem.solve_ivp(Scheme::Variational, f64::NAN, 0.0),
         Err(Error::NonFiniteInput { .. })
@@ -333,7 +334,7 @@ fn a_time_dependent_lagrangian_is_of_order_two_s() {
             .iter()
             .map(|&n| {
                 let grid = Grid::new(0.0, 5.0, n).unwrap();
-                let run = Problem::new(&Damped, grid, gauss(s))
+                let run = varembed_tests::problem(&Damped, grid, gauss(s))
                     .solve_ivp(Scheme::Variational, 1.0, 0.0)
                     .unwrap();
                 (
@@ -362,7 +363,7 @@ fn node_values_carry_the_schemes_momenta_at_order_2s() {
             .into_iter()
             .map(|n| {
                 let grid = Grid::new(0.0, 2.0, n).unwrap();
-                let run = Problem::new(&model, grid, gauss(s))
+                let run = varembed_tests::problem(&model, grid, gauss(s))
                     .with_newton(NewtonOptions {
                         tolerance: 1e-15,
                         ..NewtonOptions::default()
@@ -400,14 +401,14 @@ fn the_boundary_value_problem_returns_the_initial_value_run() {
     let magnetic = Magnetic { b: 1.3 };
     let grid = Grid::new(0.0, 1.5, 20).unwrap();
     for s in 1..=4 {
-        let problem = Problem::new(&kepler, grid, gauss(s));
+        let problem = varembed_tests::problem(&kepler, grid, gauss(s));
         let run = problem
             .solve_ivp(Scheme::Variational, [1.0, 0.0], [0.0, 1.1])
             .unwrap();
         let bvp = problem
             .solve_bvp(Scheme::Variational, run.q[0], run.q[20])
             .unwrap();
-        let problem = Problem::new(&magnetic, grid, gauss(s));
+        let problem = varembed_tests::problem(&magnetic, grid, gauss(s));
         let run_m = problem
             .solve_ivp(Scheme::Variational, [0.2, -0.1], [0.5, 0.3])
             .unwrap();

@@ -1,7 +1,7 @@
 //! Hard cases: degenerate Lagrangians, Newton failure, bad input, and randomized
 //! input that must never panic.
 
-use varembed::{Embedding, Error, Grid, Location, Problem, Scheme, Side, Vector, lagrangian};
+use varembed::{Embedding, Error, Grid, Location, Scheme, Side, Vector, lagrangian};
 use varembed_tests::models::generated::Pendulum;
 use varembed_tests::rng::Rng;
 
@@ -22,7 +22,8 @@ fn degenerate_lagrangian_is_reported_at_the_initial_data() {
     let grid = Grid::new(0.0, 1.0, 100).unwrap();
     let (q0, v0) = (Vector::<2>::new(0.3, 0.0), Vector::<2>::new(0.1, 0.0));
     for side in [Side::Backward, Side::Forward] {
-        let problem = Problem::new(&Constrained, grid, Embedding::finite_difference(side));
+        let problem =
+            varembed_tests::problem(&Constrained, grid, Embedding::finite_difference(side));
         for scheme in [Scheme::Direct, Scheme::Variational] {
             // L_vv = diag(1, 0): pivots 1 and 0, the ratio 0, before the start is attempted;
             // the degenerate direction is v₁.
@@ -59,7 +60,7 @@ fn newton_failure_with_a_step_far_too_large() {
     // 0 towards 1 and Newton's first update overshoots |v| = 1, where L is not defined.
     let lag = Relativistic { k: 100.0 };
     let grid = Grid::new(0.0, 50.0, 100).unwrap();
-    let problem = Problem::new(&lag, grid, Embedding::finite_difference(Side::Backward));
+    let problem = varembed_tests::problem(&lag, grid, Embedding::finite_difference(Side::Backward));
     match problem.solve_ivp(Scheme::Variational, 1.0, 0.0) {
         Err(Error::NewtonDidNotConverge {
             at: Location::Step(n),
@@ -74,7 +75,7 @@ fn newton_failure_with_a_step_far_too_large() {
         other => panic!("expected a located Newton failure, got {other:?}"),
     }
     // The same problem with a resolved step runs, at speeds below 1.
-    let fine = Problem::new(
+    let fine = varembed_tests::problem(
         &lag,
         Grid::new(0.0, 1.0, 10_000).unwrap(),
         Embedding::finite_difference(Side::Backward),
@@ -107,7 +108,7 @@ fn bad_input_is_a_typed_error() {
     }
     let lag = Pendulum { g: 9.81, l: 1.0 };
     let grid = Grid::new(0.0, 1.0, 10).unwrap();
-    let problem = Problem::new(&lag, grid, Embedding::finite_difference(Side::Backward));
+    let problem = varembed_tests::problem(&lag, grid, Embedding::finite_difference(Side::Backward));
     for (q0, v0) in [
         (f64::NAN, 0.0),
         (0.0, f64::INFINITY),
@@ -188,7 +189,7 @@ fn randomized_input_never_panics() {
             g: rng.wild(),
             l: rng.wild(),
         };
-        let problem = Problem::new(&lag, grid, embedding);
+        let problem = varembed_tests::problem(&lag, grid, embedding);
         let scheme = if rng.next_f64() < 0.5 {
             Scheme::Direct
         } else {

@@ -21,7 +21,7 @@ fn double_pendulum(x: [f64; 2], v: [f64; 2], g: f64) -> f64 {
         + g * x[1].cos()
 }
 
-fn energies<L: Lagrangian<D>, const D: usize>(
+fn energies<L: Lagrangian<D> + ?Sized, const D: usize>(
     problem: &Problem<'_, L, D>,
     q: &[Vector<D>],
 ) -> Vec<f64> {
@@ -41,7 +41,8 @@ fn oscillator_at_the_stability_limit() {
     let steps = 1_000_000;
     let grid = Grid::new(0.0, 1.99 * steps as f64, steps).unwrap();
     for side in [Side::Backward, Side::Forward] {
-        let problem = Problem::new(&oscillator, grid, Embedding::finite_difference(side));
+        let problem =
+            varembed_tests::problem(&oscillator, grid, Embedding::finite_difference(side));
         let run = problem.solve_ivp(Scheme::Variational, 1.0, 0.0).unwrap();
         let bound = DiscreteOscillation::variational(1.99, run.q[0][0], run.q[1][0]).amplitude();
         let max = run.q.iter().map(|x| x[0].abs()).fold(0.0, f64::max);
@@ -57,7 +58,8 @@ fn oscillator_at_the_stability_limit() {
     // ωh = 2.01: reported, never returned.
     let grid = Grid::new(0.0, 2.01 * steps as f64, steps).unwrap();
     for side in [Side::Backward, Side::Forward] {
-        let problem = Problem::new(&oscillator, grid, Embedding::finite_difference(side));
+        let problem =
+            varembed_tests::problem(&oscillator, grid, Embedding::finite_difference(side));
         assert!(matches!(
             problem.solve_ivp(Scheme::Variational, 1.0, 0.0),
             Err(Error::Unstable { .. })
@@ -71,7 +73,8 @@ fn stiff_oscillator_explicit_schemes_report_implicit_direct_survives() {
     let oscillator = Oscillator { omega: 1e3 };
     let grid = Grid::new(0.0, 10.0, 1000).unwrap();
     for side in [Side::Backward, Side::Forward] {
-        let problem = Problem::new(&oscillator, grid, Embedding::finite_difference(side));
+        let problem =
+            varembed_tests::problem(&oscillator, grid, Embedding::finite_difference(side));
         let variational = problem.solve_ivp(Scheme::Variational, 1.0, 0.0);
         assert!(
             matches!(
@@ -84,7 +87,7 @@ fn stiff_oscillator_explicit_schemes_report_implicit_direct_survives() {
             "{variational:?}"
         );
     }
-    let forward = Problem::new(
+    let forward = varembed_tests::problem(
         &oscillator,
         grid,
         Embedding::finite_difference(Side::Forward),
@@ -95,7 +98,7 @@ fn stiff_oscillator_explicit_schemes_report_implicit_direct_survives() {
         "{direct_forward:?}"
     );
     // The implicit direct σ = − scheme: amplitude multiplied by r = (1 + ω²h²)^{−1/2} each step.
-    let backward = Problem::new(
+    let backward = varembed_tests::problem(
         &oscillator,
         grid,
         Embedding::finite_difference(Side::Backward),
@@ -116,7 +119,7 @@ fn stiff_oscillator_explicit_schemes_report_implicit_direct_survives() {
 fn pendulum_ten_million_steps_energy_bounded_without_drift() {
     let steps = 10_000_000;
     let grid = Grid::new(0.0, 1e5, steps).unwrap(); // h = 0.01
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &UnitPendulum,
         grid,
         Embedding::finite_difference(Side::Forward),
@@ -163,7 +166,8 @@ fn kepler_hundred_orbits_at_eccentricity_point_nine() {
     );
     let e_exact = Kepler.energy(&q0, &v0, 0.0); // −1/(2a) = −0.5
     assert!((e_exact + 0.5).abs() < 1e-12);
-    let problem = Problem::new(&Kepler, grid, Embedding::finite_difference(Side::Forward));
+    let problem =
+        varembed_tests::problem(&Kepler, grid, Embedding::finite_difference(Side::Forward));
     let run = problem.solve_ivp(Scheme::Variational, q0, v0).unwrap();
     assert!(run.q.iter().all(|x| x.iter().all(|c| c.is_finite())));
     // Every perihelion passage is reached (r ≈ 0.1) and none goes through the singularity.
@@ -188,7 +192,7 @@ fn kepler_hundred_orbits_at_eccentricity_point_nine() {
     );
     // Newton at every step through all 100 perihelion passages: the same variational scheme
     // with the closed-form update hidden. It converges everywhere and reproduces the run.
-    let newton = Problem::new(
+    let newton = varembed_tests::problem(
         &NewtonOnly(Kepler),
         grid,
         Embedding::finite_difference(Side::Forward),
@@ -203,7 +207,8 @@ fn kepler_hundred_orbits_at_eccentricity_point_nine() {
     // The direct σ = − scheme is dissipative: each perihelion passage costs it energy
     // (measured E: −0.50, −1.17, −2.19, … in the first orbit), its orbit falls towards the
     // singularity, and Newton's failure there is reported with its step, never returned.
-    let implicit = Problem::new(&Kepler, grid, Embedding::finite_difference(Side::Backward));
+    let implicit =
+        varembed_tests::problem(&Kepler, grid, Embedding::finite_difference(Side::Backward));
     match implicit.solve_ivp(Scheme::Direct, q0, v0) {
         Err(
             Error::NewtonDidNotConverge {
@@ -235,7 +240,7 @@ fn double_pendulum_chaotic_million_implicit_steps() {
     let lag = DoublePendulum { g: 9.81 };
     let steps = 1_000_000;
     let grid = Grid::new(0.0, 1000.0, steps).unwrap(); // h = 1e-3
-    let problem = Problem::new(&lag, grid, Embedding::finite_difference(Side::Backward));
+    let problem = varembed_tests::problem(&lag, grid, Embedding::finite_difference(Side::Backward));
     let (q0, v0) = (Vector::<2>::new(2.0, 2.5), Vector::<2>::zeros());
     // Newton converges at every step or the solve is an error: unwrap is the assertion.
     let run = problem.solve_ivp(Scheme::Variational, q0, v0).unwrap();

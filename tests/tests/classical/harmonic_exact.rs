@@ -4,7 +4,7 @@
 //! Direct σ = −: `Q_k = r^k (A' cos(kφ) + B' sin(kφ))`, `r = (1 + ω²h²)^{−1/2}`, `tan φ = ωh`:
 //! it loses exactly the factor `r` of amplitude per step.
 
-use varembed::{Embedding, Grid, Problem, Scheme, Side};
+use varembed::{Embedding, Grid, Scheme, Side};
 use varembed_tests::models::hand::Oscillator;
 use varembed_tests::reference::DiscreteOscillation;
 
@@ -15,7 +15,7 @@ fn variational_run_is_the_exact_discrete_rotation() {
     let grid = Grid::new(0.0, 30.0, 1500).unwrap();
     let h = grid.h();
     for side in [Side::Backward, Side::Forward] {
-        let problem = Problem::new(
+        let problem = varembed_tests::problem(
             &Oscillator { omega: OMEGA },
             grid,
             Embedding::finite_difference(side),
@@ -37,7 +37,7 @@ fn variational_run_is_the_exact_discrete_rotation() {
 fn direct_backward_run_loses_the_factor_r_per_step() {
     let grid = Grid::new(0.0, 30.0, 1500).unwrap();
     let h = grid.h();
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &Oscillator { omega: OMEGA },
         grid,
         Embedding::finite_difference(Side::Backward),
@@ -64,7 +64,7 @@ fn direct_forward_run_gains_the_factor_one_over_r_per_step() {
     // (Q_{k+2} − 2Q_{k+1} + Q_k)/h² = −ω²Q_k has roots 1 ± iωh, of modulus 1/r.
     let grid = Grid::new(0.0, 5.0, 500).unwrap();
     let h = grid.h();
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &Oscillator { omega: OMEGA },
         grid,
         Embedding::finite_difference(Side::Forward),
@@ -121,14 +121,14 @@ fn affine_steps_run_without_newton_and_agree_with_newton() {
     for side in [Side::Backward, Side::Forward] {
         for scheme in [Scheme::Direct, Scheme::Variational] {
             let embedding = Embedding::finite_difference(side);
-            let explicit = Problem::new(
+            let explicit = varembed_tests::problem(
                 &AffineOscillator(Oscillator { omega: OMEGA }),
                 grid,
                 embedding,
             )
             .solve_ivp(scheme, 1.0, 0.5)
             .unwrap();
-            let newton = Problem::new(&Oscillator { omega: OMEGA }, grid, embedding)
+            let newton = varembed_tests::problem(&Oscillator { omega: OMEGA }, grid, embedding)
                 .solve_ivp(scheme, 1.0, 0.5)
                 .unwrap();
             assert_eq!(

@@ -5,7 +5,7 @@
 //! 5.2e5). Over a sweep of mass ratios, grids, embeddings and schemes, every answer is either a
 //! solution of its rows or a typed error.
 
-use varembed::{Embedding, Error, Grid, Problem, Scheme, Side, Warning, lagrangian};
+use varembed::{Embedding, Error, Grid, Scheme, Side, Warning, lagrangian};
 
 /// Two masses `1` and `m` on a spring, the first also tied to the origin (the kinetic term
 /// written as a loop, so that the macro emits the run-time-dimension trait too).
@@ -22,7 +22,7 @@ fn two_masses(x: [f64; 2], v: [f64; 2], m: f64) -> f64 {
 
 fn solve(m: f64, n: usize, embedding: Embedding, scheme: Scheme) -> varembed::Result<f64> {
     let model = TwoMasses { m };
-    let problem = Problem::new(&model, Grid::new(0.0, 10.0, n).unwrap(), embedding);
+    let problem = varembed_tests::problem(&model, Grid::new(0.0, 10.0, n).unwrap(), embedding);
     let solution = problem.solve_bvp(scheme, [1.0, 0.0], [0.0, 1.0])?;
     // An answer solves its rows: each row's residual against the size of its terms.
     let residual = problem.residual(scheme, &solution.q).unwrap();
@@ -55,8 +55,8 @@ fn a_system_singular_to_working_precision_is_an_error() {
     );
     // The check belongs to Newton's acceptance, not to the optional ill-posedness warning.
     let model = TwoMasses { m: 1e-6 };
-    let problem =
-        Problem::new(&model, Grid::new(0.0, 10.0, 10).unwrap(), direct).with_posedness_check(false);
+    let problem = varembed_tests::problem(&model, Grid::new(0.0, 10.0, 10).unwrap(), direct)
+        .with_posedness_check(false);
     let error = problem
         .solve_bvp(Scheme::Direct, [1.0, 0.0], [0.0, 1.0])
         .unwrap_err();
@@ -110,7 +110,7 @@ fn the_run_time_path_reports_the_same_system_as_ill_conditioned() {
     let run = varembed::DynProblem::new(&model, grid, direct)
         .solve_bvp(Scheme::Variational, &[1.0, 0.0], &[0.0, 1.0])
         .unwrap();
-    let reference = Problem::new(&model, grid, direct)
+    let reference = varembed_tests::problem(&model, grid, direct)
         .solve_bvp(Scheme::Variational, [1.0, 0.0], [0.0, 1.0])
         .unwrap();
     for (k, node) in reference.q.iter().enumerate() {

@@ -6,7 +6,7 @@
 
 use std::f64::consts::PI;
 
-use varembed::{Embedding, Grid, Problem, Scheme, Side};
+use varembed::{Embedding, Grid, Scheme, Side};
 use varembed_tests::models::hand::Oscillator;
 use varembed_tests::rng::Rng;
 use varembed_tests::warnings::ill_posed;
@@ -28,19 +28,23 @@ fn the_resonant_oscillator_is_flagged_and_its_well_posed_neighbour_is_not() {
     for embedding in embeddings() {
         for scheme in [Scheme::Direct, Scheme::Variational] {
             for n in [50, 100, 400, 1000] {
-                let resonant = Problem::new(&oscillator, Grid::new(0.0, PI, n).unwrap(), embedding)
-                    .solve_bvp(scheme, 0.0, 1.0)
-                    .unwrap();
+                let resonant =
+                    varembed_tests::problem(&oscillator, Grid::new(0.0, PI, n).unwrap(), embedding)
+                        .solve_bvp(scheme, 0.0, 1.0)
+                        .unwrap();
                 let measure = ill_posed(&resonant.warnings);
                 assert!(
                     measure.is_some_and(|m| m < 1e-2),
                     "{embedding} {scheme} N = {n}: {:?}",
                     resonant.warnings
                 );
-                let neighbour =
-                    Problem::new(&oscillator, Grid::new(0.0, PI / 2.0, n).unwrap(), embedding)
-                        .solve_bvp(scheme, 0.0, 1.0)
-                        .unwrap();
+                let neighbour = varembed_tests::problem(
+                    &oscillator,
+                    Grid::new(0.0, PI / 2.0, n).unwrap(),
+                    embedding,
+                )
+                .solve_bvp(scheme, 0.0, 1.0)
+                .unwrap();
                 assert_eq!(
                     ill_posed(&neighbour.warnings),
                     None,
@@ -71,7 +75,7 @@ fn the_measure_tends_to_the_distance_from_resonance() {
             .map(|k| ((k * k) as f64 - ratio * ratio).abs())
             .fold(f64::INFINITY, f64::min);
         let grid = Grid::new(0.0, length, 2000).unwrap();
-        let run = Problem::new(&Oscillator { omega }, grid, Embedding::midpoint())
+        let run = varembed_tests::problem(&Oscillator { omega }, grid, Embedding::midpoint())
             .with_posedness_check(true)
             .solve_bvp(Scheme::Variational, 0.0, 1.0)
             .unwrap();
@@ -96,7 +100,7 @@ fn the_measure_tends_to_the_distance_from_resonance() {
 #[test]
 fn the_check_can_be_turned_off() {
     let oscillator = Oscillator { omega: 1.0 };
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &oscillator,
         Grid::new(0.0, PI, 100).unwrap(),
         Embedding::midpoint(),

@@ -3,7 +3,7 @@
 //! the end nodes on their own; the times are exact; the CSV export reads back bit for bit.
 
 use varembed::{
-    Embedding, Error, Grid, NodeFormula, NodeValues, Problem, Scheme, Side, Start, lagrangian,
+    Embedding, Error, Grid, NodeFormula, NodeValues, Scheme, Side, Start, lagrangian,
     observed_order,
 };
 
@@ -66,7 +66,7 @@ fn node_velocities_and_momenta_converge_at_their_documented_order() {
                         .into_iter()
                         .map(|n| {
                             let grid = Grid::new(0.0, T, n).unwrap();
-                            let problem = Problem::new(&SPRING, grid, embedding);
+                            let problem = varembed_tests::problem(&SPRING, grid, embedding);
                             let solution = problem.solve_ivp_with(scheme, Q0, V0, start).unwrap();
                             let nodes = solution.node_values(&SPRING).unwrap();
                             // The positions are the solution's, the momenta those of L.
@@ -119,7 +119,7 @@ fn node_velocities_and_momenta_converge_at_their_documented_order() {
 fn the_legendre_start_momentum_is_the_initial_momentum() {
     for side in [Side::Backward, Side::Forward] {
         let grid = Grid::new(0.0, T, 100).unwrap();
-        let problem = Problem::new(&SPRING, grid, Embedding::finite_difference(side));
+        let problem = varembed_tests::problem(&SPRING, grid, Embedding::finite_difference(side));
         let solution = problem.solve_ivp(Scheme::Variational, Q0, V0).unwrap();
         let nodes = solution.node_values(&SPRING).unwrap();
         assert!(matches!(
@@ -153,7 +153,8 @@ fn the_times_are_a_plus_k_h_and_end_exactly_at_b() {
     let (a, b, n) = (0.1, 1.0, 3);
     let grid = Grid::new(a, b, n).unwrap();
     assert_ne!(a + n as f64 * grid.h(), b);
-    let problem = Problem::new(&SPRING, grid, Embedding::finite_difference(Side::Backward));
+    let problem =
+        varembed_tests::problem(&SPRING, grid, Embedding::finite_difference(Side::Backward));
     let solution = problem.solve_ivp(Scheme::Direct, Q0, V0).unwrap();
     let nodes = solution.node_values(&SPRING).unwrap();
     assert_eq!(nodes.t, solution.times());
@@ -172,7 +173,8 @@ fn csv_round_trips_bit_for_bit() {
         0.5 * (v[0] * v[0] + v[1] * v[1]) + 1.0 / (x[0] * x[0] + x[1] * x[1]).sqrt()
     }
     let grid = Grid::new(0.0, 7.0, 333).unwrap();
-    let problem = Problem::new(&Kepler, grid, Embedding::finite_difference(Side::Forward));
+    let problem =
+        varembed_tests::problem(&Kepler, grid, Embedding::finite_difference(Side::Forward));
     let solution = problem
         .solve_ivp(Scheme::Variational, [0.9, 0.0], [0.0, 1.1])
         .unwrap();
@@ -206,7 +208,8 @@ fn a_time_dependent_lagrangian_has_no_energy_column() {
         0.5 * v * v - 0.5 * x * x + x * t.cos()
     }
     let grid = Grid::new(0.0, 1.0, 10).unwrap();
-    let problem = Problem::new(&Driven, grid, Embedding::finite_difference(Side::Backward));
+    let problem =
+        varembed_tests::problem(&Driven, grid, Embedding::finite_difference(Side::Backward));
     let nodes = problem
         .solve_ivp(Scheme::Variational, 0.0, 1.0)
         .unwrap()
@@ -226,7 +229,7 @@ fn the_velocity_inverts_a_nonlinear_momentum() {
         -(1.0 - v * v).sqrt() - 0.5 * x * x
     }
     let grid = Grid::new(0.0, 2.0, 400).unwrap();
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &Relativistic,
         grid,
         Embedding::finite_difference(Side::Backward),
@@ -251,7 +254,7 @@ fn the_velocity_inverts_a_nonlinear_momentum() {
 fn the_fractional_embeddings_have_no_node_velocities() {
     let grid = Grid::new(0.0, 1.0, 20).unwrap();
     let gle = Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap();
-    let problem = Problem::new(&SPRING, grid, gle);
+    let problem = varembed_tests::problem(&SPRING, grid, gle);
     let solution = problem.solve_bvp(Scheme::Variational, 0.0, 1.0).unwrap();
     let error = solution.node_values(&SPRING).unwrap_err();
     assert!(matches!(error, Error::Unsupported { .. }), "{error}");
@@ -266,7 +269,8 @@ fn the_fractional_embeddings_have_no_node_velocities() {
 #[test]
 fn node_values_serialize_one_record_per_node() {
     let grid = Grid::new(0.0, 1.0, 5).unwrap();
-    let problem = Problem::new(&SPRING, grid, Embedding::finite_difference(Side::Backward));
+    let problem =
+        varembed_tests::problem(&SPRING, grid, Embedding::finite_difference(Side::Backward));
     let nodes = problem
         .solve_ivp(Scheme::Variational, Q0, V0)
         .unwrap()

@@ -9,7 +9,7 @@ use std::sync::Mutex;
 
 use varembed::{
     CompareOptions, ComparedSolution, Comparison, DynProblem, DynSolution, Embedding, Ensemble,
-    Error, Grid, Problem, Reference, Scheme, SchemeReport, Side, Solution, Start, Vector,
+    Error, Grid, Reference, Scheme, SchemeReport, Side, Solution, Start, Vector,
 };
 use varembed_tests::models::generated::{DoublePendulum, FputChain, Pendulum};
 
@@ -42,7 +42,7 @@ fn an_ensemble_of_initial_conditions_equals_the_serial_run_and_single_solves() {
         (Embedding::finite_difference(Side::Backward), Scheme::Direct),
         (Embedding::midpoint(), Scheme::Variational),
     ] {
-        let problem = Problem::new(&DOUBLE_PENDULUM, grid, embedding);
+        let problem = varembed_tests::problem(&DOUBLE_PENDULUM, grid, embedding);
         let parallel = problem.solve_ivp_ensemble(scheme, &members, &Ensemble::new());
         let serial = problem.solve_ivp_ensemble(scheme, &members, &Ensemble::serial());
         assert_eq!(parallel.len(), members.len());
@@ -65,13 +65,14 @@ fn an_ensemble_of_models_equals_the_serial_run_and_single_solves() {
         tolerance: 1e-13,
         max_iterations: 30,
     };
-    let problem = Problem::new(&first, grid, Embedding::trapezoidal()).with_newton(strict);
+    let problem =
+        varembed_tests::problem(&first, grid, Embedding::trapezoidal()).with_newton(strict);
     let scheme = Scheme::Direct;
     let parallel = problem.solve_ivp_models(scheme, &lengths, build, 1.0, 0.0, &Ensemble::new());
     let models: Vec<Pendulum> = lengths.iter().map(build).collect();
     let slice = problem.solve_ivp_models(scheme, &models, |m| m, 1.0, 0.0, &Ensemble::serial());
     for (i, model) in models.iter().enumerate() {
-        let alone = Problem::new(model, grid, Embedding::trapezoidal())
+        let alone = varembed_tests::problem(model, grid, Embedding::trapezoidal())
             .with_newton(strict)
             .solve_ivp(scheme, 1.0, 0.0);
         assert_eq!(solution_bits(&parallel[i]), solution_bits(&alone), "{i}");
@@ -131,7 +132,7 @@ fn failing_members_keep_their_place_and_progress_counts_every_member() {
     // Non-finite initial data between good members.
     let grid = Grid::new(0.0, 10.0, 1000).unwrap();
     let pendulum = Pendulum { g: 1.0, l: 1.0 };
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &pendulum,
         grid,
         Embedding::finite_difference(Side::Backward),
@@ -212,7 +213,7 @@ fn an_untimed_comparison_equals_the_timed_one_bit_for_bit() {
         Embedding::finite_difference(Side::Forward),
         Embedding::midpoint(),
     ] {
-        let problem = Problem::new(&pendulum, grid, embedding);
+        let problem = varembed_tests::problem(&pendulum, grid, embedding);
         for reference in [Reference::None, Reference::Exact(&exact)] {
             let timed = CompareOptions {
                 reference,

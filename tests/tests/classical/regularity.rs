@@ -3,8 +3,8 @@
 //! the checked node), never an `Ok` with a meaningless curve.
 
 use varembed::{
-    Embedding, Error, FractionalSolver, Grid, Hessian, Lagrangian, Location, Matrix, Problem,
-    Scheme, Side, Start, Vector, lagrangian,
+    Embedding, Error, FractionalSolver, Grid, Hessian, Lagrangian, Location, Matrix, Scheme, Side,
+    Start, Vector, lagrangian,
 };
 use varembed_tests::curve::{max_diff, v1};
 use varembed_tests::models::generated::Kepler;
@@ -50,7 +50,7 @@ fn first_quadrature_node(side: Side) -> usize {
 fn first_order_lagrangian_fails_every_solver_at_its_first_node() {
     let grid = Grid::new(0.0, 2.0, 40).unwrap();
     for side in [Side::Backward, Side::Forward] {
-        let fde = Problem::new(&FirstOrder, grid, Embedding::finite_difference(side));
+        let fde = varembed_tests::problem(&FirstOrder, grid, Embedding::finite_difference(side));
         for scheme in [Scheme::Direct, Scheme::Variational] {
             for start in [Start::Legendre, Start::SecondOrder] {
                 assert_eq!(
@@ -78,7 +78,8 @@ fn first_order_lagrangian_fails_every_solver_at_its_first_node() {
         }
         let gle = Embedding::grunwald_letnikov(side, 0.6).unwrap();
         for solver in [FractionalSolver::Dense, FractionalSolver::Fast] {
-            let problem = Problem::new(&FirstOrder, grid, gle).with_fractional_solver(solver);
+            let problem =
+                varembed_tests::problem(&FirstOrder, grid, gle).with_fractional_solver(solver);
             assert_eq!(
                 problem
                     .solve_bvp(Scheme::Variational, 1.0, 0.5)
@@ -98,7 +99,8 @@ fn a_small_but_regular_kinetic_term_passes() {
     let (q0, v0) = (Vector::<2>::new(1.0, 0.0), Vector::<2>::new(0.0, 1.0));
     let run = |scale: f64| {
         let lag = ScaledOscillator { scale };
-        let problem = Problem::new(&lag, grid, Embedding::finite_difference(Side::Forward));
+        let problem =
+            varembed_tests::problem(&lag, grid, Embedding::finite_difference(Side::Forward));
         problem.solve_ivp(Scheme::Variational, q0, v0).unwrap()
     };
     let (small, unit) = (run(1e-8), run(1.0));
@@ -153,14 +155,14 @@ fn a_lagrangian_degenerate_away_from_the_initial_data_is_caught_along_the_run() 
         // h = 10⁻³: m = 0 from node 1500 on. The checks run before steps 2, 1026, 2050, …, at
         // nodes 1, 1025, 2049: the first that sees m = 0 is node 2049.
         let grid = Grid::new(0.0, 3.0, 3000).unwrap();
-        let problem = Problem::new(&lag, grid, Embedding::finite_difference(side));
+        let problem = varembed_tests::problem(&lag, grid, Embedding::finite_difference(side));
         assert_eq!(
             problem.solve_ivp(scheme, 1.0, 0.0).unwrap_err(),
             degenerate(Location::Step(2049)),
             "{side:?} {scheme}"
         );
         // A run that ends at node 1800 passes no check after the switch but the last node's.
-        let short = Problem::new(
+        let short = varembed_tests::problem(
             &lag,
             Grid::new(0.0, 1.8, 1800).unwrap(),
             Embedding::finite_difference(side),
@@ -171,7 +173,7 @@ fn a_lagrangian_degenerate_away_from_the_initial_data_is_caught_along_the_run() 
             "{side:?} {scheme}"
         );
         // Before the switch the run is the oscillator's: q = cos t.
-        let early = Problem::new(
+        let early = varembed_tests::problem(
             &lag,
             Grid::new(0.0, 1.4, 1400).unwrap(),
             Embedding::finite_difference(side),
@@ -196,7 +198,7 @@ fn a_non_finite_model_constant_is_named() {
         what: "model constant `c` = NaN".to_string(),
     };
     for side in [Side::Backward, Side::Forward] {
-        let problem = Problem::new(&lag, grid, Embedding::finite_difference(side));
+        let problem = varembed_tests::problem(&lag, grid, Embedding::finite_difference(side));
         assert_eq!(
             problem.solve_ivp(Scheme::Direct, 0.0, 0.1),
             Err(expected.clone())
@@ -215,7 +217,7 @@ fn a_non_finite_model_constant_is_named() {
         c: 1.0,
         k: 1.0,
     };
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &infinite,
         grid,
         Embedding::finite_difference(Side::Backward),
@@ -238,7 +240,7 @@ fn a_non_finite_end_value_is_named_as_its_end() {
         Embedding::finite_difference(Side::Backward),
         Embedding::grunwald_letnikov(Side::Forward, 0.5).unwrap(),
     ] {
-        let problem = Problem::new(&lag, grid, embedding);
+        let problem = varembed_tests::problem(&lag, grid, embedding);
         assert_eq!(
             problem
                 .solve_bvp(Scheme::Variational, fine, nan)
@@ -268,7 +270,7 @@ fn a_non_finite_end_value_is_named_as_its_end() {
 #[test]
 fn a_non_finite_initial_value_is_named() {
     let lag = ScaledOscillator { scale: 1.0 };
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &lag,
         Grid::new(0.0, 1.0, 10).unwrap(),
         Embedding::finite_difference(Side::Forward),
@@ -304,7 +306,7 @@ fn an_initial_velocity_faster_than_light_is_outside_the_domain() {
     };
     let grid = Grid::new(0.0, 1.0, 100).unwrap();
     for side in [Side::Backward, Side::Forward] {
-        let problem = Problem::new(&lag, grid, Embedding::finite_difference(side));
+        let problem = varembed_tests::problem(&lag, grid, Embedding::finite_difference(side));
         for scheme in [Scheme::Direct, Scheme::Variational] {
             for start in [Start::Legendre, Start::SecondOrder] {
                 // v₀ = 1.5c.
@@ -348,7 +350,8 @@ fn an_initial_velocity_faster_than_light_is_outside_the_domain() {
 fn an_end_value_at_a_singularity_is_outside_the_domain() {
     let grid = Grid::new(0.0, 1.0, 10).unwrap();
     let (origin, away) = (Vector::<2>::zeros(), Vector::<2>::new(1.0, 0.0));
-    let backward = Problem::new(&Kepler, grid, Embedding::finite_difference(Side::Backward));
+    let backward =
+        varembed_tests::problem(&Kepler, grid, Embedding::finite_difference(Side::Backward));
     let err = backward
         .solve_bvp(Scheme::Variational, away, origin)
         .unwrap_err();
@@ -356,7 +359,8 @@ fn an_end_value_at_a_singularity_is_outside_the_domain() {
         matches!(&err, Error::OutsideDomain { what } if what.starts_with("the end value Q_10 = [0.0, 0.0] at b")),
         "{err:?}"
     );
-    let forward = Problem::new(&Kepler, grid, Embedding::finite_difference(Side::Forward));
+    let forward =
+        varembed_tests::problem(&Kepler, grid, Embedding::finite_difference(Side::Forward));
     let err = forward.solve_bvp(Scheme::Direct, origin, away).unwrap_err();
     assert!(
         matches!(&err, Error::OutsideDomain { what } if what.starts_with("the end value Q_0 = [0.0, 0.0] at a")),

@@ -28,9 +28,7 @@
 //!    against that floor, and `Problem::residual` against the oracle.
 
 use varembed::__private::toeplitz::{TriangularToeplitz, Workspace};
-use varembed::{
-    Embedding, Grid, Hessian, Lagrangian, Matrix, NewtonOptions, Problem, Scheme, Side, Vector,
-};
+use varembed::{Embedding, Grid, Hessian, Lagrangian, Matrix, NewtonOptions, Scheme, Side, Vector};
 use varembed_tests::models::hand::Pendulum;
 use varembed_tests::rng::Rng;
 
@@ -255,7 +253,7 @@ fn measure(n: usize, near: usize) -> Floor {
     let (grid, gle) = grid_and_embedding(n);
     let pendulum = Pendulum { g: 1.0, l: 1.0 };
     // A tolerance below round-off: Newton stops when the residual stops falling.
-    let problem = Problem::new(&pendulum, grid, gle).with_newton(NewtonOptions {
+    let problem = varembed_tests::problem(&pendulum, grid, gle).with_newton(NewtonOptions {
         tolerance: 1e-16,
         ..NewtonOptions::default()
     });
@@ -285,7 +283,7 @@ fn measure(n: usize, near: usize) -> Floor {
         }
         let linear = Linearised { a: a.clone(), b, n };
         let (grid, gle) = grid_and_embedding(n);
-        let x = Problem::new(&linear, grid, gle)
+        let x = varembed_tests::problem(&linear, grid, gle)
             .solve_bvp(Scheme::Variational, 0.0, 0.0)
             .unwrap()
             .q;

@@ -2,9 +2,7 @@
 //! terms each row sums: checked against the rows written out by hand, and shown not to grow
 //! with a Lagrangian that grows along the run, nor to change with the scale of `L`.
 
-use varembed::{
-    CompareOptions, Comparison, Embedding, Grid, Problem, Side, Solution, Vector, lagrangian,
-};
+use varembed::{CompareOptions, Comparison, Embedding, Grid, Side, Solution, Vector, lagrangian};
 use varembed_tests::models::hand::CaldirolaKanai;
 use varembed_tests::models::scaled::Scaled;
 
@@ -43,7 +41,7 @@ fn finite_difference_rows_by_hand() {
     let n = 40;
     let grid = Grid::new(0.0, 3.0, n).unwrap();
     let h = grid.h();
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &Oscillator,
         grid,
         Embedding::finite_difference(Side::Backward),
@@ -82,7 +80,7 @@ fn midpoint_rows_by_hand() {
     let n = 30;
     let grid = Grid::new(0.0, 4.0, n).unwrap();
     let h = grid.h();
-    let problem = Problem::new(&Oscillator, grid, Embedding::midpoint());
+    let problem = varembed_tests::problem(&Oscillator, grid, Embedding::midpoint());
     let options = CompareOptions {
         order: false,
         ..Default::default()
@@ -130,7 +128,7 @@ fn residual_does_not_grow_with_a_lagrangian_that_grows_along_the_run() {
     ] {
         let residual = |t_end: f64| {
             let grid = Grid::new(0.0, t_end, (t_end * 50.0) as usize).unwrap();
-            let cmp = Problem::new(&model, grid, embedding)
+            let cmp = varembed_tests::problem(&model, grid, embedding)
                 .compare_ivp_with(1.0, 0.0, &options)
                 .unwrap();
             [
@@ -164,7 +162,7 @@ fn residual_does_not_change_with_the_scale_of_l() {
         Embedding::trapezoidal(),
     ] {
         let of = |c: f64| {
-            let cmp = Problem::new(&Scaled::new(c, Oscillator), grid, embedding)
+            let cmp = varembed_tests::problem(&Scaled::new(c, Oscillator), grid, embedding)
                 .compare_bvp_with(1.0, -0.5, &options)
                 .unwrap();
             [

@@ -3,7 +3,7 @@
 //! checked against exact frequencies (the oscillator, and random quadratic Lagrangians whose
 //! `ω_max` comes from a symmetric eigen-decomposition).
 
-use varembed::{Embedding, Grid, Hessian, Lagrangian, Matrix, Problem, Scheme, Side, Vector};
+use varembed::{Embedding, Grid, Hessian, Lagrangian, Matrix, Scheme, Side, Vector};
 use varembed_tests::models::hand::Oscillator;
 use varembed_tests::rng::Rng;
 use varembed_tests::warnings::under_resolved;
@@ -12,7 +12,7 @@ use varembed_tests::warnings::under_resolved;
 fn an_under_resolved_midpoint_run_is_flagged_and_a_resolved_one_is_not() {
     let oscillator = Oscillator { omega: 1.0 };
     // ωh = 10: stable, Ok, and its phase is meaningless (2 atan 5 ≈ 2.75 a step, not 10).
-    let coarse = Problem::new(
+    let coarse = varembed_tests::problem(
         &oscillator,
         Grid::new(0.0, 100.0, 10).unwrap(),
         Embedding::midpoint(),
@@ -42,7 +42,7 @@ fn an_under_resolved_midpoint_run_is_flagged_and_a_resolved_one_is_not() {
         Embedding::trapezoidal(),
         Embedding::finite_difference(Side::Backward),
     ] {
-        let fine = Problem::new(&oscillator, fine_grid, embedding);
+        let fine = varembed_tests::problem(&oscillator, fine_grid, embedding);
         for scheme in [Scheme::Direct, Scheme::Variational] {
             let run = fine.solve_ivp(scheme, 1.0, 0.0).unwrap();
             assert!(
@@ -67,7 +67,7 @@ fn gauss_legendre_is_allowed_two_per_stage() {
     ] {
         let grid = Grid::new(0.0, 10.0 * h, 10).unwrap();
         let embedding = Embedding::gauss_legendre(stages).unwrap();
-        let run = Problem::new(&oscillator, grid, embedding)
+        let run = varembed_tests::problem(&oscillator, grid, embedding)
             .solve_ivp(Scheme::Variational, 1.0, 0.0)
             .unwrap();
         let found = under_resolved(&run.warnings);
@@ -138,7 +138,7 @@ fn the_fastest_rate_matches_the_generalised_eigenproblem_on_random_models() {
         let target = if case % 2 == 0 { 1.6 } else { 2.5 };
         let h = target / omega;
         let grid = Grid::new(0.0, 20.0 * h, 20).unwrap();
-        let run = Problem::new(&model, grid, Embedding::midpoint())
+        let run = varembed_tests::problem(&model, grid, Embedding::midpoint())
             .solve_ivp(Scheme::Variational, rng.vector(1.0), rng.vector(1.0))
             .unwrap();
         let found = under_resolved(&run.warnings);

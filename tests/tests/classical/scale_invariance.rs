@@ -287,7 +287,7 @@ fn implicit_direct_pendulum_at_a_tiny_scale_matches_the_unit_scale() {
     let grid = Grid::new(0.0, 5.0, 500).unwrap();
     let embedding = Embedding::finite_difference(Side::Backward);
     let run = |c: f64| {
-        Problem::new(&Scaled::new(c, &pendulum), grid, embedding)
+        varembed_tests::problem(&Scaled::new(c, &pendulum), grid, embedding)
             .solve_ivp(Scheme::Direct, 1.0, 0.5)
             .unwrap()
     };

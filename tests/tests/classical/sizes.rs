@@ -1,9 +1,7 @@
 //! Problems too large for the machine or the solver are typed errors before any work, and
 //! Newton's acceptance does not take a residual that is large against the equation.
 
-use varembed::{
-    DynProblem, Embedding, Error, FractionalSolver, Grid, Problem, Scheme, Side, lagrangian,
-};
+use varembed::{DynProblem, Embedding, Error, FractionalSolver, Grid, Scheme, Side, lagrangian};
 use varembed_tests::models::chain::FputChain;
 use varembed_tests::models::generated::UnitPendulum;
 
@@ -34,7 +32,7 @@ fn nodes_that_cannot_fit_in_memory_are_a_typed_error_before_any_step() {
         Embedding::midpoint(),
         Embedding::gauss_legendre(2).unwrap(),
     ] {
-        let problem = Problem::new(&UnitPendulum, grid, embedding);
+        let problem = varembed_tests::problem(&UnitPendulum, grid, embedding);
         let ivp = problem.solve_ivp(Scheme::Variational, 0.1, 0.0);
         assert!(
             matches!(&ivp, Err(Error::TooLarge { .. })),
@@ -71,7 +69,7 @@ fn nodes_that_cannot_fit_in_memory_are_a_typed_error_before_any_step() {
 fn a_dense_fractional_solve_of_hours_is_refused_up_front() {
     let gle = Embedding::grunwald_letnikov(Side::Backward, 0.6).unwrap();
     let n = FractionalSolver::DENSE_MAX + 2;
-    let problem = Problem::new(&UnitPendulum, Grid::new(0.0, 1.0, n).unwrap(), gle)
+    let problem = varembed_tests::problem(&UnitPendulum, Grid::new(0.0, 1.0, n).unwrap(), gle)
         .with_fractional_solver(FractionalSolver::Dense);
     let error = problem
         .solve_bvp(Scheme::Variational, 0.0, 1.0)
@@ -94,7 +92,7 @@ fn newton_does_not_accept_a_residual_that_is_large_against_its_rows() {
     // The midpoint direct solve from the straight line through the singularity: whatever it
     // returns, an Ok must solve its rows to the tolerance of each row's own terms.
     let grid = Grid::new(0.0, 3.0, 11).unwrap();
-    let problem = Problem::new(&Repelled, grid, Embedding::midpoint());
+    let problem = varembed_tests::problem(&Repelled, grid, Embedding::midpoint());
     match problem.solve_bvp(Scheme::Direct, 1.0, -1.0) {
         Ok(solution) => {
             let residual = problem.residual(Scheme::Direct, &solution.q).unwrap();

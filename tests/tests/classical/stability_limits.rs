@@ -8,7 +8,7 @@
 //! | direct Gauss-FDE− | `Q_k − 2Q_{k−1} + Q_{k−2} = −z²Q_k` | `(1 + z²)λ² − 2λ + 1` | `(1 ± iz)/(1 + z²)`, modulus `(1 + z²)^{−1/2} < 1` | none: stable (and damped) at every `h` |
 //! | direct Gauss-FDE+ | `Q_{k+2} − 2Q_{k+1} + Q_k = −z²Q_k` | `λ² − 2λ + 1 + z²` | `1 ± iz`, modulus `(1 + z²)^{1/2} > 1` | none: grows at every `h`; refused at `ωh ≥ √3` (modulus ≥ 2) |
 
-use varembed::{Embedding, Error, Grid, Problem, Scheme, Side, Solution, lagrangian};
+use varembed::{Embedding, Error, Grid, Scheme, Side, Solution, lagrangian};
 
 /// `ω = 1`: `z = h`.
 #[lagrangian]
@@ -19,7 +19,7 @@ fn oscillator(x: f64, v: f64) -> f64 {
 /// A run of `n` steps of size `h` from `Q_0 = 1`, `Q_1 = cos h` (the exact solution's nodes).
 fn run(embedding: Embedding, scheme: Scheme, h: f64, n: usize) -> varembed::Result<Solution<1>> {
     let grid = Grid::new(0.0, h * n as f64, n)?;
-    Problem::new(&Oscillator, grid, embedding).solve_ivp_from_nodes(scheme, 1.0, h.cos())
+    varembed_tests::problem(&Oscillator, grid, embedding).solve_ivp_from_nodes(scheme, 1.0, h.cos())
 }
 
 fn max_abs(solution: &Solution<1>) -> f64 {

@@ -3,7 +3,7 @@
 //! Legendre start and second order from the second-order start, with the error figures at
 //! t = 10 stated below to 15 %.
 
-use varembed::{Embedding, Grid, Problem, Scheme, Side, Start};
+use varembed::{Embedding, Grid, Scheme, Side, Start};
 use varembed_tests::models::hand::Pendulum;
 
 /// Classical RK4 on `q̈ = −(g/l) sin q` with `steps` steps: an independent reference, fourth
@@ -35,7 +35,7 @@ fn legendre_start_is_first_order_and_second_order_start_is_second_order() {
             let errors: Vec<f64> = [1000, 2000, 4000]
                 .iter()
                 .map(|&n| {
-                    let problem = Problem::new(
+                    let problem = varembed_tests::problem(
                         &pendulum,
                         Grid::new(0.0, 10.0, n).unwrap(),
                         Embedding::finite_difference(side),

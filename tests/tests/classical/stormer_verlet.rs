@@ -2,7 +2,7 @@
 //! schemes are the textbook two-step formulas (implicit for σ = −, explicit for σ = +; see
 //! `core/docs/schemes.md`).
 
-use varembed::{Embedding, Grid, Problem, Scheme, Side, Vector};
+use varembed::{Embedding, Grid, Scheme, Side, Vector};
 use varembed_tests::models::hand::Anharmonic;
 use varembed_tests::rng::Rng;
 
@@ -20,7 +20,8 @@ fn residuals_are_the_textbook_formulas() {
     // Row k of every scheme is −(second difference + U'), i.e. second difference − force.
     let close = |a: f64, b: f64| (a - b).abs() <= 1e-12 * (1.0 + b.abs());
     for side in [Side::Backward, Side::Forward] {
-        let problem = Problem::new(&Anharmonic, grid, Embedding::finite_difference(side));
+        let problem =
+            varembed_tests::problem(&Anharmonic, grid, Embedding::finite_difference(side));
         let variational = problem.residual(Scheme::Variational, &q).unwrap();
         for (i, k) in problem.residual_rows(Scheme::Variational).enumerate() {
             let verlet = -(second_difference(&q, k, h) - force(k));
@@ -47,7 +48,8 @@ fn variational_runs_follow_the_stormer_verlet_recurrence() {
     let grid = Grid::new(0.0, 20.0, 2000).unwrap();
     let h = grid.h();
     for side in [Side::Backward, Side::Forward] {
-        let problem = Problem::new(&Anharmonic, grid, Embedding::finite_difference(side));
+        let problem =
+            varembed_tests::problem(&Anharmonic, grid, Embedding::finite_difference(side));
         let run = problem.solve_ivp(Scheme::Variational, 1.2, 0.3).unwrap();
         for k in 1..grid.n() {
             let next = 2.0 * run.q[k][0] - run.q[k - 1][0] + h * h * Anharmonic::force(run.q[k][0]);

@@ -5,7 +5,7 @@
 //! differ are the ones core/docs/schemes.md derives; the initial value runs zero the global residual
 //! rows that the boundary value solver uses.
 
-use varembed::{Embedding, Error, Grid, Problem, Scheme, Vector, lagrangian};
+use varembed::{Embedding, Error, Grid, Scheme, Vector, lagrangian};
 use varembed_tests::curve::{max_diff, max_norm};
 use varembed_tests::models::generated::Kepler;
 use varembed_tests::models::hand::Coupled;
@@ -51,7 +51,7 @@ fn oscillator_runs_are_the_cayley_transform_and_stormer_verlet() {
         let model = Oscillator { omega };
         let grid = Grid::new(0.0, steps as f64 * omega_h / omega, steps).unwrap();
         for embedding in symmetric() {
-            let problem = Problem::new(&model, grid, embedding);
+            let problem = varembed_tests::problem(&model, grid, embedding);
             for scheme in SCHEMES {
                 let run = problem.solve_ivp(scheme, 1.0, 0.3).unwrap();
                 let exact = closed_form(embedding, scheme, omega_h, run.q[0][0], run.q[1][0]);
@@ -90,7 +90,7 @@ fn legendre_start_is_minus_d1_of_the_discrete_lagrangian() {
         (Embedding::midpoint(), midpoint),
         (Embedding::trapezoidal(), trapezoidal),
     ] {
-        let q1 = Problem::new(&model, grid, embedding)
+        let q1 = varembed_tests::problem(&model, grid, embedding)
             .legendre_start(q0, v0)
             .unwrap();
         assert!(
@@ -110,7 +110,7 @@ fn midpoint_variational_is_a_stable_at_any_step() {
     for omega_h in [3.0, 20.0, 1000.0] {
         let model = Oscillator { omega: 1.0 };
         let grid = Grid::new(0.0, steps as f64 * omega_h, steps).unwrap();
-        let problem = Problem::new(&model, grid, Embedding::midpoint());
+        let problem = varembed_tests::problem(&model, grid, Embedding::midpoint());
         let run = problem.solve_ivp(Scheme::Variational, 1.0, 0.0).unwrap();
         let exact = closed_form(
             Embedding::midpoint(),
@@ -146,7 +146,7 @@ fn stormer_verlet_schemes_are_stopped_past_omega_h_two() {
     for (embedding, scheme) in cases {
         for (omega_h, stable) in [(1.98, true), (2.02, false), (2.5, false)] {
             let grid = Grid::new(0.0, steps as f64 * omega_h, steps).unwrap();
-            let run = Problem::new(&model, grid, embedding).solve_ivp(scheme, 1.0, 0.0);
+            let run = varembed_tests::problem(&model, grid, embedding).solve_ivp(scheme, 1.0, 0.0);
             match run {
                 Ok(_) if stable => {}
                 Err(Error::Unstable { re, .. }) if !stable => assert!(re < -1.0, "λ = {re}"),
@@ -170,7 +170,7 @@ fn the_blow_up_guard_stops_the_double_root_at_omega_h_two() {
         (Embedding::trapezoidal(), Scheme::Direct),
         (Embedding::midpoint(), Scheme::Direct),
     ] {
-        let problem = Problem::new(&model, grid, embedding);
+        let problem = varembed_tests::problem(&model, grid, embedding);
         let run = problem.solve_ivp_from_nodes(scheme, 1.0, -3.0);
         assert!(
             matches!(run, Err(Error::BlowUp { .. })),
@@ -194,7 +194,7 @@ fn neither_symmetric_embedding_is_coherent() {
         assert!(!embedding.is_coherent());
         // Rough curves: the gap is O(1), as for Gauss-FDEσ.
         let grid = Grid::new(0.0, 2.0, 40).unwrap();
-        let problem = Problem::new(&Coupled, grid, embedding);
+        let problem = varembed_tests::problem(&Coupled, grid, embedding);
         assert_eq!(problem.residual_rows(Scheme::Direct), 1..=39);
         assert_eq!(problem.residual_rows(Scheme::Variational), 1..=39);
         let q = rng.curve::<2>(grid.n(), 1.0);
@@ -215,7 +215,7 @@ fn neither_symmetric_embedding_is_coherent() {
                         Vector::<2>::new((2.0 * t).sin(), (1.5 * t).cos() - 0.3 * t)
                     })
                     .collect();
-                let problem = Problem::new(&Coupled, grid, embedding);
+                let problem = varembed_tests::problem(&Coupled, grid, embedding);
                 let direct = problem.residual(Scheme::Direct, &q).unwrap();
                 let variational = problem.residual(Scheme::Variational, &q).unwrap();
                 max_diff(&direct, &variational)
@@ -244,7 +244,7 @@ fn rows_on_kepler_are_those_derived_by_hand() {
         .collect();
     let force = |x: Vector<2>| -x / x.norm().powi(3);
     for embedding in symmetric() {
-        let problem = Problem::new(&Kepler, grid, embedding);
+        let problem = varembed_tests::problem(&Kepler, grid, embedding);
         let direct = problem.residual(Scheme::Direct, &q).unwrap();
         let variational = problem.residual(Scheme::Variational, &q).unwrap();
         for k in 1..n {
@@ -266,7 +266,7 @@ fn rows_on_kepler_are_those_derived_by_hand() {
     }
     // On a separable Lagrangian the trapezoidal schemes coincide (both take the force at the
     // node); the midpoint ones do not.
-    let problem = Problem::new(&Kepler, grid, Embedding::trapezoidal());
+    let problem = varembed_tests::problem(&Kepler, grid, Embedding::trapezoidal());
     let gap = max_diff(
         &problem.residual(Scheme::Direct, &q).unwrap(),
         &problem.residual(Scheme::Variational, &q).unwrap(),
@@ -283,7 +283,8 @@ fn the_comparison_shows_the_incoherence() {
     for embedding in symmetric() {
         let mut gaps = Vec::new();
         for n in [200, 400] {
-            let problem = Problem::new(&Coupled, Grid::new(0.0, 2.0, n).unwrap(), embedding);
+            let problem =
+                varembed_tests::problem(&Coupled, Grid::new(0.0, 2.0, n).unwrap(), embedding);
             let comparison = problem.compare_ivp([0.3, -0.2], [0.5, 0.1]).unwrap();
             let gap = comparison.direct.residual_of_other;
             assert!(gap > 1e-10, "{embedding}: {gap:e}");
@@ -303,7 +304,7 @@ fn initial_value_runs_solve_the_global_rows_and_the_boundary_value_problem() {
     let n = 60;
     let grid = Grid::new(0.0, 1.5, n).unwrap();
     for embedding in symmetric() {
-        let problem = Problem::new(&Coupled, grid, embedding);
+        let problem = varembed_tests::problem(&Coupled, grid, embedding);
         for scheme in SCHEMES {
             let run = problem.solve_ivp(scheme, [0.4, -0.3], [0.2, 0.5]).unwrap();
             let residual = problem.residual(scheme, &run.q).unwrap();
@@ -345,7 +346,7 @@ fn action_and_energy_are_those_of_the_discrete_lagrangian() {
                 (f(a, v) + f(b, v)) / 2.0
             }
         };
-        let problem = Problem::new(&model, grid, embedding);
+        let problem = varembed_tests::problem(&model, grid, embedding);
         let action: f64 = (1..=n).map(|k| h * at(&lagrangian, k)).sum();
         assert!(
             (problem.action(&q).unwrap() - action).abs() < 1e-13,
@@ -380,7 +381,7 @@ fn midpoint_variational_map_is_the_cayley_transform() {
     for omega_h in [0.1, 1.0, 5.0] {
         let h = omega_h / omega;
         let grid = Grid::new(0.0, h * steps as f64, steps).unwrap();
-        let run = Problem::new(&model, grid, Embedding::midpoint())
+        let run = varembed_tests::problem(&model, grid, Embedding::midpoint())
             .solve_ivp(Scheme::Variational, 0.6, -0.8)
             .unwrap();
         let a = nalgebra::Matrix2::new(0.0, 1.0, -omega * omega, 0.0);

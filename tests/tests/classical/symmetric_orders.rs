@@ -242,7 +242,7 @@ fn second_order_boundary_value_problems_on_the_magnetic_orbit() {
                 .map(|&n| {
                     let grid = Grid::new(0.0, t_end, n).unwrap();
                     let exact = |k: usize| magnetic_orbit(b, q0, v0, grid.t(k));
-                    let run = Problem::new(&model, grid, embedding)
+                    let run = varembed_tests::problem(&model, grid, embedding)
                         .solve_bvp(scheme, exact(0), exact(n))
                         .unwrap();
                     (0..=n)
@@ -303,7 +303,7 @@ fn variational_schemes_conserve_keplers_angular_momentum() {
     let h = grid.h();
     let gravity = |x: &Vector<2>, _: &Vector<2>| (-x / x.norm().powi(3), Vector::<2>::zeros());
     for embedding in symmetric() {
-        let run = Problem::new(&Kepler, grid, embedding)
+        let run = varembed_tests::problem(&Kepler, grid, embedding)
             .with_newton(AT_ROUND_OFF)
             .solve_ivp(Scheme::Variational, q0, v0)
             .unwrap();
@@ -344,7 +344,7 @@ fn variational_schemes_keep_the_magnetic_guiding_centre_and_radius() {
         )
     };
     for embedding in symmetric() {
-        let run = Problem::new(&Magnetic { b }, grid, embedding)
+        let run = varembed_tests::problem(&Magnetic { b }, grid, embedding)
             .with_newton(AT_ROUND_OFF)
             .solve_ivp(Scheme::Variational, q0, v0)
             .unwrap();
@@ -393,7 +393,7 @@ fn the_comparison_shows_theoretical_next_to_observed_orders() {
         Embedding::finite_difference(Side::Backward),
     ];
     for embedding in embeddings {
-        let cmp = Problem::new(&UnitPendulum, grid, embedding)
+        let cmp = varembed_tests::problem(&UnitPendulum, grid, embedding)
             .compare_ivp_with(q0, v0, &options)
             .unwrap();
         let expected = if embedding.is_symmetric() { 2 } else { 1 };
@@ -454,12 +454,13 @@ fn long_runs_of_every_symmetric_scheme_pass_the_guard_with_bounded_energy() {
                 )
             };
             let (q0, v0, t_end) = kepler;
-            let problem = Problem::new(&Kepler, Grid::new(0.0, t_end, steps).unwrap(), embedding);
+            let problem =
+                varembed_tests::problem(&Kepler, Grid::new(0.0, t_end, steps).unwrap(), embedding);
             let run = problem.solve_ivp(scheme, q0, v0).unwrap();
             let kepler_drift = drift(problem.quadrature_energies(&run.q).unwrap());
             let (q0, v0, t_end) = chaotic;
             let grid = Grid::new(0.0, t_end, steps).unwrap();
-            let problem = Problem::new(&pendulum, grid, embedding);
+            let problem = varembed_tests::problem(&pendulum, grid, embedding);
             let run = problem.solve_ivp(scheme, q0, v0).unwrap();
             let pendulum_drift = drift(problem.quadrature_energies(&run.q).unwrap());
             println!(

@@ -1,7 +1,7 @@
 //! The variational residual is `(1/h) ∂S_h/∂Q_j`, checked by central finite
 //! differences of `action`, for σ = ±, α ∈ {1, 0.3, 0.7}, on a non-separable, time-dependent L.
 
-use varembed::{Embedding, Grid, Lagrangian, Problem, Scheme, Side, Vector};
+use varembed::{Embedding, Grid, Lagrangian, Scheme, Side, Vector};
 use varembed_tests::models::hand::Coupled;
 use varembed_tests::rng::Rng;
 
@@ -54,7 +54,7 @@ fn variational_residual_is_the_gradient_of_the_discrete_action() {
         }
     }
     for embedding in embeddings {
-        let problem = Problem::new(&Coupled, grid, embedding);
+        let problem = varembed_tests::problem(&Coupled, grid, embedding);
         let q = rng.curve::<2>(grid.n(), 0.8);
         let residual = problem.residual(Scheme::Variational, &q).unwrap();
         assert_eq!(problem.residual_rows(Scheme::Variational), 1..=grid.n() - 1);

@@ -4,8 +4,8 @@
 //! value problem returns the nodes of its initial value problem; bad input gives typed errors.
 
 use varembed::{
-    DynProblem, DynSolution, Embedding, Error, Grid, Location, NewtonOptions, Problem, Scheme,
-    Side, Vector, lagrangian,
+    DynProblem, DynSolution, Embedding, Error, Grid, Location, NewtonOptions, Scheme, Side, Vector,
+    lagrangian,
 };
 use varembed_tests::models::chain::{FputChain, displacement};
 use varembed_tests::models::generated::fput16;
@@ -104,7 +104,7 @@ fn the_sparse_lu_solve_matches_the_const_generic_solve_for_every_scheme() {
         qb.clone().try_into().unwrap(),
     );
     for (embedding, scheme) in kinds() {
-        let reference = Problem::new(&model, grid, embedding)
+        let reference = varembed_tests::problem(&model, grid, embedding)
             .solve_bvp(scheme, qa16, qb16)
             .unwrap();
         assert!(reference.newton_iterations >= 2, "{embedding} {scheme}");
@@ -140,7 +140,7 @@ fn a_model_with_every_block_varying_matches_the_const_generic_solve() {
         Vector::<M>::from_column_slice(&qb),
     );
     for (embedding, scheme) in kinds() {
-        let reference = Problem::new(&model, grid, embedding)
+        let reference = varembed_tests::problem(&model, grid, embedding)
             .solve_bvp(scheme, qa8, qb8)
             .unwrap();
         assert!(reference.newton_iterations >= 2, "{embedding} {scheme}");
@@ -169,7 +169,7 @@ fn a_ring_which_is_not_banded_matches_the_const_generic_ring() {
         qb.clone().try_into().unwrap(),
     );
     for (embedding, scheme) in kinds() {
-        let reference = Problem::new(&oracle, grid, embedding)
+        let reference = varembed_tests::problem(&oracle, grid, embedding)
             .solve_bvp(scheme, qa12, qb12)
             .unwrap();
         let kind = (grid, embedding, scheme);
@@ -190,7 +190,7 @@ fn from_a_guess_the_solve_matches_the_const_generic_solve() {
     let flat: Vec<f64> = guess.iter().flat_map(|x| x.iter().copied()).collect();
     let embedding = Embedding::finite_difference(Side::Forward);
     for scheme in [Scheme::Direct, Scheme::Variational] {
-        let reference = Problem::new(&model, grid, embedding)
+        let reference = varembed_tests::problem(&model, grid, embedding)
             .solve_bvp_from(scheme, &guess)
             .unwrap();
         let solution = DynProblem::new(&model, grid, embedding)
@@ -388,8 +388,11 @@ fn a_degenerate_model_is_reported_at_a_node() {
         &[0.0, 0.0],
         &[1.0, 1.0],
     );
-    let reference =
-        Problem::new(&Half, grid, embedding).solve_bvp(Scheme::Variational, [0.0, 0.0], [1.0, 1.0]);
+    let reference = varembed_tests::problem(&Half, grid, embedding).solve_bvp(
+        Scheme::Variational,
+        [0.0, 0.0],
+        [1.0, 1.0],
+    );
     assert!(matches!(
         dynamic,
         Err(Error::DegenerateLagrangian {
@@ -411,8 +414,11 @@ fn a_degenerate_model_is_reported_at_a_node() {
         &[0.0, 0.0],
         &[1.0, 1.0],
     );
-    let fixed =
-        Problem::new(&Half, grid, gauss).solve_bvp(Scheme::Variational, [0.0, 0.0], [1.0, 1.0]);
+    let fixed = varembed_tests::problem(&Half, grid, gauss).solve_bvp(
+        Scheme::Variational,
+        [0.0, 0.0],
+        [1.0, 1.0],
+    );
     for result in [dynamic.map(|_| ()), fixed.map(|_| ())] {
         assert!(matches!(
             result,

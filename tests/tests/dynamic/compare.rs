@@ -8,8 +8,7 @@
 
 use varembed::{
     CompareOptions, ComparedSolution, Comparison, DynProblem, DynSolution, Embedding, Error, Grid,
-    Lagrangian, NewtonOptions, Problem, Reference, SchemeReport, Side, Solution, Start, Vector,
-    lagrangian,
+    Lagrangian, NewtonOptions, Reference, SchemeReport, Side, Solution, Start, Vector, lagrangian,
 };
 use varembed_tests::models::chain::FputChain;
 use varembed_tests::models::generated::fput16;
@@ -187,8 +186,8 @@ fn the_initial_value_comparison_of_the_chain_is_the_const_generic_one() {
         Embedding::midpoint(),
         Embedding::trapezoidal(),
     ] {
-        let oracle_problem = Problem::new(&oracle_model, grid, embedding);
-        let fine = Problem::new(
+        let oracle_problem = varembed_tests::problem(&oracle_model, grid, embedding);
+        let fine = varembed_tests::problem(
             &oracle_model,
             Grid::new(0.0, 2.0, 32 * 40).unwrap(),
             embedding,
@@ -259,7 +258,7 @@ fn the_boundary_value_comparison_is_the_const_generic_one_coherent_or_not() {
             // The trapezoidal rule's two schemes coincide where the force does not read the
             // velocity, as on this chain.
             let coherent = embedding.is_coherent() || embedding == Embedding::trapezoidal();
-            let oracle = Problem::new(&oracle_model, grid, embedding)
+            let oracle = varembed_tests::problem(&oracle_model, grid, embedding)
                 .compare_bvp(qa16, qb16)
                 .unwrap();
             let ours = DynProblem::new(&chain, grid, embedding)
@@ -286,7 +285,7 @@ fn against_an_exact_solution_both_problems_give_the_same_comparison() {
     };
     for side in [Side::Backward, Side::Forward] {
         let embedding = Embedding::finite_difference(side);
-        let oracle = Problem::new(&Oscillators, grid, embedding)
+        let oracle = varembed_tests::problem(&Oscillators, grid, embedding)
             .compare_ivp_with(a, b, &options_d)
             .unwrap();
         let ours = DynProblem::new(&Oscillators, grid, embedding)
@@ -298,7 +297,7 @@ fn against_an_exact_solution_both_problems_give_the_same_comparison() {
         assert!((ours.direct.order.unwrap() - 1.0).abs() < 0.1);
         assert_eq!(ours.order_grids, [60, 120]);
         // From the second-order start, Störmer–Verlet's positions are second order.
-        let oracle = Problem::new(&Oscillators, grid, embedding)
+        let oracle = varembed_tests::problem(&Oscillators, grid, embedding)
             .compare_ivp_with(
                 a,
                 b,
@@ -327,7 +326,7 @@ fn against_an_exact_solution_both_problems_give_the_same_comparison() {
         let order = ours.variational.order.unwrap();
         assert!((order - 2.0).abs() < 0.1, "{order}");
         let (qa, qb) = (exact(0.0), exact(3.0));
-        let oracle = Problem::new(&Oscillators, grid, embedding)
+        let oracle = varembed_tests::problem(&Oscillators, grid, embedding)
             .compare_bvp_with(
                 Vector::<D>::from_vec(qa.clone()),
                 Vector::<D>::from_vec(qb.clone()),
@@ -356,7 +355,7 @@ fn without_the_order_solves_and_from_runs_nothing_more_is_solved() {
             ..Default::default()
         },
     );
-    let oracle = Problem::new(&Oscillators, grid, embedding)
+    let oracle = varembed_tests::problem(&Oscillators, grid, embedding)
         .compare_ivp_with(q0, v0, &no_order.0)
         .unwrap();
     let ours = DynProblem::new(&Oscillators, grid, embedding)
@@ -369,7 +368,7 @@ fn without_the_order_solves_and_from_runs_nothing_more_is_solved() {
     let options = CompareOptions::default();
     let runs = [varembed::Scheme::Direct, varembed::Scheme::Variational]
         .map(|scheme| problem.convergence_ivp(scheme, &q0, &v0, &options, 4));
-    let oracle_problem = Problem::new(&Oscillators, grid, embedding);
+    let oracle_problem = varembed_tests::problem(&Oscillators, grid, embedding);
     let oracle_runs = [varembed::Scheme::Direct, varembed::Scheme::Variational].map(|scheme| {
         oracle_problem.convergence_ivp(scheme, q0, v0, &CompareOptions::default(), 4)
     });
@@ -396,7 +395,7 @@ fn a_failing_solve_is_the_typed_error_of_the_const_generic_comparison() {
     let grid = Grid::new(0.0, 1.0, 10).unwrap();
     let embedding = Embedding::finite_difference(Side::Forward);
     let problem = DynProblem::new(&Oscillators, grid, embedding);
-    let oracle = Problem::new(&Oscillators, grid, embedding);
+    let oracle = varembed_tests::problem(&Oscillators, grid, embedding);
     let nan = [f64::NAN, 0.0, 0.0, 0.0];
     let ours = problem.compare_ivp(&nan, &[0.0; D]).unwrap_err();
     let theirs = oracle.compare_ivp(nan, [0.0; D]).unwrap_err();
@@ -415,7 +414,7 @@ fn a_failing_solve_is_the_typed_error_of_the_const_generic_comparison() {
         .with_newton(strict)
         .compare_bvp(&qa, &qb)
         .unwrap_err();
-    let theirs = Problem::new(&chain.0, bvp_grid, embedding)
+    let theirs = varembed_tests::problem(&chain.0, bvp_grid, embedding)
         .with_newton(strict)
         .compare_bvp(
             Vector::<16>::from_column_slice(&qa),

@@ -3,8 +3,8 @@
 //! exact solution, and the typed errors of bad input.
 
 use varembed::{
-    DynProblem, DynSolution, Embedding, Ensemble, Error, Grid, Lagrangian, NewtonOptions, Problem,
-    Scheme, Solution, Start, Vector, lagrangian,
+    DynProblem, DynSolution, Embedding, Ensemble, Error, Grid, Lagrangian, NewtonOptions, Scheme,
+    Solution, Start, Vector, lagrangian,
 };
 
 use super::ivp::const_generic_run_from;
@@ -268,11 +268,11 @@ fn the_start_is_chosen_the_same_way_on_both_paths() {
                 .solve_ivp_with(scheme, &q0, &v0, start)
                 .unwrap();
             assert_eq!(by_builder.q, by_call.q, "{embedding} {start:?}");
-            let twin_builder = Problem::new(&twin, grid, embedding)
+            let twin_builder = varembed_tests::problem(&twin, grid, embedding)
                 .with_start(start)
                 .solve_ivp(scheme, x0, u0)
                 .unwrap();
-            let twin_call = Problem::new(&twin, grid, embedding)
+            let twin_call = varembed_tests::problem(&twin, grid, embedding)
                 .solve_ivp_with(scheme, x0, u0, start)
                 .unwrap();
             assert_eq!(twin_builder.q, twin_call.q, "{embedding} {start:?}");
@@ -280,7 +280,7 @@ fn the_start_is_chosen_the_same_way_on_both_paths() {
             assert!(gap <= 1e-12, "{embedding} {start:?}: {gap:e}");
             // The ensembles of both paths run from the problem's start too.
             let members = [&twin];
-            let models = Problem::new(&twin, grid, embedding)
+            let models = varembed_tests::problem(&twin, grid, embedding)
                 .with_start(start)
                 .solve_ivp_models(scheme, &members, |m| *m, x0, u0, &Ensemble::serial());
             assert_eq!(models[0].as_ref().unwrap().q, twin_builder.q, "{start:?}");

@@ -11,8 +11,8 @@
 //! transforms). A boundary value problem under a force is refused.
 
 use varembed::{
-    BvpSolver, DynForce, DynProblem, Embedding, Error, Forced, Grid, LinearSolve, Problem,
-    Rayleigh, Scheme, Side, force, lagrangian,
+    BvpSolver, DynForce, DynProblem, Embedding, Error, Forced, Grid, LinearSolve, Rayleigh, Scheme,
+    Side, force, lagrangian,
 };
 use varembed_tests::models::scaled::Scaled;
 use varembed_tests::rng::Rng;
@@ -92,7 +92,7 @@ fn forced_runs_of_run_time_dimension_are_the_const_generic_runs() {
     let grid = Grid::new(0.0, 4.0, 200).unwrap();
     for embedding in embeddings() {
         for scheme in [Scheme::Direct, Scheme::Variational] {
-            let reference = Problem::new(&forced, grid, embedding)
+            let reference = varembed_tests::problem(&forced, grid, embedding)
                 .solve_ivp(scheme, q0, v0)
                 .unwrap();
             let run = DynProblem::new(&forced, grid, embedding)
@@ -151,7 +151,7 @@ fn forced_gauss_legendre_runs_are_the_const_generic_runs() {
     };
     for s in 1..=4 {
         let embedding = Embedding::gauss_legendre(s).unwrap();
-        let reference = Problem::new(&rayleigh, grid, embedding)
+        let reference = varembed_tests::problem(&rayleigh, grid, embedding)
             .solve_ivp(Scheme::Variational, q0, v0)
             .unwrap();
         let runs = [
@@ -199,10 +199,10 @@ fn a_general_force_with_loops_gives_the_rayleigh_nodes_on_both_paths() {
     let grid = Grid::new(0.0, 4.0, 200).unwrap();
     for embedding in embeddings() {
         for scheme in [Scheme::Direct, Scheme::Variational] {
-            let reference = Problem::new(&rayleigh, grid, embedding)
+            let reference = varembed_tests::problem(&rayleigh, grid, embedding)
                 .solve_ivp(scheme, q0, v0)
                 .unwrap();
-            let on_const = Problem::new(&general, grid, embedding)
+            let on_const = varembed_tests::problem(&general, grid, embedding)
                 .solve_ivp(scheme, q0, v0)
                 .unwrap();
             let on_run_time = DynProblem::new(&general, grid, embedding)
@@ -288,7 +288,7 @@ fn the_work_of_a_run_time_solution_is_the_const_generic_work() {
     let (q0, v0) = initial();
     let grid = Grid::new(0.0, 4.0, 200).unwrap();
     for embedding in embeddings() {
-        let reference = Problem::new(&model, grid, embedding)
+        let reference = varembed_tests::problem(&model, grid, embedding)
             .solve_ivp(Scheme::Variational, q0, v0)
             .unwrap();
         let run = DynProblem::new(&model, grid, embedding)
@@ -349,7 +349,7 @@ fn the_node_values_of_a_forced_run_are_the_const_generic_ones() {
     let grid = Grid::new(0.0, 2.0, 100).unwrap();
     for embedding in embeddings() {
         for scheme in [Scheme::Direct, Scheme::Variational] {
-            let solution = Problem::new(&model, grid, embedding)
+            let solution = varembed_tests::problem(&model, grid, embedding)
                 .solve_ivp(scheme, q0, v0)
                 .unwrap();
             let reference = solution.node_values(&model).unwrap();
@@ -394,7 +394,7 @@ fn forced_boundary_value_problems_of_run_time_dimension_are_the_const_generic_on
     let grid = Grid::new(0.0, 1.0, 20).unwrap();
     for embedding in embeddings() {
         for scheme in [Scheme::Direct, Scheme::Variational] {
-            let reference = Problem::new(&rayleigh, grid, embedding)
+            let reference = varembed_tests::problem(&rayleigh, grid, embedding)
                 .solve_bvp(scheme, qa, qb)
                 .unwrap();
             // MINRES asked for: a force's `∂f/∂v` makes the Jacobian non-symmetric, so sparse
@@ -462,7 +462,7 @@ fn forced_gauss_legendre_boundary_value_problems_return_the_run() {
     let grid = Grid::new(0.0, 1.0, 12).unwrap();
     for s in 1..=4 {
         let embedding = Embedding::gauss_legendre(s).unwrap();
-        let problem = Problem::new(&forced, grid, embedding);
+        let problem = varembed_tests::problem(&forced, grid, embedding);
         let run = problem.solve_ivp(Scheme::Variational, q0, v0).unwrap();
         let (qa, qb) = (run.q[0], run.q[12]);
         let fixed = problem.solve_bvp(Scheme::Variational, qa, qb).unwrap();

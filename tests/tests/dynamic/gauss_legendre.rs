@@ -4,8 +4,7 @@
 
 use nalgebra::{DMatrix, SymmetricEigen};
 use varembed::{
-    DynProblem, Embedding, Error, Grid, Lagrangian, Location, Problem, Scheme, Solution, Vector,
-    lagrangian,
+    DynProblem, Embedding, Error, Grid, Lagrangian, Location, Scheme, Solution, Vector, lagrangian,
 };
 use varembed_tests::models::chain::{FputChain, displacement};
 
@@ -59,7 +58,7 @@ fn every_stage_count_gives_the_const_generic_nodes_and_momenta() {
         let run = DynProblem::new(&model, grid, embedding)
             .solve_ivp(Scheme::Variational, &q0, &v0)
             .unwrap();
-        let reference: Solution<M> = Problem::new(&model, grid, embedding)
+        let reference: Solution<M> = varembed_tests::problem(&model, grid, embedding)
             .solve_ivp(
                 Scheme::Variational,
                 Vector::<M>::from_column_slice(&q0),
@@ -102,7 +101,7 @@ fn a_ring_of_256_runs_gauss_legendre_through_problem_on_a_two_megabyte_stack() {
     on_stack(2 << 20, || {
         for s in 1..=4 {
             let embedding = Embedding::gauss_legendre(s).unwrap();
-            let run = Problem::new(&model, grid, embedding)
+            let run = varembed_tests::problem(&model, grid, embedding)
                 .solve_ivp(
                     Scheme::Variational,
                     Vector::<RING>::from_column_slice(&q0),
@@ -289,7 +288,7 @@ fn bad_requests_get_the_const_generic_paths_errors() {
     let (q0, v0) = initial();
     let problem = DynProblem::new(&model, grid, Embedding::gauss_legendre(2).unwrap());
     let direct = problem.solve_ivp(Scheme::Direct, &q0, &v0).unwrap_err();
-    let twin = Problem::new(&model, grid, Embedding::gauss_legendre(2).unwrap())
+    let twin = varembed_tests::problem(&model, grid, Embedding::gauss_legendre(2).unwrap())
         .solve_ivp(Scheme::Direct, Vector::<M>::zeros(), Vector::<M>::zeros())
         .unwrap_err();
     assert_eq!(direct, twin);
@@ -329,7 +328,7 @@ fn a_coarse_step_is_warned_about_as_on_the_const_generic_path() {
         let run = DynProblem::new(&model, coarse, embedding)
             .solve_ivp(Scheme::Variational, &q0, &v0)
             .unwrap();
-        let reference = Problem::new(&model, coarse, embedding)
+        let reference = varembed_tests::problem(&model, coarse, embedding)
             .solve_ivp(
                 Scheme::Variational,
                 Vector::<M>::from_column_slice(&q0),
@@ -393,7 +392,7 @@ fn a_fading_mass_is_degenerate_on_both_paths() {
     let embedding = Embedding::gauss_legendre(2).unwrap();
     let (q0, v0) = ([0.1; F], [0.2; F]);
     let run = DynProblem::new(&Fading, grid, embedding).solve_ivp(Scheme::Variational, &q0, &v0);
-    let reference = Problem::new(&Fading, grid, embedding).solve_ivp(
+    let reference = varembed_tests::problem(&Fading, grid, embedding).solve_ivp(
         Scheme::Variational,
         Vector::<F>::from_column_slice(&q0),
         Vector::<F>::from_column_slice(&v0),
@@ -525,7 +524,7 @@ fn a_resonant_gauss_legendre_boundary_value_problem_is_flagged() {
         let resonant = Grid::new(0.0, PI, 100).unwrap();
         let problem = || DynProblem::new(&model, resonant, embedding);
         let solved = problem().solve_bvp(Scheme::Variational, &[0.0; 2], &[1.0; 2]);
-        let fixed = Problem::new(&model, resonant, embedding)
+        let fixed = varembed_tests::problem(&model, resonant, embedding)
             .solve_bvp(Scheme::Variational, [0.0; 2], [1.0; 2])
             .map(|solution| solution.warnings);
         for warnings in [solved.map(|run| run.warnings), fixed] {

@@ -9,7 +9,7 @@
 use std::f64::consts::PI;
 
 use super::bvp::kinds;
-use varembed::{DynLagrangian, DynProblem, Embedding, Grid, Problem, Scheme, Side, lagrangian};
+use varembed::{DynLagrangian, DynProblem, Embedding, Grid, Scheme, Side, lagrangian};
 use varembed_tests::warnings::ill_posed;
 
 /// `n` unit oscillators, neighbours joined by springs of stiffness `kappa` (free ends): the
@@ -110,7 +110,7 @@ fn the_measure_is_the_const_generic_measure() {
     for (embedding, scheme) in kinds() {
         for n in [50, 200] {
             let grid = Grid::new(0.0, PI, n).unwrap();
-            let reference = Problem::new(&model, grid, embedding)
+            let reference = varembed_tests::problem(&model, grid, embedding)
                 .solve_bvp(scheme, qa, qb)
                 .unwrap();
             let solution = DynProblem::new(&model, grid, embedding)

@@ -3,8 +3,8 @@
 //! solves; strides and observers see the same nodes; bad input gives typed errors.
 
 use varembed::{
-    DynProblem, DynSolution, Embedding, Error, Grid, Lagrangian, Location, Problem, Scheme, Side,
-    Solution, Start, Vector, lagrangian,
+    DynProblem, DynSolution, Embedding, Error, Grid, Lagrangian, Location, Scheme, Side, Solution,
+    Start, Vector, lagrangian,
 };
 use varembed_tests::models::chain::{FputChain, displacement};
 use varembed_tests::models::dense::ConstGeneric;
@@ -12,7 +12,7 @@ use varembed_tests::models::generated::ring12::{N as RING, Ring};
 use varembed_tests::models::generated::{fput16, fput64};
 
 /// The const-generic run of `model` (the oracle of the run-time-dimension one) from `q0`, `v0`.
-fn const_generic_run<L: Lagrangian<D>, const D: usize>(
+fn const_generic_run<L: Lagrangian<D> + Sync, const D: usize>(
     model: &L,
     (grid, embedding, scheme): (Grid, Embedding, Scheme),
     q0: &[f64],
@@ -22,14 +22,14 @@ fn const_generic_run<L: Lagrangian<D>, const D: usize>(
 }
 
 /// [`const_generic_run`] with `start`.
-pub(super) fn const_generic_run_from<L: Lagrangian<D>, const D: usize>(
+pub(super) fn const_generic_run_from<L: Lagrangian<D> + Sync, const D: usize>(
     model: &L,
     (grid, embedding, scheme): (Grid, Embedding, Scheme),
     q0: &[f64],
     v0: &[f64],
     start: Start,
 ) -> Solution<D> {
-    Problem::new(model, grid, embedding)
+    varembed_tests::problem(model, grid, embedding)
         .solve_ivp_with(
             scheme,
             Vector::<D>::from_column_slice(q0),
@@ -255,7 +255,7 @@ fn an_unstable_explicit_run_is_an_error_with_its_step_never_ok() {
     };
     // The const-generic path's check (a model of 64 degrees of freedom with loops would go to
     // the run-time engine: kept on the const-generic path).
-    let oracle = Problem::new(
+    let oracle = varembed_tests::problem(
         &ConstGeneric(fput64::Fput {
             alpha: 0.25,
             beta: 0.0,
@@ -752,7 +752,7 @@ fn damped_chain(x: [f64; DAMPED], v: [f64; DAMPED], t: f64, gamma: f64) -> f64 {
 /// Asserts, for every scheme, that the run-time-dimension run of `model` from the second-order
 /// start has the const-generic run's nodes (from the same start), and that its `Q_1` is not
 /// the Legendre start's (so the start was taken).
-fn second_order_gaps<L: Lagrangian<D> + varembed::DynLagrangian, const D: usize>(
+fn second_order_gaps<L: Lagrangian<D> + varembed::DynLagrangian + Sync, const D: usize>(
     model: &L,
     grid: Grid,
     (q0, v0): (&[f64], &[f64]),
@@ -832,7 +832,7 @@ fn bad_initial_data_reads_the_same_on_both_paths() {
             Vector::<TWELVE>::from_column_slice(q0),
             Vector::from_column_slice(v0),
         );
-        let fixed = Problem::new(&model, grid, embedding)
+        let fixed = varembed_tests::problem(&model, grid, embedding)
             .solve_ivp_with(Scheme::Variational, x0, u0, start)
             .map(|run| run.last()[0]);
         let dynamic = DynProblem::new(&model, grid, embedding)
@@ -875,7 +875,7 @@ fn bad_initial_data_reads_the_same_on_both_paths() {
             Vector::<TWELVE>::from_column_slice(q0),
             Vector::from_column_slice(q1),
         );
-        let fixed = Problem::new(&model, grid, embedding)
+        let fixed = varembed_tests::problem(&model, grid, embedding)
             .solve_ivp_from_nodes(Scheme::Variational, x0, x1)
             .map(|run| run.last()[0]);
         let dynamic = DynProblem::new(&model, grid, embedding)

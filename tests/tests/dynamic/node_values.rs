@@ -6,8 +6,8 @@
 //! solution, and the CSV and JSON exports read back.
 
 use varembed::{
-    DynLagrangian, DynNodeValues, DynProblem, Embedding, Error, Grid, NodeValues, Problem, Scheme,
-    Vector, lagrangian,
+    DynLagrangian, DynNodeValues, DynProblem, Embedding, Error, Grid, NodeValues, Scheme, Vector,
+    lagrangian,
 };
 
 // Every embedding the run-time path solves as an initial value problem.
@@ -129,13 +129,13 @@ fn ivp_twins<L>(
     scheme: Scheme,
 ) -> (DynNodeValues, NodeValues<N>)
 where
-    L: DynLagrangian + varembed::Lagrangian<N>,
+    L: DynLagrangian + varembed::Lagrangian<N> + Sync,
 {
     let (q0, v0) = initial();
     let run = DynProblem::new(model, grid, embedding)
         .solve_ivp(scheme, &q0, &v0)
         .unwrap();
-    let reference = Problem::new(model, grid, embedding)
+    let reference = varembed_tests::problem(model, grid, embedding)
         .solve_ivp(scheme, Vector::<N>::from(q0), Vector::<N>::from(v0))
         .unwrap();
     (
@@ -165,7 +165,7 @@ fn node_values_of_every_run_time_solve_are_the_const_generic_ones() {
             let run = DynProblem::new(&HeavyChain, grid, *embedding)
                 .solve_bvp(scheme, &qa, &qb)
                 .unwrap();
-            let reference = Problem::new(&HeavyChain, grid, *embedding)
+            let reference = varembed_tests::problem(&HeavyChain, grid, *embedding)
                 .solve_bvp(scheme, Vector::<N>::from(qa), Vector::<N>::from(qb))
                 .unwrap();
             let (ours, theirs) = (

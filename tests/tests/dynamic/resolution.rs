@@ -4,7 +4,7 @@
 //! chains (fixed ends with diagonal or coupled masses, and a ring) and against the
 //! const-generic path on a nonlinear chain.
 
-use varembed::{DynLagrangian, DynProblem, Embedding, Grid, Problem, Scheme, Side, Warning};
+use varembed::{DynLagrangian, DynProblem, Embedding, Grid, Scheme, Side, Warning};
 use varembed_tests::models::generated::fput16;
 use varembed_tests::warnings::under_resolved;
 
@@ -172,7 +172,7 @@ fn the_fastest_rate_is_the_const_generic_rate_on_a_nonlinear_chain() {
     let v0 = [0.0; 16];
     let grid = Grid::new(0.0, 20.0, 20).unwrap();
     let embedding = Embedding::finite_difference(Side::Backward);
-    let problem = Problem::new(&model, grid, embedding);
+    let problem = varembed_tests::problem(&model, grid, embedding);
     let dynamic = DynProblem::new(&model, grid, embedding);
     let reference = problem.solve_ivp(Scheme::Direct, q0, v0).unwrap();
     let run = dynamic.solve_ivp(Scheme::Direct, &q0, &v0).unwrap();

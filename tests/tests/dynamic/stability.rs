@@ -2,8 +2,8 @@
 //! a step limit, against the const-generic path's eigenvalue verdict on the same chain.
 
 use varembed::{
-    DynLagrangian, DynProblem, Embedding, Error, Grid, HessianDependence, Location, Problem,
-    Scheme, Side, SparseHessian, Vector,
+    DynLagrangian, DynProblem, Embedding, Error, Grid, HessianDependence, Location, Scheme, Side,
+    SparseHessian, Vector,
 };
 use varembed_tests::models::chain::{FputChain, displacement};
 use varembed_tests::models::dense::ConstGeneric;
@@ -77,7 +77,7 @@ fn each_kind_is_stopped_past_its_own_limit_as_on_the_const_generic_path() {
         let run = DynProblem::new(&chain, grid, embedding).solve_ivp(scheme, &q0, &[0.0; 64]);
         let (at, re, im, step) = unstable(run.unwrap_err());
         assert_eq!(at, Location::Step(0), "{what}");
-        let oracle = Problem::new(&oracle_model, grid, embedding)
+        let oracle = varembed_tests::problem(&oracle_model, grid, embedding)
             .solve_ivp(
                 scheme,
                 Vector::<64>::from_column_slice(&q0),

@@ -1,7 +1,7 @@
 //! At α = 1 the Gauss-GLE± residual and boundary value solution equal the
 //! classical variational ones to 1e-12.
 
-use varembed::{Embedding, Grid, Problem, Scheme, Side};
+use varembed::{Embedding, Grid, Scheme, Side};
 use varembed_tests::curve::{max_diff, max_norm};
 use varembed_tests::models::hand::{Coupled, Pendulum};
 use varembed_tests::rng::Rng;
@@ -11,8 +11,8 @@ fn alpha_one_residual_is_the_classical_variational_residual() {
     let grid = Grid::new(0.0, 1.5, 25).unwrap();
     let mut rng = Rng(17);
     for side in [Side::Backward, Side::Forward] {
-        let classical = Problem::new(&Coupled, grid, Embedding::finite_difference(side));
-        let gle = Problem::new(
+        let classical = varembed_tests::problem(&Coupled, grid, Embedding::finite_difference(side));
+        let gle = varembed_tests::problem(
             &Coupled,
             grid,
             Embedding::grunwald_letnikov(side, 1.0).unwrap(),
@@ -34,10 +34,11 @@ fn alpha_one_bvp_is_the_classical_variational_bvp() {
     let grid = Grid::new(0.0, 2.0, 60).unwrap();
     let pendulum = Pendulum { g: 9.81, l: 1.0 };
     for side in [Side::Backward, Side::Forward] {
-        let classical = Problem::new(&pendulum, grid, Embedding::finite_difference(side))
-            .solve_bvp(Scheme::Variational, 0.3, -0.4)
-            .unwrap();
-        let gle = Problem::new(
+        let classical =
+            varembed_tests::problem(&pendulum, grid, Embedding::finite_difference(side))
+                .solve_bvp(Scheme::Variational, 0.3, -0.4)
+                .unwrap();
+        let gle = varembed_tests::problem(
             &pendulum,
             grid,
             Embedding::grunwald_letnikov(side, 1.0).unwrap(),

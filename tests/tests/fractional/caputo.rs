@@ -9,7 +9,7 @@
 //! σ = + is the mirror image: `q(1 − t)` solves the problem of `F(1 − t)` under the right
 //! Caputo derivative, whose end is `b`.
 
-use varembed::{Embedding, FractionalSolver, Grid, Problem, Scheme, Side, Vector, observed_orders};
+use varembed::{Embedding, FractionalSolver, Grid, Scheme, Side, Vector, observed_orders};
 use varembed_tests::curve::v1;
 use varembed_tests::fractional::ExactSolution;
 
@@ -181,7 +181,7 @@ fn the_velocity_is_grunwald_letnikov_of_the_shifted_curve() {
     let weight = |r: usize| (0..r).fold(1.0, |w, i| -w * (alpha - i as f64) / (i + 1) as f64);
     let h_alpha = grid.h().powf(-alpha);
     for side in [Side::Backward, Side::Forward] {
-        let problem = Problem::new(&Free, grid, Embedding::caputo(side, alpha).unwrap());
+        let problem = varembed_tests::problem(&Free, grid, Embedding::caputo(side, alpha).unwrap());
         for (k, v) in problem.quadrature_velocities(&q).unwrap() {
             let want = match side {
                 Side::Backward => (0..=k)

@@ -3,7 +3,7 @@
 //! velocity has no value at the end outside `I_σ`), a curve of the wrong length, and a model
 //! of run-time dimension (whose solvers are the banded ones of the classical embeddings).
 
-use varembed::{DynProblem, Embedding, Error, Grid, Problem, Scheme, Side, Vector, lagrangian};
+use varembed::{DynProblem, Embedding, Error, Grid, Scheme, Side, Vector, lagrangian};
 use varembed_tests::models::chain::FputChain;
 
 #[lagrangian]
@@ -40,7 +40,7 @@ fn initial_value_problems_and_node_values_are_unsupported_and_name_the_embedding
     for side in [Side::Backward, Side::Forward] {
         let caputo = Embedding::caputo(side, 0.7).unwrap();
         let name = caputo.to_string();
-        let problem = Problem::new(&Pendulum, grid, caputo);
+        let problem = varembed_tests::problem(&Pendulum, grid, caputo);
         for scheme in [Scheme::Direct, Scheme::Variational] {
             match problem.solve_ivp(scheme, 0.3, 0.0) {
                 Err(Error::Unsupported {
@@ -79,7 +79,7 @@ fn initial_value_problems_and_node_values_are_unsupported_and_name_the_embedding
 #[test]
 fn a_curve_of_the_wrong_length_is_refused_with_both_lengths() {
     let grid = Grid::new(0.0, 1.0, 10).unwrap();
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &Pendulum,
         grid,
         Embedding::caputo(Side::Forward, 0.6).unwrap(),

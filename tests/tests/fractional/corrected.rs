@@ -6,7 +6,7 @@
 //! image.
 
 use varembed::{
-    Embedding, Error, FractionalSolver, Grid, Problem, Scheme, Side, lagrangian, observed_orders,
+    Embedding, Error, FractionalSolver, Grid, Scheme, Side, lagrangian, observed_orders,
 };
 use varembed_tests::fractional::{ExactSolution, ForcedByExact};
 
@@ -178,13 +178,13 @@ fn bad_input_is_refused_by_name() {
         mirrored: false,
     };
     let embedding = corrected(Side::Backward, 0.7);
-    let problem = Problem::new(&model, Grid::new(0.0, 1.0, 64).unwrap(), embedding);
+    let problem = varembed_tests::problem(&model, Grid::new(0.0, 1.0, 64).unwrap(), embedding);
     assert!(matches!(
         problem.solve_ivp(Scheme::Direct, 0.0, 1.0),
         Err(Error::Unsupported { .. })
     ));
     let n = FractionalSolver::DENSE_MAX + 2;
-    let large = Problem::new(&model, Grid::new(0.0, 1.0, n).unwrap(), embedding)
+    let large = varembed_tests::problem(&model, Grid::new(0.0, 1.0, n).unwrap(), embedding)
         .with_fractional_solver(FractionalSolver::Dense);
     match large.solve_bvp(Scheme::Direct, 0.0, exact.q(1.0)) {
         Err(Error::TooLarge { what }) => {
@@ -263,7 +263,7 @@ fn a_solution_singular_at_b_keeps_its_order() {
     let alpha = 0.8;
     let orders = |embedding, scheme| {
         let grid = Grid::new(0.0, 1.0, 64).unwrap();
-        let problem = Problem::new(&Pendulum, grid, embedding);
+        let problem = varembed_tests::problem(&Pendulum, grid, embedding);
         let run = problem.convergence_bvp(scheme, 0.0, 1.0, &Default::default(), 4);
         assert!(run.failures.is_empty(), "{:?}", run.failures);
         run.orders()

@@ -4,9 +4,7 @@
 //! (`L = ½v² + cos x − F(t) x`, `q = q_a + I^α p`) are `varembed_tests::fractional`'s; σ = +
 //! solves the mirror image.
 
-use varembed::{
-    Embedding, Error, FractionalSolver, Grid, Problem, Scheme, Side, Vector, observed_orders,
-};
+use varembed::{Embedding, Error, FractionalSolver, Grid, Scheme, Side, Vector, observed_orders};
 use varembed_tests::curve::v1;
 use varembed_tests::fractional::ExactSolution;
 use varembed_tests::rng::Rng;
@@ -174,7 +172,7 @@ fn the_velocity_is_the_corrected_velocity_of_the_shifted_curve() {
         let end = if side == Side::Backward { q[0] } else { q[n] };
         let shifted: Vec<Vector<1>> = q.iter().map(|x| x - end).collect();
         let velocities = |embedding, curve: &[Vector<1>]| {
-            Problem::new(&Free, grid, embedding)
+            varembed_tests::problem(&Free, grid, embedding)
                 .quadrature_velocities(curve)
                 .unwrap()
         };
@@ -214,7 +212,7 @@ fn bad_input_is_refused_by_name() {
             Err(Error::AlphaOutOfRange { .. })
         ));
     }
-    let problem = Problem::new(&Free, Grid::new(0.0, 1.0, 16).unwrap(), embedding);
+    let problem = varembed_tests::problem(&Free, Grid::new(0.0, 1.0, 16).unwrap(), embedding);
     assert!(matches!(
         problem.solve_ivp(Scheme::Direct, 0.0, 1.0),
         Err(Error::Unsupported { .. })

@@ -10,7 +10,7 @@
 //! 0 at the end, bit for bit, for the dense and the fast solver.
 
 use varembed::{
-    Embedding, FractionalSolver, Grid, Hessian, Lagrangian, Matrix, Problem, Scheme, Side, Vector,
+    Embedding, FractionalSolver, Grid, Hessian, Lagrangian, Matrix, Scheme, Side, Vector,
 };
 use varembed_tests::curve::{max_diff, v1};
 
@@ -81,7 +81,7 @@ fn a_forcing_huge_at_the_end_node_leaves_the_nodes_unchanged() {
                         forcing,
                         at_end,
                     };
-                    Problem::new(&model, grid, embedding)
+                    varembed_tests::problem(&model, grid, embedding)
                         .with_fractional_solver(solver)
                         .solve_bvp(Scheme::Variational, 0.0, 1.0)
                         .unwrap()

@@ -110,7 +110,7 @@ const ALPHAS: [f64; 4] = [0.3, 0.7, 0.95, 1.0];
 /// `‖D‖ ≤ 2h^{−α}` (the Grünwald–Letnikov weights have `Σ|α_r| ≤ 2`):
 /// `‖J‖∞ ≤ max‖L_xx‖ + 4h^{−α} max‖L_xv‖ + 4h^{−2α} max‖L_vv‖`. Returns the relative residual
 /// and whether the rule holds (with a factor 2 of slack for the recomputation).
-fn newton_criterion<L: Lagrangian<D>, const D: usize>(
+fn newton_criterion<L: Lagrangian<D> + ?Sized, const D: usize>(
     problem: &Problem<'_, L, D>,
     scheme: Scheme,
     q: &[Vector<D>],
@@ -296,8 +296,8 @@ fn a_hard_nonconvex_problem_gives_a_correct_answer_or_a_typed_error() {
         for alpha in [0.3, 0.7] {
             let embedding = Embedding::grunwald_letnikov(side, alpha).unwrap();
             for solver in [FractionalSolver::Fast, FractionalSolver::Auto] {
-                let problem =
-                    Problem::new(&pendulum, grid, embedding).with_fractional_solver(solver);
+                let problem = varembed_tests::problem(&pendulum, grid, embedding)
+                    .with_fractional_solver(solver);
                 match problem.solve_bvp(Scheme::Variational, 0.0, 30.0) {
                     Ok(sol) => {
                         let (rel, holds) = newton_criterion(&problem, Scheme::Variational, &sol.q);
@@ -348,7 +348,7 @@ fn million_nodes_in_linear_memory() {
     let n = 1_000_000;
     let grid = Grid::new(0.0, 1.0, n).unwrap();
     let embedding = Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap();
-    let problem = Problem::new(&pendulum, grid, embedding);
+    let problem = varembed_tests::problem(&pendulum, grid, embedding);
     let sol = problem.solve_bvp(Scheme::Variational, 0.0, 1.0).unwrap();
     let status = std::fs::read_to_string("/proc/self/status").unwrap();
     let peak_kib: f64 = status

@@ -165,7 +165,7 @@ fn vanishing_momentum_is_first_order() {
 fn generic_dirichlet_data_are_of_order_two_alpha_minus_one() {
     let alpha = 0.8;
     let gle = Embedding::grunwald_letnikov(Side::Backward, alpha).unwrap();
-    let problem = Problem::new(&Pendulum, Grid::new(0.0, 1.0, 128).unwrap(), gle);
+    let problem = varembed_tests::problem(&Pendulum, Grid::new(0.0, 1.0, 128).unwrap(), gle);
     let run = problem.convergence_bvp(Scheme::Variational, 0.0, 1.0, &Default::default(), 5);
     assert!(run.failures.is_empty(), "{:?}", run.failures);
     let orders = run.orders();

@@ -10,7 +10,7 @@
 //! pin the orders `core/docs/schemes.md` states for such data, on the dense and the fast solver,
 //! both sides.
 
-use varembed::{Embedding, FractionalSolver, Grid, Problem, Scheme, Side, observed_orders};
+use varembed::{Embedding, FractionalSolver, Grid, Scheme, Side, observed_orders};
 use varembed_tests::fractional::ExactSolution;
 use varembed_tests::special::gamma;
 
@@ -161,7 +161,7 @@ fn a_nan_force_at_the_unread_end_is_outside_the_domain() {
     }
     let gle = Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap();
     let grid = Grid::new(0.0, 1.0, 20).unwrap();
-    match Problem::new(&NanAtB, grid, gle).solve_bvp(Scheme::Variational, 0.0, 1.0) {
+    match varembed_tests::problem(&NanAtB, grid, gle).solve_bvp(Scheme::Variational, 0.0, 1.0) {
         Err(varembed::Error::OutsideDomain { what }) => {
             assert!(what.contains("Q_20") && what.contains("at b"), "{what}")
         }

@@ -6,12 +6,12 @@
 //! boundary values: the jump `Q_N − Q_{N−1}` at `t = b` does not vanish as `h → 0` (see the docs
 //! of `EmbeddingKind::GrunwaldLetnikov`).
 
-use varembed::{Embedding, Grid, Problem, Scheme, Side, Solution};
+use varembed::{Embedding, Grid, Scheme, Side, Solution};
 use varembed_tests::models::generated::UnitPendulum;
 
 fn solve(alpha: f64, n: usize) -> Solution<1> {
     let grid = Grid::new(0.0, 1.0, n).unwrap();
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &UnitPendulum,
         grid,
         Embedding::grunwald_letnikov(Side::Backward, alpha).unwrap(),
@@ -72,7 +72,7 @@ fn solution_is_continuous_in_alpha_and_tends_to_the_classical_one() {
     let n = 200;
     let classical = {
         let grid = Grid::new(0.0, 1.0, n).unwrap();
-        Problem::new(
+        varembed_tests::problem(
             &UnitPendulum,
             grid,
             Embedding::finite_difference(Side::Backward),

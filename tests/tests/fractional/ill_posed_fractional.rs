@@ -2,14 +2,14 @@
 //! discrete solutions do not settle as `N` grows, and every solution says so with
 //! `Warning::IllPosedFractional`; at `α > 1/2` they converge and carry no warning.
 
-use varembed::{Embedding, FractionalSolver, Grid, Problem, Scheme, Side, Solution, Warning};
+use varembed::{Embedding, FractionalSolver, Grid, Scheme, Side, Solution, Warning};
 use varembed_tests::models::generated::UnitPendulum;
 
 /// The pendulum `L = ½v² + cos x` under Gauss-GLE−, `Q_0 = 0`, `Q_N = 1` on `[0, 1]`.
 fn solve(alpha: f64, n: usize, solver: FractionalSolver) -> Solution<1> {
     let grid = Grid::new(0.0, 1.0, n).unwrap();
     let gle = Embedding::grunwald_letnikov(Side::Backward, alpha).unwrap();
-    Problem::new(&UnitPendulum, grid, gle)
+    varembed_tests::problem(&UnitPendulum, grid, gle)
         .with_fractional_solver(solver)
         .solve_bvp(Scheme::Variational, 0.0, 1.0)
         .unwrap()
@@ -67,7 +67,7 @@ fn every_solver_and_scheme_flags_the_ill_posed_problem() {
     }
     let grid = Grid::new(0.0, 1.0, 32).unwrap();
     let gle = Embedding::grunwald_letnikov(Side::Forward, 0.4).unwrap();
-    let direct = Problem::new(&UnitPendulum, grid, gle)
+    let direct = varembed_tests::problem(&UnitPendulum, grid, gle)
         .solve_bvp(Scheme::Direct, 0.0, 1.0)
         .unwrap();
     assert_eq!(
@@ -81,7 +81,7 @@ fn every_solver_and_scheme_flags_the_ill_posed_problem() {
     );
     // The classical embeddings, and α = 1, are well-posed.
     let fde = Embedding::finite_difference(Side::Backward);
-    let classical = Problem::new(&UnitPendulum, grid, fde)
+    let classical = varembed_tests::problem(&UnitPendulum, grid, fde)
         .solve_bvp(Scheme::Variational, 0.0, 1.0)
         .unwrap();
     assert!(classical.warnings.is_empty());
@@ -103,7 +103,7 @@ fn oscillator_with(
     let grid = Grid::new(0.0, 1.0, n).unwrap();
     let gle = Embedding::grunwald_letnikov(Side::Backward, 0.74).unwrap();
     let model = varembed_tests::models::hand::Oscillator { omega: k.sqrt() };
-    let run = Problem::new(&model, grid, gle)
+    let run = varembed_tests::problem(&model, grid, gle)
         .with_fractional_solver(solver)
         .solve_bvp(Scheme::Variational, 0.0, 1.0)?;
     Ok((run.q[n / 2][0], run.warnings))
@@ -201,7 +201,7 @@ fn the_fast_path_check_can_be_turned_off() {
     let grid = Grid::new(0.0, 1.0, n).unwrap();
     let gle = Embedding::grunwald_letnikov(Side::Backward, 0.74).unwrap();
     let model = varembed_tests::models::hand::Oscillator { omega: k.sqrt() };
-    let quiet = Problem::new(&model, grid, gle)
+    let quiet = varembed_tests::problem(&model, grid, gle)
         .with_fractional_solver(FractionalSolver::Fast)
         .with_posedness_check(false)
         .solve_bvp(Scheme::Variational, 0.0, 1.0)

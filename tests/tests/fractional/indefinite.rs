@@ -3,7 +3,7 @@
 //! at `α = 0.3`, `k = 25`, `N = 200`). GMRES(30) stagnated there at a relative residual of 0.83
 //! (`Error::KrylovDidNotConverge` at every `N` from 200 to 4000, both sides); MINRES solves it.
 
-use varembed::{Embedding, FractionalSolver, Grid, Problem, Scheme, Side, Solution};
+use varembed::{Embedding, FractionalSolver, Grid, Scheme, Side, Solution};
 use varembed_tests::curve::max_norm;
 use varembed_tests::models::generated::ForcedSpring;
 use varembed_tests::rng::Rng;
@@ -19,7 +19,7 @@ fn solve(
 ) -> Solution<1> {
     let grid = Grid::new(0.0, 1.0, n).unwrap();
     let gle = Embedding::grunwald_letnikov(side, alpha).unwrap();
-    Problem::new(model, grid, gle)
+    varembed_tests::problem(model, grid, gle)
         .with_fractional_solver(solver)
         .solve_bvp(scheme, qa, qb)
         .unwrap_or_else(|e| panic!("{solver:?}, {side:?}, α = {alpha}, N = {n}, {scheme}: {e}"))
@@ -82,7 +82,7 @@ fn the_indefinite_spring_at_n_4000() {
         );
         let grid = Grid::new(0.0, 1.0, n).unwrap();
         let gle = Embedding::grunwald_letnikov(side, 0.3).unwrap();
-        let problem = Problem::new(&SPRING, grid, gle);
+        let problem = varembed_tests::problem(&SPRING, grid, gle);
         let r = max_norm(&problem.residual(Scheme::Variational, &fast.q).unwrap());
         // The rows balance 25|Q| + 1 against h^{−α} |p|, both about 10² here.
         assert!(r <= 1e-9, "{side:?}: residual {r:e}");

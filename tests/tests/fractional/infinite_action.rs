@@ -4,8 +4,7 @@
 //! below 1/2, α = 1 and the Caputo form are not flagged.
 
 use varembed::{
-    CompareOptions, Embedding, FractionalSolver, Grid, Problem, Scheme, Side, Solution, Warning,
-    lagrangian,
+    CompareOptions, Embedding, FractionalSolver, Grid, Scheme, Side, Solution, Warning, lagrangian,
 };
 
 /// `L = ½v² − ½x² + x`.
@@ -18,7 +17,7 @@ fn solve(embedding: Embedding, scheme: Scheme, (qa, qb): (f64, f64)) -> Vec<Solu
     let grid = Grid::new(0.0, 1.0, 64).unwrap();
     [FractionalSolver::Dense, FractionalSolver::Fast]
         .map(|solver| {
-            Problem::new(&ShiftedSpring, grid, embedding)
+            varembed_tests::problem(&ShiftedSpring, grid, embedding)
                 .with_fractional_solver(solver)
                 .solve_bvp(scheme, qa, qb)
                 .unwrap()
@@ -100,7 +99,7 @@ fn compatible_data_other_orders_and_the_caputo_form_are_not_flagged() {
 #[test]
 fn the_comparison_table_shows_the_warning() {
     let grid = Grid::new(0.0, 1.0, 40).unwrap();
-    let problem = Problem::new(&ShiftedSpring, grid, gle(Side::Backward, 0.9));
+    let problem = varembed_tests::problem(&ShiftedSpring, grid, gle(Side::Backward, 0.9));
     let comparison = problem.compare_bvp(0.3, 1.0).unwrap();
     let warning = Warning::InfiniteFractionalAction {
         alpha: 0.9,
@@ -126,7 +125,7 @@ fn the_comparison_table_shows_the_warning() {
 fn flagged_data_do_not_converge_and_the_caputo_form_does() {
     let grid = Grid::new(0.0, 1.0, 50).unwrap();
     let estimates = |embedding: Embedding| {
-        Problem::new(&ShiftedSpring, grid, embedding)
+        varembed_tests::problem(&ShiftedSpring, grid, embedding)
             .convergence_bvp(Scheme::Variational, 0.3, 1.0, &CompareOptions::default(), 5)
             .error_estimates()
     };

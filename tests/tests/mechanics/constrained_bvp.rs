@@ -170,7 +170,7 @@ fn constrained_solves_do_not_depend_on_the_scale_of_l() {
         let scaled = Scaled::new(c, Falling);
         // A boundary value problem between the ends of the unscaled run.
         let end = boundary.then(|| {
-            Problem::new(&Falling, grid, embedding)
+            varembed_tests::problem(&Falling, grid, embedding)
                 .solve_constrained_ivp(scheme, &Holonomic(Sphere), q0, v0)
                 .unwrap()
                 .solution
@@ -234,7 +234,7 @@ impl<L: Lagrangian<3>> Solve for Problem<'_, L, 3> {
 #[test]
 fn constrained_bvp_errors_are_typed() {
     let grid = Grid::new(0.0, 1.0, 20).unwrap();
-    let problem = Problem::new(&Falling, grid, Embedding::midpoint());
+    let problem = varembed_tests::problem(&Falling, grid, Embedding::midpoint());
     let on = Vector::<3>::new(0.0, 0.0, -1.0);
     let off = Vector::<3>::new(0.0, 0.6, -0.9);
     for (qa, qb, end) in [(off, on, "a"), (on, off, "b")] {
@@ -255,7 +255,7 @@ fn constrained_bvp_errors_are_typed() {
         Embedding::gauss_legendre(2).unwrap(),
         Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap(),
     ] {
-        let error = Problem::new(&Falling, grid, embedding)
+        let error = varembed_tests::problem(&Falling, grid, embedding)
             .solve_constrained_bvp(Scheme::Variational, &Holonomic(Sphere), on, side)
             .unwrap_err();
         assert!(
@@ -279,7 +279,7 @@ fn constrained_bvp_edge_cases() {
     );
     for n in [1, 2] {
         for (embedding, scheme) in runs() {
-            let problem = Problem::new(
+            let problem = varembed_tests::problem(
                 &Falling,
                 Grid::new(0.0, 0.1 * n as f64, n).unwrap(),
                 embedding,
@@ -303,7 +303,7 @@ fn constrained_bvp_edge_cases() {
         }
     }
     let grid = Grid::new(0.0, 1.0, 20).unwrap();
-    let problem = Problem::new(&Falling, grid, Embedding::midpoint());
+    let problem = varembed_tests::problem(&Falling, grid, Embedding::midpoint());
     let straight = problem
         .solve_constrained_bvp(Scheme::Variational, &sphere, bottom, side)
         .unwrap();

@@ -10,14 +10,14 @@
 //!   momentum of a symmetry the constraint respects, to round-off; the multipliers against the
 //!   spherical pendulum's `λ = 3z − 2E`.
 
-use varembed::{Embedding, Error, Grid, Holonomic, Problem, Scheme, Vector, project_initial_data};
+use varembed::{Embedding, Error, Grid, Holonomic, Scheme, Vector, project_initial_data};
 
 use super::constraints::{Falling, Linkage, LoopX, LoopY, Sphere, T_END, angles_at_end, initial};
 
 fn pendulum(stages: usize, n: usize) -> varembed::ConstrainedSolution<3, 1> {
     let (q0, v0) = initial();
     let embedding = Embedding::gauss_legendre(stages).unwrap();
-    Problem::new(&Falling, Grid::new(0.0, T_END, n).unwrap(), embedding)
+    varembed_tests::problem(&Falling, Grid::new(0.0, T_END, n).unwrap(), embedding)
         .solve_constrained_ivp(Scheme::Variational, &Holonomic(Sphere), q0, v0)
         .unwrap()
 }
@@ -32,7 +32,7 @@ fn gauss_legendre_under_constraints_is_second_order_for_every_stage_count() {
     let guess = Vector::<3>::new(std::f64::consts::FRAC_PI_2, -0.3, 1.2);
     let (q0, v0) = project_initial_data(&closure, guess, Vector::<3>::new(2.0, 0.0, 0.0)).unwrap();
     let linkage = |embedding: Embedding, n: usize| {
-        Problem::new(&Linkage, Grid::new(0.0, 1.0, n).unwrap(), embedding)
+        varembed_tests::problem(&Linkage, Grid::new(0.0, 1.0, n).unwrap(), embedding)
             .solve_constrained_ivp(Scheme::Variational, &closure, q0, v0)
             .unwrap()
             .solution
@@ -120,7 +120,7 @@ fn gauss_legendre_multipliers_are_the_constraint_force() {
 #[test]
 fn gauss_legendre_has_no_constrained_direct_scheme() {
     let (q0, v0) = initial();
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &Falling,
         Grid::new(0.0, 1.0, 10).unwrap(),
         Embedding::gauss_legendre(2).unwrap(),

@@ -12,8 +12,8 @@
 //!   a rank-deficient Jacobian.
 
 use varembed::{
-    Constraint, Embedding, EmbeddingKind, Error, Forced, Grid, Holonomic, Location, Problem,
-    Rayleigh, Scheme, Side, Vector, lagrangian, project_initial_data,
+    Constraint, Embedding, EmbeddingKind, Error, Forced, Grid, Holonomic, Location, Rayleigh,
+    Scheme, Side, Vector, lagrangian, project_initial_data,
 };
 
 /// A unit mass under unit gravity along `−z`.
@@ -95,7 +95,7 @@ pub(super) fn runs() -> Vec<(Embedding, Scheme)> {
 
 fn solve(embedding: Embedding, scheme: Scheme, n: usize) -> varembed::ConstrainedSolution<3, 1> {
     let (q0, v0) = initial();
-    Problem::new(&Falling, Grid::new(0.0, T_END, n).unwrap(), embedding)
+    varembed_tests::problem(&Falling, Grid::new(0.0, T_END, n).unwrap(), embedding)
         .solve_constrained_ivp(scheme, &Holonomic(Sphere), q0, v0)
         .unwrap()
 }
@@ -163,7 +163,7 @@ fn forces_and_constraints_together() {
     let damped = Forced::new(Falling, Rayleigh(Friction { gamma: 0.3 }));
     let (q0, v0) = initial();
     let grid = Grid::new(0.0, 20.0, 2000).unwrap();
-    let run = Problem::new(&damped, grid, Embedding::midpoint())
+    let run = varembed_tests::problem(&damped, grid, Embedding::midpoint())
         .solve_constrained_ivp(Scheme::Variational, &Holonomic(Sphere), q0, v0)
         .unwrap();
     let residual = run
@@ -227,7 +227,7 @@ fn generated_constraint_derivatives_match_finite_differences() {
 /// by `project_initial_data`, the same data solve.
 #[test]
 fn inconsistent_initial_data_are_named_and_projected() {
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &Falling,
         Grid::new(0.0, 1.0, 50).unwrap(),
         Embedding::midpoint(),
@@ -276,7 +276,7 @@ fn inconsistent_initial_data_are_named_and_projected() {
 /// not a singular Newton system.
 #[test]
 fn rank_deficiency_is_a_typed_error() {
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &Falling,
         Grid::new(0.0, 1.0, 50).unwrap(),
         Embedding::midpoint(),
@@ -343,7 +343,7 @@ fn a_four_bar_linkage_stays_closed() {
         Embedding::finite_difference(Side::Backward),
     ] {
         let grid = Grid::new(0.0, 20.0, 10_000).unwrap();
-        let run = Problem::new(&Linkage, grid, embedding)
+        let run = varembed_tests::problem(&Linkage, grid, embedding)
             .solve_constrained_ivp(Scheme::Variational, &closure, q0, v0)
             .unwrap();
         let open = run
@@ -429,7 +429,7 @@ fn a_constraint_that_reads_v_or_t_is_refused() {
     fn shrinking(x: [f64; 3], _v: [f64; 3], t: f64) -> f64 {
         0.5 * (x[0] * x[0] + x[1] * x[1] + x[2] * x[2] - (1.0 + t).powi(2))
     }
-    let problem = Problem::new(
+    let problem = varembed_tests::problem(
         &Falling,
         Grid::new(0.0, 1.0, 20).unwrap(),
         Embedding::midpoint(),

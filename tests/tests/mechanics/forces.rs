@@ -87,7 +87,7 @@ fn damped_oscillator_keeps_every_order() {
         let n = if expected > 4.0 { 12 } else { 200 };
         let error = |n: usize| {
             let grid = Grid::new(0.0, 6.0, n).unwrap();
-            let solution = Problem::new(&damped, grid, embedding)
+            let solution = varembed_tests::problem(&damped, grid, embedding)
                 .with_newton(tight())
                 .solve_ivp(scheme, 1.0, 0.0)
                 .unwrap();
@@ -114,7 +114,7 @@ fn damped_boundary_value_problems_keep_their_order() {
         let expected = embedding.order(scheme).unwrap() as f64;
         let error = |n: usize| {
             let grid = Grid::new(0.0, 6.0, n).unwrap();
-            let solution = Problem::new(&damped, grid, embedding)
+            let solution = varembed_tests::problem(&damped, grid, embedding)
                 .solve_bvp(scheme, 1.0, damped_exact(6.0))
                 .unwrap();
             max_error(&solution.q, &grid)
@@ -167,7 +167,7 @@ fn forced_noether_holds_to_round_off() {
             continue;
         }
         let grid = Grid::new(0.0, 8.0, 400).unwrap();
-        let solution = Problem::new(&forced, grid, embedding)
+        let solution = varembed_tests::problem(&forced, grid, embedding)
             .with_newton(tight())
             .solve_ivp(scheme, [0.4, -0.2], [1.0, -0.5])
             .unwrap();
@@ -209,7 +209,7 @@ fn forced_noether_holds_for_a_rotation() {
             continue;
         }
         let grid = Grid::new(0.0, 6.0, 300).unwrap();
-        let solution = Problem::new(&forced, grid, embedding)
+        let solution = varembed_tests::problem(&forced, grid, embedding)
             .with_newton(tight())
             .solve_ivp(scheme, [0.8, 0.1], [0.2, 0.9])
             .unwrap();
@@ -259,7 +259,7 @@ fn energy_balance_holds_to_the_schemes_order() {
         let expected = embedding.order(scheme).unwrap() as f64;
         let gap = |n: usize| {
             let grid = Grid::new(0.0, 6.0, n).unwrap();
-            let solution = Problem::new(&forced, grid, embedding)
+            let solution = varembed_tests::problem(&forced, grid, embedding)
                 .with_newton(tight())
                 .solve_ivp(scheme, [0.4, -0.2], [1.0, -0.5])
                 .unwrap();
@@ -315,12 +315,12 @@ fn closed_form_steps_under_a_linear_force_equal_newton() {
             let embedding = Embedding::finite_difference(side);
             let solve = |l: &dyn Fn() -> varembed::Result<varembed::Solution<1>>| l().unwrap();
             let a = solve(&|| {
-                Problem::new(&closed, grid, embedding)
+                varembed_tests::problem(&closed, grid, embedding)
                     .with_newton(tight())
                     .solve_ivp(scheme, 1.0, 0.0)
             });
             let b = solve(&|| {
-                Problem::new(&newton, grid, embedding)
+                varembed_tests::problem(&newton, grid, embedding)
                     .with_newton(tight())
                     .solve_ivp(scheme, 1.0, 0.0)
             });
@@ -356,7 +356,7 @@ fn boundary_value_problems_return_the_initial_value_nodes() {
             continue;
         }
         let grid = Grid::new(0.0, 3.0, 60).unwrap();
-        let problem = Problem::new(&forced, grid, embedding).with_newton(tight());
+        let problem = varembed_tests::problem(&forced, grid, embedding).with_newton(tight());
         let ivp = problem.solve_ivp(scheme, [0.4, -0.2], [1.0, -0.5]).unwrap();
         let bvp = problem.solve_bvp(scheme, ivp.q[0], ivp.q[60]).unwrap();
         let gap = bvp.max_distance(&ivp.q).unwrap();
@@ -450,12 +450,13 @@ fn fractional_problems_and_stage_impulses_are_refused() {
     let damped = Forced::new(Oscillator, Rayleigh(Friction { gamma: GAMMA }));
     let grid = Grid::new(0.0, 1.0, 20).unwrap();
     let fractional = Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap();
-    let refused = Problem::new(&damped, grid, fractional).solve_bvp(Scheme::Variational, 0.0, 1.0);
+    let refused =
+        varembed_tests::problem(&damped, grid, fractional).solve_bvp(Scheme::Variational, 0.0, 1.0);
     assert!(
         matches!(refused, Err(Error::Unsupported { .. })),
         "{refused:?}"
     );
-    let gauss = Problem::new(&damped, grid, Embedding::gauss_legendre(2).unwrap())
+    let gauss = varembed_tests::problem(&damped, grid, Embedding::gauss_legendre(2).unwrap())
         .solve_ivp(Scheme::Variational, 1.0, 0.0)
         .unwrap();
     assert!(matches!(
@@ -481,7 +482,7 @@ fn only_the_steps_that_read_the_force_become_implicit() {
     for side in [Side::Backward, Side::Forward] {
         for scheme in [Scheme::Direct, Scheme::Variational] {
             let embedding = Embedding::finite_difference(side);
-            let run = Problem::new(&dragged, grid, embedding)
+            let run = varembed_tests::problem(&dragged, grid, embedding)
                 .with_newton(tight())
                 .solve_ivp(scheme, 1.0, 0.0)
                 .unwrap();
@@ -495,7 +496,7 @@ fn only_the_steps_that_read_the_force_become_implicit() {
             } else {
                 assert_eq!(run.explicit_steps, 0, "{embedding} {scheme}");
             }
-            let by_newton = Problem::new(&Claimless(&dragged), grid, embedding)
+            let by_newton = varembed_tests::problem(&Claimless(&dragged), grid, embedding)
                 .with_newton(tight())
                 .solve_ivp(scheme, 1.0, 0.0)
                 .unwrap();
@@ -512,11 +513,8 @@ fn only_the_steps_that_read_the_force_become_implicit() {
 fn an_explicit_step_under_strong_friction_is_reported_unstable() {
     let damped = Forced::new(Oscillator, Rayleigh(Friction { gamma: 21.0 }));
     let grid = Grid::new(0.0, 5.0, 50).unwrap();
-    let run = Problem::new(&damped, grid, Embedding::finite_difference(Side::Backward)).solve_ivp(
-        Scheme::Variational,
-        1.0,
-        0.0,
-    );
+    let run = varembed_tests::problem(&damped, grid, Embedding::finite_difference(Side::Backward))
+        .solve_ivp(Scheme::Variational, 1.0, 0.0);
     assert!(
         matches!(
             run,
@@ -528,7 +526,7 @@ fn an_explicit_step_under_strong_friction_is_reported_unstable() {
         "{run:?}"
     );
     let calmer = Forced::new(Oscillator, Rayleigh(Friction { gamma: 19.0 }));
-    Problem::new(&calmer, grid, Embedding::finite_difference(Side::Backward))
+    varembed_tests::problem(&calmer, grid, Embedding::finite_difference(Side::Backward))
         .solve_ivp(Scheme::Variational, 1.0, 0.0)
         .unwrap();
 }
@@ -604,7 +602,7 @@ fn two_forces_as_a_pair_or_nested_give_the_same_nodes() {
         );
     }
     // The pair's energy balance counts the drive and the drag.
-    let run = Problem::new(&pair, grid, Embedding::midpoint())
+    let run = varembed_tests::problem(&pair, grid, Embedding::midpoint())
         .solve_ivp(Scheme::Variational, 1.0, 0.0)
         .unwrap();
     let energy = run.node_values(&pair).unwrap().energy.unwrap();

@@ -5,8 +5,8 @@
 //! `Holonomic` Lagrangian.
 
 use varembed::{
-    Constraint, Dependence, Force, ForceDependence, Forced, Grid, Holonomic, Problem, Scheme,
-    Vector, constraint, force, lagrangian,
+    Constraint, Dependence, Force, ForceDependence, Forced, Grid, Holonomic, Scheme, Vector,
+    constraint, force, lagrangian,
 };
 
 use super::forces::{Drag, Pair, classical, tight};
@@ -40,11 +40,11 @@ fn a_generated_force_gives_the_nodes_of_the_hand_written_one() {
     let mut worst: f64 = 0.0;
     for (embedding, scheme) in classical() {
         let grid = Grid::new(0.0, 8.0, 200).unwrap();
-        let a = Problem::new(&hand, grid, embedding)
+        let a = varembed_tests::problem(&hand, grid, embedding)
             .with_newton(tight())
             .solve_ivp(scheme, [0.4, -0.2], [1.0, -0.5])
             .unwrap();
-        let b = Problem::new(&generated, grid, embedding)
+        let b = varembed_tests::problem(&generated, grid, embedding)
             .with_newton(tight())
             .solve_ivp(scheme, [0.4, -0.2], [1.0, -0.5])
             .unwrap();
@@ -89,7 +89,7 @@ fn constrained_nodes<C: Constraint<3, 1>>(c: &C) -> Vec<Vector<3>> {
     let grid = Grid::new(0.0, 3.0, 150).unwrap();
     let x0 = [0.6, 0.0, -0.8];
     let v0 = [0.0, 0.9, 0.0];
-    Problem::new(&FreeFall, grid, varembed::Embedding::midpoint())
+    varembed_tests::problem(&FreeFall, grid, varembed::Embedding::midpoint())
         .with_newton(tight())
         .solve_constrained_ivp(Scheme::Variational, c, x0, v0)
         .unwrap()
