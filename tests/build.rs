@@ -2010,8 +2010,10 @@ fn program(p: &Program) -> String {
     let mut m = String::new();
     let _ = writeln!(
         m,
-        "#[allow(clippy::impossible_comparisons, reason = \"the run-time index checks that \
-         `#[lagrangian]` writes for a slice model compare constants clippy folds\")]"
+        "#[allow(clippy::impossible_comparisons, clippy::eq_op, clippy::if_same_then_else, \
+         reason = \"the run-time index checks that `#[lagrangian]` writes for a slice model \
+         compare constants clippy folds; components drawn apart may name one entry at a literal \
+         dimension (`x[2 - 1] - x[1]`), and then a branch may read the same on both sides\")]"
     );
     let _ = writeln!(m, "pub mod p{:04} {{", p.id);
     let _ = writeln!(m, "    use super::*;");
@@ -2313,6 +2315,12 @@ fn vector_program(rng: &mut Rng, id: usize, level: Level) -> String {
         )
     };
     let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "#[allow(clippy::eq_op, clippy::if_same_then_else, reason = \"components drawn apart may \
+         name one entry at a literal dimension (`x[2 - 1] - x[1]`), and then a branch may read the \
+         same on both sides\")]"
+    );
     let _ = writeln!(out, "pub mod vf{id:04} {{");
     let _ = writeln!(out, "    use super::*;");
     let _ = writeln!(
@@ -3077,6 +3085,12 @@ fn looped_force_program(rng: &mut Rng, id: usize, level: Level) -> String {
          clippy::impossible_comparisons, reason = \"a loop over components is the form \
          `#[force]` takes; at `N = 1` the links `0..N - 1` and `1..N` are none; the run-time \
          index checks of a slice force compare constants clippy folds\")]"
+    );
+    let _ = writeln!(
+        m,
+        "#[allow(clippy::eq_op, clippy::if_same_then_else, reason = \"components drawn apart may \
+         name one entry at a literal dimension (`x[2 - 1] - x[1]`), and then a branch may read the \
+         same on both sides\")]"
     );
     let _ = writeln!(m, "pub mod lf{id:04} {{");
     let _ = writeln!(m, "    use super::*;");
