@@ -278,7 +278,7 @@ impl Printer<'_> {
             Node::Call(Func::Sech2, a) => (format!("sech2({})", self.go(a).0), Prec::Atom),
             Node::Call(Func::OneMinusSquare, a) => {
                 let a = self.wrap(a, Prec::Atom);
-                (format!("(1 - {a}) * (1 + {a})"), Prec::Mul)
+                (format!("(1.0 - {a}) * (1.0 + {a})"), Prec::Mul)
             }
             Node::Call(f, a) => (
                 format!("{}.{}()", self.wrap(a, Prec::Atom), f.name()),

@@ -32,9 +32,11 @@ pub mod warnings;
 /// then shares one copy of the solvers' code, where `Problem<Model, D>` compiles the whole
 /// const-generic engine again for each model type (the `classical` test binary compiled in half
 /// the time this way: 137 s of CPU against 262 s). The code is the same generic code, so the
-/// nodes are the same bit for bit (a call through the vtable does not change the arithmetic);
-/// what a concrete model gains, the inlining of its derivatives into the steps, is a matter of
-/// speed, which the benches and the tour measure on concrete models.
+/// nodes are the same bit for bit (a call through the vtable does not change the arithmetic).
+/// What a concrete model changes, its derivatives inlined into the steps, is speed and the
+/// stack frames of the steps: the benches and the tour measure the speed on concrete models,
+/// and the tests of stack use (a 256-site ring through `Problem` on a 2 MiB thread, the stack
+/// segments of a const-generic solve) build their problems with the concrete model.
 pub fn problem<'l, const D: usize>(
     model: &'l (dyn varembed::Lagrangian<D> + Sync),
     grid: varembed::Grid,

@@ -101,7 +101,8 @@ fn a_ring_of_256_runs_gauss_legendre_through_problem_on_a_two_megabyte_stack() {
     on_stack(2 << 20, || {
         for s in 1..=4 {
             let embedding = Embedding::gauss_legendre(s).unwrap();
-            let run = varembed_tests::problem(&model, grid, embedding)
+            // The concrete model: the stack use under test is that of a user's `Problem<Model, D>`.
+            let run = varembed::Problem::new(&model, grid, embedding)
                 .solve_ivp(
                     Scheme::Variational,
                     Vector::<RING>::from_column_slice(&q0),

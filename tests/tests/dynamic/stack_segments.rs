@@ -4,7 +4,7 @@
 //! machine's memory or overcommit rule.
 
 use super::through_problem::{SMALL, SmallRing, displaced, embeddings, on_stack};
-use varembed::{DynProblem, Embedding, Error, Grid, Scheme, Vector, lagrangian};
+use varembed::{DynProblem, Embedding, Error, Grid, Problem, Scheme, Vector, lagrangian};
 use varembed_tests::models::dense::ConstGeneric;
 
 /// Its const-generic segment (`256 D²` values, 8.6 GB) is twice the child's address space.
@@ -62,8 +62,11 @@ fn checks_in_a_limited_address_space() {
         let q0 = vec![0.5; WIDE];
         let v0 = vec![0.0; WIDE];
         let x0 = Vector::<WIDE>::from_column_slice(&q0);
-        let refused = varembed_tests::problem(&ConstGeneric(model), grid, Embedding::midpoint())
-            .solve_ivp(Scheme::Variational, x0, x0 * 0.0);
+        let refused = Problem::new(&ConstGeneric(model), grid, Embedding::midpoint()).solve_ivp(
+            Scheme::Variational,
+            x0,
+            x0 * 0.0,
+        );
         match refused {
             Err(Error::TooLarge { what }) => {
                 for part in [
@@ -90,7 +93,7 @@ fn checks_in_a_limited_address_space() {
             Vector::from_column_slice(&v0),
         );
         let embedding = embeddings()[4];
-        let run = varembed_tests::problem(&ring, grid, embedding)
+        let run = Problem::new(&ring, grid, embedding)
             .solve_ivp(Scheme::Variational, x0, u0)
             .unwrap();
         let reference = DynProblem::new(&ring.0, grid, embedding)

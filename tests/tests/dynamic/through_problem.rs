@@ -5,8 +5,8 @@
 //! 2 MiB stack of a test thread.
 
 use varembed::{
-    DynProblem, Embedding, Error, Grid, Lagrangian, NewtonOptions, RUN_TIME_FROM, Scheme, Side,
-    Solution, Start, Vector, lagrangian,
+    DynProblem, Embedding, Error, Grid, Lagrangian, NewtonOptions, Problem, RUN_TIME_FROM, Scheme,
+    Side, Solution, Start, Vector, lagrangian,
 };
 use varembed_tests::models::dense::Dense;
 
@@ -94,7 +94,7 @@ fn a_ring_of_256_runs_through_problem_on_a_two_megabyte_stack() {
             for scheme in [Scheme::Direct, Scheme::Variational] {
                 let x0 = Vector::<RING>::from_column_slice(&q0);
                 let u0 = Vector::<RING>::from_column_slice(&v0);
-                let run = varembed_tests::problem(&model, grid, embedding)
+                let run = Problem::new(&model, grid, embedding)
                     .solve_ivp(scheme, x0, u0)
                     .unwrap();
                 let reference = DynProblem::new(&model, grid, embedding)
@@ -106,7 +106,7 @@ fn a_ring_of_256_runs_through_problem_on_a_two_megabyte_stack() {
                 }
                 // From given first nodes: the run-time engine's run from the same nodes.
                 let x1 = run.q[1] + Vector::<RING>::from_element(1e-3);
-                let from_nodes = varembed_tests::problem(&model, grid, embedding)
+                let from_nodes = Problem::new(&model, grid, embedding)
                     .solve_ivp_from_nodes(scheme, x0, x1)
                     .unwrap();
                 let reference = DynProblem::new(&model, grid, embedding)
@@ -121,11 +121,8 @@ fn a_ring_of_256_runs_through_problem_on_a_two_megabyte_stack() {
         // Gauss–Legendre is a one-step map of (q, p): no run from two nodes on either path.
         let gauss = Embedding::gauss_legendre(2).unwrap();
         let x0 = Vector::<RING>::from_column_slice(&q0);
-        let routed = varembed_tests::problem(&model, grid, gauss).solve_ivp_from_nodes(
-            Scheme::Variational,
-            x0,
-            x0,
-        );
+        let routed =
+            Problem::new(&model, grid, gauss).solve_ivp_from_nodes(Scheme::Variational, x0, x0);
         let run_time = DynProblem::new(&model, grid, gauss).solve_ivp_from_nodes(
             Scheme::Variational,
             &q0,
@@ -178,19 +175,19 @@ fn at_the_threshold_problem_gives_the_const_generic_nodes() {
     on_stack(64 << 20, || {
         for embedding in embeddings() {
             for scheme in [Scheme::Direct, Scheme::Variational] {
-                let routed: Solution<SMALL> = varembed_tests::problem(&model, grid, embedding)
+                let routed: Solution<SMALL> = Problem::new(&model, grid, embedding)
                     .solve_ivp(scheme, x0, u0)
                     .unwrap();
-                let reference = varembed_tests::problem(&Dense(&model), grid, embedding)
+                let reference = Problem::new(&Dense(&model), grid, embedding)
                     .solve_ivp(scheme, x0, u0)
                     .unwrap();
                 let gap = relative_gap(&routed, &reference);
                 assert!(gap <= 1e-12, "{embedding} {scheme:?}: {gap:e}");
                 let x1 = routed.q[1] + Vector::<SMALL>::from_element(1e-3);
-                let routed = varembed_tests::problem(&model, grid, embedding)
+                let routed = Problem::new(&model, grid, embedding)
                     .solve_ivp_from_nodes(scheme, x0, x1)
                     .unwrap();
-                let reference = varembed_tests::problem(&Dense(&model), grid, embedding)
+                let reference = Problem::new(&Dense(&model), grid, embedding)
                     .solve_ivp_from_nodes(scheme, x0, x1)
                     .unwrap();
                 let gap = relative_gap(&routed, &reference);
@@ -220,7 +217,7 @@ fn the_hand_off_keeps_the_problems_options() {
             max_iterations: 1,
             ..NewtonOptions::default()
         };
-        let routed = varembed_tests::problem(&model, grid, midpoint)
+        let routed = Problem::new(&model, grid, midpoint)
             .with_newton(starved)
             .solve_ivp(Scheme::Variational, x0, u0)
             .unwrap_err();
@@ -236,7 +233,7 @@ fn the_hand_off_keeps_the_problems_options() {
 
         let coarse = Grid::new(0.0, 20.0, 20).unwrap();
         for check in [true, false] {
-            let routed = varembed_tests::problem(&model, coarse, midpoint)
+            let routed = Problem::new(&model, coarse, midpoint)
                 .with_resolution_check(check)
                 .solve_ivp(Scheme::Variational, x0, u0)
                 .unwrap();
@@ -249,10 +246,10 @@ fn the_hand_off_keeps_the_problems_options() {
         }
 
         let backward = Embedding::finite_difference(Side::Backward);
-        let legendre = varembed_tests::problem(&model, grid, backward)
+        let legendre = Problem::new(&model, grid, backward)
             .solve_ivp_with(Scheme::Variational, x0, u0, Start::Legendre)
             .unwrap();
-        let second = varembed_tests::problem(&model, grid, backward)
+        let second = Problem::new(&model, grid, backward)
             .solve_ivp_with(Scheme::Variational, x0, u0, Start::SecondOrder)
             .unwrap();
         let reference = DynProblem::new(&model, grid, backward)
@@ -311,10 +308,10 @@ fn a_run_time_form_of_another_dimension_is_not_used() {
     );
     on_stack(64 << 20, || {
         let embedding = Embedding::midpoint();
-        let run = varembed_tests::problem(&model, grid, embedding)
+        let run = Problem::new(&model, grid, embedding)
             .solve_ivp(Scheme::Variational, x0, u0)
             .unwrap();
-        let reference = varembed_tests::problem(&Dense(&model.model), grid, embedding)
+        let reference = Problem::new(&Dense(&model.model), grid, embedding)
             .solve_ivp(Scheme::Variational, x0, u0)
             .unwrap();
         assert_eq!(run.q, reference.q);
@@ -341,7 +338,7 @@ fn boundary_value_problems_of_large_models_run_on_the_run_time_engine() {
     on_stack(2 << 20, || {
         for embedding in kinds {
             for scheme in [Scheme::Direct, Scheme::Variational] {
-                let routed = varembed_tests::problem(&model, grid, embedding)
+                let routed = Problem::new(&model, grid, embedding)
                     .solve_bvp(
                         scheme,
                         Vector::<RING>::from_column_slice(&qa),
@@ -359,7 +356,7 @@ fn boundary_value_problems_of_large_models_run_on_the_run_time_engine() {
         }
         // Gauss–Legendre's collocation boundary value problem (variational only).
         let embedding = Embedding::gauss_legendre(2).unwrap();
-        let routed = varembed_tests::problem(&model, grid, embedding)
+        let routed = Problem::new(&model, grid, embedding)
             .solve_bvp(
                 Scheme::Variational,
                 Vector::<RING>::from_column_slice(&qa),
@@ -383,10 +380,10 @@ fn boundary_value_problems_of_large_models_run_on_the_run_time_engine() {
     on_stack(64 << 20, || {
         for embedding in kinds {
             for scheme in [Scheme::Direct, Scheme::Variational] {
-                let routed = varembed_tests::problem(&model, grid, embedding)
+                let routed = Problem::new(&model, grid, embedding)
                     .solve_bvp(scheme, xa, xb)
                     .unwrap();
-                let reference = varembed_tests::problem(&Dense(&model), grid, embedding)
+                let reference = Problem::new(&Dense(&model), grid, embedding)
                     .solve_bvp(scheme, xa, xb)
                     .unwrap();
                 let gap = relative_gap(&routed, &reference);
@@ -399,10 +396,10 @@ fn boundary_value_problems_of_large_models_run_on_the_run_time_engine() {
         }
         // Gauss–Legendre: the run-time form's sparse blocks against the dense ones.
         let embedding = Embedding::gauss_legendre(2).unwrap();
-        let routed = varembed_tests::problem(&model, grid, embedding)
+        let routed = Problem::new(&model, grid, embedding)
             .solve_bvp(Scheme::Variational, xa, xb)
             .unwrap();
-        let reference = varembed_tests::problem(&Dense(&model), grid, embedding)
+        let reference = Problem::new(&Dense(&model), grid, embedding)
             .solve_bvp(Scheme::Variational, xa, xb)
             .unwrap();
         let gap = relative_gap(&routed, &reference);
@@ -424,8 +421,7 @@ fn ensembles_of_large_models_run_on_the_run_time_engine() {
     let members = [SineGordon { c: 4.0 }, SineGordon { c: 1.5 }];
     on_stack(2 << 20, || {
         for embedding in [Embedding::midpoint(), Embedding::gauss_legendre(2).unwrap()] {
-            let problem = varembed_tests::problem(&members[0], grid, embedding)
-                .with_start(Start::SecondOrder);
+            let problem = Problem::new(&members[0], grid, embedding).with_start(Start::SecondOrder);
             let runs = problem.solve_ivp_models(
                 Scheme::Variational,
                 &members,
@@ -435,7 +431,7 @@ fn ensembles_of_large_models_run_on_the_run_time_engine() {
                 &varembed::Ensemble::serial(),
             );
             for (run, member) in runs.iter().zip(&members) {
-                let alone = varembed_tests::problem(member, grid, embedding)
+                let alone = Problem::new(member, grid, embedding)
                     .with_start(Start::SecondOrder)
                     .solve_ivp(Scheme::Variational, x0, u0)
                     .unwrap();
@@ -473,7 +469,7 @@ fn const_generic_runs<const D: usize, L: Lagrangian<D> + Sync>(
     let dense = Dense(model);
     let mut runs = Vec::new();
     for &(embedding, scheme) in cases {
-        let problem = varembed_tests::problem(&dense, grid, embedding);
+        let problem = Problem::new(&dense, grid, embedding);
         runs.push(problem.solve_ivp(scheme, q0, v0).unwrap());
         runs.push(problem.solve_bvp(scheme, q0, v0).unwrap());
     }
@@ -534,7 +530,7 @@ fn a_const_generic_ring_of_256_runs_on_a_two_megabyte_stack() {
         Vector::<RING>::from_column_slice(&v0),
     );
     let problem = |n| {
-        varembed_tests::problem(
+        Problem::new(
             &model,
             Grid::new(0.0, 0.1, n).unwrap(),
             Embedding::midpoint(),

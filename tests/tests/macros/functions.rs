@@ -88,8 +88,8 @@ const NEAR_ONE: [f64; 5] = [
     0.999999,
 ];
 
-/// `1 − x²` to a few ulps at every `|x| ≤ 1`: `δ(2 − δ)` with `δ = 1 − |x|`, exact for
-/// `|x| ≥ ½` (Sterbenz).
+/// `1 − x²` to a few ulps at every `|x| ≤ 1`: `δ(2 − δ)` with `δ = 1 − |x|`, which is exact
+/// for `|x| ≥ ½` (Sterbenz), so that only the product's two roundings remain.
 fn one_minus_square(x: f64) -> f64 {
     let delta = 1.0 - x.abs();
     delta * (2.0 - delta)
