@@ -183,6 +183,12 @@ impl InitialData<'_> {
     }
 }
 
+/// `(Q_1 − Q_0)/h` of given first nodes: divided by `h`, as the const-generic path forms it, so
+/// that the checks and the run-time path's run read the same velocity.
+pub(crate) fn velocity_from_nodes(q0: &[f64], q1: &[f64], h: f64) -> Vec<f64> {
+    q0.iter().zip(q1).map(|(a, b)| (b - a) / h).collect()
+}
+
 /// The checks of the data an initial value problem starts from, before any step, written once
 /// for both paths: finite constants and data (a bad coordinate named by its index), a point
 /// inside the Lagrangian's domain (for `q(a)`, `q̇(a)`, a velocity outside it is blamed on the
@@ -227,7 +233,7 @@ pub(crate) fn check_initial_point(
             }
         }
         InitialData::Nodes { q0, q1, t1, h } => {
-            let v: Vec<f64> = q0.iter().zip(q1).map(|(a, b)| (b - a) / h).collect();
+            let v = velocity_from_nodes(q0, q1, h);
             if !model.in_domain(q1, &v, t1) {
                 let what = format!(
                     "the first nodes Q_0 = {}, Q_1 = {} (velocity {})",

@@ -11,7 +11,7 @@ use crate::embedding::{Embedding, EmbeddingKind, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::grid::Grid;
 use crate::options::{LinearSolve, NewtonOptions};
-use crate::regularity::{InitialData, InitialDataModel, check_initial_point};
+use crate::regularity::{InitialData, InitialDataModel, check_initial_point, velocity_from_nodes};
 use crate::solve::guard::BlowUpGuard;
 use crate::solve::ivp::step_kind;
 use crate::solve::solution::Warning;
@@ -313,12 +313,6 @@ impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
         check_initial_point(&mut point, data).ok()?;
         point.vv.map(|vv| (vv, point.hessian))
     }
-}
-
-/// `(Q_1 − Q_0)/h` of first nodes already checked: divided by `h`, as the checks and the
-/// const-generic path form it, so that all read the same velocity.
-fn velocity_from_nodes(q0: &[f64], q1: &[f64], h: f64) -> Vec<f64> {
-    q0.iter().zip(q1).map(|(a, b)| (b - a) / h).collect()
 }
 
 /// A [`DynLagrangian`] under the checks of its initial data: the Hessian of the last point
