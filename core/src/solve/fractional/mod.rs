@@ -65,6 +65,7 @@
 //! SIAM J. Sci. Comput. 17 (1996) (choice 2).
 
 mod end_columns;
+mod posedness;
 mod preconditioner;
 mod residual;
 mod system;
@@ -77,12 +78,12 @@ use crate::error::{Error, Location, Result};
 use crate::fft_operator::FftOperator;
 use crate::lagrangian::{Lagrangian, Vector};
 use crate::options::{KrylovBudget, SolverOptions};
-use crate::solve::conditioning::{ILL_POSED_BELOW, start};
 use crate::solve::krylov::{KrylovFailure, KrylovOptions, gmres};
-use crate::solve::minres::{MinresWork, Tridiagonal, minres_in, ritz_values};
+use crate::solve::minres::{MinresWork, minres_in};
 use crate::solve::newton::{Converging, GlobalSystem, solve_global};
 use crate::solve::solution::{Solution, Warning};
 use end_columns::EndColumns;
+use posedness::CHECK_STEPS;
 use residual::{Evaluation, evaluate};
 use std::ops::ControlFlow;
 use system::FastSystem;
@@ -90,6 +91,17 @@ use system::FastSystem;
 /// The largest forcing term: a step whose linear residual is below this fraction of the
 /// nonlinear one is still a descent step of an inexact Newton method.
 const ETA_MAX: f64 = 0.1;
+
+/// How far above the forcing term the tolerance needs (`½ tol · scale / ‖r‖₂`) the
+/// Eisenstat–Walker choice may be and still be replaced by it, making its Newton step the
+/// last. Their choice predicts the next residual from the last two (`η_k ≈ ‖r_{k+1}‖/‖r_k‖`
+/// at quadratic convergence); a prediction within a thousand times of the tolerance leaves a
+/// Newton step to go whose residual and Krylov start cost more than the three or so Krylov
+/// iterations (MINRES gains about a factor ten per iteration on these systems) that reach the
+/// tolerance at once. On the benchmark pendulum at `N = 10⁶` and `10⁷` the choice was 112
+/// and 58 times the needed term, and one more MINRES iteration saved the fourth Newton step
+/// of four (BENCHMARKS.md).
+const LAST_STEP_REACH: f64 = 1e3;
 
 /// Solves `J δ = rhs` to the relative tolerance `eta`: MINRES, then GMRES when MINRES breaks
 /// down (a preconditioner that is not positive definite: some `L_vv` is not); GMRES alone
@@ -140,49 +152,6 @@ fn accept_or_fail(failure: KrylovFailure, at: Location) -> Result<usize> {
     })
 }
 
-/// Lanczos steps of the ill-posedness check at the converged iterate.
-const LANCZOS_STEPS: usize = 4;
-
-/// The ill-posedness measure of the linearisation in `system` (see the conditioning module):
-/// the smallest Ritz value in modulus of `P'⁻¹J` after [`LANCZOS_STEPS`] MINRES iterations
-/// from the start of the dense path's inverse iteration, among those whose bound places an
-/// eigenvalue of `P'⁻¹J` below [`ILL_POSED_BELOW`]; `None` when none does.
-///
-/// The lowest eigenvalue of `P'⁻¹J` is an extreme one next to a resonance of the lowest mode,
-/// and its Ritz value converges at the rate of the gap to the next one: on the oscillator at
-/// α = 0.74, 0.1 % below its first resonance (`N = 50 … 1000`), four steps give it within
-/// 0.2 % with a bound of 1.3e-3, three within 14 % with a bound of 1e-2 (dense eigenvalues of
-/// the same Lanczos process). Four steps cost 0.09–0.2 of the benchmark's solve
-/// (BENCHMARKS.md). An interior eigenvalue near zero (a resonance of a higher mode) needs more
-/// steps to be resolved, and is then not flagged: the bound keeps an unconverged Ritz value
-/// from flagging a well-posed problem, never the other way round.
-///
-/// `x` is a vector of the unknowns' length for the iterates, which the check discards (the
-/// Newton step's, idle by then).
-fn ill_posedness<const D: usize>(
-    system: &mut FastSystem<'_, D>,
-    x: &mut [f64],
-    work: &mut MinresWork,
-) -> Option<f64> {
-    let b = start((system.n - 1) * D);
-    let mut lanczos = Tridiagonal::default();
-    let options = KrylovOptions {
-        tolerance: 0.0,
-        max_iterations: LANCZOS_STEPS,
-        restart: 0,
-    };
-    // Lanczos needs a symmetric J: the corrected direct scheme's is measured without its
-    // starting columns (a low-rank change of the same problem's linearisation).
-    system.plain = !system.symmetric();
-    let _ = minres_in(system, &b, x, &options, Some(&mut lanczos), work);
-    system.plain = false;
-    ritz_values(&lanczos)
-        .into_iter()
-        .filter(|(theta, bound)| theta.abs() + bound < ILL_POSED_BELOW)
-        .map(|(theta, _)| theta.abs())
-        .min_by(f64::total_cmp)
-}
-
 /// Newton–Krylov on the interior nodes of a Gauss-GLEσ boundary value problem, from `guess`
 /// (already checked: `N + 1` finite nodes, `N ≥ 2`).
 pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
@@ -191,18 +160,20 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
     scheme: Scheme,
     guess: &[Vector<D>],
 ) -> Result<Solution<D>> {
-    disc.with_velocity_fft(|fft| solve_with(disc, fft, options, scheme, guess))
+    disc.with_velocity_fft(|fft| solve_with(disc, fft, options, scheme, guess, CHECK_STEPS))
         .map(|(solution, _)| solution)
 }
 
-/// [`solve`] with `fft`, the FFT form of the discretisation's `Δ^α_σ`; with the solution, the
-/// Krylov iterations of each Newton step.
+/// [`solve`] with `fft`, the FFT form of the discretisation's `Δ^α_σ`, the ill-posedness
+/// check on at most `check_steps` steps (`posedness`); with the solution, the Krylov
+/// iterations of each Newton step.
 fn solve_with<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     fft: &mut FftOperator,
     options: &SolverOptions,
     scheme: Scheme,
     guess: &[Vector<D>],
+    check_steps: usize,
 ) -> Result<(Solution<D>, Vec<usize>)> {
     let columns = EndColumns::new(scheme, disc.velocity_operator(), disc.adjoint_operator());
     let mut newton = FastNewton {
@@ -214,6 +185,7 @@ fn solve_with<L: Lagrangian<D> + ?Sized, const D: usize>(
         eta: ETA_MAX,
         previous_norm: None,
         krylov_iterations: Vec::new(),
+        check_steps,
     };
     let unknowns = (disc.grid().n() - 1) * D;
     solve_global(&mut newton, guess.to_vec(), unknowns, &options.newton)
@@ -235,6 +207,8 @@ struct FastNewton<'d, 'l, 'f, L: ?Sized, const D: usize> {
     previous_norm: Option<f64>,
     /// The Krylov iterations of each Newton step.
     krylov_iterations: Vec<usize>,
+    /// The largest grid of the ill-posedness check ([`CHECK_STEPS`] but in tests).
+    check_steps: usize,
 }
 
 impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, '_, '_, L, D> {
@@ -274,14 +248,31 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
     fn converged(&mut self, c: Converging<'_, Self>) -> Result<Self::Output> {
         let mut warnings = Vec::new();
         if self.options.posedness_check {
-            // The last Newton step's Jacobian, at an iterate within that step of this one
-            // (its eigenvalues move by the step times ∂³L, far below the threshold), or a
-            // first linearisation when the guess already converged.
-            if c.iteration == 0 {
-                let (disc, v) = (self.disc, &c.evaluation.v);
-                self.system.linearize(disc, &c.q, v, c.at())?;
-            }
-            let measure = ill_posedness(&mut self.system, c.scratch, &mut self.work);
+            // Past its grid the check runs on a coarser one (`posedness`); should the
+            // Lagrangian not be finite there, on this one after all.
+            let steps = self.check_steps;
+            let coarse = (self.disc.grid().n() > steps)
+                .then(|| {
+                    // The Krylov vectors are not needed again: freed before the coarser
+                    // grid's are allocated, so that the check adds nothing to the peak.
+                    self.work = MinresWork::default();
+                    posedness::ritz_on_grid(self.disc, self.scheme, &c.q, steps)
+                })
+                .and_then(Result::ok);
+            let ritz = match coarse {
+                Some(ritz) => ritz,
+                None => {
+                    // The last Newton step's Jacobian, at an iterate within that step of this
+                    // one (its eigenvalues move by the step times ∂³L, far below the
+                    // threshold), or a first linearisation when the guess already converged.
+                    if c.iteration == 0 {
+                        let (disc, v) = (self.disc, &c.evaluation.v);
+                        self.system.linearize(disc, &c.q, v, c.at())?;
+                    }
+                    posedness::ritz(&mut self.system, c.scratch, &mut self.work)
+                }
+            };
+            let measure = posedness::flagged(&ritz);
             warnings.extend(measure.map(|measure| Warning::IllPosed { measure }));
         }
         let solution = Solution {
@@ -315,7 +306,14 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
             }
             self.eta = next.min(ETA_MAX);
         }
-        self.eta = self.eta.max(0.5 * tolerance * e.scale / norm).max(1e-13);
+        // A forcing term within LAST_STEP_REACH of the one the tolerance needs makes this the
+        // last Newton step: solve to the tolerance now, since the step after it would cost a
+        // residual and a Krylov start more than the few iterations that close the gap.
+        let target = 0.5 * tolerance * e.scale / norm;
+        if self.eta < LAST_STEP_REACH * target {
+            self.eta = target;
+        }
+        self.eta = self.eta.max(target).max(1e-13);
         self.previous_norm = Some(norm);
         self.system.linearize(self.disc, q, &e.v, at)?;
         let budget = &self.options.krylov;

@@ -24,7 +24,6 @@ pub(super) struct Evaluation<const D: usize> {
 
 impl<const D: usize> Evaluation<D> {
     /// Buffers for `N` steps.
-    #[cfg(test)]
     pub(super) fn new(n: usize) -> Self {
         Self::from_buffers(n, Vec::new(), Vec::new())
     }

@@ -525,7 +525,7 @@ fn krylov_iterations_stay_flat_as_n_grows() {
             .collect();
         let options = SolverOptions::default();
         let (solution, iterations) = disc
-            .with_velocity_fft(|fft| solve_with(&disc, fft, &options, scheme, &guess))
+            .with_velocity_fft(|fft| solve_with(&disc, fft, &options, scheme, &guess, CHECK_STEPS))
             .unwrap();
         assert_eq!(iterations.len(), solution.newton_iterations);
         iterations.into_iter().max().unwrap()
