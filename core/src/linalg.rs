@@ -32,6 +32,15 @@ pub fn add_to_block<const D: usize>(x: &mut [f64], j: usize, v: &Vector<D>) {
     }
 }
 
+/// `buffer` as `len` zeros, reusing its allocation; one that must grow grows to `len` exactly
+/// (`resize` alone may double it: a vector lent from `N − 1` unknowns to `N` rows would
+/// keep twice the memory it needs).
+pub fn zeroed(buffer: &mut Vec<f64>, len: usize) {
+    buffer.clear();
+    buffer.reserve_exact(len);
+    buffer.resize(len, 0.0);
+}
+
 /// A pivot smaller than this times the largest entry of its column block is treated as zero:
 /// the matrix is numerically singular and the caller reports a typed error.
 const SINGULAR_RATIO: f64 = 1e-14;

@@ -86,7 +86,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     ) -> impl Fn(Scheme, Grid) -> Result<Solution<D>> {
         move |scheme, grid| {
             let guess = bvp::straight_line(qa, qb, grid.n())?;
-            with_room_for::<D, _>(|| bvp::solve(&self.on_grid(grid), &self.options, scheme, &guess))
+            with_room_for::<D, _>(|| bvp::solve(&self.on_grid(grid), &self.options, scheme, guess))
         }
     }
 

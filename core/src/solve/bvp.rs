@@ -148,9 +148,9 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     options: &SolverOptions,
     scheme: Scheme,
-    guess: &[Vector<D>],
+    guess: Vec<Vector<D>>,
 ) -> Result<Solution<D>> {
-    check_input(disc, guess)?;
+    check_input(disc, &guess)?;
     if disc.embedding().is_fractional() && disc.lagrangian().is_forced() {
         // The fractional systems' Jacobians and preconditioners are built from L's Hessian
         // alone; a force's blocks have no place there yet.
@@ -166,32 +166,20 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
     Ok(solution)
 }
 
-/// Solves the boundary value problem of `scheme` from `guess` (all `N + 1` nodes; the first and
-/// last are the boundary values): Newton's method on the residual rows ([`solve_global`]).
-/// The fractional embeddings go to the fast path when `options` say
+/// Solves the boundary value problem of `scheme` from `q` (all `N + 1` nodes of the guess, the
+/// first iterate; the first and last are the boundary values): Newton's method on the residual
+/// rows ([`solve_global`]). The fractional embeddings go to the fast path when `options` say
 /// so (falling back to dense LU as [`FractionalSolver::Auto`] describes).
 fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     options: &SolverOptions,
     scheme: Scheme,
-    guess: &[Vector<D>],
+    q: Vec<Vector<D>>,
 ) -> Result<Solution<D>> {
-    let (grid, embedding) = (*disc.grid(), *disc.embedding());
-    let n = grid.n();
-    let q = guess.to_vec();
+    let (n, embedding) = (disc.grid().n(), *disc.embedding());
     let unknowns = (n - 1) * D;
-    let finish = |q: Vec<Vector<D>>, newton_iterations| Solution {
-        scheme,
-        embedding,
-        grid,
-        q,
-        newton_iterations,
-        explicit_steps: 0,
-        momenta: Vec::new(),
-        warnings: Vec::new(),
-    };
     if unknowns == 0 {
-        return Ok(finish(q, 0));
+        return Ok(solution(disc, scheme, q, 0));
     }
     if embedding.is_fractional() {
         let fast = match options.fractional {
@@ -215,14 +203,50 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
             });
         }
         if fast {
-            match fractional::solve(disc, options, scheme, guess) {
-                Err(Error::KrylovDidNotConverge { .. })
-                    if options.fractional == FractionalSolver::Auto
-                        && unknowns <= FractionalSolver::DENSE_FALLBACK_LIMIT => {}
-                result => return result,
+            // The guess is the fast path's first iterate; a copy is kept only where a failed
+            // Krylov solve falls back to dense LU, at a size where it costs little.
+            let fallback = options.fractional == FractionalSolver::Auto
+                && unknowns <= FractionalSolver::DENSE_FALLBACK_LIMIT;
+            let kept = fallback.then(|| q.clone());
+            match (fractional::solve(disc, options, scheme, q), kept) {
+                (Err(Error::KrylovDidNotConverge { .. }), Some(q)) => {
+                    return solve_by_lu(disc, options, scheme, q);
+                }
+                (result, _) => return result,
             }
         }
     }
+    solve_by_lu(disc, options, scheme, q)
+}
+
+/// The solution `q` of `scheme` on the discretisation's grid after `newton_iterations`, its
+/// warnings still to come.
+fn solution<L: Lagrangian<D> + ?Sized, const D: usize>(
+    disc: &Discretisation<'_, L, D>,
+    scheme: Scheme,
+    q: Vec<Vector<D>>,
+    newton_iterations: usize,
+) -> Solution<D> {
+    Solution {
+        scheme,
+        embedding: *disc.embedding(),
+        grid: *disc.grid(),
+        q,
+        newton_iterations,
+        explicit_steps: 0,
+        momenta: Vec::new(),
+        warnings: Vec::new(),
+    }
+}
+
+/// [`solve_unchecked`] by dense or banded LU ([`ByLu`]), from the first iterate `q`.
+fn solve_by_lu<L: Lagrangian<D> + ?Sized, const D: usize>(
+    disc: &Discretisation<'_, L, D>,
+    options: &SolverOptions,
+    scheme: Scheme,
+    q: Vec<Vector<D>>,
+) -> Result<Solution<D>> {
+    let unknowns = (disc.grid().n() - 1) * D;
     let mut system = ByLu {
         disc,
         scheme,
@@ -230,7 +254,7 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
         jacobian: None,
     };
     let (q, newton_iterations, measure) = solve_global(&mut system, q, unknowns, &options.newton)?;
-    let mut solution = finish(q, newton_iterations);
+    let mut solution = solution(disc, scheme, q, newton_iterations);
     let ill_posed = measure.filter(|&m| m < ILL_POSED_BELOW);
     solution
         .warnings

@@ -61,7 +61,7 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// The vectors of [`minres`], kept by a caller that solves many systems of one size (the
-/// Newton steps of one solve): at `N = 10⁷` unknowns twelve fresh vectors cost a gigabyte of
+/// Newton steps of one solve): at `N = 10⁷` unknowns ten fresh vectors cost most of a gigabyte of
 /// page faults and zeroing per solve.
 #[derive(Debug, Default)]
 pub(crate) struct MinresWork {
@@ -69,9 +69,7 @@ pub(crate) struct MinresWork {
     v: Vec<f64>,
     v_old: Vec<f64>,
     z: Vec<f64>,
-    z_next: Vec<f64>,
     z_image: Vec<f64>,
-    z_next_image: Vec<f64>,
     az: Vec<f64>,
     w: Vec<f64>,
     w_old: Vec<f64>,
@@ -79,15 +77,13 @@ pub(crate) struct MinresWork {
 
 impl MinresWork {
     /// The vectors, in a fixed order.
-    fn vectors(&mut self) -> [&mut Vec<f64>; 10] {
+    fn vectors(&mut self) -> [&mut Vec<f64>; 8] {
         [
             &mut self.r,
             &mut self.v,
             &mut self.v_old,
             &mut self.z,
-            &mut self.z_next,
             &mut self.z_image,
-            &mut self.z_next_image,
             &mut self.az,
             &mut self.w,
             &mut self.w_old,
@@ -116,8 +112,7 @@ impl MinresWork {
 
 /// `buffer` as `len` zeros, reusing its allocation.
 fn zeroed(buffer: &mut Vec<f64>, len: usize) -> &mut Vec<f64> {
-    buffer.clear();
-    buffer.resize(len, 0.0);
+    crate::linalg::zeroed(buffer, len);
     buffer
 }
 
@@ -164,9 +159,7 @@ pub(crate) fn minres_in(
         v,
         v_old,
         z,
-        z_next,
         z_image,
-        z_next_image,
         az,
         w,
         w_old,
@@ -176,8 +169,7 @@ pub(crate) fn minres_in(
     v.clear();
     v.extend_from_slice(r);
     let (mut v, mut v_old) = (v, zeroed(v_old, n));
-    let (mut z, mut z_next) = (zeroed(z, n), zeroed(z_next, n));
-    let (mut z_image, mut z_next_image) = (zeroed(z_image, images), zeroed(z_next_image, images));
+    let (z, z_image) = (zeroed(z, n), zeroed(z_image, images));
     let az = zeroed(az, n);
     let (mut w, mut w_old) = (zeroed(w, n), zeroed(w_old, n));
     system.precondition_with_image(v, z, z_image);
@@ -213,12 +205,19 @@ pub(crate) fn minres_in(
             v_old[i] = az[i] - a * v[i] - b_coef * v_old[i];
         }
         std::mem::swap(&mut v, &mut v_old);
-        system.precondition_with_image(v, z_next, z_next_image);
-        z_next
-            .iter_mut()
-            .chain(z_next_image.iter_mut())
+        // The new column of T_k rotated by the previous two Givens rotations, then its own;
+        // α₂ and α₃ are known before γ_{j+1}, so w_{j+1}'s numerator
+        // z_j − α₃ w_{j−1} − α₂ w_j goes into w_old's storage now, and z_{j+1} into z's.
+        let alpha2 = s * delta + c_old * c * gamma;
+        let alpha3 = s_old * gamma;
+        for i in 0..n {
+            w_old[i] = z[i] - alpha3 * w_old[i] - alpha2 * w[i];
+        }
+        system.precondition_with_image(v, z, z_image);
+        z.iter_mut()
+            .chain(z_image.iter_mut())
             .for_each(|x| *x *= scale);
-        let gamma_next_sq = dot(z_next, v);
+        let gamma_next_sq = dot(z, v);
         if !(gamma_next_sq >= 0.0 && gamma_next_sq.is_finite() && delta.is_finite()) {
             return Err(breakdown(relative));
         }
@@ -227,28 +226,23 @@ pub(crate) fn minres_in(
             t.diagonal.push(delta);
             t.off_diagonal.push(gamma_next);
         }
-        // The new column of T_k rotated by the previous two Givens rotations, then its own.
         let alpha0 = c * delta - c_old * s * gamma;
         let alpha1 = alpha0.hypot(gamma_next);
-        let alpha2 = s * delta + c_old * c * gamma;
-        let alpha3 = s_old * gamma;
         if alpha1 == 0.0 {
             return Err(breakdown(relative));
         }
         let (c_new, s_new) = (alpha0 / alpha1, gamma_next / alpha1);
-        // w_{j+1} = (z_j − α₃ w_{j−1} − α₂ w_j)/α₁ into w_old's storage; the residual by its
-        // recurrence (module docs), with v_{j+1} (now in `v`) = γ_{j+1} ṽ_{j+1} and
+        // w_{j+1} = (z_j − α₃ w_{j−1} − α₂ w_j)/α₁; the residual by its recurrence (module
+        // docs), with v_{j+1} (now in `v`) = γ_{j+1} ṽ_{j+1} and
         // φ̄_{j+1} c_{j+1} / γ_{j+1} = −η c_new / α₁.
         let step = c_new * eta;
         let (s2, v_coef) = (s_new * s_new, eta * c_new / alpha1);
         for i in 0..n {
-            w_old[i] = (z[i] - alpha3 * w_old[i] - alpha2 * w[i]) / alpha1;
+            w_old[i] /= alpha1;
             x[i] += step * w_old[i];
             r[i] = s2 * r[i] - v_coef * v[i];
         }
         std::mem::swap(&mut w, &mut w_old);
-        std::mem::swap(&mut z, &mut z_next);
-        std::mem::swap(&mut z_image, &mut z_next_image);
         eta *= -s_new;
         (c_old, c, s_old, s) = (c, c_new, s, s_new);
         (gamma_old, gamma) = (gamma, gamma_next);

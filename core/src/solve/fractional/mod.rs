@@ -158,7 +158,7 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     options: &SolverOptions,
     scheme: Scheme,
-    guess: &[Vector<D>],
+    guess: Vec<Vector<D>>,
 ) -> Result<Solution<D>> {
     disc.with_velocity_fft(|fft| solve_with(disc, fft, options, scheme, guess, CHECK_STEPS))
         .map(|(solution, _)| solution)
@@ -172,7 +172,7 @@ fn solve_with<L: Lagrangian<D> + ?Sized, const D: usize>(
     fft: &mut FftOperator,
     options: &SolverOptions,
     scheme: Scheme,
-    guess: &[Vector<D>],
+    guess: Vec<Vector<D>>,
     check_steps: usize,
 ) -> Result<(Solution<D>, Vec<usize>)> {
     let columns = EndColumns::new(scheme, disc.velocity_operator(), disc.adjoint_operator());
@@ -188,7 +188,7 @@ fn solve_with<L: Lagrangian<D> + ?Sized, const D: usize>(
         check_steps,
     };
     let unknowns = (disc.grid().n() - 1) * D;
-    solve_global(&mut newton, guess.to_vec(), unknowns, &options.newton)
+    solve_global(&mut newton, guess, unknowns, &options.newton)
 }
 
 /// The Newton iteration of the fast path: the residual by FFT, the Newton systems by

@@ -187,7 +187,7 @@ mod tests {
         let options = SolverOptions::default();
         let scheme = Scheme::Variational;
         let (solution, _) = disc
-            .with_velocity_fft(|fft| solve_with(&disc, fft, &options, scheme, &guess, check_steps))
+            .with_velocity_fft(|fft| solve_with(&disc, fft, &options, scheme, guess, check_steps))
             .unwrap();
         match solution.warnings[..] {
             [Warning::IllPosed { measure }] => Some(measure),

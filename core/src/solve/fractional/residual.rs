@@ -6,7 +6,7 @@ use super::system::FastSystem;
 use crate::discretisation::Discretisation;
 use crate::error::{Error, Location, Result, check_len};
 use crate::lagrangian::{Lagrangian, Vector};
-use crate::linalg::{add_to_block, block, max_norm, set_block};
+use crate::linalg::{add_to_block, block, max_norm, set_block, zeroed};
 
 /// The residual at an iterate, with what the Jacobian needs. Its buffers are reused from one
 /// evaluation to the next (at `N = 10⁷` a fresh `N`-vector costs its page faults: tens of
@@ -31,10 +31,8 @@ impl<const D: usize> Evaluation<D> {
     /// Buffers for `N` steps in the allocations of two vectors (the Krylov solver's, idle
     /// while a trial iterate is evaluated).
     pub(super) fn from_buffers(n: usize, mut r: Vec<f64>, mut v: Vec<f64>) -> Self {
-        r.clear();
-        r.resize((n - 1) * D, 0.0);
-        v.clear();
-        v.resize(n * D, 0.0);
+        zeroed(&mut r, (n - 1) * D);
+        zeroed(&mut v, n * D);
         Evaluation { r, v, scale: 0.0 }
     }
 

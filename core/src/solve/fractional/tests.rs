@@ -408,7 +408,7 @@ fn an_exhausted_krylov_budget_is_a_typed_error() {
         },
         ..SolverOptions::default()
     };
-    let err = solve(&disc, &options, Scheme::Variational, &guess).unwrap_err();
+    let err = solve(&disc, &options, Scheme::Variational, guess).unwrap_err();
     // The message names the remedies.
     let message = err.to_string();
     assert!(
@@ -525,7 +525,7 @@ fn krylov_iterations_stay_flat_as_n_grows() {
             .collect();
         let options = SolverOptions::default();
         let (solution, iterations) = disc
-            .with_velocity_fft(|fft| solve_with(&disc, fft, &options, scheme, &guess, CHECK_STEPS))
+            .with_velocity_fft(|fft| solve_with(&disc, fft, &options, scheme, guess, CHECK_STEPS))
             .unwrap();
         assert_eq!(iterations.len(), solution.newton_iterations);
         iterations.into_iter().max().unwrap()

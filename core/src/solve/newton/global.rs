@@ -96,7 +96,7 @@ pub(crate) fn solve_global<S: GlobalSystem>(
     options: &NewtonOptions,
 ) -> Result<S::Output> {
     let (mut current, mut res, mut merit) = system.evaluate(&q, 0)?;
-    let mut line_search = LineSearch::new(&q, merit);
+    let mut line_search = LineSearch::new(merit);
     let mut previous = f64::INFINITY;
     let mut delta = vec![0.0; unknowns];
     for iteration in 0..=options.max_iterations {
@@ -167,7 +167,9 @@ const SHORTEST: f64 = 1.0 / 64.0;
 /// max-norm of the stopping rule: the Newton direction (exact, or inexact within a forcing
 /// term `η < 1` in the 2-norm) is a descent direction of `‖r‖₂²`, of no other norm.
 pub(crate) struct LineSearch<X> {
-    best: X,
+    /// The iterate of the smallest merit so far; `None` while that is the current iterate
+    /// (every step that improved on it), so that the common case keeps no copy of the nodes.
+    best: Option<X>,
     best_merit: f64,
     /// Full steps taken since the best iterate improved.
     free: usize,
@@ -223,19 +225,23 @@ impl Iterate for Vec<f64> {
 
 impl<X: Iterate> LineSearch<X> {
     /// From the initial iterate `q` with residual 2-norm `merit`.
-    pub(crate) fn new(q: &X, merit: f64) -> Self {
+    pub(crate) fn new(merit: f64) -> Self {
         LineSearch {
-            best: q.clone(),
+            best: None,
             best_merit: merit,
             free: 0,
         }
     }
 
-    fn accept<E>(&mut self, accepted: Accepted<X, E>) -> Accepted<X, E> {
+    /// Takes `accepted` as the next iterate after `q`, keeping `q` as the best where it was
+    /// and the next one is not better.
+    fn accept<E>(&mut self, q: &X, accepted: Accepted<X, E>) -> Accepted<X, E> {
         if accepted.3 < self.best_merit {
-            self.best.clone_from(&accepted.0);
+            self.best = None;
             self.best_merit = accepted.3;
             self.free = 0;
+        } else if self.best.is_none() {
+            self.best = Some(q.clone());
         }
         accepted
     }
@@ -259,7 +265,7 @@ impl<X: Iterate> LineSearch<X> {
                 if !decrease {
                     self.free += 1;
                 }
-                return Ok(self.accept((full, e, max, m)));
+                return Ok(self.accept(q, (full, e, max, m)));
             }
             best_trial = Some((full, e, max, m));
         }
@@ -267,8 +273,8 @@ impl<X: Iterate> LineSearch<X> {
         // return to the best, damp from there next time.
         if merit > self.best_merit {
             self.free = WATCHDOG;
-            let best = self.best.clone();
-            let (e, max, m) = evaluate(&best)?;
+            let (e, max, m) = evaluate(self.best.as_ref().unwrap_or(q))?;
+            let best = self.best.take().unwrap_or_else(|| q.clone());
             return Ok((best, e, max, m));
         }
         let mut lambda = 0.5;
@@ -277,7 +283,7 @@ impl<X: Iterate> LineSearch<X> {
             match evaluate(&q_lambda) {
                 Ok((e, max, m)) => {
                     if m <= (1.0 - ARMIJO * lambda) * merit {
-                        return Ok(self.accept((q_lambda, e, max, m)));
+                        return Ok(self.accept(q, (q_lambda, e, max, m)));
                     }
                     if best_trial.as_ref().is_none_or(|b| m < b.3) {
                         best_trial = Some((q_lambda, e, max, m));
@@ -285,7 +291,7 @@ impl<X: Iterate> LineSearch<X> {
                 }
                 Err(error) if lambda < SHORTEST => {
                     return match best_trial {
-                        Some(b) => Ok(self.accept(b)),
+                        Some(b) => Ok(self.accept(q, b)),
                         None => Err(error),
                     };
                 }
@@ -293,7 +299,7 @@ impl<X: Iterate> LineSearch<X> {
             }
             if lambda < SHORTEST {
                 let b = best_trial.expect("the last trial was evaluated");
-                return Ok(self.accept(b));
+                return Ok(self.accept(q, b));
             }
             lambda *= 0.5;
         }
