@@ -23,10 +23,11 @@
 //! the classical measure at the first resonance where `κ = μ₁`. The dense solver gets it by
 //! inverse iteration in the `P'` norm ([`smallest_pencil_eigenvalue`]), the fast one from the
 //! Lanczos matrix of the preconditioned operator `P'⁻¹J` (its preconditioner is `P'⁻¹`): a
-//! few MINRES iterations at the converged iterate, whose Ritz values approximate the
+//! few MINRES iterations at the converged iterate (past `2¹⁸` steps on that many, the solution
+//! interpolated to them: `solve::fractional::posedness`), whose Ritz values approximate the
 //! eigenvalues of `P'⁻¹J`. A Ritz value only flags a problem when its bound puts an
-//! eigenvalue below the threshold (see `solve::fractional`), so an interior Ritz value that
-//! has not converged never flags a well-posed problem.
+//! eigenvalue below the threshold (see `solve::fractional::posedness`), so an interior Ritz
+//! value that has not converged never flags a well-posed problem.
 
 use std::f64::consts::PI;
 
