@@ -85,12 +85,16 @@ pub(crate) struct Pointwise<const D: usize> {
 impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
     /// `lagrangian` on `grid` under `embedding`.
     pub(crate) fn new(lagrangian: &'l L, grid: Grid, embedding: Embedding) -> Self {
+        let velocity = embedding.velocity_operator(&grid);
+        let adjoint = embedding
+            .adjoint_operator(&grid)
+            .sharing_weights_of(&velocity);
         Discretisation {
             lagrangian,
             grid,
             embedding,
-            velocity: embedding.velocity_operator(&grid),
-            adjoint: embedding.adjoint_operator(&grid),
+            velocity,
+            adjoint,
             velocity_fft: FftCache::default(),
             adjoint_fft: FftCache::default(),
             fft_threshold: FFT_OPERATOR_THRESHOLD,

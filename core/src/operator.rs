@@ -17,6 +17,7 @@ use crate::lagrangian::Vector;
 use crate::side::Side;
 use crate::weights::grunwald_letnikov;
 use std::ops::RangeInclusive;
+use std::sync::Arc;
 
 /// `Δ_σ` or `Δ^α_σ` on a grid of `N` steps: an `N × (N + 1)` matrix.
 #[derive(Clone, Debug, PartialEq)]
@@ -25,7 +26,9 @@ pub struct Operator {
     alpha: f64,
     n: usize,
     scale: f64,
-    weights: Vec<f64>,
+    /// Shared between the two operators of a discretisation where they are equal (the
+    /// fractional ones: `N + 1` numbers each).
+    weights: Arc<[f64]>,
     /// Columns added next to the node where the sums are cut (the corrected Gauss-GLEσ's
     /// starting weights, `end_correction`): `(node, weights)`, the weight of row `k` at
     /// `weights[distance of k from that node − 1]`, without the factor `h^{−α}`. Empty for
@@ -41,7 +44,7 @@ impl Operator {
             alpha: 1.0,
             n: grid.n(),
             scale: 1.0 / grid.h(),
-            weights: vec![1.0, -1.0],
+            weights: Arc::new([1.0, -1.0]),
             columns: Vec::new(),
         }
     }
@@ -56,7 +59,7 @@ impl Operator {
             alpha,
             n: grid.n(),
             scale: grid.h().powf(-alpha),
-            weights: grunwald_letnikov(alpha, grid.n() + 1),
+            weights: grunwald_letnikov(alpha, grid.n() + 1).into(),
             columns: Vec::new(),
         })
     }
@@ -147,6 +150,15 @@ impl Operator {
     /// The weights `w_r` (`1, −1` for the classical operators).
     pub fn weights(&self) -> &[f64] {
         &self.weights
+    }
+
+    /// This operator holding `other`'s weights where they are the same numbers, so that the
+    /// two keep one copy.
+    pub(crate) fn sharing_weights_of(mut self, other: &Operator) -> Self {
+        if self.weights == other.weights {
+            self.weights = Arc::clone(&other.weights);
+        }
+        self
     }
     /// The rows `k` on which the operator is defined: `1..=N` for σ = −, `0..=N−1` for σ = +.
     pub fn rows(&self) -> RangeInclusive<usize> {

@@ -68,6 +68,7 @@ mod end_columns;
 mod posedness;
 mod preconditioner;
 mod residual;
+mod row_blocks;
 mod system;
 #[cfg(test)]
 mod tests;

@@ -52,8 +52,9 @@
 //! systems*, SIAM J. Comput. 13 (1984). Woodbury: G. H. Golub and C. F. Van Loan, *Matrix
 //! Computations*, 4th ed., §2.1.4.
 
+use super::row_blocks::RowBlocks;
 use crate::fft_operator::FftOperator;
-use crate::lagrangian::{Hessian, Matrix, Vector};
+use crate::lagrangian::{Matrix, Vector};
 use crate::linalg::{block, set_block};
 use crate::operator::Operator;
 use crate::side::Side;
@@ -85,8 +86,8 @@ pub(super) struct Preconditioner<'a, const D: usize> {
     /// The Grünwald–Letnikov weights `w`, whose entries make the row of `D` outside the square
     /// block ([`extra`](Self::extra)).
     weights: &'a [f64],
-    /// `L_vv⁻¹` at the interior nodes `1..N−1` (entry `j − 1`).
-    vv_inverse: Vec<Matrix<D>>,
+    /// `L_vv⁻¹` at the interior nodes `1..N−1` (entry `j − 1`): one block while all are equal.
+    vv_inverse: RowBlocks<D>,
     /// The extra row's term (module docs), when it can be formed.
     pub(super) correction: Option<Correction<D>>,
     /// Whether every `L_vv` block was inverted at the last [`update`](Self::update) (where
@@ -127,7 +128,7 @@ impl<'a, const D: usize> Preconditioner<'a, D> {
             inverse,
             extra_solved,
             weights: velocity.weights(),
-            vv_inverse: vec![Matrix::<D>::identity(); n - 1],
+            vv_inverse: RowBlocks::uniform(Matrix::<D>::identity(), n - 1),
             correction: None,
             all_inverted: true,
             corrected_for: None,
@@ -143,15 +144,15 @@ impl<'a, const D: usize> Preconditioner<'a, D> {
         }
     }
 
-    /// The blocks at a new linearisation: `hessians` on the quadrature rows, the first of which
-    /// is node `first_row`.
-    pub(super) fn update(&mut self, hessians: &[Hessian<D>], first_row: usize, ws: &mut Workspace) {
+    /// The blocks at a new linearisation: `vv`, the `L_vv` blocks on the quadrature rows, the
+    /// first of which is node `first_row`.
+    pub(super) fn update(&mut self, vv: &RowBlocks<D>, first_row: usize, ws: &mut Workspace) {
         // Where an L_vv block cannot be inverted the preconditioner keeps the identity there:
         // it only has to be good, and the Krylov solver reports what it cannot solve.
         let mut changed = false;
         self.all_inverted = true;
         for j in 1..self.n {
-            let vv = &hessians[j - first_row].vv;
+            let vv = vv.get(j - first_row);
             let inv = vv.try_inverse().filter(|m| m.iter().all(|c| c.is_finite()));
             self.all_inverted &= inv.is_some();
             let size = vv.amax();
@@ -162,10 +163,10 @@ impl<'a, const D: usize> Preconditioner<'a, D> {
                     Matrix::<D>::identity()
                 }
             });
-            changed |= inv != self.vv_inverse[j - 1];
-            self.vv_inverse[j - 1] = inv;
+            changed |= inv != *self.vv_inverse.get(j - 1);
+            self.vv_inverse.set(j - 1, inv);
         }
-        let h_e = hessians[extra_row(self.side, self.n)].vv;
+        let h_e = *vv.get(extra_row(self.side, self.n));
         if changed || self.corrected_for != Some(h_e) {
             self.update_correction(&h_e, ws);
             self.corrected_for = Some(h_e);
@@ -186,7 +187,7 @@ impl<'a, const D: usize> Preconditioner<'a, D> {
             for a in 0..D {
                 let (vv_inverse, extra_solved) = (&self.vv_inverse, &self.extra_solved);
                 self.inverse
-                    .load(ws, |j| vv_inverse[j][(a, c)] * extra_solved[j]);
+                    .load(ws, |j| vv_inverse.get(j)[(a, c)] * extra_solved[j]);
                 self.inverse.mul_loaded(g_transposed, ws);
                 self.inverse.store(ws, |j, x| u[j][(a, c)] = x * factor);
             }
@@ -233,7 +234,7 @@ impl<'a, const D: usize> Preconditioner<'a, D> {
         self.mul_inverse_in_place(first_transposed, z, ws);
         let s2 = 1.0 / (self.scale * self.scale);
         for j in 0..m {
-            let middle = self.vv_inverse[j] * block::<D>(z, j) * s2;
+            let middle = self.vv_inverse.get(j) * block::<D>(z, j) * s2;
             set_block(z, j, &middle);
         }
         if let Some(image) = image.as_deref_mut() {
@@ -254,7 +255,7 @@ impl<'a, const D: usize> Preconditioner<'a, D> {
             }
             if let Some(image) = image {
                 for j in 0..m {
-                    let du = self.vv_inverse[j] * self.extra_solved[j];
+                    let du = self.vv_inverse.get(j) * self.extra_solved[j];
                     let v = block::<D>(image, j) - du * c;
                     set_block(image, j, &v);
                 }

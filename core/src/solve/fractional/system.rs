@@ -6,10 +6,11 @@
 
 use super::end_columns::EndColumns;
 use super::preconditioner::{Preconditioner, extra_row};
+use super::row_blocks::RowBlocks;
 use crate::discretisation::Discretisation;
 use crate::error::{Error, Location, Result};
 use crate::fft_operator::FftOperator;
-use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
+use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::linalg::{add_to_block, block, set_block};
 use crate::operator::Operator;
 use crate::solve::krylov::KrylovSystem;
@@ -17,8 +18,10 @@ use crate::solve::krylov::KrylovSystem;
 /// The Newton system at one iterate: Hessians at the quadrature rows, the preconditioner, and
 /// the FFT operator whose workspace serves every product of the solve.
 ///
-/// Memory (`d = 1`, per node): the Hessians (24 bytes), `a = D x` on the rows (8) and the
-/// preconditioner's blocks (`L_vv⁻¹`, `U`: 16) and `D_a⁻ᵀ e` (8). The other vectors of a
+/// Memory (`d = 1`, per node): the Hessians (24 bytes; 8 for a constant `L_vv` and a zero
+/// `L_xv`, which [`RowBlocks`] store once), `a = D x` on the rows (8) and the
+/// preconditioner's blocks (`L_vv⁻¹`, once where it is constant, and `U`: 16) and
+/// `D_a⁻ᵀ e` (8). The other vectors of a
 /// product (the nodes of `x`, `b = L_vx x + L_vv a`, `Dᵀ b`) are read and written by the
 /// product's closures straight from and into the Krylov solver's vectors.
 pub(super) struct FastSystem<'a, const D: usize> {
@@ -33,8 +36,11 @@ pub(super) struct FastSystem<'a, const D: usize> {
     extra_row: usize,
     /// `Δ^α_σ` by FFT; its workspace serves every product of the solve.
     pub(super) velocity: &'a mut FftOperator,
-    /// Hessians at the rows `first_row..first_row + N`.
-    pub(super) hessians: Vec<Hessian<D>>,
+    /// The Hessians' blocks at the rows `first_row..first_row + N` (entry `i` at row
+    /// `first_row + i`).
+    pub(super) xx: RowBlocks<D>,
+    pub(super) xv: RowBlocks<D>,
+    pub(super) vv: RowBlocks<D>,
     pub(super) preconditioner: Preconditioner<'a, D>,
     /// Values on the rows (`N`): `a = D x` in a product, `p` in an evaluation.
     pub(super) rows: Vec<Vector<D>>,
@@ -56,11 +62,7 @@ impl<'a, const D: usize> FastSystem<'a, D> {
         fft: &'a mut FftOperator,
     ) -> Self {
         let n = fft.n();
-        let zero = Hessian {
-            xx: Matrix::<D>::zeros(),
-            xv: Matrix::<D>::zeros(),
-            vv: Matrix::<D>::zeros(),
-        };
+        let zero = RowBlocks::uniform(Matrix::<D>::zeros(), n);
         FastSystem {
             n,
             sigma: velocity.side().sign(),
@@ -69,7 +71,9 @@ impl<'a, const D: usize> FastSystem<'a, D> {
             extra_row: extra_row(velocity.side(), n),
             preconditioner: Preconditioner::new(velocity, fft),
             velocity: fft,
-            hessians: vec![zero; n],
+            xx: zero.clone(),
+            xv: zero.clone(),
+            vv: zero,
             rows: vec![Vector::<D>::zeros(); n],
             columns,
             plain: false,
@@ -103,9 +107,11 @@ impl<'a, const D: usize> FastSystem<'a, D> {
             .as_ref()
             .map_or((0.0, 0.0), EndColumns::row_sums);
         let (d, b) = (2.0 * self.scale + c, 2.0 * self.scale + e);
-        self.hessians
-            .iter()
-            .map(|h| norm(&h.xx) + (d + b) * norm(&h.xv) + b * d * norm(&h.vv))
+        (0..self.n)
+            .map(|i| {
+                let (xx, xv, vv) = (self.xx.get(i), self.xv.get(i), self.vv.get(i));
+                norm(xx) + (d + b) * norm(xv) + b * d * norm(vv)
+            })
             .fold(0.0, f64::max)
     }
 
@@ -120,9 +126,9 @@ impl<'a, const D: usize> FastSystem<'a, D> {
     ) -> Result<()> {
         let (lagrangian, grid) = (disc.lagrangian(), disc.grid());
         let n = grid.n();
-        for (i, h) in self.hessians.iter_mut().enumerate() {
+        for i in 0..n {
             let k = i + self.first_row;
-            *h = lagrangian.hessian(&q[k], &block(v, i), grid.t(k));
+            let mut h = lagrangian.hessian(&q[k], &block(v, i), grid.t(k));
             // At the fixed end node only L_vv acts on the unknowns (through D); its L_xx and
             // L_xv multiply that node's zero correction or feed a row no one solves, and may be
             // infinite there (a forcing singular at that end).
@@ -134,13 +140,14 @@ impl<'a, const D: usize> FastSystem<'a, D> {
             if !finite.into_iter().all(|c| c.is_finite()) {
                 return Err(Error::NotFinite { at });
             }
+            self.xx.set(i, h.xx);
+            self.xv.set(i, h.xv);
+            self.vv.set(i, h.vv);
         }
-        self.mixed = self.hessians.iter().any(|h| h.xv != Matrix::<D>::zeros());
-        self.preconditioner.update(
-            &self.hessians,
-            self.first_row,
-            self.velocity.workspace_mut(),
-        );
+        let zero = Matrix::<D>::zeros();
+        self.mixed = self.xv.distinct().iter().any(|xv| *xv != zero);
+        let ws = self.velocity.workspace_mut();
+        self.preconditioner.update(&self.vv, self.first_row, ws);
         Ok(())
     }
 
@@ -165,7 +172,7 @@ impl<'a, const D: usize> FastSystem<'a, D> {
         let n = self.n;
         if let Some((r, factor)) = kinetic.filter(|_| !self.mixed) {
             for j in 1..n {
-                let xx = &self.hessians[j - self.first_row].xx;
+                let xx = self.xx.get(j - self.first_row);
                 let v = block::<D>(r, j - 1) * factor + xx * block::<D>(x, j - 1);
                 set_block(y, j - 1, &v);
             }
@@ -212,34 +219,30 @@ impl<'a, const D: usize> FastSystem<'a, D> {
             let rows = &mut self.rows;
             columns.add_velocity(node_vector, first_row, |i, a| rows[i] += a);
         }
-        let (hessians, rows) = (&self.hessians, &self.rows);
+        let (xx, xv, vv, rows) = (&self.xx, &self.xv, &self.vv, &self.rows);
         for c in 0..D {
             // b_i = L_vx δ + L_vv a on the rows, component c, formed as the product reads it;
             // y_j = L_xx δ + L_xv a + (Dᵀ b)_j written as the product yields it.
             // Without the kinetic part, b_i = L_vx δ and y_j gains (P' x)_j instead.
             let with_vv = if kinetic.is_some() { 0.0 } else { 1.0 };
             let b = |i: usize| {
-                let h = &hessians[i];
-                (h.xv.column(c).dot(&node_vector(i + first_row)))
-                    + with_vv * h.vv.row(c).tr_dot(&rows[i])
+                (xv.get(i).column(c).dot(&node_vector(i + first_row)))
+                    + with_vv * vv.get(i).row(c).tr_dot(&rows[i])
             };
             self.velocity.apply_transpose_with(b, |j, dt_b| {
                 if (1..n).contains(&j) {
                     let i = j - first_row;
-                    let h = &hessians[i];
                     let known = kinetic.map_or(0.0, |(r, factor)| r[(j - 1) * D + c] * factor);
-                    y[(j - 1) * D + c] = h.xx.row(c).tr_dot(&node_vector(j))
-                        + h.xv.row(c).tr_dot(&rows[i])
+                    y[(j - 1) * D + c] = xx.get(i).row(c).tr_dot(&node_vector(j))
+                        + xv.get(i).row(c).tr_dot(&rows[i])
                         + dt_b * minus_sigma
                         + known;
                 }
             });
         }
         if let Some(columns) = self.active_columns() {
-            let b = |i: usize| {
-                let h = &hessians[i];
-                h.xv.transpose() * node_vector(i + first_row) + h.vv * rows[i]
-            };
+            let b =
+                |i: usize| xv.get(i).transpose() * node_vector(i + first_row) + vv.get(i) * rows[i];
             columns.add_momentum(b, first_row, |j, e| add_to_block(y, j - 1, &e));
         }
     }

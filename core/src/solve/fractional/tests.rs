@@ -358,7 +358,7 @@ fn preconditioner_inverts_the_kinetic_part_with_blocks() {
             let mut p = DMatrix::<f64>::zeros(2 * m, 2 * m);
             let sigma = side.sign();
             for (i, k) in disc.velocity_operator().rows().enumerate() {
-                let vv = system.hessians[i].vv;
+                let vv = *system.vv.get(i);
                 let d = |j| {
                     disc.velocity_operator()
                         .row_entries(k)
