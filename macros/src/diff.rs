@@ -201,17 +201,21 @@ impl Differentiator {
                 let num = g.add(l, r);
                 g.div(num, id)
             }
+            // `(x y' − y x')/(x² + y²)` as `((x/r) y' − (y/r) x')/r`, `r = hypot(x, y)`: the
+            // squares overflow once `|x|` or `|y|` passes about 1e154 (the derivative, about
+            // `1/r`, is then a normal number read as 0) and underflow below about 1e-154
+            // (`0/0`), where `x/r` and `y/r` are at most 1 and `r` is what `hypot` returns.
             Node::Atan2(y, x) => {
-                let l = g.mul(x, d(y));
-                let r = g.mul(y, d(x));
-                let num = g.sub(l, r);
-                if g.is_num(num, 0.0) {
-                    return num;
+                let (dy, dx) = (d(y), d(x));
+                if g.is_num(dy, 0.0) && g.is_num(dx, 0.0) {
+                    return g.num(0.0);
                 }
-                let xx = g.mul(x, x);
-                let yy = g.mul(y, y);
-                let den = g.add(xx, yy);
-                g.div(num, den)
+                let r = g.hypot(x, y);
+                let (cos, sin) = (g.div(x, r), g.div(y, r));
+                let l = g.mul(cos, dy);
+                let rr = g.mul(sin, dx);
+                let num = g.sub(l, rr);
+                g.div(num, r)
             }
             // The branch rule: each branch is differentiated, the condition is kept (its
             // derivative is zero wherever it is defined).

@@ -137,8 +137,8 @@ fn atan2_exp_m1_ln_1p_fold_and_print() {
     );
     let expected = [
         format!("L = {a} * x + {b} * v.ln_1p() + x.atan2(v)"),
-        format!("∂L/∂x = {a} + v / (v.powi(2) + x.powi(2))"),
-        format!("∂L/∂v = {b} / (1.0 + v) - x / (v.powi(2) + x.powi(2))"),
+        format!("∂L/∂x = {a} + v / v.hypot(x).powi(2)"),
+        format!("∂L/∂v = {b} / (1.0 + v) - x / v.hypot(x).powi(2)"),
     ];
     for line in expected {
         assert!(text.contains(&line), "{line}\n{text}");

@@ -413,7 +413,10 @@ fn l_atan2_path(x: f64, v: f64) -> f64 {
 #[test]
 fn atan2() {
     // L = atan2(x, v), the angle of the point (v, x): ∂/∂x = v/r², ∂/∂v = −x/r²; all four
-    // quadrants, and both sides of the cut along the negative `v` axis.
+    // quadrants, both sides of the cut along the negative `v` axis, and points so far from
+    // and so near the origin that `x² + v²` overflows (past about 1e154) or underflows
+    // (below about 1e-154) while the derivatives, about `1/r` and `1/r²`, are normal numbers.
+    // The references scale by `r = hypot(x, v)` for that reason (`x/r`, `v/r` at most 1).
     let pts = [
         (0.3, 1.2),
         (1.7, -0.5),
@@ -421,20 +424,28 @@ fn atan2() {
         (-1.1, 0.8),
         (1e-3, -1.0),
         (-1e-3, -1.0),
+        (3e160, -4e160),
+        (-2e155, 7e154),
+        (5e-160, 1.2e-159),
+        (-3e-170, -4e-170),
     ];
-    let r2 = |x: f64, v: f64| x * x + v * v;
-    let q = |x: f64, v: f64| r2(x, v) * r2(x, v);
+    let (c, s) = (
+        |x: f64, v: f64| v / x.hypot(v),
+        |x: f64, v: f64| x / x.hypot(v),
+    );
+    // 1/r², as 1/r twice: 1/r² itself overflows below about 1e-154.
+    let over_r2 = |x: f64, v: f64, a: f64| a / x.hypot(v) / x.hypot(v);
     macro_rules! check {
         ($lag:expr) => {
             check_binary(
                 &$lag,
                 &pts,
                 f64::atan2,
-                |x, v| v / r2(x, v),
-                |x, v| -x / r2(x, v),
-                |x, v| -2.0 * x * v / q(x, v),
-                |x, v| (x * x - v * v) / q(x, v),
-                |x, v| 2.0 * x * v / q(x, v),
+                |x, v| over_r2(x, v, c(x, v) * x.hypot(v)),
+                |x, v| over_r2(x, v, -s(x, v) * x.hypot(v)),
+                |x, v| over_r2(x, v, -2.0 * s(x, v) * c(x, v)),
+                |x, v| over_r2(x, v, s(x, v) * s(x, v) - c(x, v) * c(x, v)),
+                |x, v| over_r2(x, v, 2.0 * s(x, v) * c(x, v)),
             )
         };
     }
