@@ -75,6 +75,16 @@ pub(crate) fn check_input<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     guess: &[Vector<D>],
 ) -> Result<()> {
+    check_guess_values(disc, guess)?;
+    check_nodes(disc, guess, true)
+}
+
+/// [`check_input`] but the nodes' check ([`check_nodes`]), which the fractional fast path
+/// makes at its first evaluation, with the velocities it computes there.
+fn check_guess_values<L: Lagrangian<D> + ?Sized, const D: usize>(
+    disc: &Discretisation<'_, L, D>,
+    guess: &[Vector<D>],
+) -> Result<()> {
     let grid = disc.grid();
     check_len("discrete curve Q", grid.n() + 1, guess.len())?;
     check_constants(disc.lagrangian())?;
@@ -89,8 +99,7 @@ pub(crate) fn check_input<L: Lagrangian<D> + ?Sized, const D: usize>(
             });
         }
     }
-    disc.check_curve(guess)?;
-    check_nodes(disc, guess, true)
+    disc.check_curve(guess)
 }
 
 /// `∂²L/∂v²` not degenerate at the quadrature nodes of `q` (with its discrete velocity),
@@ -101,13 +110,25 @@ pub(crate) fn check_nodes<L: Lagrangian<D> + ?Sized, const D: usize>(
     q: &[Vector<D>],
     guess: bool,
 ) -> Result<()> {
-    let (grid, lagrangian) = (disc.grid(), disc.lagrangian());
     let v = disc.velocity(q)?;
+    check_nodes_with(disc, q, |i| v[i], guess)
+}
+
+/// [`check_nodes`] with the velocities `v(i)` of the quadrature rows (entry `i` is the `i`-th
+/// row of `I_σ`) already at hand.
+pub(crate) fn check_nodes_with<L: Lagrangian<D> + ?Sized, const D: usize>(
+    disc: &Discretisation<'_, L, D>,
+    q: &[Vector<D>],
+    v: impl Fn(usize) -> Vector<D>,
+    guess: bool,
+) -> Result<()> {
+    let (grid, lagrangian) = (disc.grid(), disc.lagrangian());
     let rows = disc.embedding().quadrature_rows(grid.n());
     let unread = disc.embedding().unread_force_end(grid.n());
-    let mut blocks = Vec::with_capacity(v.len());
-    for (k, vk) in rows.zip(&v) {
-        let t = grid.t(k);
+    let first = *rows.start();
+    let mut blocks = Vec::with_capacity(rows.clone().count());
+    for (i, k) in rows.enumerate() {
+        let (vk, t) = (&v(i), grid.t(k));
         let hs = if guess {
             let in_domain = if unread == Some(k) {
                 kinetic_in_domain(lagrangian, &q[k], vk, t)
@@ -129,28 +150,29 @@ pub(crate) fn check_nodes<L: Lagrangian<D> + ?Sized, const D: usize>(
         } else {
             lagrangian.hessian(&q[k], vk, t)
         };
-        blocks.push((k, hs.vv));
+        blocks.push(hs.vv);
     }
     let reference = blocks
         .iter()
-        .filter_map(|(_, vv)| pivot_range(vv))
+        .filter_map(pivot_range)
         .fold(0.0, |m, (_, hi)| f64::max(m, hi));
-    for (k, vv) in &blocks {
-        check_vv(vv, reference, Location::Node(*k))?;
+    for (i, vv) in blocks.iter().enumerate() {
+        check_vv(vv, reference, Location::Node(first + i))?;
     }
     Ok(())
 }
 
 /// Solves the boundary value problem of `scheme` from `guess` (see [`solve_unchecked`]), with
-/// the input checked first, `∂²L/∂v²` checked on the solution's nodes, and the solution's
-/// warnings attached (the same for every path: banded, dense and fast).
+/// the input checked first ([`check_input`]; the nodes' part by each path, the fast one with the
+/// velocities of its first evaluation), `∂²L/∂v²` checked on the solution's nodes, and the
+/// solution's warnings attached (the same for every path: banded, dense and fast).
 pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     options: &SolverOptions,
     scheme: Scheme,
     guess: Vec<Vector<D>>,
 ) -> Result<Solution<D>> {
-    check_input(disc, &guess)?;
+    check_guess_values(disc, &guess)?;
     if disc.embedding().is_fractional() && disc.lagrangian().is_forced() {
         // The fractional systems' Jacobians and preconditioners are built from L's Hessian
         // alone; a force's blocks have no place there yet.
@@ -160,7 +182,6 @@ pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
         });
     }
     let mut solution = solve_unchecked(disc, options, scheme, guess)?;
-    check_nodes(disc, &solution.q, false)?;
     let fractional = fractional_warnings(disc.embedding(), &solution.q);
     solution.warnings.extend(fractional);
     Ok(solution)
@@ -179,6 +200,7 @@ fn solve_unchecked<L: Lagrangian<D> + ?Sized, const D: usize>(
     let (n, embedding) = (disc.grid().n(), *disc.embedding());
     let unknowns = (n - 1) * D;
     if unknowns == 0 {
+        check_nodes(disc, &q, true)?;
         return Ok(solution(disc, scheme, q, 0));
     }
     if embedding.is_fractional() {
@@ -239,13 +261,15 @@ fn solution<L: Lagrangian<D> + ?Sized, const D: usize>(
     }
 }
 
-/// [`solve_unchecked`] by dense or banded LU ([`ByLu`]), from the first iterate `q`.
+/// [`solve_unchecked`] by dense or banded LU ([`ByLu`]), from the first iterate `q`, its nodes
+/// and the solution's checked ([`check_nodes`]).
 fn solve_by_lu<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     options: &SolverOptions,
     scheme: Scheme,
     q: Vec<Vector<D>>,
 ) -> Result<Solution<D>> {
+    check_nodes(disc, &q, true)?;
     let unknowns = (disc.grid().n() - 1) * D;
     let mut system = ByLu {
         disc,
@@ -254,6 +278,7 @@ fn solve_by_lu<L: Lagrangian<D> + ?Sized, const D: usize>(
         jacobian: None,
     };
     let (q, newton_iterations, measure) = solve_global(&mut system, q, unknowns, &options.newton)?;
+    check_nodes(disc, &q, false)?;
     let mut solution = solution(disc, scheme, q, newton_iterations);
     let ill_posed = measure.filter(|&m| m < ILL_POSED_BELOW);
     solution

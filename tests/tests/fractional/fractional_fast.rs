@@ -366,3 +366,58 @@ fn million_nodes_in_linear_memory() {
     assert!(peak_mib < 400.0, "peak RSS {peak_mib:.0} MiB");
     assert!(sol.q.iter().all(|x| x[0].is_finite()));
 }
+
+/// `L = ½ m(x) v²` with `m(x) = x − 0.5` (degenerate at `x = ½`, negative below) and a
+/// Hessian that is NaN where `x > 1.5` (outside the domain).
+struct MassByPosition;
+impl Lagrangian<1> for MassByPosition {
+    fn value(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
+        0.5 * (x[0] - 0.5) * v[0] * v[0]
+    }
+    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
+        let m = x[0] - 0.5;
+        (
+            Vector::<1>::new(0.5 * v[0] * v[0]),
+            Vector::<1>::new(m * v[0]),
+        )
+    }
+    fn hessian(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> Hessian<1> {
+        let nan = if x[0] > 1.5 { f64::NAN } else { 0.0 };
+        Hessian {
+            xx: Matrix::<1>::new(nan),
+            xv: Matrix::<1>::new(v[0]),
+            vv: Matrix::<1>::new(x[0] - 0.5),
+        }
+    }
+}
+
+/// The fast path checks the guess's nodes with the velocities of its first evaluation: the
+/// same errors as the dense path, at the same node (a degenerate `∂²L/∂v²` where the straight
+/// line crosses `x = ½`, a node outside the domain where it passes `x = 1.5`; the velocity the
+/// message quotes is the FFT product's there, equal to the dense loops' to rounding).
+#[test]
+fn the_fast_path_checks_the_guess_as_the_dense_path_does() {
+    let n = 40;
+    let grid = Grid::new(0.0, 1.0, n).unwrap();
+    let gle = Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap();
+    for (qa, qb, outside) in [(0.0, 1.0, false), (1.0, 2.0, true)] {
+        let errors: Vec<Error> = [FractionalSolver::Dense, FractionalSolver::Fast]
+            .into_iter()
+            .map(|solver| {
+                varembed_tests::problem(&MassByPosition, grid, gle)
+                    .with_fractional_solver(solver)
+                    .solve_bvp(Scheme::Variational, qa, qb)
+                    .unwrap_err()
+            })
+            .collect();
+        let node = |e: &Error| e.to_string().split(" (velocity").next().map(str::to_owned);
+        assert_eq!(node(&errors[0]), node(&errors[1]));
+        match &errors[1] {
+            Error::OutsideDomain { what } if outside => {
+                assert!(what.contains("node Q_21 = [1.525]"), "{what}")
+            }
+            Error::DegenerateLagrangian { .. } if !outside => {}
+            other => panic!("{qa} → {qb}: {other}"),
+        }
+    }
+}

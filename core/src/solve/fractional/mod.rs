@@ -78,14 +78,16 @@ use crate::embedding::Scheme;
 use crate::error::{Error, Location, Result};
 use crate::fft_operator::FftOperator;
 use crate::lagrangian::{Lagrangian, Vector};
+use crate::linalg::block;
 use crate::options::{KrylovBudget, SolverOptions};
+use crate::solve::bvp::check_nodes_with;
 use crate::solve::krylov::{KrylovFailure, KrylovOptions, gmres};
 use crate::solve::minres::{MinresWork, minres_in};
 use crate::solve::newton::{Converging, GlobalSystem, solve_global};
 use crate::solve::solution::{Solution, Warning};
 use end_columns::EndColumns;
 use posedness::CHECK_STEPS;
-use residual::{Evaluation, evaluate};
+use residual::{Evaluation, residual, velocities};
 use std::ops::ControlFlow;
 use system::FastSystem;
 
@@ -187,6 +189,7 @@ fn solve_with<L: Lagrangian<D> + ?Sized, const D: usize>(
         previous_norm: None,
         krylov_iterations: Vec::new(),
         check_steps,
+        guess_unchecked: true,
     };
     let unknowns = (disc.grid().n() - 1) * D;
     solve_global(&mut newton, guess, unknowns, &options.newton)
@@ -210,6 +213,9 @@ struct FastNewton<'d, 'l, 'f, L: ?Sized, const D: usize> {
     krylov_iterations: Vec<usize>,
     /// The largest grid of the ill-posedness check ([`CHECK_STEPS`] but in tests).
     check_steps: usize,
+    /// Whether the guess's nodes are still to be checked ([`check_nodes_with`]), at its
+    /// evaluation.
+    guess_unchecked: bool,
 }
 
 impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, '_, '_, L, D> {
@@ -226,7 +232,12 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
     ) -> Result<(Evaluation<D>, f64, f64)> {
         let n = self.disc.grid().n();
         let mut e = Evaluation::from_buffers(n, self.work.lend(), self.work.lend());
-        evaluate(self.disc, &mut self.system, q, iteration, &mut e)?;
+        velocities(self.disc, &mut self.system, q, iteration, &mut e)?;
+        if std::mem::take(&mut self.guess_unchecked) {
+            // The input checks' part on the nodes, with the velocities just computed.
+            check_nodes_with(self.disc, q, |i| block(&e.v, i), true)?;
+        }
+        residual(self.disc, &mut self.system, q, iteration, &mut e)?;
         let (res, merit) = (e.max_norm(), e.two_norm());
         Ok((e, res, merit))
     }
@@ -247,18 +258,18 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
     }
 
     fn converged(&mut self, c: Converging<'_, Self>) -> Result<Self::Output> {
+        // The Krylov vectors are not needed again (the check on this grid, below, allocates
+        // what it uses): freed before the checks allocate, so that they add nothing to the
+        // peak.
+        self.work = MinresWork::default();
+        check_nodes_with(self.disc, &c.q, |i| block(&c.evaluation.v, i), false)?;
         let mut warnings = Vec::new();
         if self.options.posedness_check {
             // Past its grid the check runs on a coarser one (`posedness`); should the
             // Lagrangian not be finite there, on this one after all.
             let steps = self.check_steps;
             let coarse = (self.disc.grid().n() > steps)
-                .then(|| {
-                    // The Krylov vectors are not needed again: freed before the coarser
-                    // grid's are allocated, so that the check adds nothing to the peak.
-                    self.work = MinresWork::default();
-                    posedness::ritz_on_grid(self.disc, self.scheme, &c.q, steps)
-                })
+                .then(|| posedness::ritz_on_grid(self.disc, self.scheme, &c.q, steps))
                 .and_then(Result::ok);
             let ritz = match coarse {
                 Some(ritz) => ritz,

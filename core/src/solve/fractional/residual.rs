@@ -61,6 +61,18 @@ pub(super) fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
     iteration: usize,
     eval: &mut Evaluation<D>,
 ) -> Result<()> {
+    velocities(disc, system, q, iteration, eval)?;
+    residual(disc, system, q, iteration, eval)
+}
+
+/// The first part of [`evaluate`]: `V` on the rows into `eval.v`.
+pub(super) fn velocities<L: Lagrangian<D> + ?Sized, const D: usize>(
+    disc: &Discretisation<'_, L, D>,
+    system: &mut FastSystem<'_, D>,
+    q: &[Vector<D>],
+    iteration: usize,
+    eval: &mut Evaluation<D>,
+) -> Result<()> {
     let not_finite = Error::NotFinite {
         at: Location::Newton(iteration),
     };
@@ -69,7 +81,6 @@ pub(super) fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
     if !q.iter().all(|x| x.iter().all(|c| c.is_finite())) {
         return Err(not_finite);
     }
-    let (lagrangian, grid) = (disc.lagrangian(), disc.grid());
     let minus_sigma = -system.sigma;
     // Through the differences of the curve (see `FftOperator`): the residual's accuracy rests
     // on V's, whose error the rows amplify by h^{−α}.
@@ -92,6 +103,22 @@ pub(super) fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
             |i, a| add_to_block(v, i, &a),
         );
     }
+    Ok(())
+}
+
+/// The second part of [`evaluate`], after [`velocities`]: the residual from `eval.v`.
+pub(super) fn residual<L: Lagrangian<D> + ?Sized, const D: usize>(
+    disc: &Discretisation<'_, L, D>,
+    system: &mut FastSystem<'_, D>,
+    q: &[Vector<D>],
+    iteration: usize,
+    eval: &mut Evaluation<D>,
+) -> Result<()> {
+    let not_finite = Error::NotFinite {
+        at: Location::Newton(iteration),
+    };
+    let (lagrangian, grid) = (disc.lagrangian(), disc.grid());
+    let (n, minus_sigma) = (system.n, -system.sigma);
     // r starts as f on the interior nodes; p goes in the rows' buffer.
     let mut f_max = 0.0f64;
     for i in 0..n {

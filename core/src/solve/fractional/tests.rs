@@ -1,4 +1,4 @@
-use super::residual::Evaluation;
+use super::residual::{Evaluation, evaluate};
 use super::*;
 use crate::embedding::Embedding;
 use crate::grid::Grid;
