@@ -18,7 +18,7 @@
 //! | `a.powi(k)` | `k·a^(k−1)·a'` |
 //! | `a.powf(b)` | `b·a^(b−1)·a' + n·ln a·b'` (the second term, present only when the exponent is not constant, needs `a > 0`) |
 //! | `a.hypot(b)` | `(a·a' + b·b')/n` |
-//! | `y.atan2(x)` | `(x·y' − y·x')/(x² + y²)` |
+//! | `y.atan2(x)` | `((x/r)·y' − (y/r)·x')/r`, `r = hypot(x, y)` (the squares of `(x·y' − y·x')/(x² + y²)` overflow past about 1e154) |
 //! | `if c { a } else { b }` | `if c { a' } else { b' }` (the condition is not differentiated) |
 //! | `a.signum()` | `0` |
 
@@ -203,8 +203,9 @@ impl Differentiator {
             }
             // `(x y' − y x')/(x² + y²)` as `((x/r) y' − (y/r) x')/r`, `r = hypot(x, y)`: the
             // squares overflow once `|x|` or `|y|` passes about 1e154 (the derivative, about
-            // `1/r`, is then a normal number read as 0) and underflow below about 1e-154
-            // (`0/0`), where `x/r` and `y/r` are at most 1 and `r` is what `hypot` returns.
+            // `1/r`, is then a normal number read as 0) and underflow below about 1e-154 (to
+            // subnormals that lose digits, then to 0 and a quotient of ±∞), where `x/r` and
+            // `y/r` are at most 1 and `r` is what `hypot` returns.
             Node::Atan2(y, x) => {
                 let (dy, dx) = (d(y), d(x));
                 if g.is_num(dy, 0.0) && g.is_num(dx, 0.0) {

@@ -165,7 +165,9 @@ pub(crate) fn check_nodes_with<L: Lagrangian<D> + ?Sized, const D: usize>(
 /// Solves the boundary value problem of `scheme` from `guess` (see [`solve_unchecked`]), with
 /// the input checked first ([`check_input`]; the nodes' part by each path, the fast one with the
 /// velocities of its first evaluation), `∂²L/∂v²` checked on the solution's nodes, and the
-/// solution's warnings attached (the same for every path: banded, dense and fast).
+/// solution's warnings attached (the same for every path: banded, dense and fast). So a
+/// problem no path can solve (a forced Lagrangian under a fractional embedding, a dense
+/// fractional system too large to factorise) reports that before any node of its guess.
 pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     options: &SolverOptions,

@@ -99,7 +99,10 @@ pub enum Warning {
     /// condition number, and is flagged below `10⁻²`. `q̈ = −q` on `[0, π]` with `q(0) = 0`,
     /// `q(π) = 1` has none, and is flagged; over `[0, π/2]` it reads ¾. Computed by inverse
     /// iteration on the last factorisation of the banded and dense solves and of the sparse LU
-    /// solve of run-time-dimension models; not yet on the fractional fast path.
+    /// solve of run-time-dimension models; on the fractional fast path from the Ritz values of
+    /// a few Lanczos steps, past `2¹⁸` steps first on a grid of `2¹⁸` steps, which decides alone
+    /// only where no eigenvalue can lie below 0.1 (the measure converges with the grid, slowly;
+    /// see `core/docs/solvers.md`).
     IllPosed {
         /// The measure above.
         measure: f64,

@@ -415,8 +415,9 @@ fn atan2() {
     // L = atan2(x, v), the angle of the point (v, x): ∂/∂x = v/r², ∂/∂v = −x/r²; all four
     // quadrants, both sides of the cut along the negative `v` axis, and points so far from
     // and so near the origin that `x² + v²` overflows (past about 1e154) or underflows
-    // (below about 1e-154) while the derivatives, about `1/r` and `1/r²`, are normal numbers.
-    // The references scale by `r = hypot(x, v)` for that reason (`x/r`, `v/r` at most 1).
+    // (below about 1e-154) while the first derivatives, about `1/r`, are normal numbers (the
+    // second, about `1/r²`, are subnormal or overflow there, so only the first are tested
+    // there in earnest). The references scale by `r = hypot(x, v)` (`x/r`, `v/r` at most 1).
     let pts = [
         (0.3, 1.2),
         (1.7, -0.5),

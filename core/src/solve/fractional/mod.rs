@@ -99,11 +99,12 @@ const ETA_MAX: f64 = 0.1;
 /// Eisenstat–Walker choice may be and still be replaced by it, making its Newton step the
 /// last. Their choice predicts the next residual from the last two (`η_k ≈ ‖r_{k+1}‖/‖r_k‖`
 /// at quadratic convergence); a prediction within a thousand times of the tolerance leaves a
-/// Newton step to go whose residual and Krylov start cost more than the three or so Krylov
-/// iterations (MINRES gains about a factor ten per iteration on these systems) that reach the
-/// tolerance at once. On the benchmark pendulum at `N = 10⁶` and `10⁷` the choice was 112
-/// and 58 times the needed term, and one more MINRES iteration saved the fourth Newton step
-/// of four (BENCHMARKS.md).
+/// Newton step to go whose residual and Krylov start cost more than the few Krylov iterations
+/// (MINRES gains about a factor ten per iteration on these systems, so up to three) that reach
+/// the tolerance at once. At the first step, where there is no prediction, the cap
+/// [`ETA_MAX`] stands for the choice. On the benchmark pendulum at `N = 10⁶` and `10⁷` the
+/// choice is 112 and 58 times the needed term, and one more MINRES iteration makes the third
+/// Newton step the last (BENCHMARKS.md).
 const LAST_STEP_REACH: f64 = 1e3;
 
 /// Solves `J δ = rhs` to the relative tolerance `eta`: MINRES, then GMRES when MINRES breaks
@@ -265,12 +266,14 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
         check_nodes_with(self.disc, &c.q, |i| block(&c.evaluation.v, i), false)?;
         let mut warnings = Vec::new();
         if self.options.posedness_check {
-            // Past its grid the check runs on a coarser one (`posedness`); should the
-            // Lagrangian not be finite there, on this one after all.
+            // Past its grid the check runs on a coarser one first (`posedness`), and decides
+            // there only when no eigenvalue can lie near the threshold; otherwise, or should
+            // the Lagrangian not be finite there, on this grid.
             let steps = self.check_steps;
             let coarse = (self.disc.grid().n() > steps)
                 .then(|| posedness::ritz_on_grid(self.disc, self.scheme, &c.q, steps))
-                .and_then(Result::ok);
+                .and_then(Result::ok)
+                .filter(|ritz| !posedness::in_doubt(ritz));
             let ritz = match coarse {
                 Some(ritz) => ritz,
                 None => {

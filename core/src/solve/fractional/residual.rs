@@ -54,6 +54,7 @@ impl<const D: usize> Evaluation<D> {
 
 /// The residual at `q` into `eval` (a non-finite value anywhere is [`Error::NotFinite`] at
 /// Newton iteration `iteration`).
+#[cfg(test)]
 pub(super) fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     system: &mut FastSystem<'_, D>,
