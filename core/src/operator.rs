@@ -160,6 +160,7 @@ impl Operator {
         }
         self
     }
+
     /// The rows `k` on which the operator is defined: `1..=N` for σ = −, `0..=N−1` for σ = +.
     pub fn rows(&self) -> RangeInclusive<usize> {
         match self.side {

@@ -5,16 +5,15 @@
 //! dense and factorised by dense LU in `O((N d)³)`, the small-`N` reference path, or solved by
 //! the FFT Newton–Krylov fast path of [`fractional`], as chosen by [`FractionalSolver`].
 
+pub(crate) mod checks;
+
 use crate::discretisation::{Discretisation, Pointwise};
 use crate::embedding::{Embedding, Scheme};
-use crate::error::{Error, Location, Result, check_len};
+use crate::error::{Error, Location, Result};
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::linalg::{BandedMatrix, DenseLu, max_norm};
 use crate::memory::reserve;
 use crate::options::{FractionalSolver, SolverOptions};
-use crate::regularity::{
-    check_constants, check_vv, hessian_in_domain, kinetic_in_domain, pivot_range,
-};
 use crate::side::Side;
 use crate::solve::conditioning::{
     ILL_POSED_BELOW, NUMERICALLY_SINGULAR, condition_bound, ill_posedness, inverse_iteration,
@@ -23,6 +22,7 @@ use crate::solve::conditioning::{
 use crate::solve::fractional;
 use crate::solve::newton::{Converging, GlobalSystem, solve_global, two_norm};
 use crate::solve::solution::{Solution, Warning};
+use checks::{check_guess_values, check_nodes};
 use nalgebra::DMatrix;
 use std::ops::ControlFlow;
 
@@ -68,102 +68,8 @@ pub(crate) fn straight_line<const D: usize>(
     Ok(line)
 }
 
-/// The checks before a boundary value problem is solved: finite constants, finite ends (each
-/// named as the end it belongs to), a finite guess, every guess node inside the Lagrangian's
-/// domain and `∂²L/∂v²` not degenerate there.
-pub(crate) fn check_input<L: Lagrangian<D> + ?Sized, const D: usize>(
-    disc: &Discretisation<'_, L, D>,
-    guess: &[Vector<D>],
-) -> Result<()> {
-    check_guess_values(disc, guess)?;
-    check_nodes(disc, guess, true)
-}
-
-/// [`check_input`] but the nodes' check ([`check_nodes`]), which the fractional fast path
-/// makes at its first evaluation, with the velocities it computes there.
-fn check_guess_values<L: Lagrangian<D> + ?Sized, const D: usize>(
-    disc: &Discretisation<'_, L, D>,
-    guess: &[Vector<D>],
-) -> Result<()> {
-    let grid = disc.grid();
-    check_len("discrete curve Q", grid.n() + 1, guess.len())?;
-    check_constants(disc.lagrangian())?;
-    let last = grid.n();
-    for (k, end, at) in [(0, "a", grid.a()), (last, "b", grid.b())] {
-        if !guess[k].iter().all(|c| c.is_finite()) {
-            return Err(Error::NonFiniteInput {
-                what: format!(
-                    "the end value Q_{k} at {end} = {at}: {:?}",
-                    guess[k].as_slice()
-                ),
-            });
-        }
-    }
-    disc.check_curve(guess)
-}
-
-/// `∂²L/∂v²` not degenerate at the quadrature nodes of `q` (with its discrete velocity),
-/// measured against its largest pivot over those nodes; for an initial `guess`, each node also
-/// inside the Lagrangian's domain ([`Error::OutsideDomain`]).
-pub(crate) fn check_nodes<L: Lagrangian<D> + ?Sized, const D: usize>(
-    disc: &Discretisation<'_, L, D>,
-    q: &[Vector<D>],
-    guess: bool,
-) -> Result<()> {
-    let v = disc.velocity(q)?;
-    check_nodes_with(disc, q, |i| v[i], guess)
-}
-
-/// [`check_nodes`] with the velocities `v(i)` of the quadrature rows (entry `i` is the `i`-th
-/// row of `I_σ`) already at hand.
-pub(crate) fn check_nodes_with<L: Lagrangian<D> + ?Sized, const D: usize>(
-    disc: &Discretisation<'_, L, D>,
-    q: &[Vector<D>],
-    v: impl Fn(usize) -> Vector<D>,
-    guess: bool,
-) -> Result<()> {
-    let (grid, lagrangian) = (disc.grid(), disc.lagrangian());
-    let rows = disc.embedding().quadrature_rows(grid.n());
-    let unread = disc.embedding().unread_force_end(grid.n());
-    let first = *rows.start();
-    let mut blocks = Vec::with_capacity(rows.clone().count());
-    for (i, k) in rows.enumerate() {
-        let (vk, t) = (&v(i), grid.t(k));
-        let hs = if guess {
-            let in_domain = if unread == Some(k) {
-                kinetic_in_domain(lagrangian, &q[k], vk, t)
-            } else {
-                hessian_in_domain(lagrangian, &q[k], vk, t)
-            };
-            in_domain.ok_or_else(|| {
-                let node = match k {
-                    0 => format!("the end value Q_0 = {:?} at a", q[k].as_slice()),
-                    k if k == grid.n() => {
-                        format!("the end value Q_{k} = {:?} at b", q[k].as_slice())
-                    }
-                    k => format!("node Q_{k} = {:?} of the initial guess", q[k].as_slice()),
-                };
-                Error::OutsideDomain {
-                    what: format!("{node} (velocity {:?})", vk.as_slice()),
-                }
-            })?
-        } else {
-            lagrangian.hessian(&q[k], vk, t)
-        };
-        blocks.push(hs.vv);
-    }
-    let reference = blocks
-        .iter()
-        .filter_map(pivot_range)
-        .fold(0.0, |m, (_, hi)| f64::max(m, hi));
-    for (i, vv) in blocks.iter().enumerate() {
-        check_vv(vv, reference, Location::Node(first + i))?;
-    }
-    Ok(())
-}
-
 /// Solves the boundary value problem of `scheme` from `guess` (see [`solve_unchecked`]), with
-/// the input checked first ([`check_input`]; the nodes' part by each path, the fast one with the
+/// the input checked first ([`check_input`](checks::check_input); the nodes' part by each path, the fast one with the
 /// velocities of its first evaluation), `∂²L/∂v²` checked on the solution's nodes, and the
 /// solution's warnings attached (the same for every path: banded, dense and fast). So a
 /// problem no path can solve (a forced Lagrangian under a fractional embedding, a dense

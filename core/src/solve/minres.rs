@@ -61,8 +61,8 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// The vectors of [`minres`], kept by a caller that solves many systems of one size (the
-/// Newton steps of one solve): at `N = 10⁷` unknowns eight fresh vectors cost most of a gigabyte of
-/// page faults and zeroing per solve.
+/// Newton steps of one solve): at `N = 10⁷` unknowns eight fresh vectors cost most of a
+/// gigabyte of page faults and zeroing per solve.
 #[derive(Debug, Default)]
 pub(crate) struct MinresWork {
     r: Vec<f64>,

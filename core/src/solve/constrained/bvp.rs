@@ -29,7 +29,7 @@ use crate::error::{Error, Location, Result};
 use crate::lagrangian::{Lagrangian, Vector};
 use crate::linalg::{BandNorms, BandedMatrix};
 use crate::options::SolverOptions;
-use crate::solve::bvp::{check_input, check_nodes};
+use crate::solve::bvp::checks::{check_input, check_nodes};
 use crate::solve::conditioning::{NUMERICALLY_SINGULAR, condition_bound, inverse_iteration};
 use crate::solve::newton::{Converging, GlobalSystem, Iterate, solve_global};
 use crate::solve::solution::Solution;

@@ -80,7 +80,7 @@ use crate::fft_operator::FftOperator;
 use crate::lagrangian::{Lagrangian, Vector};
 use crate::linalg::block;
 use crate::options::{KrylovBudget, SolverOptions};
-use crate::solve::bvp::check_nodes_with;
+use crate::solve::bvp::checks::check_nodes_with;
 use crate::solve::krylov::{KrylovFailure, KrylovOptions, gmres};
 use crate::solve::minres::{MinresWork, minres_in};
 use crate::solve::newton::{Converging, GlobalSystem, solve_global};
