@@ -35,10 +35,11 @@ pub fn add_to_block<const D: usize>(x: &mut [f64], j: usize, v: &Vector<D>) {
 /// `buffer` as `len` zeros, reusing its allocation; one that must grow grows to `len` exactly
 /// (`resize` alone may double it: a vector lent from `N − 1` unknowns to `N` rows would
 /// keep twice the memory it needs).
-pub fn zeroed(buffer: &mut Vec<f64>, len: usize) {
+pub fn zeroed(buffer: &mut Vec<f64>, len: usize) -> &mut Vec<f64> {
     buffer.clear();
     buffer.reserve_exact(len);
     buffer.resize(len, 0.0);
+    buffer
 }
 
 /// A pivot smaller than this times the largest entry of its column block is treated as zero:

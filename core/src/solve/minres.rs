@@ -43,6 +43,7 @@
 //! Krylov subspace method for indefinite or singular symmetric systems*, SIAM J. Sci. Comput.
 //! 33 (2011), §2.
 
+use crate::linalg::zeroed;
 use crate::solve::krylov::{KrylovFailure, KrylovOptions, KrylovStats, KrylovSystem};
 use nalgebra::{DMatrix, SymmetricEigen};
 
@@ -108,12 +109,6 @@ impl MinresWork {
             *place = vector;
         }
     }
-}
-
-/// `buffer` as `len` zeros, reusing its allocation.
-fn zeroed(buffer: &mut Vec<f64>, len: usize) -> &mut Vec<f64> {
-    crate::linalg::zeroed(buffer, len);
-    buffer
 }
 
 /// Preconditioned MINRES for symmetric `A` and symmetric positive definite `M`, from `x = 0`;
