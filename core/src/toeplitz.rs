@@ -31,7 +31,10 @@
 //! loading writes the entries straight into the two halves, the pass and the reading combine
 //! `E` and `O` as they go, so the step costs no sweep over memory of its own, and the two
 //! half-length FFTs run on two threads (rayon's `join`): the FFTs are most of a large
-//! fractional solve's time. The twiddles `W^j` are those of the pass (`W^j = e^{−πi 2j/K}`),
+//! fractional solve's time. So does the pass between the transforms: a pair `(m, K − m)` is
+//! written where the inverse transform reads entries `m` and `K − m`, both in the first half
+//! for even `m` and both in the second for odd `m` (`K` is even), so one thread takes the
+//! pairs of each parity, with the same arithmetic as one thread taking all. The twiddles `W^j` are those of the pass (`W^j = e^{−πi 2j/K}`),
 //! so the step keeps no table of its own, and the half-length plan's tables are half as long.
 //! `K` is always even, so that the length does not depend on the choice.
 //!
@@ -72,7 +75,7 @@ impl std::fmt::Debug for TriangularToeplitz {
 /// allocates nothing.
 #[derive(Clone, Debug)]
 pub struct Workspace {
-    /// The packed vector `x_{2j} + i x_{2j+1}` (in halves, [`Plan::slot`]) before a product,
+    /// The packed vector `x_{2j} + i x_{2j+1}` (in halves when split, as [`Plan::forward`] reads them) before a product,
     /// the product's packed spectrum before the inverse transform.
     packed: Vec<Complex<f64>>,
     /// The transform of `packed` (as its halves, [`Plan::entry`]): the input's, then the
@@ -248,13 +251,25 @@ impl TriangularToeplitz {
         let yk = (z0.re - z0.im) * filter(s[k]).re;
         // conj(W_0) for W_0 = (ŷ_0 + ŷ_K) + i(ŷ_0 − ŷ_K).
         w[0] = Complex::new(y0 + yk, -(y0 - yk));
-        plan.for_each_pair(z, |m, zm, zkm| {
-            let (xm, xkm) = unpack(zm, zkm, tw[m]);
-            let (ym, ykm) = (xm * filter(s[m]), xkm * filter(s[k - m]));
-            let (wm, wkm) = pack_conjugate(ym, ykm, tw[m]);
-            w[plan.slot(m)] = wm;
-            w[plan.slot(k - m)] = wkm;
-        });
+        // The pairs of entries `(m, K − m)`: into `out`, all of `w` when whole, or one half of
+        // it when split (entry `j` at `j/2` of the half of its parity, `Plan::forward`), the two
+        // halves on two threads: the same arithmetic either way.
+        let pass = |parity: Option<usize>, out: &mut [Complex<f64>]| {
+            let at = |j: usize| if parity.is_some() { j >> 1 } else { j };
+            plan.for_each_pair_of(z, parity, |m, zm, zkm| {
+                let (xm, xkm) = unpack(zm, zkm, tw[m]);
+                let (ym, ykm) = (xm * filter(s[m]), xkm * filter(s[k - m]));
+                let (wm, wkm) = pack_conjugate(ym, ykm, tw[m]);
+                out[at(m)] = wm;
+                out[at(k - m)] = wkm;
+            })
+        };
+        if plan.split {
+            let (even, odd) = w.split_at_mut(plan.h);
+            plan::both(|| pass(Some(0), even), || pass(Some(1), odd));
+        } else {
+            pass(None, w);
+        }
         // The inverse transform as the forward one of the conjugate, into `spectrum`.
         self.transform_forward(ws);
     }

@@ -25,6 +25,17 @@ pub(super) struct Plan {
 /// the two ran even, at `K/2 ≈ 5·10⁵` the halves were clearly faster (BENCHMARKS.md).
 pub const SPLIT_FROM: usize = 1 << 17;
 
+/// Runs `a` and `b`, on two threads with the `parallel` feature (rayon's `join`).
+pub(super) fn both(a: impl FnOnce() + Send, b: impl FnOnce() + Send) {
+    #[cfg(feature = "parallel")]
+    rayon::join(a, b);
+    #[cfg(not(feature = "parallel"))]
+    {
+        a();
+        b();
+    }
+}
+
 impl Plan {
     pub(super) fn new(k: usize) -> Self {
         let split = cfg!(feature = "parallel") && k / 2 >= SPLIT_FROM;
@@ -65,18 +76,8 @@ impl Plan {
         }
     }
 
-    /// Where entry `j` of a length-`K` input sits: in place when whole; when split, even `j`
-    /// in the first half and odd in the second.
-    #[inline]
-    pub(super) fn slot(&self, j: usize) -> usize {
-        if self.split {
-            (j >> 1) + (j & 1) * self.h
-        } else {
-            j
-        }
-    }
-
-    /// The forward FFT of length `K` of `input` (laid out by [`slot`](Self::slot)) into
+    /// The forward FFT of length `K` of `input` (entry `j` at `j` when whole; when split, at
+    /// `j/2` of the first half for even `j`, of the second for odd `j`) into
     /// `output`, whole or, when split, as the two half-length transforms `E`, `O` in its
     /// halves ([`entry`](Self::entry) reads either); `input` is destroyed.
     pub(super) fn forward(
@@ -102,14 +103,7 @@ impl Plan {
             self.fft
                 .process_outofplace_with_scratch(input_o, output_o, scratch_o)
         };
-        #[cfg(feature = "parallel")]
-        rayon::join(even, odd);
-        #[cfg(not(feature = "parallel"))]
-        {
-            let (mut even, mut odd) = (even, odd);
-            even();
-            odd();
-        }
+        both(even, odd);
     }
 
     /// Entry `m < K` of the length-`K` transform in `z` (its halves `E`, `O` when split).
@@ -132,27 +126,52 @@ impl Plan {
     pub(super) fn for_each_pair(
         &self,
         z: &[Complex<f64>],
+        pair: impl FnMut(usize, Complex<f64>, Complex<f64>),
+    ) {
+        self.for_each_pair_of(z, None, pair);
+    }
+
+    /// [`for_each_pair`](Self::for_each_pair) for the `m` of one parity only (all when
+    /// `None`): `m` and `K − m` have the same parity, so the pairs of one parity are the ones
+    /// whose entries [`forward`](Self::forward)'s input holds in one half, and the two parities can be
+    /// written by two threads.
+    #[inline]
+    pub(super) fn for_each_pair_of(
+        &self,
+        z: &[Complex<f64>],
+        parity: Option<usize>,
         mut pair: impl FnMut(usize, Complex<f64>, Complex<f64>),
     ) {
+        let keeps = |m: usize| parity.is_none_or(|p| m & 1 == p);
         let h = self.h;
         if !self.split {
-            for m in 1..=h {
+            for m in (1..=h).filter(|&m| keeps(m)) {
                 pair(m, z[m], z[2 * h - m]);
             }
             return;
         }
         let (e, o) = z.split_at(h);
         for m in 1..h.div_ceil(2) {
+            let (first, second) = (keeps(m), keeps(h - m));
+            if !first && !second {
+                continue;
+            }
             let w = self.twiddles[2 * m];
             let (t, t_mirror) = (w * o[m], -(w.conj() * o[h - m]));
             // (m, K − m) and (K/2 − m, K/2 + m).
-            pair(m, e[m] + t, e[h - m] - t_mirror);
-            pair(h - m, e[h - m] + t_mirror, e[m] - t);
+            if first {
+                pair(m, e[m] + t, e[h - m] - t_mirror);
+            }
+            if second {
+                pair(h - m, e[h - m] + t_mirror, e[m] - t);
+            }
         }
-        if h.is_multiple_of(2) {
+        if h.is_multiple_of(2) && keeps(h / 2) {
             let m = h / 2;
             pair(m, self.entry(z, m), self.entry(z, 2 * h - m));
         }
-        pair(h, self.entry(z, h), self.entry(z, h));
+        if keeps(h) {
+            pair(h, self.entry(z, h), self.entry(z, h));
+        }
     }
 }
