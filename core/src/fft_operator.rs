@@ -48,9 +48,9 @@ pub struct FftOperator {
     alpha: f64,
     toeplitz: TriangularToeplitz,
     ws: Workspace,
-    /// `T'` and its first column `g'` (module docs), built on the first
-    /// [`apply_by_differences`](Self::apply_by_differences).
-    differences: Option<(TriangularToeplitz, Vec<f64>)>,
+    /// `T'` (module docs), built on the first
+    /// [`apply_by_differences`](Self::apply_by_differences); its first column `g'` is not kept.
+    differences: Option<TriangularToeplitz>,
 }
 
 impl FftOperator {
@@ -162,7 +162,7 @@ impl FftOperator {
     /// `Δ Q` into `out` like [`apply_inplace`](Self::apply_inplace), taken through the
     /// differences of the nodes (module docs): for a smooth curve the rounding error is that of
     /// its differences, about `h` times that of [`apply_inplace`](Self::apply_inplace). Costs
-    /// the same per product; the first call builds `T'` (one more FFT and `N + 1` numbers).
+    /// the same per product; the first call builds `T'` (one more FFT; its spectrum is kept).
     pub fn apply_by_differences_inplace<const D: usize>(
         &mut self,
         q: &[Vector<D>],
@@ -183,40 +183,51 @@ impl FftOperator {
         input: impl Fn(usize) -> f64,
         mut out: impl FnMut(usize, f64),
     ) {
-        let (n, s, alpha) = (self.n, self.scale, self.alpha);
+        let (n, s, beta) = (self.n, self.scale, 1.0 - self.alpha);
         let (toeplitz, ws) = (&self.toeplitz, &mut self.ws);
-        let (t, g) = self.differences.get_or_insert_with(|| {
-            let g = grunwald_letnikov_inverse(1.0 - alpha, n + 1);
-            (toeplitz.with_same_plans(&g, ws), g)
+        let t = self.differences.get_or_insert_with(|| {
+            toeplitz.with_same_plans(&grunwald_letnikov_inverse(beta, n + 1), ws)
         });
+        // g'_r for r = 0, 1, 2, … in turn, by the recurrence of `grunwald_letnikov_inverse`
+        // (the same numbers, bit for bit), as the products are read: a row reads g'_r once,
+        // and the rows are read in the order that walks r upwards, so the N + 1 weights are
+        // not kept.
+        let mut weight = (0, 1.0);
+        let mut g = move |r: usize| {
+            let (at, g) = &mut weight;
+            debug_assert!(r >= *at, "the weights are walked upwards");
+            while *at < r {
+                *at += 1;
+                *g *= (*at as f64 - 1.0 + beta) / *at as f64;
+            }
+            *g
+        };
         match self.side {
-            // Rows 1..=N of T Q.
+            // Rows 1..=N of T Q, read with k (= r) increasing.
             Side::Backward => {
                 let first = input(0);
-                t.mul_with(
-                    false,
-                    &mut self.ws,
-                    |k| if k == 0 { 0.0 } else { input(k) - input(k - 1) },
-                    |k, y| {
-                        if k >= 1 {
-                            out(k - 1, (y + g[k] * first) * s);
-                        }
-                    },
-                )
+                t.load(&mut self.ws, |k| {
+                    if k == 0 { 0.0 } else { input(k) - input(k - 1) }
+                });
+                t.mul_loaded(false, &mut self.ws);
+                t.store(&self.ws, |k, y| {
+                    if k >= 1 {
+                        out(k - 1, (y + g(k) * first) * s);
+                    }
+                })
             }
-            // Rows 0..N of Tᵀ Q.
+            // Rows 0..N of Tᵀ Q, read with k decreasing (r = N − k increasing).
             Side::Forward => {
                 let last = input(n);
-                t.mul_with(
-                    true,
-                    &mut self.ws,
-                    |k| if k == n { 0.0 } else { input(k) - input(k + 1) },
-                    |k, y| {
-                        if k < n {
-                            out(k, (y + g[n - k] * last) * s);
-                        }
-                    },
-                )
+                t.load(&mut self.ws, |k| {
+                    if k == n { 0.0 } else { input(k) - input(k + 1) }
+                });
+                t.mul_loaded(true, &mut self.ws);
+                t.store_descending(&self.ws, |k, y| {
+                    if k < n {
+                        out(k, (y + g(n - k) * last) * s);
+                    }
+                })
             }
         }
     }

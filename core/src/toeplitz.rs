@@ -274,7 +274,8 @@ impl TriangularToeplitz {
         self.transform_forward(ws);
     }
 
-    /// Reads the result of [`mul_loaded`](Self::mul_loaded): `out(k, y_k)` for `k = 0..M`.
+    /// Reads the result of [`mul_loaded`](Self::mul_loaded): `out(k, y_k)` for `k = 0..M`, in
+    /// increasing `k`.
     pub fn store(&self, ws: &Workspace, mut out: impl FnMut(usize, f64)) {
         let m = self.order;
         for j in 0..m.div_ceil(2) {
@@ -284,6 +285,18 @@ impl TriangularToeplitz {
             if 2 * j + 1 < m {
                 out(2 * j + 1, -z.im);
             }
+        }
+    }
+
+    /// [`store`](Self::store) in decreasing `k`.
+    pub fn store_descending(&self, ws: &Workspace, mut out: impl FnMut(usize, f64)) {
+        let m = self.order;
+        for j in (0..m.div_ceil(2)).rev() {
+            let z = self.plan.entry(&ws.spectrum, j);
+            if 2 * j + 1 < m {
+                out(2 * j + 1, -z.im);
+            }
+            out(2 * j, z.re);
         }
     }
 
