@@ -37,7 +37,7 @@ use crate::lagrangian::Vector;
 use crate::operator::Operator;
 use crate::side::Side;
 use crate::toeplitz::{TriangularToeplitz, Workspace};
-use crate::weights::grunwald_letnikov_inverse;
+use crate::weights::{InverseWeights, grunwald_letnikov_inverse};
 
 /// `Δ_σ` or `Δ^α_σ` (an `N × (N + 1)` matrix) with products by FFT.
 #[derive(Clone, Debug)]
@@ -188,20 +188,11 @@ impl FftOperator {
         let t = self.differences.get_or_insert_with(|| {
             toeplitz.with_same_plans(&grunwald_letnikov_inverse(beta, n + 1), ws)
         });
-        // g'_r for r = 0, 1, 2, … in turn, by the recurrence of `grunwald_letnikov_inverse`
-        // (the same numbers, bit for bit), as the products are read: a row reads g'_r once,
-        // and the rows are read in the order that walks r upwards, so the N + 1 weights are
-        // not kept.
-        let mut weight = (0, 1.0);
-        let mut g = move |r: usize| {
-            let (at, g) = &mut weight;
-            debug_assert!(r >= *at, "the weights are walked upwards");
-            while *at < r {
-                *at += 1;
-                *g *= (*at as f64 - 1.0 + beta) / *at as f64;
-            }
-            *g
-        };
+        // g'_r for r = 0, 1, 2, … in turn (`InverseWeights`), as the products are read: a row
+        // reads g'_r once, and the rows are read in the order that walks r upwards, so the
+        // N + 1 weights are not kept.
+        let mut weights = InverseWeights::new(beta);
+        let mut g = move |r| weights.at(r);
         match self.side {
             // Rows 1..=N of T Q, read with k (= r) increasing.
             Side::Backward => {

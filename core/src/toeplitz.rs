@@ -214,23 +214,51 @@ impl TriangularToeplitz {
     }
 
     /// Writes the input `x_k = input(k)`, `k = 0..M`, into `ws` (zero-padded), for
-    /// [`mul_loaded`](Self::mul_loaded). With [`store`](Self::store) after it, a caller that
-    /// reads its input from the vector it writes the output to needs no buffer of its own.
-    pub fn load(&self, ws: &mut Workspace, mut input: impl FnMut(usize) -> f64) {
+    /// [`mul_loaded`](Self::mul_loaded), reading it in increasing `k`. With
+    /// [`store`](Self::store) after it, a caller that reads its input from the vector it writes
+    /// the output to needs no buffer of its own.
+    pub fn load(&self, ws: &mut Workspace, input: impl FnMut(usize) -> f64) {
+        self.load_in_order(ws, input, false);
+    }
+
+    /// [`load`](Self::load), reading the input in decreasing `k`.
+    pub fn load_descending(&self, ws: &mut Workspace, input: impl FnMut(usize) -> f64) {
+        self.load_in_order(ws, input, true);
+    }
+
+    #[inline(always)]
+    fn load_in_order(
+        &self,
+        ws: &mut Workspace,
+        mut input: impl FnMut(usize) -> f64,
+        descending: bool,
+    ) {
         let m = self.order;
         let mut value = |k: usize| if k < m { input(k) } else { 0.0 };
+        // The entries of one complex number (or two), each read once, in the order asked.
+        let mut read = |first: usize, len: usize| {
+            let mut x = [0.0; 4];
+            for i in 0..len {
+                let i = if descending { len - 1 - i } else { i };
+                x[i] = value(first + i);
+            }
+            x
+        };
+        let order = |len: usize| (0..len).map(move |i| if descending { len - 1 - i } else { i });
         if !self.plan.split {
-            for (j, z) in ws.packed.iter_mut().enumerate() {
-                *z = Complex::new(value(2 * j), value(2 * j + 1));
+            let packed = &mut ws.packed;
+            for j in order(packed.len()) {
+                let [re, im, ..] = read(2 * j, 2);
+                packed[j] = Complex::new(re, im);
             }
             return;
         }
         let (first, second) = ws.packed.split_at_mut(self.plan.h);
         // z_{2i} = x_{4i} + i x_{4i+1} into the first half, z_{2i+1} into the second.
-        for (i, (a, b)) in first.iter_mut().zip(second.iter_mut()).enumerate() {
-            let x = 4 * i;
-            *a = Complex::new(value(x), value(x + 1));
-            *b = Complex::new(value(x + 2), value(x + 3));
+        for i in order(first.len()) {
+            let [a, b, c, d] = read(4 * i, 4);
+            first[i] = Complex::new(a, b);
+            second[i] = Complex::new(c, d);
         }
     }
 
@@ -276,27 +304,33 @@ impl TriangularToeplitz {
 
     /// Reads the result of [`mul_loaded`](Self::mul_loaded): `out(k, y_k)` for `k = 0..M`, in
     /// increasing `k`.
-    pub fn store(&self, ws: &Workspace, mut out: impl FnMut(usize, f64)) {
-        let m = self.order;
-        for j in 0..m.div_ceil(2) {
-            // The packed result is conj(FFT(conj W)): y_{2j} = Re, y_{2j+1} = −Im.
-            let z = self.plan.entry(&ws.spectrum, j);
-            out(2 * j, z.re);
-            if 2 * j + 1 < m {
-                out(2 * j + 1, -z.im);
-            }
-        }
+    pub fn store(&self, ws: &Workspace, out: impl FnMut(usize, f64)) {
+        self.store_in_order(ws, out, false);
     }
 
     /// [`store`](Self::store) in decreasing `k`.
-    pub fn store_descending(&self, ws: &Workspace, mut out: impl FnMut(usize, f64)) {
+    pub fn store_descending(&self, ws: &Workspace, out: impl FnMut(usize, f64)) {
+        self.store_in_order(ws, out, true);
+    }
+
+    #[inline(always)]
+    fn store_in_order(&self, ws: &Workspace, mut out: impl FnMut(usize, f64), descending: bool) {
         let m = self.order;
-        for j in (0..m.div_ceil(2)).rev() {
+        let pairs = m.div_ceil(2);
+        for j in 0..pairs {
+            let j = if descending { pairs - 1 - j } else { j };
+            // The packed result is conj(FFT(conj W)): y_{2j} = Re, y_{2j+1} = −Im.
             let z = self.plan.entry(&ws.spectrum, j);
-            if 2 * j + 1 < m {
-                out(2 * j + 1, -z.im);
+            let odd = (2 * j + 1 < m).then_some(-z.im);
+            if !descending {
+                out(2 * j, z.re);
             }
-            out(2 * j, z.re);
+            if let Some(y) = odd {
+                out(2 * j + 1, y);
+            }
+            if descending {
+                out(2 * j, z.re);
+            }
         }
     }
 
@@ -441,6 +475,41 @@ mod tests {
                     (y[k] - want).abs() < 1e-12,
                     "{transpose} {k}: {} vs {want}",
                     y[k]
+                );
+            }
+        }
+    }
+
+    /// Loading and storing in decreasing order give the same product, bit for bit, and read
+    /// and write every entry once in that order, whole and split into halves.
+    #[test]
+    fn descending_loads_and_stores_are_the_same_product() {
+        for m in [1usize, 2, 3, 5, 16, 17, 100, 4 * SPLIT_FROM + 3] {
+            let c: Vec<f64> = (0..m).map(|r| 1.0 / (1.0 + r as f64).powf(1.3)).collect();
+            let x: Vec<f64> = (0..m).map(|r| ((r * 5 + 1) as f64).cos()).collect();
+            let t = TriangularToeplitz::new(&c);
+            let mut ws = Workspace::new(&t);
+            for transpose in [false, true] {
+                let mut want = vec![0.0; m];
+                t.mul(transpose, &mut ws, &x, &mut want);
+                let (mut read, mut written) = (Vec::new(), Vec::new());
+                t.load_descending(&mut ws, |k| {
+                    read.push(k);
+                    x[k]
+                });
+                t.mul_loaded(transpose, &mut ws);
+                let mut got = vec![f64::NAN; m];
+                t.store_descending(&ws, |k, y| {
+                    written.push(k);
+                    got[k] = y;
+                });
+                let descending: Vec<usize> = (0..m).rev().collect();
+                assert_eq!(read, descending, "m = {m}");
+                assert_eq!(written, descending, "m = {m}");
+                assert!(
+                    got.iter()
+                        .zip(&want)
+                        .all(|(a, b)| a.to_bits() == b.to_bits())
                 );
             }
         }

@@ -23,15 +23,44 @@ pub fn grunwald_letnikov(alpha: f64, len: usize) -> Vec<f64> {
 /// `(1 − z)^{−α}`, so the two lower-triangular Toeplitz matrices of any order are inverse to each
 /// other. At `α = 1` every `g_r` is 1 (the inverse of the difference is the cumulative sum).
 pub fn grunwald_letnikov_inverse(alpha: f64, len: usize) -> Vec<f64> {
-    let mut g = Vec::with_capacity(len);
-    let mut current = 1.0;
-    for r in 0..len {
-        if r > 0 {
-            current *= (r as f64 - 1.0 + alpha) / r as f64;
+    let mut walk = InverseWeights::new(alpha);
+    (0..len).map(|r| walk.at(r)).collect()
+}
+
+/// The weights of [`grunwald_letnikov_inverse`] one at a time, for a reader that asks for
+/// them with `r` never decreasing: bit for bit the same numbers, without keeping them (at
+/// `N = 10⁷` a vector of them is 80 MB).
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct InverseWeights {
+    alpha: f64,
+    r: usize,
+    g: f64,
+}
+
+impl InverseWeights {
+    /// The walk from `g_0 = 1`.
+    pub(crate) fn new(alpha: f64) -> Self {
+        InverseWeights {
+            alpha,
+            r: 0,
+            g: 1.0,
         }
-        g.push(current);
     }
-    g
+
+    /// `g_r`, by the recurrence from the last weight asked for.
+    ///
+    /// # Panics
+    ///
+    /// In debug builds, if `r` is below the last weight asked for (an internal misuse).
+    #[inline]
+    pub(crate) fn at(&mut self, r: usize) -> f64 {
+        debug_assert!(r >= self.r, "the weights are walked upwards");
+        while self.r < r {
+            self.r += 1;
+            self.g *= (self.r as f64 - 1.0 + self.alpha) / self.r as f64;
+        }
+        self.g
+    }
 }
 
 #[cfg(test)]

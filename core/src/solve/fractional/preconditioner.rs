@@ -59,7 +59,7 @@ use crate::linalg::{block, set_block};
 use crate::operator::Operator;
 use crate::side::Side;
 use crate::toeplitz::{TriangularToeplitz, Workspace};
-use crate::weights::grunwald_letnikov_inverse;
+use crate::weights::{InverseWeights, grunwald_letnikov_inverse};
 
 /// `P'⁻¹ = P⁻¹ − U K (E P⁻¹)` for `P' = P + Eᵀ H_e E` (Woodbury), `E` the extra row of `D`
 /// (`e_j I` blocks), `H_e` its `L_vv`: `U = P⁻¹ Eᵀ` (blocks `u_j`), `K = (I + H_e E U)⁻¹ H_e`.
@@ -80,9 +80,8 @@ pub(super) struct Preconditioner<'a, const D: usize> {
     scale: f64,
     /// `G`, the inverse of the lower-triangular GL Toeplitz matrix, order `N − 1`.
     inverse: TriangularToeplitz,
-    /// `D_a⁻ᵀ e` in closed form (module docs): `−g_{N−1−p}` (σ = −) or `−g_{p+1}` (σ = +) at
-    /// position `p = j − 1`.
-    extra_solved: Vec<f64>,
+    /// `α`, whose weights `g_r` give `D_a⁻ᵀ e` in closed form ([`extra_solved`](Self::extra_solved)).
+    alpha: f64,
     /// The Grünwald–Letnikov weights `w`, whose entries make the row of `D` outside the square
     /// block ([`extra`](Self::extra)).
     weights: &'a [f64],
@@ -113,26 +112,41 @@ impl<'a, const D: usize> Preconditioner<'a, D> {
     /// (order `N + 1 ≥ N − 1`), so that both use one workspace and one set of twiddle tables.
     pub(super) fn new(velocity: &'a Operator, fft: &mut FftOperator) -> Self {
         let n = fft.n();
-        // g_0..g_{N−1}: G (order N − 1) uses the first N − 1, D_a⁻ᵀ e also g_{N−1}.
-        let g_all = grunwald_letnikov_inverse(velocity.alpha(), n);
+        // g_0..g_{N−2}, the first column of G (order N − 1).
+        let g_all = grunwald_letnikov_inverse(velocity.alpha(), n - 1);
         let side = velocity.side();
-        let inverse = fft.with_same_plans(&g_all[..n - 1]);
-        let extra_solved = match side {
-            Side::Backward => (0..n - 1).map(|p| -g_all[n - 1 - p]).collect(),
-            Side::Forward => (0..n - 1).map(|p| -g_all[p + 1]).collect(),
-        };
+        let inverse = fft.with_same_plans(&g_all);
         Preconditioner {
             n,
             side,
             scale: velocity.scale(),
             inverse,
-            extra_solved,
+            alpha: velocity.alpha(),
             weights: velocity.weights(),
             vv_inverse: RowBlocks::uniform(Matrix::<D>::identity(), n - 1),
             correction: None,
             all_inverted: true,
             corrected_for: None,
         }
+    }
+
+    /// `(D_a⁻ᵀ e)_p` in closed form (module docs), `−g_{N−1−p}` (σ = −) or `−g_{p+1}` (σ = +),
+    /// for `p` in [`walk`](Self::walk)'s order, which asks for the weights `g_r` with `r`
+    /// increasing: they are computed as they are read rather than kept (8 bytes a node).
+    fn extra_solved(&self) -> impl FnMut(usize) -> f64 {
+        let (n, side) = (self.n, self.side);
+        let mut g = InverseWeights::new(self.alpha);
+        move |p| match side {
+            Side::Backward => -g.at(n - 1 - p),
+            Side::Forward => -g.at(p + 1),
+        }
+    }
+
+    /// `0..N−1`, decreasing for σ = − and increasing for σ = +: the order in which
+    /// [`extra_solved`](Self::extra_solved) is read.
+    fn walk(&self) -> impl Iterator<Item = usize> {
+        let (m, backward) = (self.n - 1, self.side == Side::Backward);
+        (0..m).map(move |i| if backward { m - 1 - i } else { i })
     }
 
     /// Entry `p = j − 1` of the row of `D` outside the square block `D_a`, on the interior
@@ -185,9 +199,12 @@ impl<'a, const D: usize> Preconditioner<'a, D> {
         let factor = -self.side.sign() / self.scale;
         for c in 0..D {
             for a in 0..D {
-                let (vv_inverse, extra_solved) = (&self.vv_inverse, &self.extra_solved);
-                self.inverse
-                    .load(ws, |j| vv_inverse.get(j)[(a, c)] * extra_solved[j]);
+                let (vv_inverse, mut extra_solved) = (&self.vv_inverse, self.extra_solved());
+                let input = |j| vv_inverse.get(j)[(a, c)] * extra_solved(j);
+                match self.side {
+                    Side::Backward => self.inverse.load_descending(ws, input),
+                    Side::Forward => self.inverse.load(ws, input),
+                }
                 self.inverse.mul_loaded(g_transposed, ws);
                 self.inverse.store(ws, |j, x| u[j][(a, c)] = x * factor);
             }
@@ -254,8 +271,9 @@ impl<'a, const D: usize> Preconditioner<'a, D> {
                 set_block(z, j, &(block::<D>(z, j) - corr.u[j] * c));
             }
             if let Some(image) = image {
-                for j in 0..m {
-                    let du = self.vv_inverse.get(j) * self.extra_solved[j];
+                let mut extra_solved = self.extra_solved();
+                for j in self.walk() {
+                    let du = self.vv_inverse.get(j) * extra_solved(j);
                     let v = block::<D>(image, j) - du * c;
                     set_block(image, j, &v);
                 }
