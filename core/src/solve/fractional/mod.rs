@@ -267,7 +267,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
         let mut warnings = Vec::new();
         if self.options.posedness_check {
             // Past its grid the check runs on a coarser one first (`posedness`), and decides
-            // there only when no eigenvalue can lie near the threshold; otherwise, or should
+            // there only when no Ritz value there lies near the threshold; otherwise, or should
             // the Lagrangian not be finite there, on this grid.
             let steps = self.check_steps;
             let coarse = (self.disc.grid().n() > steps)

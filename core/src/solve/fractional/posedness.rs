@@ -48,11 +48,16 @@ const LANCZOS_STEPS: usize = 4;
 /// solve's own grid (module docs).
 const RECHECK_BELOW: f64 = 0.1;
 
-/// Whether `ritz` (of the coarser grid) may hold an eigenvalue below [`RECHECK_BELOW`]: a
-/// Ritz value whose modulus less its bound lies below it.
+/// Whether the coarser grid's `ritz` leave the decision to the solve's own grid: some Ritz
+/// value whose modulus less its bound lies below [`RECHECK_BELOW`], or none at all (a Krylov
+/// start that broke down). Ritz values above it say nothing of eigenvalues away from them
+/// (four Lanczos steps can miss an interior one, on either grid): the rule keeps the coarser
+/// grid from deciding next to the threshold where it sees an eigenvalue, nothing more.
 pub(super) fn in_doubt(ritz: &[(f64, f64)]) -> bool {
-    ritz.iter()
-        .any(|(theta, bound)| theta.abs() - bound < RECHECK_BELOW)
+    ritz.is_empty()
+        || ritz
+            .iter()
+            .any(|(theta, bound)| theta.abs() - bound < RECHECK_BELOW)
 }
 
 /// The ill-posedness measure among `ritz` (pairs of a Ritz value of `P'⁻¹J` and its bound):
@@ -211,6 +216,16 @@ mod tests {
             [] => None,
             ref other => panic!("N = {n}, k = {k}: {other:?}"),
         }
+    }
+
+    /// A Ritz value near the threshold, or none at all, leaves the decision to the solve's own
+    /// grid; Ritz values all clear of it do not.
+    #[test]
+    fn doubt_is_a_ritz_value_near_the_threshold_or_none() {
+        assert!(in_doubt(&[]));
+        assert!(in_doubt(&[(0.8, 0.01), (0.15, 0.06)]));
+        assert!(in_doubt(&[(-0.05, 0.0)]));
+        assert!(!in_doubt(&[(0.8, 0.01), (-1.2, 0.5), (0.15, 0.04)]));
     }
 
     /// The coarser grid measures its own problem, and decides only far from the threshold. On
