@@ -61,7 +61,8 @@ pub(crate) trait GlobalSystem {
         iteration: usize,
     ) -> Result<ControlFlow<Self::Output>>;
 
-    /// An evaluation the iteration has replaced: its allocations, for the next.
+    /// An evaluation the iteration has left behind (before the line search, which evaluates
+    /// trials without it): its allocations, for the next.
     fn recycle(&mut self, _e: Self::Evaluation) {}
 }
 
@@ -124,12 +125,14 @@ pub(crate) fn solve_global<S: GlobalSystem>(
         {
             return Ok(output);
         }
-        let (next, evaluation, next_res, next_merit) =
-            line_search.step(&q, merit, &delta, |trial| {
-                system.evaluate(trial, iteration + 1)
-            })?;
-        system.recycle(std::mem::replace(&mut current, evaluation));
-        (q, previous, res, merit) = (next, res, next_res, next_merit);
+        // The line search reads only the current merit: the current evaluation is spent
+        // before the trials are evaluated, so that its memory is not held beside theirs.
+        system.recycle(current);
+        let next_res;
+        (q, current, next_res, merit) = line_search.step(&q, merit, &delta, |trial| {
+            system.evaluate(trial, iteration + 1)
+        })?;
+        (previous, res) = (res, next_res);
     }
     Err(Error::NewtonDidNotConverge {
         at: Location::Newton(options.max_iterations),
