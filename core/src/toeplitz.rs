@@ -22,7 +22,10 @@
 //! transform is split into halves, below) serves both
 //! directions, where a real-FFT library keeps a forward and an inverse plan, each with its
 //! own twiddles (48 bytes per `K` with the real passes' tables, measured: 475 MB of plans at
-//! `K = 10⁷`). The pass's own twiddles `e^{−πi m/K}`, `m ≤ K/2`, are 8 bytes per `K`.
+//! `K = 10⁷`). The pass's own twiddles `e^{−πi m/K}`, `m ≤ K/2`, are each the product of an
+//! entry of two tables of about `√K` entries (8 bytes per `K` as one table, read beside the
+//! spectra in a stream of its own; the product rounds a few units in the last place, as the
+//! FFT's own twiddles do).
 //!
 //! **Two halves, two cores.** From `K/2 =` [`SPLIT_FROM`] on (with the `parallel` feature),
 //! each complex FFT of length `K` is taken as two of length `K/2` (one radix-2 step of
@@ -34,8 +37,9 @@
 //! fractional solve's time. So does the pass between the transforms: a pair `(m, K − m)` is
 //! written where the inverse transform reads entries `m` and `K − m`, both in the first half
 //! for even `m` and both in the second for odd `m` (`K` is even), so one thread takes the
-//! pairs of each parity, with the same arithmetic as one thread taking all. The twiddles `W^j` are those of the pass (`W^j = e^{−πi 2j/K}`),
-//! so the step keeps no table of its own, and the half-length plan's tables are half as long.
+//! pairs of each parity, with the same arithmetic as one thread taking all. The twiddles
+//! `W^j` are those of the pass (`W^j = e^{−πi 2j/K}`), so the step keeps no table of its own,
+//! and the half-length plan's tables are half as long.
 //! `K` is always even, so that the length does not depend on the choice.
 //!
 //! ## Reference
@@ -177,7 +181,7 @@ impl TriangularToeplitz {
         spectrum[0] = Complex::new((z0.re + z0.im) * inv_len, 0.0);
         spectrum[k] = Complex::new((z0.re - z0.im) * inv_len, 0.0);
         plan.for_each_pair(z, |m, zm, zkm| {
-            let (xm, xkm) = unpack(zm, zkm, tw[m]);
+            let (xm, xkm) = unpack(zm, zkm, tw.get(m));
             spectrum[m] = xm * inv_len;
             spectrum[k - m] = xkm * inv_len;
         });
@@ -285,9 +289,10 @@ impl TriangularToeplitz {
         let pass = |parity: Option<usize>, out: &mut [Complex<f64>]| {
             let at = |j: usize| if parity.is_some() { j >> 1 } else { j };
             plan.for_each_pair_of(z, parity, |m, zm, zkm| {
-                let (xm, xkm) = unpack(zm, zkm, tw[m]);
+                let t = tw.get(m);
+                let (xm, xkm) = unpack(zm, zkm, t);
                 let (ym, ykm) = (xm * filter(s[m]), xkm * filter(s[k - m]));
-                let (wm, wkm) = pack_conjugate(ym, ykm, tw[m]);
+                let (wm, wkm) = pack_conjugate(ym, ykm, t);
                 out[at(m)] = wm;
                 out[at(k - m)] = wkm;
             })

@@ -15,7 +15,7 @@ pub(super) struct Plan {
     pub(super) split: bool,
     /// `K/2`.
     pub(super) h: usize,
-    pub(super) twiddles: Vec<Complex<f64>>,
+    pub(super) twiddles: Twiddles,
 }
 
 /// The half length `K/2` from which each transform is taken as two halves on two threads
@@ -24,6 +24,40 @@ pub(super) struct Plan {
 /// equal either way, one criterion run up to a tenth slower with them), at `K/2 ≈ 1.5·10⁵`
 /// the two ran even, at `K/2 ≈ 5·10⁵` the halves were clearly faster (BENCHMARKS.md).
 pub const SPLIT_FROM: usize = 1 << 17;
+
+/// The twiddles `e^{−πi m/K}`, `m = 0..=K/2`, of the pass between the real and the complex
+/// transforms, each the product of an entry of two tables of about `√K` entries:
+/// `e^{−πi (aS + b)/K} = e^{−πi aS/K} e^{−πi b/K}`, `S` a power of two. A table of all of them
+/// is 8 bytes a node, and the pass reads it in a stream of its own beside the spectra; the
+/// product rounds once more (a few units in the last place, as an FFT's own twiddles).
+pub(super) struct Twiddles {
+    /// `e^{−πi aS/K}`, `a = 0..=K/(2S)`.
+    coarse: Vec<Complex<f64>>,
+    /// `e^{−πi b/K}`, `b = 0..S`.
+    fine: Vec<Complex<f64>>,
+    /// `log₂ S`.
+    shift: u32,
+}
+
+impl Twiddles {
+    fn new(k: usize) -> Self {
+        let last = k / 2;
+        let shift = (last + 1).isqrt().next_power_of_two().trailing_zeros();
+        let step = -std::f64::consts::PI / k as f64;
+        let at = |m: usize| Complex::from_polar(1.0, step * m as f64);
+        Twiddles {
+            coarse: (0..=last >> shift).map(|a| at(a << shift)).collect(),
+            fine: (0..1usize << shift).map(at).collect(),
+            shift,
+        }
+    }
+
+    /// `e^{−πi m/K}`, `m ≤ K/2`.
+    #[inline(always)]
+    pub(super) fn get(&self, m: usize) -> Complex<f64> {
+        self.coarse[m >> self.shift] * self.fine[m & ((1 << self.shift) - 1)]
+    }
+}
 
 /// Runs `a` and `b`, on two threads with the `parallel` feature (rayon's `join`).
 pub(super) fn both(a: impl FnOnce() + Send, b: impl FnOnce() + Send) {
@@ -41,10 +75,7 @@ impl Plan {
         let split = cfg!(feature = "parallel") && k / 2 >= SPLIT_FROM;
         let len = if split { k / 2 } else { k };
         let fft = FftPlanner::<f64>::new().plan_fft_forward(len);
-        let step = -std::f64::consts::PI / k as f64;
-        let twiddles = (0..=k / 2)
-            .map(|m| Complex::from_polar(1.0, step * m as f64))
-            .collect();
+        let twiddles = Twiddles::new(k);
         Plan {
             fft,
             split,
@@ -70,9 +101,9 @@ impl Plan {
     #[inline]
     pub(super) fn w(&self, j: usize) -> Complex<f64> {
         if 2 * j <= self.h {
-            self.twiddles[2 * j]
+            self.twiddles.get(2 * j)
         } else {
-            -self.twiddles[2 * (self.h - j)].conj()
+            -self.twiddles.get(2 * (self.h - j)).conj()
         }
     }
 
@@ -156,7 +187,7 @@ impl Plan {
             if !first && !second {
                 continue;
             }
-            let w = self.twiddles[2 * m];
+            let w = self.twiddles.get(2 * m);
             let (t, t_mirror) = (w * o[m], -(w.conj() * o[h - m]));
             // (m, K − m) and (K/2 − m, K/2 + m).
             if first {
