@@ -409,7 +409,7 @@ impl<L: DynLagrangian + ?Sized> GlobalSystem for ByLu<'_, '_, L> {
 
     fn direction(
         &mut self,
-        (_, e): (&Vec<f64>, &CurveValues),
+        (_, e): (&Vec<f64>, &mut CurveValues),
         _: (f64, f64),
         delta: &mut [f64],
         iteration: usize,

@@ -397,7 +397,7 @@ impl<L: DynLagrangian + ?Sized> GlobalSystem for ByMinres<'_, '_, L> {
 
     fn direction(
         &mut self,
-        (_, e): (&Vec<f64>, &CurveValues),
+        (_, e): (&Vec<f64>, &mut CurveValues),
         (res, merit): (f64, f64),
         delta: &mut [f64],
         iteration: usize,

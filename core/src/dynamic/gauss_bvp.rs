@@ -526,7 +526,7 @@ impl<L: DynLagrangian + ?Sized> GlobalSystem for ByLu<'_, '_, L> {
 
     fn direction(
         &mut self,
-        (_, e): (&Unknowns, &Evaluation),
+        (_, e): (&Unknowns, &mut Evaluation),
         _: (f64, f64),
         delta: &mut [f64],
         iteration: usize,

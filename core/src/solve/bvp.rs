@@ -367,7 +367,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for ByLu<'_, '_, L,
 
     fn direction(
         &mut self,
-        (_, (r, _)): (&Vec<Vector<D>>, &Self::Evaluation),
+        (_, (r, _)): (&Vec<Vector<D>>, &mut Self::Evaluation),
         _: (f64, f64),
         delta: &mut [f64],
         iteration: usize,

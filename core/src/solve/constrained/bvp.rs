@@ -366,7 +366,7 @@ where
 
     fn direction(
         &mut self,
-        (x, e): (&Unknowns<D, M>, &Evaluation<D>),
+        (x, e): (&Unknowns<D, M>, &mut Evaluation<D>),
         _: (f64, f64),
         delta: &mut [f64],
         iteration: usize,

@@ -305,7 +305,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
 
     fn direction(
         &mut self,
-        (q, e): (&Vec<Vector<D>>, &Evaluation<D>),
+        (q, e): (&Vec<Vector<D>>, &mut Evaluation<D>),
         (_, norm): (f64, f64),
         delta: &mut [f64],
         iteration: usize,
@@ -331,6 +331,9 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
         self.eta = self.eta.max(target).max(1e-13);
         self.previous_norm = Some(norm);
         self.system.linearize(self.disc, q, &e.v, at)?;
+        // `V` has served (the Hessians are read at it): its vector goes to the Krylov solver,
+        // which would otherwise allocate one more beside it.
+        self.work.give(std::mem::take(&mut e.v));
         let budget = &self.options.krylov;
         let iterations = solve_newton_system(
             &mut self.system,

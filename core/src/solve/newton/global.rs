@@ -55,7 +55,7 @@ pub(crate) trait GlobalSystem {
     /// holds the max-norm and the 2-norm of the evaluation's residual.
     fn direction(
         &mut self,
-        current: (&Self::Iterate, &Self::Evaluation),
+        current: (&Self::Iterate, &mut Self::Evaluation),
         residual: (f64, f64),
         delta: &mut [f64],
         iteration: usize,
@@ -121,7 +121,7 @@ pub(crate) fn solve_global<S: GlobalSystem>(
         }
         let residual = (res, merit);
         if let ControlFlow::Break(output) =
-            system.direction((&q, &current), residual, &mut delta, iteration)?
+            system.direction((&q, &mut current), residual, &mut delta, iteration)?
         {
             return Ok(output);
         }
@@ -370,7 +370,7 @@ mod tests {
 
         fn direction(
             &mut self,
-            (q, r): (&Vec<f64>, &Vec<f64>),
+            (q, r): (&Vec<f64>, &mut Vec<f64>),
             _: (f64, f64),
             delta: &mut [f64],
             iteration: usize,
@@ -378,7 +378,7 @@ mod tests {
             if self.stop_at == Some(iteration) {
                 return Ok(ControlFlow::Break((Vec::new(), iteration)));
             }
-            for ((d, x), r) in delta.iter_mut().zip(&q[1..]).zip(r) {
+            for ((d, x), r) in delta.iter_mut().zip(&q[1..]).zip(r.iter()) {
                 *d = r / (self.c * (3.0 * x * x + 1.0));
             }
             Ok(ControlFlow::Continue(()))
