@@ -232,7 +232,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
         iteration: usize,
     ) -> Result<(Evaluation<D>, f64, f64)> {
         let n = self.disc.grid().n();
-        let mut e = Evaluation::from_buffers(n, self.work.lend(), self.work.lend());
+        let buffers = [self.work.lend(), self.work.lend(), self.work.lend()];
+        let mut e = Evaluation::from_buffers(n, buffers);
         velocities(self.disc, &mut self.system, q, iteration, &mut e)?;
         if std::mem::take(&mut self.guess_unchecked) {
             // The input checks' part on the nodes, with the velocities just computed.
@@ -331,9 +332,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
         self.eta = self.eta.max(target).max(1e-13);
         self.previous_norm = Some(norm);
         self.system.linearize(self.disc, q, &e.v, at)?;
-        // `V` has served (the Hessians are read at it): its vector goes to the Krylov solver,
-        // which would otherwise allocate one more beside it.
+        // `V` has served (the Hessians are read at it), as has `p`: their vectors go to the
+        // Krylov solver, which would otherwise allocate two more beside them.
         self.work.give(std::mem::take(&mut e.v));
+        self.work.give(std::mem::take(&mut e.p));
         let budget = &self.options.krylov;
         let iterations = solve_newton_system(
             &mut self.system,

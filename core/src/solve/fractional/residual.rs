@@ -6,7 +6,7 @@ use super::system::FastSystem;
 use crate::discretisation::Discretisation;
 use crate::error::{Error, Location, Result, check_len};
 use crate::lagrangian::{Lagrangian, Vector};
-use crate::linalg::{add_to_block, block, max_norm, set_block, zeroed};
+use crate::linalg::{add_to_block, block, set_block, zeroed};
 
 /// The residual at an iterate, with what the Jacobian needs. Its buffers are reused from one
 /// evaluation to the next (at `N = 10⁷` a fresh `N`-vector costs its page faults: tens of
@@ -17,6 +17,9 @@ pub(super) struct Evaluation<const D: usize> {
     pub(super) r: Vec<f64>,
     /// `V` on the rows, flat as `r`: component `c` of `V_i` at `i D + c`.
     pub(super) v: Vec<f64>,
+    /// `p = ∂L/∂v` on the rows, flat as `V`: read by the residual's product and spent after
+    /// it (the Newton direction hands its vector to the Krylov solver).
+    pub(super) p: Vec<f64>,
     /// `max|f| + h^{−α} max|p|` over what the rows read: `f` on the interior nodes, `p` on
     /// the quadrature nodes (the scale of the rows, as the dense path's).
     pub(super) scale: f64,
@@ -25,20 +28,26 @@ pub(super) struct Evaluation<const D: usize> {
 impl<const D: usize> Evaluation<D> {
     /// Buffers for `N` steps.
     pub(super) fn new(n: usize) -> Self {
-        Self::from_buffers(n, Vec::new(), Vec::new())
+        Self::from_buffers(n, [Vec::new(), Vec::new(), Vec::new()])
     }
 
-    /// Buffers for `N` steps in the allocations of two vectors (the Krylov solver's, idle
-    /// while a trial iterate is evaluated).
-    pub(super) fn from_buffers(n: usize, mut r: Vec<f64>, mut v: Vec<f64>) -> Self {
+    /// Buffers for `N` steps in the allocations of three vectors (the Krylov solver's, idle
+    /// while a trial iterate is evaluated), for `r`, `V` and `p` (the last sized by
+    /// [`residual`], which alone uses it).
+    pub(super) fn from_buffers(n: usize, [mut r, mut v, p]: [Vec<f64>; 3]) -> Self {
         zeroed(&mut r, (n - 1) * D);
         zeroed(&mut v, n * D);
-        Evaluation { r, v, scale: 0.0 }
+        Evaluation {
+            r,
+            v,
+            p,
+            scale: 0.0,
+        }
     }
 
     /// The allocations back, for [`from_buffers`](Self::from_buffers) or the Krylov solver.
-    pub(super) fn into_buffers(self) -> [Vec<f64>; 2] {
-        [self.r, self.v]
+    pub(super) fn into_buffers(self) -> [Vec<f64>; 3] {
+        [self.r, self.v, self.p]
     }
 
     /// `max|r|`.
@@ -120,7 +129,8 @@ pub(super) fn residual<L: Lagrangian<D> + ?Sized, const D: usize>(
     };
     let (lagrangian, grid) = (disc.lagrangian(), disc.grid());
     let (n, minus_sigma) = (system.n, -system.sigma);
-    // r starts as f on the interior nodes; p goes in the rows' buffer.
+    // r starts as f on the interior nodes; p goes in its own buffer.
+    zeroed(&mut eval.p, n * D);
     let mut f_max = 0.0f64;
     for i in 0..n {
         let k = i + system.first_row;
@@ -135,12 +145,12 @@ pub(super) fn residual<L: Lagrangian<D> + ?Sized, const D: usize>(
             f_max = f_max.max(fk.amax());
             set_block(&mut eval.r, k - 1, &fk);
         }
-        system.rows[i] = pk;
+        set_block(&mut eval.p, i, &pk);
     }
-    let (p, r) = (&system.rows, &mut eval.r);
+    let (p, r) = (&eval.p, &mut eval.r);
     for c in 0..D {
         system.velocity.apply_transpose_with(
-            |i| p[i][c],
+            |i| p[i * D + c],
             |j, y| {
                 if (1..n).contains(&j) {
                     r[(j - 1) * D + c] += y * minus_sigma;
@@ -150,12 +160,13 @@ pub(super) fn residual<L: Lagrangian<D> + ?Sized, const D: usize>(
     }
     if let Some(columns) = &system.columns {
         columns.add_momentum(
-            |i| p[i],
+            |i| block::<D>(p, i),
             system.first_row,
             |j, e| add_to_block(r, j - 1, &e),
         );
     }
-    eval.scale = f_max + system.scale * max_norm(&system.rows);
+    let p_max = p.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    eval.scale = f_max + system.scale * p_max;
     if !eval.r.iter().all(|c| c.is_finite()) {
         return Err(not_finite);
     }

@@ -19,9 +19,9 @@ use crate::solve::krylov::KrylovSystem;
 /// the FFT operator whose workspace serves every product of the solve.
 ///
 /// Memory (`d = 1`, per node): the Hessians (24 bytes; 8 for a constant `L_vv` and a zero
-/// `L_xv`, which [`RowBlocks`] store once), `a = D x` on the rows (8) and the
-/// preconditioner's blocks (`L_vv⁻¹`, once where it is constant, and `U`: 16) and
-/// `D_a⁻ᵀ e` (8). The other vectors of a
+/// `L_xv`, which [`RowBlocks`] store once), `a = D x` on the rows (8, where a product forms it)
+/// and the preconditioner's blocks (`L_vv⁻¹`, once where it is constant, and `U`: 16). The
+/// other vectors of a
 /// product (the nodes of `x`, `b = L_vx x + L_vv a`, `Dᵀ b`) are read and written by the
 /// product's closures straight from and into the Krylov solver's vectors.
 pub(super) struct FastSystem<'a, const D: usize> {
@@ -42,8 +42,10 @@ pub(super) struct FastSystem<'a, const D: usize> {
     pub(super) xv: RowBlocks<D>,
     pub(super) vv: RowBlocks<D>,
     pub(super) preconditioner: Preconditioner<'a, D>,
-    /// Values on the rows (`N`): `a = D x` in a product, `p` in an evaluation.
-    pub(super) rows: Vec<Vector<D>>,
+    /// `a = D x` on the rows (`N`) in a product, allocated by the first product that forms
+    /// it (none does where the kinetic part comes from the preconditioner and no `L_xv` reads
+    /// `D x`, as on the benchmark pendulum).
+    rows: Vec<Vector<D>>,
     /// The corrected form's starting columns; `None` for the paper's operators.
     pub(super) columns: Option<EndColumns<'a>>,
     /// Whether the products leave the starting columns out: the paper's symmetric Jacobian at
@@ -74,7 +76,7 @@ impl<'a, const D: usize> FastSystem<'a, D> {
             xx: zero.clone(),
             xv: zero.clone(),
             vv: zero,
-            rows: vec![Vector::<D>::zeros(); n],
+            rows: Vec::new(),
             columns,
             plain: false,
             mixed: true,
@@ -177,6 +179,9 @@ impl<'a, const D: usize> FastSystem<'a, D> {
                 set_block(y, j - 1, &v);
             }
             return;
+        }
+        if self.rows.len() != n {
+            self.rows = vec![Vector::<D>::zeros(); n];
         }
         // Node k of x (zero at the fixed ends), component c.
         let node = |k: usize, c: usize| {
