@@ -333,9 +333,15 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
         self.previous_norm = Some(norm);
         self.system.linearize(self.disc, q, &e.v, at)?;
         // `V` has served (the Hessians are read at it), as has `p`: their vectors go to the
-        // Krylov solver, which would otherwise allocate two more beside them.
+        // Krylov solver, which would otherwise allocate two more beside them, `p`'s as the
+        // rows of `a = D x` where its products form them.
         self.work.give(std::mem::take(&mut e.v));
-        self.work.give(std::mem::take(&mut e.p));
+        let p = std::mem::take(&mut e.p);
+        if self.system.forms_rows() {
+            self.system.lend_rows(p);
+        } else {
+            self.work.give(p);
+        }
         let budget = &self.options.krylov;
         let iterations = solve_newton_system(
             &mut self.system,
@@ -347,6 +353,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
             &mut self.work,
         )?;
         self.krylov_iterations.push(iterations);
+        // Not read before the next linearisation: idle beside the trials' evaluations.
+        self.work.give(self.system.take_rows());
         Ok(ControlFlow::Continue(()))
     }
 

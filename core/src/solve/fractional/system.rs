@@ -11,7 +11,7 @@ use crate::discretisation::Discretisation;
 use crate::error::{Error, Location, Result};
 use crate::fft_operator::FftOperator;
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
-use crate::linalg::{add_to_block, block, set_block};
+use crate::linalg::{add_to_block, block, set_block, zeroed};
 use crate::operator::Operator;
 use crate::solve::krylov::KrylovSystem;
 
@@ -42,10 +42,13 @@ pub(super) struct FastSystem<'a, const D: usize> {
     pub(super) xv: RowBlocks<D>,
     pub(super) vv: RowBlocks<D>,
     pub(super) preconditioner: Preconditioner<'a, D>,
-    /// `a = D x` on the rows (`N`) in a product, allocated by the first product that forms
-    /// it (none does where the kinetic part comes from the preconditioner and no `L_xv` reads
-    /// `D x`, as on the benchmark pendulum).
-    rows: Vec<Vector<D>>,
+    /// `a = D x` on the rows (`N`, flat: component `c` of row `i` at `i D + c`) in a product:
+    /// lent for a Newton step's Krylov solve where its products form it ([`forms_rows`]), or
+    /// allocated by the first product that does (none does where the kinetic part comes from
+    /// the preconditioner and no `L_xv` reads `D x`, as on the benchmark pendulum).
+    ///
+    /// [`forms_rows`]: Self::forms_rows
+    rows: Vec<f64>,
     /// The corrected form's starting columns; `None` for the paper's operators.
     pub(super) columns: Option<EndColumns<'a>>,
     /// Whether the products leave the starting columns out: the paper's symmetric Jacobian at
@@ -153,6 +156,23 @@ impl<'a, const D: usize> FastSystem<'a, D> {
         Ok(())
     }
 
+    /// Whether the Krylov solver's products form `a = D x` on the rows: all but those that take
+    /// the kinetic part from the preconditioner where no `L_xv` reads `D x`.
+    pub(super) fn forms_rows(&self) -> bool {
+        !self.kinetic_known() || self.mixed
+    }
+
+    /// Lends a vector for the rows of `a = D x` (module docs of [`FastSystem::rows`]).
+    pub(super) fn lend_rows(&mut self, rows: Vec<f64>) {
+        self.rows = rows;
+    }
+
+    /// The rows' vector back (empty when there is none), for the Krylov solver: it is not read
+    /// again before the next linearisation.
+    pub(super) fn take_rows(&mut self) -> Vec<f64> {
+        std::mem::take(&mut self.rows)
+    }
+
     /// Whether `J x = P' x + (J − P') x` may be formed from `P' x` given: the preconditioner
     /// inverts `P'` exactly and the products leave out no term of `P'` it does not hold (the
     /// starting columns).
@@ -180,8 +200,8 @@ impl<'a, const D: usize> FastSystem<'a, D> {
             }
             return;
         }
-        if self.rows.len() != n {
-            self.rows = vec![Vector::<D>::zeros(); n];
+        if self.rows.len() != n * D {
+            zeroed(&mut self.rows, n * D);
         }
         // Node k of x (zero at the fixed ends), component c.
         let node = |k: usize, c: usize| {
@@ -200,15 +220,19 @@ impl<'a, const D: usize> FastSystem<'a, D> {
                     extra += block::<D>(x, j - 1) * self.preconditioner.extra(j - 1);
                 }
                 for j in 1..n {
-                    self.rows[j - self.first_row] = block(image, j - 1);
+                    set_block(
+                        &mut self.rows,
+                        j - self.first_row,
+                        &block::<D>(image, j - 1),
+                    );
                 }
-                self.rows[self.extra_row] = extra;
+                set_block(&mut self.rows, self.extra_row, &extra);
             }
             None => {
                 let rows = &mut self.rows;
                 for c in 0..D {
                     self.velocity
-                        .apply_with(|k| node(k, c), |i, a| rows[i][c] = a * minus_sigma);
+                        .apply_with(|k| node(k, c), |i, a| rows[i * D + c] = a * minus_sigma);
                 }
             }
         }
@@ -222,9 +246,10 @@ impl<'a, const D: usize> FastSystem<'a, D> {
         let first_row = self.first_row;
         if let Some(columns) = self.columns.as_ref().filter(|_| !self.plain) {
             let rows = &mut self.rows;
-            columns.add_velocity(node_vector, first_row, |i, a| rows[i] += a);
+            columns.add_velocity(node_vector, first_row, |i, a| add_to_block(rows, i, &a));
         }
-        let (xx, xv, vv, rows) = (&self.xx, &self.xv, &self.vv, &self.rows);
+        let (xx, xv, vv) = (&self.xx, &self.xv, &self.vv);
+        let rows = |i: usize| block::<D>(&self.rows, i);
         for c in 0..D {
             // b_i = L_vx δ + L_vv a on the rows, component c, formed as the product reads it;
             // y_j = L_xx δ + L_xv a + (Dᵀ b)_j written as the product yields it.
@@ -232,14 +257,14 @@ impl<'a, const D: usize> FastSystem<'a, D> {
             let with_vv = if kinetic.is_some() { 0.0 } else { 1.0 };
             let b = |i: usize| {
                 (xv.get(i).column(c).dot(&node_vector(i + first_row)))
-                    + with_vv * vv.get(i).row(c).tr_dot(&rows[i])
+                    + with_vv * vv.get(i).row(c).tr_dot(&rows(i))
             };
             self.velocity.apply_transpose_with(b, |j, dt_b| {
                 if (1..n).contains(&j) {
                     let i = j - first_row;
                     let known = kinetic.map_or(0.0, |(r, factor)| r[(j - 1) * D + c] * factor);
                     y[(j - 1) * D + c] = xx.get(i).row(c).tr_dot(&node_vector(j))
-                        + xv.get(i).row(c).tr_dot(&rows[i])
+                        + xv.get(i).row(c).tr_dot(&rows(i))
                         + dt_b * minus_sigma
                         + known;
                 }
@@ -247,7 +272,7 @@ impl<'a, const D: usize> FastSystem<'a, D> {
         }
         if let Some(columns) = self.active_columns() {
             let b =
-                |i: usize| xv.get(i).transpose() * node_vector(i + first_row) + vv.get(i) * rows[i];
+                |i: usize| xv.get(i).transpose() * node_vector(i + first_row) + vv.get(i) * rows(i);
             columns.add_momentum(b, first_row, |j, e| add_to_block(y, j - 1, &e));
         }
     }
@@ -273,11 +298,7 @@ impl<const D: usize> KrylovSystem for FastSystem<'_, D> {
     /// kinetic part from the preconditioner's input and no `L_xv` reads `D x` (two vectors of
     /// MINRES fewer, 16 bytes a node at `d = 1`).
     fn image_len(&self) -> usize {
-        if self.kinetic_known() && !self.mixed {
-            0
-        } else {
-            self.len()
-        }
+        if self.forms_rows() { self.len() } else { 0 }
     }
 
     /// `P'⁻¹ r`, whose middle vector yields `D_a z` on the way (into `image` unless it is
