@@ -74,21 +74,28 @@ pub(crate) struct MinresWork {
     az: Vec<f64>,
     w: Vec<f64>,
     w_old: Vec<f64>,
+    /// Whether the last solve kept no images: `z_image` then holds no memory, and
+    /// [`give`](Self::give) puts nothing there (a vector given into it would be held, unused,
+    /// until the work is dropped).
+    without_images: bool,
 }
 
 impl MinresWork {
-    /// The vectors, in a fixed order.
-    fn vectors(&mut self) -> [&mut Vec<f64>; 8] {
+    /// The vectors a solve uses, in a fixed order (`z_image` left out after a solve without
+    /// images).
+    fn vectors(&mut self) -> impl Iterator<Item = &mut Vec<f64>> {
+        let image = (!self.without_images).then_some(&mut self.z_image);
         [
             &mut self.r,
             &mut self.v,
             &mut self.v_old,
             &mut self.z,
-            &mut self.z_image,
             &mut self.az,
             &mut self.w,
             &mut self.w_old,
         ]
+        .into_iter()
+        .chain(image)
     }
 
     /// One of the vectors (the largest allocation), for other use between two solves: the
@@ -96,7 +103,6 @@ impl MinresWork {
     /// it allocates what is missing.
     pub(crate) fn lend(&mut self) -> Vec<f64> {
         self.vectors()
-            .into_iter()
             .max_by_key(|v| v.capacity())
             .map(std::mem::take)
             .unwrap_or_default()
@@ -105,7 +111,7 @@ impl MinresWork {
     /// Gives back a vector (from [`lend`](Self::lend) or any other), into an empty place;
     /// dropped when there is none.
     pub(crate) fn give(&mut self, vector: Vec<f64>) {
-        if let Some(place) = self.vectors().into_iter().find(|v| v.capacity() == 0) {
+        if let Some(place) = self.vectors().find(|v| v.capacity() == 0) {
             *place = vector;
         }
     }
@@ -158,12 +164,17 @@ pub(crate) fn minres_in(
         az,
         w,
         w_old,
+        without_images,
     } = work;
     r.clear();
     r.extend(b.iter().map(|x| x / scale));
     v.clear();
     v.extend_from_slice(r);
     let (mut v, mut v_old) = (v, zeroed(v_old, n));
+    *without_images = images == 0;
+    if images == 0 {
+        *z_image = Vec::new();
+    }
     let (z, z_image) = (zeroed(z, n), zeroed(z_image, images));
     let az = zeroed(az, n);
     let (mut w, mut w_old) = (zeroed(w, n), zeroed(w_old, n));
@@ -363,6 +374,32 @@ mod tests {
     /// The Laplacian shifted past its ten lowest eigenvalues: indefinite, ten negative
     /// eigenvalues. MINRES reaches the tolerance on the true residual, with and without the
     /// (SPD) preconditioner.
+    /// Between solves, the work lends and takes back the vectors a solve uses; after a solve
+    /// without images, a vector given back never lands in the unused image's place (where it
+    /// would be held to the end, unused): of nine given, seven are kept.
+    #[test]
+    fn work_keeps_no_vector_in_an_unused_place() {
+        let mut system = Shifted {
+            n: 40,
+            shift: 0.5,
+            precondition: true,
+        };
+        let b: Vec<f64> = (0..40).map(|i| (i as f64).sin()).collect();
+        let mut x = vec![0.0; 40];
+        let mut work = MinresWork::default();
+        minres_in(&mut system, &b, &mut x, &OPTIONS, None, &mut work).unwrap();
+        let kept = |work: &mut MinresWork| work.vectors().filter(|v| v.capacity() > 0).count();
+        assert_eq!(kept(&mut work), 7);
+        let lent: Vec<Vec<f64>> = (0..3).map(|_| work.lend()).collect();
+        assert!(lent.iter().all(|v| v.capacity() >= 40));
+        assert_eq!(kept(&mut work), 4);
+        for vector in lent.into_iter().chain((0..6).map(|_| vec![0.0; 40])) {
+            work.give(vector);
+        }
+        assert_eq!(kept(&mut work), 7);
+        assert_eq!(work.z_image.capacity(), 0);
+    }
+
     #[test]
     fn minres_solves_an_indefinite_system() {
         let n = 200;

@@ -101,7 +101,8 @@ pub enum Warning {
     /// iteration on the last factorisation of the banded and dense solves and of the sparse LU
     /// solve of run-time-dimension models; on the fractional fast path from the Ritz values of
     /// a few Lanczos steps, past `2¹⁸` steps first on a grid of `2¹⁸` steps, which decides alone
-    /// only where every Ritz value there, less its bound, lies above 0.1 (the measure converges
+    /// only where it has Ritz values and each one's modulus, less its bound, lies above 0.1
+    /// (the measure converges
     /// with the grid, slowly; see `core/docs/solvers.md`).
     IllPosed {
         /// The measure above.

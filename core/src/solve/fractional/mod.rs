@@ -224,8 +224,11 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
     type Evaluation = Evaluation<D>;
     type Output = (Solution<D>, Vec<usize>);
 
-    /// A trial's evaluation borrows the idle Krylov vectors, and [`recycle`](Self::recycle)
-    /// gives them back: no `N`-vector is allocated or added to the peak per Newton step.
+    /// A trial's evaluation borrows three of the idle Krylov vectors. Its `V` and `p` go back
+    /// once the Hessians have been read at them ([`direction`](Self::direction)), its
+    /// residual into an empty place, or freed, before the next line search
+    /// ([`recycle`](Self::recycle)): the Krylov solver allocates what it misses, one vector a
+    /// Newton step on the benchmark pendulum, and nothing is held beside the trials.
     fn evaluate(
         &mut self,
         q: &Vec<Vector<D>>,

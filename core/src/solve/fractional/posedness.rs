@@ -16,9 +16,9 @@
 //! α = 0.5). Extrapolated at that rate, `μ₁` on [`CHECK_STEPS`] steps is within about 2 % of its
 //! value at `N = 10⁷` at α = 0.5 and within 0.05 % at α = 0.74, which next to a resonance
 //! (`k ≈ μ₁`) moves the measure by about 0.02 and 0.0005 in absolute terms: twice the
-//! threshold of 10⁻² at α = 0.5. So the coarser grid decides alone only where every Ritz value,
-//! less its bound, lies above [`RECHECK_BELOW`] = 0.1, ten times the threshold
-//! ([`in_doubt`]); otherwise the check runs again on the solve's own grid, whose measure the
+//! threshold of 10⁻² at α = 0.5. So the coarser grid decides alone only where it has Ritz values
+//! and each one's modulus, less its bound, lies above [`RECHECK_BELOW`] = 0.1, ten times the
+//! threshold ([`in_doubt`]); otherwise the check runs again on the solve's own grid, whose measure the
 //! warning then carries. The warning is therefore the one of the solve's own grid wherever the
 //! two grids' measures differ by less than 0.09, and far from any resonance (the benchmark
 //! pendulum's measure is about 0.8) the ten products are taken on the coarser grid. Where `N`
