@@ -52,7 +52,9 @@ pub(crate) trait GlobalSystem {
 
     /// The Newton direction `δ = J⁻¹ r` at the linearisation of the `current` iterate and
     /// evaluation, to the linear solver's accuracy, into `delta`; or an early stop. `residual`
-    /// holds the max-norm and the 2-norm of the evaluation's residual.
+    /// holds the max-norm and the 2-norm of the evaluation's residual. The evaluation is not
+    /// read after this call (only [`recycle`](Self::recycle)d): the system may take its
+    /// vectors for the linear solve.
     fn direction(
         &mut self,
         current: (&Self::Iterate, &mut Self::Evaluation),
