@@ -79,8 +79,9 @@ impl std::fmt::Debug for TriangularToeplitz {
 /// allocates nothing.
 #[derive(Clone, Debug)]
 pub struct Workspace {
-    /// The packed vector `x_{2j} + i x_{2j+1}` (in halves when split, as [`Plan::forward`] reads them) before a product,
-    /// the product's packed spectrum before the inverse transform.
+    /// The packed vector `x_{2j} + i x_{2j+1}` (in halves when split, as [`Plan::forward`]
+    /// reads them) before a product, the product's packed spectrum before the inverse
+    /// transform.
     packed: Vec<Complex<f64>>,
     /// The transform of `packed` (as its halves, [`Plan::entry`]): the input's, then the
     /// product's.
