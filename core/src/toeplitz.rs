@@ -40,6 +40,9 @@
 //! pairs of each parity, with the same arithmetic as one thread taking all. The twiddles
 //! `W^j` are those of the pass (`W^j = e^{−πi 2j/K}`), so the step keeps no table of its own,
 //! and the half-length plan's tables are half as long.
+//! A product in place on a slice ([`TriangularToeplitz::mul_strided_in_place`], the
+//! preconditioner's) also loads and reads its entries on two threads, each over one half of
+//! them; a product through closures calls them in order, on one.
 //! `K` is always even, so that the length does not depend on the choice.
 //!
 //! ## Reference
@@ -340,6 +343,72 @@ impl TriangularToeplitz {
         }
     }
 
+    /// `T x` (or `Tᵀ x`) in place on the entries `x[k · stride + offset]`, `k = 0..M`, of a
+    /// slice that holds `stride` interleaved vectors (the components of a curve in `ℝ^d`).
+    /// Where the transform is split, the loading and the reading run on two threads as the
+    /// transforms do, each over one half of the entries: the same arithmetic as
+    /// [`load`](Self::load) and [`store`](Self::store), so the same product bit for bit.
+    ///
+    /// # Panics
+    ///
+    /// If `x` is shorter than `M · stride` or `offset ≥ stride`, or `ws` was built for another
+    /// FFT length (internal misuses, never user input).
+    pub fn mul_strided_in_place(
+        &self,
+        transpose: bool,
+        ws: &mut Workspace,
+        x: &mut [f64],
+        (stride, offset): (usize, usize),
+    ) {
+        let m = self.order;
+        assert!(
+            offset < stride && x.len() >= m * stride,
+            "strided vector too short"
+        );
+        if !self.plan.split {
+            self.load(ws, |k| x[k * stride + offset]);
+            self.mul_loaded(transpose, ws);
+            self.store(ws, |k, y| x[k * stride + offset] = y);
+            return;
+        }
+        let value = |k: usize| if k < m { x[k * stride + offset] } else { 0.0 };
+        let (first, second) = ws.packed.split_at_mut(self.plan.h);
+        let half = first.len() / 2;
+        let (first_low, first_high) = first.split_at_mut(half);
+        let (second_low, second_high) = second.split_at_mut(half);
+        // z_{2i} = x_{4i} + i x_{4i+1} into the first half, z_{2i+1} into the second, as
+        // `load` writes them, for `i` from `start`.
+        let fill = |first: &mut [Complex<f64>], second: &mut [Complex<f64>], start: usize| {
+            for (i, (e, o)) in first.iter_mut().zip(second).enumerate() {
+                let k = 4 * (start + i);
+                *e = Complex::new(value(k), value(k + 1));
+                *o = Complex::new(value(k + 2), value(k + 3));
+            }
+        };
+        plan::both(
+            || fill(first_low, second_low, 0),
+            || fill(first_high, second_high, half),
+        );
+        self.mul_loaded(transpose, ws);
+        // y_{2j} = Re, y_{2j+1} = −Im of the packed result, for the pairs `j` from `start`,
+        // into a part of `x` that begins at entry `2 start`.
+        let (plan, spectrum) = (&self.plan, &ws.spectrum);
+        let read = |part: &mut [f64], start: usize, end: usize| {
+            let base = 2 * start * stride;
+            for j in start..end {
+                let z = plan.entry(spectrum, j);
+                part[2 * j * stride + offset - base] = z.re;
+                if 2 * j + 1 < m {
+                    part[(2 * j + 1) * stride + offset - base] = -z.im;
+                }
+            }
+        };
+        let pairs = m.div_ceil(2);
+        let middle = pairs / 2;
+        let (low, high) = x.split_at_mut(2 * middle * stride);
+        plan::both(|| read(low, 0, middle), || read(high, middle, pairs));
+    }
+
     /// `packed` → `spectrum` by the forward FFT, left as its halves ([`Plan::forward`];
     /// `packed` is destroyed).
     fn transform_forward(&self, ws: &mut Workspace) {
@@ -517,6 +586,48 @@ mod tests {
                         .zip(&want)
                         .all(|(a, b)| a.to_bits() == b.to_bits())
                 );
+            }
+        }
+    }
+
+    /// The strided product in place is the product of the one strided vector, bit for bit,
+    /// and leaves the other interleaved vectors alone, whole and split (where its loading and
+    /// reading run in two halves), for odd and even orders and numbers of pairs.
+    #[test]
+    fn strided_products_in_place_are_the_products() {
+        for m in [
+            1usize,
+            2,
+            3,
+            5,
+            16,
+            17,
+            100,
+            4 * SPLIT_FROM + 1,
+            4 * SPLIT_FROM + 3,
+        ] {
+            let c: Vec<f64> = (0..m).map(|r| 1.0 / (1.0 + r as f64).powf(1.3)).collect();
+            let t = TriangularToeplitz::new(&c);
+            let mut ws = Workspace::new(&t);
+            for (stride, offset) in [(1, 0), (3, 0), (3, 2)] {
+                let all: Vec<f64> = (0..m * stride)
+                    .map(|i| ((i * 7 + 2) as f64).sin())
+                    .collect();
+                let x: Vec<f64> = (0..m).map(|k| all[k * stride + offset]).collect();
+                for transpose in [false, true] {
+                    let mut want = vec![0.0; m];
+                    t.mul(transpose, &mut ws, &x, &mut want);
+                    let mut got = all.clone();
+                    t.mul_strided_in_place(transpose, &mut ws, &mut got, (stride, offset));
+                    for (i, (g, a)) in got.iter().zip(&all).enumerate() {
+                        let expected = if i % stride == offset {
+                            want[i / stride]
+                        } else {
+                            *a
+                        };
+                        assert_eq!(g.to_bits(), expected.to_bits(), "m = {m}, entry {i}");
+                    }
+                }
             }
         }
     }

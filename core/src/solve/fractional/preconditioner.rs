@@ -229,9 +229,7 @@ impl<'a, const D: usize> Preconditioner<'a, D> {
     /// `x ↦ Gᵀ x` (transpose) or `G x` in place on `x`, one real product per component.
     fn mul_inverse_in_place(&self, transpose: bool, x: &mut [f64], ws: &mut Workspace) {
         for a in 0..D {
-            self.inverse.load(ws, |j| x[j * D + a]);
-            self.inverse.mul_loaded(transpose, ws);
-            self.inverse.store(ws, |j, v| x[j * D + a] = v);
+            self.inverse.mul_strided_in_place(transpose, ws, x, (D, a));
         }
     }
 
