@@ -6,7 +6,7 @@
 
 use crate::discretisation::Discretisation;
 use crate::error::{Error, Location, Result, check_len};
-use crate::lagrangian::{Lagrangian, Vector};
+use crate::lagrangian::{Hessian, Lagrangian, Vector};
 use crate::regularity::{
     check_constants, check_vv, hessian_in_domain, kinetic_in_domain, pivot_range,
 };
@@ -54,16 +54,19 @@ pub(crate) fn check_nodes<L: Lagrangian<D> + ?Sized, const D: usize>(
     guess: bool,
 ) -> Result<()> {
     let v = disc.velocity(q)?;
-    check_nodes_with(disc, q, |i| v[i], guess)
+    check_nodes_with(disc, q, |i| v[i], guess, |_, _| {})
 }
 
 /// [`check_nodes`] with the velocities `v(i)` of the quadrature rows (entry `i` is the `i`-th
-/// row of `I_σ`) already at hand.
+/// row of `I_σ`) already at hand; `keep(i, hessian)` is handed each row's second derivatives
+/// as they are evaluated (for a solver whose first linearisation reads them at the same
+/// point).
 pub(crate) fn check_nodes_with<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     q: &[Vector<D>],
     v: impl Fn(usize) -> Vector<D>,
     guess: bool,
+    mut keep: impl FnMut(usize, &Hessian<D>),
 ) -> Result<()> {
     let (grid, lagrangian) = (disc.grid(), disc.lagrangian());
     let rows = disc.embedding().quadrature_rows(grid.n());
@@ -93,6 +96,7 @@ pub(crate) fn check_nodes_with<L: Lagrangian<D> + ?Sized, const D: usize>(
         } else {
             lagrangian.hessian(&q[k], vk, t)
         };
+        keep(i, &hs);
         blocks.push(hs.vv);
     }
     let reference = blocks

@@ -239,8 +239,13 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
         let mut e = Evaluation::from_buffers(n, buffers);
         velocities(self.disc, &mut self.system, q, iteration, &mut e)?;
         if std::mem::take(&mut self.guess_unchecked) {
-            // The input checks' part on the nodes, with the velocities just computed.
-            check_nodes_with(self.disc, q, |i| block(&e.v, i), true)?;
+            // The input checks' part on the nodes, with the velocities just computed; their
+            // second derivatives are those of the first linearisation, at the same iterate.
+            let system = &mut self.system;
+            let keep = |i, h: &_| {
+                system.keep_hessian(i, h);
+            };
+            check_nodes_with(self.disc, q, |i| block(&e.v, i), true, keep)?;
         }
         residual(self.disc, &mut self.system, q, iteration, &mut e)?;
         let (res, merit) = (e.max_norm(), e.two_norm());
@@ -267,7 +272,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
         // what it uses): freed before the checks allocate, so that they add nothing to the
         // peak.
         self.work = MinresWork::default();
-        check_nodes_with(self.disc, &c.q, |i| block(&c.evaluation.v, i), false)?;
+        let v = |i| block(&c.evaluation.v, i);
+        check_nodes_with(self.disc, &c.q, v, false, |_, _| {})?;
         let mut warnings = Vec::new();
         if self.options.posedness_check {
             // Past its grid the check runs on a coarser one first (`posedness`), and decides

@@ -10,7 +10,7 @@ use super::row_blocks::RowBlocks;
 use crate::discretisation::Discretisation;
 use crate::error::{Error, Location, Result};
 use crate::fft_operator::FftOperator;
-use crate::lagrangian::{Lagrangian, Matrix, Vector};
+use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
 use crate::linalg::{add_to_block, block, set_block, zeroed};
 use crate::operator::Operator;
 use crate::solve::krylov::KrylovSystem;
@@ -56,6 +56,9 @@ pub(super) struct FastSystem<'a, const D: usize> {
     pub(super) plain: bool,
     /// Whether some `L_xv` block is non-zero at the last linearisation.
     mixed: bool,
+    /// Whether the Hessians held were set by [`keep_hessian`](Self::keep_hessian) for the
+    /// next linearisation, which then does not evaluate them again.
+    kept: bool,
 }
 
 impl<'a, const D: usize> FastSystem<'a, D> {
@@ -83,6 +86,7 @@ impl<'a, const D: usize> FastSystem<'a, D> {
             columns,
             plain: false,
             mixed: true,
+            kept: false,
         }
     }
 
@@ -130,30 +134,49 @@ impl<'a, const D: usize> FastSystem<'a, D> {
         at: Location,
     ) -> Result<()> {
         let (lagrangian, grid) = (disc.lagrangian(), disc.grid());
-        let n = grid.n();
-        for i in 0..n {
-            let k = i + self.first_row;
-            let mut h = lagrangian.hessian(&q[k], &block(v, i), grid.t(k));
-            // At the fixed end node only L_vv acts on the unknowns (through D); its L_xx and
-            // L_xv multiply that node's zero correction or feed a row no one solves, and may be
-            // infinite there (a forcing singular at that end).
-            if !(1..n).contains(&k) {
-                h.xx = Matrix::<D>::zeros();
-                h.xv = Matrix::<D>::zeros();
+        if !std::mem::take(&mut self.kept) {
+            for i in 0..grid.n() {
+                let k = i + self.first_row;
+                let h = lagrangian.hessian(&q[k], &block(v, i), grid.t(k));
+                if !self.set_hessian(i, h) {
+                    return Err(Error::NotFinite { at });
+                }
             }
-            let finite = h.xx.iter().chain(h.xv.iter()).chain(h.vv.iter());
-            if !finite.into_iter().all(|c| c.is_finite()) {
-                return Err(Error::NotFinite { at });
-            }
-            self.xx.set(i, h.xx);
-            self.xv.set(i, h.xv);
-            self.vv.set(i, h.vv);
         }
         let zero = Matrix::<D>::zeros();
         self.mixed = self.xv.distinct().iter().any(|xv| *xv != zero);
         let ws = self.velocity.workspace_mut();
         self.preconditioner.update(&self.vv, self.first_row, ws);
         Ok(())
+    }
+
+    /// Row `i`'s second derivatives, evaluated at the iterate and velocities the next
+    /// [`linearize`](Self::linearize) is called with (the input checks' at the guess), which
+    /// then reads them instead of evaluating them again; rows are handed in order from 0.
+    /// `false` where a block is not finite: nothing is kept then.
+    pub(super) fn keep_hessian(&mut self, i: usize, h: &Hessian<D>) -> bool {
+        self.kept = self.set_hessian(i, *h) && (i == 0 || self.kept);
+        self.kept
+    }
+
+    /// Sets row `i`'s blocks; `false` (the blocks left as they were) where one is not finite.
+    fn set_hessian(&mut self, i: usize, mut h: Hessian<D>) -> bool {
+        // At the fixed end node only L_vv acts on the unknowns (through D); its L_xx and L_xv
+        // multiply that node's zero correction or feed a row no one solves, and may be
+        // infinite there (a forcing singular at that end).
+        let k = i + self.first_row;
+        if !(1..self.n).contains(&k) {
+            h.xx = Matrix::<D>::zeros();
+            h.xv = Matrix::<D>::zeros();
+        }
+        let finite = h.xx.iter().chain(h.xv.iter()).chain(h.vv.iter());
+        if !finite.into_iter().all(|c| c.is_finite()) {
+            return false;
+        }
+        self.xx.set(i, h.xx);
+        self.xv.set(i, h.xv);
+        self.vv.set(i, h.vv);
+        true
     }
 
     /// Whether the Krylov solver's products form `a = D x` on the rows: all but those that take

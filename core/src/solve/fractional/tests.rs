@@ -107,6 +107,58 @@ fn matrix_free_jacobian_and_residual_match_the_dense_ones() {
     }
 }
 
+/// The guess's input checks hand its second derivatives to the first linearisation, which
+/// reads them instead of evaluating them again: it holds the same blocks on every row, and
+/// gives the same Jacobian products, as a linearisation that evaluates them (both sides, the
+/// paper's and the corrected operators, `L_xv ≠ 0` and an `L_vv` that varies along the curve).
+#[test]
+fn hessians_kept_by_the_checks_are_the_linearisations() {
+    let n = 13;
+    let grid = Grid::new(0.2, 1.5, n).unwrap();
+    let q = curve(n);
+    for side in [Side::Backward, Side::Forward] {
+        for embedding in [
+            Embedding::grunwald_letnikov(side, 0.6).unwrap(),
+            Embedding::corrected_grunwald_letnikov(side, 0.6).unwrap(),
+        ] {
+            let disc = Discretisation::new(&Mixed, grid, embedding);
+            let mut fft = FftOperator::new(disc.velocity_operator());
+            let (mut evaluated, _) = linearized(&disc, &mut fft, &q);
+            let mut other_fft = FftOperator::new(disc.velocity_operator());
+            let (velocity, adjoint) = (disc.velocity_operator(), disc.adjoint_operator());
+            let columns = EndColumns::new(Scheme::Variational, velocity, adjoint);
+            let mut kept = FastSystem::<2>::new(velocity, columns, &mut other_fft);
+            let mut eval = Evaluation::new(n);
+            evaluate(&disc, &mut kept, &q, 0, &mut eval).unwrap();
+            let keep = |i, h: &Hessian<2>| assert!(kept.keep_hessian(i, h), "row {i}");
+            check_nodes_with(&disc, &q, |i| block(&eval.v, i), true, keep).unwrap();
+            // A curve far from `q`: a linearisation that evaluated its Hessians would differ.
+            let elsewhere: Vec<Vector<2>> = q.iter().map(|x| x * 3.0).collect();
+            kept.linearize(&disc, &elsewhere, &eval.v, Location::Newton(0))
+                .unwrap();
+            for i in 0..n {
+                for (a, b) in [
+                    (kept.xx.get(i), evaluated.xx.get(i)),
+                    (kept.xv.get(i), evaluated.xv.get(i)),
+                    (kept.vv.get(i), evaluated.vv.get(i)),
+                ] {
+                    assert_eq!(a, b, "{embedding}: row {i}");
+                }
+            }
+            let m = (n - 1) * 2;
+            let x: Vec<f64> = (0..m).map(|i| ((5 * i + 2) as f64).cos()).collect();
+            let (mut y_kept, mut y_evaluated) = (vec![0.0; m], vec![0.0; m]);
+            kept.apply(&x, &mut y_kept);
+            evaluated.apply(&x, &mut y_evaluated);
+            assert_eq!(y_kept, y_evaluated, "{embedding}");
+            // Kept once: the next linearisation evaluates them again, at its own iterate.
+            kept.linearize(&disc, &elsewhere, &eval.v, Location::Newton(1))
+                .unwrap();
+            assert_ne!(kept.vv.get(3), evaluated.vv.get(3), "{embedding}");
+        }
+    }
+}
+
 /// `L = ½(1 + t)(v₀² + v₀v₁ + v₁²) + cos x₀ + x₀x₁`: every `L_xv` zero, `L_vv` varying
 /// along the grid, `L_xx` coupling the components.
 struct Unmixed;
