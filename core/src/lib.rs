@@ -198,6 +198,7 @@ mod fft_operator;
 mod force;
 mod gauss_legendre;
 mod grid;
+mod halves;
 mod interval;
 mod lagrangian;
 mod linalg;

@@ -53,6 +53,7 @@
 
 mod plan;
 
+use crate::halves::both;
 use plan::Plan;
 pub use plan::SPLIT_FROM;
 use rustfft::num_complex::Complex;
@@ -303,7 +304,7 @@ impl TriangularToeplitz {
         };
         if plan.split {
             let (even, odd) = w.split_at_mut(plan.h);
-            plan::both(|| pass(Some(0), even), || pass(Some(1), odd));
+            both(|| pass(Some(0), even), || pass(Some(1), odd));
         } else {
             pass(None, w);
         }
@@ -385,7 +386,7 @@ impl TriangularToeplitz {
                 *o = Complex::new(value(k + 2), value(k + 3));
             }
         };
-        plan::both(
+        both(
             || fill(first_low, second_low, 0),
             || fill(first_high, second_high, half),
         );
@@ -406,7 +407,7 @@ impl TriangularToeplitz {
         let pairs = m.div_ceil(2);
         let middle = pairs / 2;
         let (low, high) = x.split_at_mut(2 * middle * stride);
-        plan::both(|| read(low, 0, middle), || read(high, middle, pairs));
+        both(|| read(low, 0, middle), || read(high, middle, pairs));
     }
 
     /// `packed` → `spectrum` by the forward FFT, left as its halves ([`Plan::forward`];

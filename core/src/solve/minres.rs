@@ -43,6 +43,7 @@
 //! Krylov subspace method for indefinite or singular symmetric systems*, SIAM J. Sci. Comput.
 //! 33 (2011), §2.
 
+use crate::halves;
 use crate::linalg::zeroed;
 use crate::solve::krylov::{KrylovFailure, KrylovOptions, KrylovStats, KrylovSystem};
 use nalgebra::{DMatrix, SymmetricEigen};
@@ -199,35 +200,53 @@ pub(crate) fn minres_in(
             relative_residual,
         };
         let inverse = 1.0 / gamma;
-        z.iter_mut().for_each(|zi| *zi *= inverse);
+        halves::each((n, 1), &mut z[..], |_, z| {
+            z.iter_mut().for_each(|x| *x *= inverse)
+        });
         z_image.iter_mut().for_each(|zi| *zi *= inverse);
         // z = (scale/γ) M v: a system that inverts part of A exactly uses v.
         system.apply_preconditioned(z, z_image, v, scale * inverse, az);
         // One sweep for the unscaling and the dot product (at N = 10⁷ each sweep over a
         // vector is milliseconds of memory traffic).
-        let delta = az.iter_mut().zip(z.iter()).fold(0.0, |sum, (x, zi)| {
-            *x /= scale;
-            sum + *x * zi
+        let delta = halves::sum((n, 1), (&mut az[..], &z[..]), |_, (az, z)| {
+            az.iter_mut().zip(z).fold(0.0, |sum, (x, zi)| {
+                *x /= scale;
+                sum + *x * zi
+            })
         });
         // v_{j+1} into v_old's storage, then the two swap places.
         let (a, b_coef) = (delta / gamma, gamma / gamma_old);
-        for i in 0..n {
-            v_old[i] = az[i] - a * v[i] - b_coef * v_old[i];
-        }
+        halves::each(
+            (n, 1),
+            (&mut v_old[..], &az[..], &v[..]),
+            |_, (v_old, az, v)| {
+                for ((v_old, az), v) in v_old.iter_mut().zip(az).zip(v) {
+                    *v_old = az - a * v - b_coef * *v_old;
+                }
+            },
+        );
         std::mem::swap(&mut v, &mut v_old);
         // The new column of T_k rotated by the previous two Givens rotations, then its own;
         // α₂ and α₃ are known before γ_{j+1}, so w_{j+1}'s numerator
         // z_j − α₃ w_{j−1} − α₂ w_j goes into w_old's storage now, and z_{j+1} into z's.
         let alpha2 = s * delta + c_old * c * gamma;
         let alpha3 = s_old * gamma;
-        for i in 0..n {
-            w_old[i] = z[i] - alpha3 * w_old[i] - alpha2 * w[i];
-        }
+        halves::each(
+            (n, 1),
+            (&mut w_old[..], &z[..], &w[..]),
+            |_, (w_old, z, w)| {
+                for ((w_old, z), w) in w_old.iter_mut().zip(z).zip(w) {
+                    *w_old = z - alpha3 * *w_old - alpha2 * w;
+                }
+            },
+        );
         system.precondition_with_image(v, z, z_image);
         z_image.iter_mut().for_each(|x| *x *= scale);
-        let gamma_next_sq = z.iter_mut().zip(v.iter()).fold(0.0, |sum, (x, vi)| {
-            *x *= scale;
-            sum + *x * vi
+        let gamma_next_sq = halves::sum((n, 1), (&mut z[..], &v[..]), |_, (z, v)| {
+            z.iter_mut().zip(v).fold(0.0, |sum, (x, vi)| {
+                *x *= scale;
+                sum + *x * vi
+            })
         });
         if !(gamma_next_sq >= 0.0 && gamma_next_sq.is_finite() && delta.is_finite()) {
             return Err(breakdown(relative));
@@ -248,13 +267,17 @@ pub(crate) fn minres_in(
         // φ̄_{j+1} c_{j+1} / γ_{j+1} = −η c_new / α₁.
         let step = c_new * eta;
         let (s2, v_coef) = (s_new * s_new, eta * c_new / alpha1);
-        let mut r_sq = 0.0;
-        for i in 0..n {
-            w_old[i] /= alpha1;
-            x[i] += step * w_old[i];
-            r[i] = s2 * r[i] - v_coef * v[i];
-            r_sq += r[i] * r[i];
-        }
+        let parts = (&mut w_old[..], &mut x[..], &mut r[..], &v[..]);
+        let r_sq = halves::sum((n, 1), parts, |_, (w_old, x, r, v)| {
+            let mut r_sq = 0.0;
+            for (((w_old, x), r), v) in w_old.iter_mut().zip(x).zip(r).zip(v) {
+                *w_old /= alpha1;
+                *x += step * *w_old;
+                *r = s2 * *r - v_coef * v;
+                r_sq += *r * *r;
+            }
+            r_sq
+        });
         std::mem::swap(&mut w, &mut w_old);
         eta *= -s_new;
         (c_old, c, s_old, s) = (c, c_new, s, s_new);

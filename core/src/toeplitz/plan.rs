@@ -2,6 +2,7 @@
 //! [`SPLIT_FROM`] on, two of length `K/2` on two threads, combined by one radix-2 step as the
 //! entries are written and read (the parent module's docs, "Two halves, two cores").
 
+use crate::halves::both;
 use rustfft::num_complex::Complex;
 use rustfft::{Fft, FftPlanner};
 use std::sync::Arc;
@@ -56,17 +57,6 @@ impl Twiddles {
     #[inline(always)]
     pub(super) fn get(&self, m: usize) -> Complex<f64> {
         self.coarse[m >> self.shift] * self.fine[m & ((1 << self.shift) - 1)]
-    }
-}
-
-/// Runs `a` and `b`, on two threads with the `parallel` feature (rayon's `join`).
-pub(super) fn both(a: impl FnOnce() + Send, b: impl FnOnce() + Send) {
-    #[cfg(feature = "parallel")]
-    rayon::join(a, b);
-    #[cfg(not(feature = "parallel"))]
-    {
-        a();
-        b();
     }
 }
 

@@ -54,6 +54,7 @@
 
 use super::row_blocks::RowBlocks;
 use crate::fft_operator::FftOperator;
+use crate::halves;
 use crate::lagrangian::{Matrix, Vector};
 use crate::linalg::{block, set_block};
 use crate::operator::Operator;
@@ -248,26 +249,36 @@ impl<'a, const D: usize> Preconditioner<'a, D> {
         z.copy_from_slice(r);
         self.mul_inverse_in_place(first_transposed, z, ws);
         let s2 = 1.0 / (self.scale * self.scale);
-        for j in 0..m {
-            let middle = self.vv_inverse.get(j) * block::<D>(z, j) * s2;
-            set_block(z, j, &middle);
-        }
+        let vv_inverse = &self.vv_inverse;
+        halves::each((m, D), &mut z[..], |first, z| {
+            for j in 0..z.len() / D {
+                let middle = vv_inverse.get(first + j) * block::<D>(z, j) * s2;
+                set_block(z, j, &middle);
+            }
+        });
         if let Some(image) = image.as_deref_mut() {
             let factor = -self.side.sign() * self.scale;
-            for (i, x) in image.iter_mut().zip(z.iter()) {
-                *i = x * factor;
-            }
+            halves::each((m, D), (&mut image[..], &z[..]), |_, (image, z)| {
+                for (i, x) in image.iter_mut().zip(z) {
+                    *i = x * factor;
+                }
+            });
         }
         self.mul_inverse_in_place(!first_transposed, z, ws);
         if let Some(corr) = &self.correction {
-            let mut ez = Vector::<D>::zeros();
-            for p in 0..m {
-                ez += block::<D>(z, p) * self.extra(p);
-            }
+            let ez = halves::sum((m, D), &z[..], |first, z| {
+                let mut ez = Vector::<D>::zeros();
+                for p in 0..z.len() / D {
+                    ez += block::<D>(z, p) * self.extra(first + p);
+                }
+                ez
+            });
             let c = corr.k * ez;
-            for j in 0..m {
-                set_block(z, j, &(block::<D>(z, j) - corr.u[j] * c));
-            }
+            halves::each((m, D), &mut z[..], |first, z| {
+                for j in 0..z.len() / D {
+                    set_block(z, j, &(block::<D>(z, j) - corr.u[first + j] * c));
+                }
+            });
             if let Some(image) = image {
                 let mut extra_solved = self.extra_solved();
                 for j in self.walk() {

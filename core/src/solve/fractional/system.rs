@@ -10,6 +10,7 @@ use super::row_blocks::RowBlocks;
 use crate::discretisation::Discretisation;
 use crate::error::{Error, Location, Result};
 use crate::fft_operator::FftOperator;
+use crate::halves;
 use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
 use crate::linalg::{add_to_block, block, set_block, zeroed};
 use crate::operator::Operator;
@@ -216,11 +217,15 @@ impl<'a, const D: usize> FastSystem<'a, D> {
     ) {
         let n = self.n;
         if let Some((r, factor)) = kinetic.filter(|_| !self.mixed) {
-            for j in 1..n {
-                let xx = self.xx.get(j - self.first_row);
-                let v = block::<D>(r, j - 1) * factor + xx * block::<D>(x, j - 1);
-                set_block(y, j - 1, &v);
-            }
+            // Row j − 1 of the unknowns is node j, whose Hessians are at j − first_row.
+            let (xx, shift) = (&self.xx, 1 - self.first_row);
+            halves::each((n - 1, D), (&mut y[..], r, x), |first, (y, r, x)| {
+                for i in 0..y.len() / D {
+                    let xx = xx.get(first + i + shift);
+                    let v = block::<D>(r, i) * factor + xx * block::<D>(x, i);
+                    set_block(y, i, &v);
+                }
+            });
             return;
         }
         if self.rows.len() != n * D {
