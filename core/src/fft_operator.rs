@@ -37,7 +37,7 @@ use crate::lagrangian::Vector;
 use crate::operator::Operator;
 use crate::side::Side;
 use crate::toeplitz::{TriangularToeplitz, Workspace};
-use crate::weights::{InverseWeights, grunwald_letnikov_inverse};
+use crate::weights::InverseWeights;
 
 /// `Δ_σ` or `Δ^α_σ` (an `N × (N + 1)` matrix) with products by FFT.
 #[derive(Clone, Debug)]
@@ -59,11 +59,9 @@ impl FftOperator {
     /// discretisation's evaluations) add them beside its products.
     pub fn new(op: &Operator) -> Self {
         let n = op.rows().count();
-        let mut column = vec![0.0; n + 1];
-        for (c, w) in column.iter_mut().zip(op.weights()) {
-            *c = *w;
-        }
-        let (toeplitz, ws) = TriangularToeplitz::with_workspace(&column);
+        let weights = op.weights();
+        let column = |r: usize| weights.get(r).copied().unwrap_or(0.0);
+        let (toeplitz, ws) = TriangularToeplitz::with_workspace_from(n + 1, column);
         FftOperator {
             side: op.side(),
             n,
@@ -80,10 +78,16 @@ impl FftOperator {
         self.n
     }
 
-    /// A Toeplitz matrix of the first column `column` sharing this operator's plans and
-    /// workspace ([`TriangularToeplitz::with_same_plans`]).
-    pub(crate) fn with_same_plans(&mut self, column: &[f64]) -> TriangularToeplitz {
-        self.toeplitz.with_same_plans(column, &mut self.ws)
+    /// The Toeplitz matrix of order `order` whose first column has entry `r` = `column(r)`
+    /// (asked for with `r` increasing, so a column computed as it is read is never kept),
+    /// sharing this operator's plans and workspace ([`TriangularToeplitz::with_same_plans`]).
+    pub(crate) fn with_same_plans_from(
+        &mut self,
+        order: usize,
+        column: impl FnMut(usize) -> f64,
+    ) -> TriangularToeplitz {
+        self.toeplitz
+            .with_same_plans_from(order, column, &mut self.ws)
     }
 
     /// The buffers of the products, to share with other matrices of the same FFT length.
@@ -186,7 +190,8 @@ impl FftOperator {
         let (n, s, beta) = (self.n, self.scale, 1.0 - self.alpha);
         let (toeplitz, ws) = (&self.toeplitz, &mut self.ws);
         let t = self.differences.get_or_insert_with(|| {
-            toeplitz.with_same_plans(&grunwald_letnikov_inverse(beta, n + 1), ws)
+            let mut weights = InverseWeights::new(beta);
+            toeplitz.with_same_plans_from(n + 1, |r| weights.at(r), ws)
         });
         // g'_r for r = 0, 1, 2, … in turn (`InverseWeights`), as the products are read: a row
         // reads g'_r once, and the rows are read in the order that walks r upwards, so the

@@ -151,9 +151,19 @@ impl TriangularToeplitz {
     /// products: a workspace of a long matrix is hundreds of megabytes, which a second one
     /// would fault in and clear again.
     pub fn with_workspace(column: &[f64]) -> (Self, Workspace) {
-        let plan = Plan::new(fft_len(column.len()) / 2);
+        Self::with_workspace_from(column.len(), |r| column[r])
+    }
+
+    /// [`with_workspace`](Self::with_workspace) of the column of order `order` whose entry
+    /// `r` is `column(r)`, asked for once each with `r` increasing (a column computed by a
+    /// recurrence as it is read is never kept: at `N = 10⁷` a column is 80 MB).
+    pub(crate) fn with_workspace_from(
+        order: usize,
+        column: impl FnMut(usize) -> f64,
+    ) -> (Self, Workspace) {
+        let plan = Plan::new(fft_len(order) / 2);
         let mut ws = Workspace::for_plan(&plan);
-        let matrix = Self::with_plan(column, Arc::new(plan), &mut ws);
+        let matrix = Self::with_plan((order, column), Arc::new(plan), &mut ws);
         (matrix, ws)
     }
 
@@ -165,18 +175,34 @@ impl TriangularToeplitz {
     /// If `column` is longer than half the FFT length, or `ws` is of another length (an
     /// internal misuse, never user input).
     pub fn with_same_plans(&self, column: &[f64], ws: &mut Workspace) -> Self {
-        assert!(2 * column.len() <= self.fft_len(), "column too long");
-        Self::with_plan(column, self.plan.clone(), ws)
+        self.with_same_plans_from(column.len(), |r| column[r], ws)
     }
 
-    fn with_plan(column: &[f64], plan: Arc<Plan>, ws: &mut Workspace) -> Self {
+    /// [`with_same_plans`](Self::with_same_plans) of the column of order `order` whose entry
+    /// `r` is `column(r)`, asked for as [`with_workspace_from`](Self::with_workspace_from)
+    /// asks.
+    pub(crate) fn with_same_plans_from(
+        &self,
+        order: usize,
+        column: impl FnMut(usize) -> f64,
+        ws: &mut Workspace,
+    ) -> Self {
+        assert!(2 * order <= self.fft_len(), "column too long");
+        Self::with_plan((order, column), self.plan.clone(), ws)
+    }
+
+    fn with_plan(
+        (order, column): (usize, impl FnMut(usize) -> f64),
+        plan: Arc<Plan>,
+        ws: &mut Workspace,
+    ) -> Self {
         let k = plan.len();
         let mut matrix = TriangularToeplitz {
-            order: column.len(),
+            order,
             spectrum: Vec::new(),
             plan,
         };
-        matrix.load(ws, |r| column[r]);
+        matrix.load(ws, column);
         matrix.transform_forward(ws);
         let inv_len = 1.0 / (2 * k) as f64;
         let mut spectrum = vec![Complex::new(0.0, 0.0); k + 1];

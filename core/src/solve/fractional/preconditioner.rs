@@ -60,7 +60,7 @@ use crate::linalg::{block, set_block};
 use crate::operator::Operator;
 use crate::side::Side;
 use crate::toeplitz::{TriangularToeplitz, Workspace};
-use crate::weights::{InverseWeights, grunwald_letnikov_inverse};
+use crate::weights::InverseWeights;
 
 /// `P'⁻¹ = P⁻¹ − U K (E P⁻¹)` for `P' = P + Eᵀ H_e E` (Woodbury), `E` the extra row of `D`
 /// (`e_j I` blocks), `H_e` its `L_vv`: `U = P⁻¹ Eᵀ` (blocks `u_j`), `K = (I + H_e E U)⁻¹ H_e`.
@@ -114,9 +114,9 @@ impl<'a, const D: usize> Preconditioner<'a, D> {
     pub(super) fn new(velocity: &'a Operator, fft: &mut FftOperator) -> Self {
         let n = fft.n();
         // g_0..g_{N−2}, the first column of G (order N − 1).
-        let g_all = grunwald_letnikov_inverse(velocity.alpha(), n - 1);
         let side = velocity.side();
-        let inverse = fft.with_same_plans(&g_all);
+        let mut g = InverseWeights::new(velocity.alpha());
+        let inverse = fft.with_same_plans_from(n - 1, |r| g.at(r));
         Preconditioner {
             n,
             side,
