@@ -248,7 +248,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
             check_nodes_with(self.disc, q, |i| block(&e.v, i), true, keep)?;
         }
         residual(self.disc, &mut self.system, q, iteration, &mut e)?;
-        let (res, merit) = (e.max_norm(), e.two_norm());
+        let (res, merit) = e.norms();
         Ok((e, res, merit))
     }
 
