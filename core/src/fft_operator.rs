@@ -22,7 +22,8 @@
 //! differences instead, which are `h` times smaller than its nodes:
 //! the generating function of the weights factors as `(1 − z)^α = (1 − z)^{α−1} (1 − z)`, so
 //! `T = T' B` with `B` the first difference and `T'` the Toeplitz matrix of the weights of
-//! `(1 − z)^{α−1}` ([`grunwald_letnikov_inverse`] at `1 − α`), and
+//! `(1 − z)^{α−1}` ([`grunwald_letnikov_inverse`](crate::weights::grunwald_letnikov_inverse)
+//! at `1 − α`), and
 //!
 //! - `(T Q)_k = g'_k Q_0 + (T' d)_k`, `d_0 = 0`, `d_k = Q_k − Q_{k−1}`;
 //! - `(Tᵀ Q)_k = g'_{N−k} Q_N + (T'ᵀ d)_k`, `d_N = 0`, `d_k = Q_k − Q_{k+1}`.

@@ -28,17 +28,26 @@ pub(crate) fn both<A: Send, B: Send>(
 pub(crate) trait Split: Sized + Send {
     /// The parts before and from entry `at`.
     fn split(self, at: usize) -> (Self, Self);
+
+    /// Whether every slice holds `len` entries.
+    fn all_of_len(&self, len: usize) -> bool;
 }
 
 impl Split for &mut [f64] {
     fn split(self, at: usize) -> (Self, Self) {
         self.split_at_mut(at)
     }
+    fn all_of_len(&self, len: usize) -> bool {
+        self.len() == len
+    }
 }
 
 impl Split for &[f64] {
     fn split(self, at: usize) -> (Self, Self) {
         self.split_at(at)
+    }
+    fn all_of_len(&self, len: usize) -> bool {
+        self.len() == len
     }
 }
 
@@ -47,12 +56,18 @@ impl<A: Split, B: Split> Split for (A, B) {
         let ((a0, a1), (b0, b1)) = (self.0.split(at), self.1.split(at));
         ((a0, b0), (a1, b1))
     }
+    fn all_of_len(&self, len: usize) -> bool {
+        self.0.all_of_len(len) && self.1.all_of_len(len)
+    }
 }
 
 impl<A: Split, B: Split, C: Split> Split for (A, B, C) {
     fn split(self, at: usize) -> (Self, Self) {
         let ((a0, a1), ((b0, c0), (b1, c1))) = (self.0.split(at), (self.1, self.2).split(at));
         ((a0, b0, c0), (a1, b1, c1))
+    }
+    fn all_of_len(&self, len: usize) -> bool {
+        self.0.all_of_len(len) && self.1.all_of_len(len) && self.2.all_of_len(len)
     }
 }
 
@@ -61,6 +76,10 @@ impl<A: Split, B: Split, C: Split, D: Split> Split for (A, B, C, D) {
         let ((a0, a1), ((b0, c0, d0), (b1, c1, d1))) =
             (self.0.split(at), (self.1, self.2, self.3).split(at));
         ((a0, b0, c0, d0), (a1, b1, c1, d1))
+    }
+    fn all_of_len(&self, len: usize) -> bool {
+        let (a, b, c, d) = self;
+        a.all_of_len(len) && b.all_of_len(len) && c.all_of_len(len) && d.all_of_len(len)
     }
 }
 
@@ -73,6 +92,11 @@ pub(crate) fn sum<S: Split, T: Add<Output = T> + Send>(
     parts: S,
     f: impl Fn(usize, S) -> T + Sync,
 ) -> T {
+    // The halves' closures count their blocks by their slices' lengths.
+    debug_assert!(
+        parts.all_of_len(blocks * width),
+        "a slice not of {blocks} blocks"
+    );
     if blocks < FROM {
         return f(0, parts);
     }

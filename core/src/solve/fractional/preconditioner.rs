@@ -10,7 +10,8 @@
 //! `P' = Dᵀ L_vv D = P + Eᵀ H_e E`,  `P = D_aᵀ V D_a`.
 //!
 //! The inverse of `T` is the lower-triangular Toeplitz matrix `G` of the weights
-//! `g_r = Γ(r+α)/(Γ(α) r!)` ([`grunwald_letnikov_inverse`]), so
+//! `g_r = Γ(r+α)/(Γ(α) r!)`
+//! ([`grunwald_letnikov_inverse`](crate::weights::grunwald_letnikov_inverse)), so
 //!
 //! `P⁻¹ = s⁻² G V⁻¹ Gᵀ` (σ = −),  `P⁻¹ = s⁻² Gᵀ V⁻¹ G` (σ = +),
 //!

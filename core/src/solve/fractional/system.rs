@@ -103,7 +103,8 @@ impl<'a, const D: usize> FastSystem<'a, D> {
 
     /// A bound on `‖J‖∞` from the last linearisation: with `‖D‖∞ ≤ 2h^{−α}` (the
     /// Grünwald–Letnikov weights have `Σ|α_r| ≤ 2`),
-    /// `‖J‖∞ ≤ max‖L_xx‖ + 4h^{−α} max‖L_xv‖ + 4h^{−2α} max‖L_vv‖`. Zero before the first one.
+    /// `‖J‖∞ ≤ max‖L_xx‖ + 4h^{−α} max‖L_xv‖ + 4h^{−2α} max‖L_vv‖`, or at the Hessians kept for the
+    /// next one ([`keep_hessian`](Self::keep_hessian)); zero before either.
     /// The starting columns add their row sums to the bounds of `D` and of the momenta's
     /// operator.
     pub(super) fn jacobian_bound(&self) -> f64 {

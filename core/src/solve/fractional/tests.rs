@@ -107,6 +107,49 @@ fn matrix_free_jacobian_and_residual_match_the_dense_ones() {
     }
 }
 
+/// The preconditioner's sweeps and the Jacobian product that takes the kinetic part from it
+/// run in two halves from `halves::FROM` rows on: there, at `d = 2` with an `L_vv` that varies
+/// (its Woodbury term formed anew) and `L_xx` varying along the curve, the product from the
+/// preconditioner's input equals the full product by FFT, which sweeps in one piece, and so
+/// does the product given the preconditioner's image (both sides).
+#[test]
+fn sweeps_in_halves_give_the_products_of_one_piece() {
+    let n = crate::halves::FROM + 7;
+    let grid = Grid::new(0.2, 1.5, n).unwrap();
+    let q = curve(n);
+    for side in [Side::Backward, Side::Forward] {
+        let disc = Discretisation::new(
+            &Unmixed,
+            grid,
+            Embedding::grunwald_letnikov(side, 0.6).unwrap(),
+        );
+        let mut fft = FftOperator::new(disc.velocity_operator());
+        let (mut system, _) = linearized(&disc, &mut fft, &q);
+        assert!(system.kinetic_known() && !system.forms_rows());
+        let m = (n - 1) * 2;
+        let r: Vec<f64> = (0..m).map(|i| ((3 * i + 1) as f64).sin()).collect();
+        let (mut z, mut image) = (vec![0.0; m], vec![0.0; m]);
+        system.precondition_with_image(&r, &mut z, &mut image);
+        let mut want = vec![0.0; m];
+        system.apply(&z, &mut want);
+        let scale = want.iter().fold(0.0f64, |a, y| a.max(y.abs()));
+        let mut from_kinetic = vec![0.0; m];
+        system.apply_preconditioned(&z, &[], &r, 1.0, &mut from_kinetic);
+        let mut from_image = vec![0.0; m];
+        system.apply_with_image(&z, &image, &mut from_image);
+        for (what, got) in [("kinetic", &from_kinetic), ("image", &from_image)] {
+            let error = got
+                .iter()
+                .zip(&want)
+                .fold(0.0f64, |a, (g, w)| a.max((g - w).abs()));
+            assert!(
+                error < 1e-9 * scale,
+                "{side:?} {what}: {error:e} of {scale:e}"
+            );
+        }
+    }
+}
+
 /// The guess's input checks hand its second derivatives to the first linearisation, which
 /// reads them instead of evaluating them again: it holds the same blocks on every row, and
 /// gives the same Jacobian products, as a linearisation that evaluates them (both sides, the

@@ -37,7 +37,8 @@ pub(crate) trait GlobalSystem {
     /// Linearises at `q` for Newton iteration `iteration`: `‖J‖∞`, for the round-off floor; or
     /// an early stop. Where the Jacobian is applied by products and formed only when a
     /// direction needs it (the fractional fast path), this only returns a bound of `‖J‖∞` at
-    /// the last linearisation (0 before the first).
+    /// the last linearisation, or at the second derivatives held for the first (0 before
+    /// either).
     fn linearise(
         &mut self,
         q: &Self::Iterate,
