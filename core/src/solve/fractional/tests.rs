@@ -638,3 +638,48 @@ fn krylov_iterations_stay_flat_as_n_grows() {
         );
     }
 }
+
+/// A solve evaluates the Hessians once a row for the guess's check, once for each Newton
+/// step but the first (whose linearisation reads the check's, at the same iterate), and once
+/// for the solution's check: counted on a pendulum whose `hessian` counts its calls.
+#[test]
+fn a_solve_evaluates_the_guess_hessians_once() {
+    struct Counting {
+        calls: std::cell::Cell<usize>,
+    }
+    impl Lagrangian<1> for Counting {
+        fn value(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
+            0.5 * v[0] * v[0] + x[0].cos()
+        }
+        fn gradient(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
+            (Vector::<1>::new(-x[0].sin()), *v)
+        }
+        fn hessian(&self, x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
+            self.calls.set(self.calls.get() + 1);
+            Hessian {
+                xx: Matrix::<1>::new(-x[0].cos()),
+                xv: Matrix::<1>::zeros(),
+                vv: Matrix::<1>::identity(),
+            }
+        }
+    }
+    let n = 300;
+    let lagrangian = Counting {
+        calls: std::cell::Cell::new(0),
+    };
+    for side in [Side::Backward, Side::Forward] {
+        lagrangian.calls.set(0);
+        let embedding = Embedding::grunwald_letnikov(side, 0.7).unwrap();
+        let problem = crate::Problem::new(&lagrangian, Grid::new(0.0, 1.0, n).unwrap(), embedding)
+            .with_fractional_solver(crate::FractionalSolver::Fast)
+            .with_posedness_check(false);
+        let solution = problem.solve_bvp(Scheme::Variational, 0.0, 1.0).unwrap();
+        assert!(solution.newton_iterations >= 2, "{side:?}");
+        assert_eq!(
+            lagrangian.calls.get(),
+            n * (solution.newton_iterations + 1),
+            "{side:?}: {} Newton steps",
+            solution.newton_iterations
+        );
+    }
+}
