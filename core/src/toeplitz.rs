@@ -355,19 +355,25 @@ impl TriangularToeplitz {
         let pairs = m.div_ceil(2);
         for j in 0..pairs {
             let j = if descending { pairs - 1 - j } else { j };
-            // The packed result is conj(FFT(conj W)): y_{2j} = Re, y_{2j+1} = −Im.
-            let z = self.plan.entry(&ws.spectrum, j);
-            let odd = (2 * j + 1 < m).then_some(-z.im);
+            let (even, odd) = self.result_pair(&ws.spectrum, j);
             if !descending {
-                out(2 * j, z.re);
+                out(2 * j, even);
             }
             if let Some(y) = odd {
                 out(2 * j + 1, y);
             }
             if descending {
-                out(2 * j, z.re);
+                out(2 * j, even);
             }
         }
+    }
+
+    /// The product's entries `y_{2j}` and, below the order, `y_{2j+1}`, from the packed result
+    /// in `spectrum`: it is conj(FFT(conj W)), so `y_{2j} = Re`, `y_{2j+1} = −Im`.
+    #[inline(always)]
+    fn result_pair(&self, spectrum: &[Complex<f64>], j: usize) -> (f64, Option<f64>) {
+        let z = self.plan.entry(spectrum, j);
+        (z.re, (2 * j + 1 < self.order).then_some(-z.im))
     }
 
     /// `T x` (or `Tᵀ x`) in place on the entries `x[k · stride + offset]`, `k = 0..M`, of a
@@ -417,16 +423,15 @@ impl TriangularToeplitz {
             || fill(first_high, second_high, half),
         );
         self.mul_loaded(transpose, ws);
-        // y_{2j} = Re, y_{2j+1} = −Im of the packed result, for the pairs `j` from `start`,
-        // into a part of `x` that begins at entry `2 start`.
-        let (plan, spectrum) = (&self.plan, &ws.spectrum);
+        // The pairs `j` from `start` into a part of `x` that begins at entry `2 start`.
+        let spectrum = &ws.spectrum;
         let read = |part: &mut [f64], start: usize, end: usize| {
             let base = 2 * start * stride;
             for j in start..end {
-                let z = plan.entry(spectrum, j);
-                part[2 * j * stride + offset - base] = z.re;
-                if 2 * j + 1 < m {
-                    part[(2 * j + 1) * stride + offset - base] = -z.im;
+                let (even, odd) = self.result_pair(spectrum, j);
+                part[2 * j * stride + offset - base] = even;
+                if let Some(y) = odd {
+                    part[(2 * j + 1) * stride + offset - base] = y;
                 }
             }
         };
