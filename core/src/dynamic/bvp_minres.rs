@@ -213,16 +213,26 @@ impl KrylovSystem for Preconditioned<'_> {
     fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
         self.preconditioner.solve(r, z);
     }
+    fn apply_preconditioned(
+        &mut self,
+        x: &[f64],
+        _: &[f64],
+        _: (&[f64], f64),
+        onto: (f64, f64),
+        y: &mut [f64],
+    ) {
+        self.matrix.apply_onto(x, onto, y);
+    }
 }
 
 /// Why MINRES gave way, and the products with the Jacobian it had made by then.
 type GaveWay = (String, usize);
 
 /// `J x = b` by MINRES to the relative residual `tolerance`: the products made, or why it
-/// stopped short and the products it made.
+/// stopped short and the products it made. `b`'s storage is taken for MINRES's residual.
 fn solve(
     system: &mut Preconditioned<'_>,
-    (b, x): (&[f64], &mut [f64]),
+    (b, x): (&mut [f64], &mut [f64]),
     tolerance: f64,
     work: &mut MinresWork,
 ) -> std::result::Result<usize, GaveWay> {
@@ -414,7 +424,7 @@ impl<L: DynLagrangian + ?Sized> GlobalSystem for ByMinres<'_, '_, L> {
         let forcing = needed.max(loose).clamp(1e-13, 1e-3);
         self.previous_merit = Some(merit);
         let (mut system, work) = self.system();
-        let used = solve(&mut system, (&e.r, delta), forcing, work);
+        let used = solve(&mut system, (&mut e.r, delta), forcing, work);
         match used {
             Ok(used) => self.products += used,
             Err((reason, used)) => {

@@ -119,13 +119,23 @@ impl SparseRows {
 
     /// `y = A x`.
     pub(crate) fn apply(&self, x: &[f64], y: &mut [f64]) {
+        self.apply_onto(x, (1.0, 0.0), y);
+    }
+
+    /// `y ← c A x + β y` (`y` only written where `β = 0`).
+    pub(crate) fn apply_onto(&self, x: &[f64], (c, beta): (f64, f64), y: &mut [f64]) {
         for (i, y) in y.iter_mut().enumerate() {
             let at = self.row_ptr[i]..self.row_ptr[i + 1];
-            *y = self.col_idx[at.clone()]
+            let ax: f64 = self.col_idx[at.clone()]
                 .iter()
                 .zip(&self.values[at])
                 .map(|(&j, v)| v * x[j])
                 .sum();
+            *y = if beta == 0.0 {
+                c * ax
+            } else {
+                c * ax + beta * *y
+            };
         }
     }
 

@@ -52,20 +52,35 @@ pub trait KrylovSystem {
         let _ = image;
         self.apply(x, y);
     }
-    /// `y = A x` for `x = factor · M r` (the preconditioner's output for `r`, scaled), given
-    /// `image = C x`. A system whose preconditioner is the exact inverse of a part `P` of `A`
-    /// may compute `A x = factor · r + (A − P) x` and spare the products with `P`; the default
-    /// applies `A`.
+    /// `y ← c · A x + β y` for `x = factor · M r` (the preconditioner's output for `r`,
+    /// scaled), given `image = C x` (`y` is only written where `β = 0`). A system whose
+    /// preconditioner is the exact inverse of a part `P` of `A` may compute
+    /// `A x = factor · r + (A − P) x` and spare the products with `P`. MINRES builds its next
+    /// Lanczos vector on `y` this way, with no vector of its own for `A x`; the default applies
+    /// `A` into a vector it allocates (systems of many unknowns override it).
     fn apply_preconditioned(
         &mut self,
         x: &[f64],
         image: &[f64],
-        r: &[f64],
-        factor: f64,
+        (r, factor): (&[f64], f64),
+        (c, beta): (f64, f64),
         y: &mut [f64],
     ) {
         let _ = (r, factor);
-        self.apply_with_image(x, image, y);
+        let mut ax = vec![0.0; y.len()];
+        self.apply_with_image(x, image, &mut ax);
+        scale_onto(&ax, (c, beta), y);
+    }
+}
+
+/// `y ← c a + β y`, with `y` only written where `β = 0` (a NaN there is not read).
+pub(crate) fn scale_onto(a: &[f64], (c, beta): (f64, f64), y: &mut [f64]) {
+    if beta == 0.0 {
+        y.iter_mut().zip(a).for_each(|(y, a)| *y = c * a);
+    } else {
+        y.iter_mut()
+            .zip(a)
+            .for_each(|(y, a)| *y = c * a + beta * *y);
     }
 }
 
@@ -258,7 +273,8 @@ pub fn gmres(
         let mut inner = 0;
         while inner < m && iterations < options.max_iterations {
             system.precondition_with_image(&basis[inner], &mut z, &mut z_image);
-            system.apply_preconditioned(&z, &z_image, &basis[inner], 1.0, &mut w);
+            let preconditioned = (&basis[inner][..], 1.0);
+            system.apply_preconditioned(&z, &z_image, preconditioned, (1.0, 0.0), &mut w);
             iterations += 1;
             let mut h = vec![0.0; inner + 2];
             for (j, v) in basis.iter().enumerate() {

@@ -63,16 +63,15 @@ fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// The vectors of [`minres`], kept by a caller that solves many systems of one size (the
-/// Newton steps of one solve): at `N = 10⁷` unknowns eight fresh vectors cost most of a
-/// gigabyte of page faults and zeroing per solve.
+/// Newton steps of one solve): at `N = 10⁷` unknowns six fresh vectors cost most of a
+/// gigabyte of page faults and zeroing per solve. The residual lives in the caller's
+/// right-hand side, and `A z` in the storage of `v_{j−1}` ([`minres_in`]).
 #[derive(Debug, Default)]
 pub(crate) struct MinresWork {
-    r: Vec<f64>,
     v: Vec<f64>,
     v_old: Vec<f64>,
     z: Vec<f64>,
     z_image: Vec<f64>,
-    az: Vec<f64>,
     w: Vec<f64>,
     w_old: Vec<f64>,
     /// Whether the last solve kept no images: `z_image` then holds no memory, and
@@ -87,11 +86,9 @@ impl MinresWork {
     fn vectors(&mut self) -> impl Iterator<Item = &mut Vec<f64>> {
         let image = (!self.without_images).then_some(&mut self.z_image);
         [
-            &mut self.r,
             &mut self.v,
             &mut self.v_old,
             &mut self.z,
-            &mut self.az,
             &mut self.w,
             &mut self.w_old,
         ]
@@ -128,21 +125,32 @@ pub fn minres(
     options: &KrylovOptions,
     record: Option<&mut Tridiagonal>,
 ) -> Result<KrylovStats, KrylovFailure> {
-    minres_in(system, b, x, options, record, &mut MinresWork::default())
+    let mut r = b.to_vec();
+    minres_in(
+        system,
+        &mut r,
+        x,
+        options,
+        record,
+        &mut MinresWork::default(),
+    )
 }
 
-/// [`minres`] in the vectors of `work`.
+/// [`minres`] in the vectors of `work`, for the right-hand side in `r`, whose storage the
+/// solve takes for its residual (a vector fewer at every Newton step of a large solve). On
+/// return `r` holds the residual of the scaled system, `(b − A x)/s` (`s` below), except
+/// after a [`KrylovFailure::Breakdown`], when it holds `b` again for the solver that takes
+/// over: `s r + A x`, one product (none, and exactly `b`, while `x` is still zero).
 pub(crate) fn minres_in(
     system: &mut impl KrylovSystem,
-    b: &[f64],
+    r: &mut [f64],
     x: &mut [f64],
     options: &KrylovOptions,
-    mut record: Option<&mut Tridiagonal>,
+    record: Option<&mut Tridiagonal>,
     work: &mut MinresWork,
 ) -> Result<KrylovStats, KrylovFailure> {
-    let n = system.len();
     x.fill(0.0);
-    let b_norm = dot(b, b).sqrt();
+    let b_norm = dot(r, r).sqrt();
     if b_norm == 0.0 {
         return Ok(KrylovStats {
             iterations: 0,
@@ -154,21 +162,50 @@ pub(crate) fn minres_in(
     // independent of a power-of-two scale of A, b and M⁻¹, so that `c L` (c = 2^k) gives the
     // iterates of `L` bit for bit.
     let scale = power_of_two(b_norm);
-    let b_norm = b_norm / scale;
+    r.iter_mut().for_each(|x| *x /= scale);
+    let result = iterate(
+        system,
+        (r, x),
+        (b_norm / scale, scale),
+        options,
+        record,
+        work,
+    );
+    if let Err(KrylovFailure::Breakdown { iterations, .. }) = result {
+        if iterations == 0 || x.iter().all(|x| *x == 0.0) {
+            r.iter_mut().for_each(|x| *x *= scale);
+        } else {
+            let mut ax = vec![0.0; r.len()];
+            system.apply(x, &mut ax);
+            for (r, ax) in r.iter_mut().zip(&ax) {
+                *r = scale * *r + ax;
+            }
+        }
+    }
+    result
+}
+
+/// The iterations of [`minres_in`] on the scaled system, from `r = b/s`, `x = 0`, with
+/// `‖b/s‖₂ = b_norm`.
+fn iterate(
+    system: &mut impl KrylovSystem,
+    (r, x): (&mut [f64], &mut [f64]),
+    (b_norm, scale): (f64, f64),
+    options: &KrylovOptions,
+    mut record: Option<&mut Tridiagonal>,
+    work: &mut MinresWork,
+) -> Result<KrylovStats, KrylovFailure> {
+    let n = system.len();
     let images = system.image_len();
     let MinresWork {
-        r,
         v,
         v_old,
         z,
         z_image,
-        az,
         w,
         w_old,
         without_images,
     } = work;
-    r.clear();
-    r.extend(b.iter().map(|x| x / scale));
     v.clear();
     v.extend_from_slice(r);
     let (mut v, mut v_old) = (v, zeroed(v_old, n));
@@ -177,7 +214,6 @@ pub(crate) fn minres_in(
         *z_image = Vec::new();
     }
     let (z, z_image) = (zeroed(z, n), zeroed(z_image, images));
-    let az = zeroed(az, n);
     let (mut w, mut w_old) = (zeroed(w, n), zeroed(w_old, n));
     system.precondition_with_image(v, z, z_image);
     z.iter_mut()
@@ -200,46 +236,41 @@ pub(crate) fn minres_in(
             relative_residual,
         };
         let inverse = 1.0 / gamma;
-        halves::each((n, 1), &mut z[..], |_, z| {
-            z.iter_mut().for_each(|x| *x *= inverse)
-        });
-        z_image.iter_mut().for_each(|zi| *zi *= inverse);
-        // z = (scale/γ) M v: a system that inverts part of A exactly uses v.
-        system.apply_preconditioned(z, z_image, v, scale * inverse, az);
-        // One sweep for the unscaling and the dot product (at N = 10⁷ each sweep over a
-        // vector is milliseconds of memory traffic).
-        let delta = halves::sum((n, 1), (&mut az[..], &z[..]), |_, (az, z)| {
-            az.iter_mut().zip(z).fold(0.0, |sum, (x, zi)| {
-                *x /= scale;
-                sum + *x * zi
+        // z_j = z/γ_j, and z_j·v_{j−1} (zero but for rounding: the Lanczos vectors are
+        // M-orthogonal) for δ_j below, in one sweep.
+        let z_v_old = halves::sum((n, 1), (&mut z[..], &v_old[..]), |_, (z, v_old)| {
+            z.iter_mut().zip(v_old).fold(0.0, |sum, (x, v)| {
+                *x *= inverse;
+                sum + *x * v
             })
         });
-        // v_{j+1} into v_old's storage, then the two swap places.
-        let (a, b_coef) = (delta / gamma, gamma / gamma_old);
-        halves::each(
-            (n, 1),
-            (&mut v_old[..], &az[..], &v[..]),
-            |_, (v_old, az, v)| {
-                for ((v_old, az), v) in v_old.iter_mut().zip(az).zip(v) {
-                    *v_old = az - a * v - b_coef * *v_old;
-                }
-            },
-        );
-        std::mem::swap(&mut v, &mut v_old);
+        z_image.iter_mut().for_each(|zi| *zi *= inverse);
+        // v_{j+1} = A z_j − δ_j/γ_j v_j − γ_j/γ_{j−1} v_{j−1} (A of the scaled system), built
+        // in v_old's storage, where the product adds A z_j (no vector of its own), and the
+        // two then swap places; z = (scale/γ) M v: a system that inverts part of A exactly
+        // uses v.
+        let b_coef = gamma / gamma_old;
+        let onto = (1.0 / scale, -b_coef);
+        system.apply_preconditioned(z, z_image, (v, scale * inverse), onto, v_old);
+        let delta =
+            halves::sum((n, 1), (&v_old[..], &z[..]), |_, (u, z)| dot(u, z)) + b_coef * z_v_old;
         // The new column of T_k rotated by the previous two Givens rotations, then its own;
         // α₂ and α₃ are known before γ_{j+1}, so w_{j+1}'s numerator
-        // z_j − α₃ w_{j−1} − α₂ w_j goes into w_old's storage now, and z_{j+1} into z's.
+        // z_j − α₃ w_{j−1} − α₂ w_j goes into w_old's storage now, in the sweep that
+        // completes v_{j+1}, and z_{j+1} into z's.
+        let a = delta / gamma;
         let alpha2 = s * delta + c_old * c * gamma;
         let alpha3 = s_old * gamma;
-        halves::each(
-            (n, 1),
-            (&mut w_old[..], &z[..], &w[..]),
-            |_, (w_old, z, w)| {
-                for ((w_old, z), w) in w_old.iter_mut().zip(z).zip(w) {
-                    *w_old = z - alpha3 * *w_old - alpha2 * w;
-                }
-            },
-        );
+        let parts = ((&mut v_old[..], &v[..]), (&mut w_old[..], &z[..], &w[..]));
+        halves::each((n, 1), parts, |_, ((v_old, v), (w_old, z, w))| {
+            for (v_old, v) in v_old.iter_mut().zip(v) {
+                *v_old -= a * v;
+            }
+            for ((w_old, z), w) in w_old.iter_mut().zip(z).zip(w) {
+                *w_old = z - alpha3 * *w_old - alpha2 * w;
+            }
+        });
+        std::mem::swap(&mut v, &mut v_old);
         system.precondition_with_image(v, z, z_image);
         z_image.iter_mut().for_each(|x| *x *= scale);
         let gamma_next_sq = halves::sum((n, 1), (&mut z[..], &v[..]), |_, (z, v)| {
@@ -406,7 +437,7 @@ mod tests {
     /// (SPD) preconditioner.
     /// Between solves, the work lends and takes back the vectors a solve uses; after a solve
     /// without images, a vector given back never lands in the unused image's place (where it
-    /// would be held to the end, unused): of nine given, seven are kept.
+    /// would be held to the end, unused): of eight given, five are kept.
     #[test]
     fn work_keeps_no_vector_in_an_unused_place() {
         let mut system = Shifted {
@@ -417,17 +448,79 @@ mod tests {
         let b: Vec<f64> = (0..40).map(|i| (i as f64).sin()).collect();
         let mut x = vec![0.0; 40];
         let mut work = MinresWork::default();
-        minres_in(&mut system, &b, &mut x, &OPTIONS, None, &mut work).unwrap();
+        minres_in(
+            &mut system,
+            &mut b.clone(),
+            &mut x,
+            &OPTIONS,
+            None,
+            &mut work,
+        )
+        .unwrap();
         let kept = |work: &mut MinresWork| work.vectors().filter(|v| v.capacity() > 0).count();
-        assert_eq!(kept(&mut work), 7);
+        assert_eq!(kept(&mut work), 5);
         let lent: Vec<Vec<f64>> = (0..3).map(|_| work.lend()).collect();
         assert!(lent.iter().all(|v| v.capacity() >= 40));
-        assert_eq!(kept(&mut work), 4);
-        for vector in lent.into_iter().chain((0..6).map(|_| vec![0.0; 40])) {
+        assert_eq!(kept(&mut work), 2);
+        for vector in lent.into_iter().chain((0..5).map(|_| vec![0.0; 40])) {
             work.give(vector);
         }
-        assert_eq!(kept(&mut work), 7);
+        assert_eq!(kept(&mut work), 5);
         assert_eq!(work.z_image.capacity(), 0);
+    }
+
+    /// The Laplacian with a diagonal preconditioner whose last entry is negative: MINRES
+    /// breaks down, at the start for `M = −I` and after a few iterations for the other, and
+    /// hands the right-hand side back in its residual's storage (exactly at the start, to
+    /// rounding after it) for the solver that takes over.
+    #[test]
+    fn a_breakdown_gives_the_right_hand_side_back() {
+        /// `M = diag(1, …, 1, last)`, or `−I` for `None`.
+        struct Indefinite {
+            laplacian: Shifted,
+            last: Option<f64>,
+        }
+        impl KrylovSystem for Indefinite {
+            fn len(&self) -> usize {
+                self.laplacian.n
+            }
+            fn apply(&mut self, x: &[f64], y: &mut [f64]) {
+                self.laplacian.apply(x, y);
+            }
+            fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
+                z.copy_from_slice(r);
+                match self.last {
+                    Some(last) => z[r.len() - 1] *= last,
+                    None => z.iter_mut().for_each(|z| *z = -*z),
+                }
+            }
+        }
+        let n = 12;
+        let b: Vec<f64> = (0..n).map(|i| 1.0 / (1.0 + i as f64).powi(3)).collect();
+        for (last, at_start) in [(None, true), (Some(-50.0), false)] {
+            let laplacian = Shifted {
+                n,
+                shift: 0.0,
+                precondition: false,
+            };
+            let mut system = Indefinite { laplacian, last };
+            let (mut r, mut x) = (b.clone(), vec![0.0; n]);
+            let mut work = MinresWork::default();
+            let result = minres_in(&mut system, &mut r, &mut x, &OPTIONS, None, &mut work);
+            let Err(KrylovFailure::Breakdown { iterations, .. }) = result else {
+                panic!("{last:?}: {result:?}");
+            };
+            assert_eq!(iterations == 0, at_start, "{last:?}: {iterations}");
+            let error = r
+                .iter()
+                .zip(&b)
+                .fold(0.0f64, |m, (r, b)| m.max((r - b).abs()));
+            if at_start {
+                assert_eq!(r, b);
+            } else {
+                assert!(x.iter().any(|x| *x != 0.0) && error < 1e-13, "{error:e}");
+            }
+        }
     }
 
     #[test]

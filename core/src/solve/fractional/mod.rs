@@ -110,10 +110,11 @@ const LAST_STEP_REACH: f64 = 1e3;
 /// Solves `J δ = rhs` to the relative tolerance `eta`: MINRES, then GMRES when MINRES breaks
 /// down (a preconditioner that is not positive definite: some `L_vv` is not); GMRES alone
 /// when `J` is not symmetric (the corrected form's direct scheme). Accepts an iterate below
-/// [`ETA_MAX`] as an inexact step.
+/// [`ETA_MAX`] as an inexact step. `rhs`'s storage is taken for MINRES's residual (MINRES
+/// gives the right-hand side back when it breaks down).
 fn solve_newton_system<const D: usize>(
     system: &mut FastSystem<'_, D>,
-    rhs: &[f64],
+    rhs: &mut [f64],
     delta: &mut [f64],
     eta: f64,
     budget: &KrylovBudget,
@@ -354,7 +355,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
         let budget = &self.options.krylov;
         let iterations = solve_newton_system(
             &mut self.system,
-            &e.r,
+            &mut e.r,
             delta,
             self.eta,
             budget,

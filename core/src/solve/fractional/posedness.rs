@@ -88,7 +88,7 @@ pub(super) fn ritz<const D: usize>(
     x: &mut [f64],
     work: &mut MinresWork,
 ) -> Vec<(f64, f64)> {
-    let b = start((system.n - 1) * D);
+    let mut b = start((system.n - 1) * D);
     let mut lanczos = Tridiagonal::default();
     let options = KrylovOptions {
         tolerance: 0.0,
@@ -98,7 +98,7 @@ pub(super) fn ritz<const D: usize>(
     // Lanczos needs a symmetric J: the corrected direct scheme's is measured without its
     // starting columns (a low-rank change of the same problem's linearisation).
     system.plain = !system.symmetric();
-    let _ = minres_in(system, &b, x, &options, Some(&mut lanczos), work);
+    let _ = minres_in(system, &mut b, x, &options, Some(&mut lanczos), work);
     system.plain = false;
     ritz_values(&lanczos)
 }

@@ -205,26 +205,37 @@ impl<'a, const D: usize> FastSystem<'a, D> {
         self.preconditioner.is_exact() && self.active_columns().is_none()
     }
 
-    /// `y = J x`; `a = D x` by FFT, or, given `image = D_a x`, from it and the one extra row.
-    /// Given `kinetic = P' x` (as `factor · r`, from `x = factor · P'⁻¹ r`), the kinetic part
-    /// `Dᵀ L_vv D x` is taken from it: `J x = P' x + L_xx x + L_xv a + Dᵀ L_vx x`, no FFT
-    /// product at all when every `L_xv` is zero.
+    /// `y ← c · J x + β y` (`y` only written where `β = 0`); `a = D x` by FFT, or, given
+    /// `image = D_a x`, from it and the one extra row. Given `kinetic = P' x` (as
+    /// `factor · r`, from `x = factor · P'⁻¹ r`), the kinetic part `Dᵀ L_vv D x` is taken from
+    /// it: `J x = P' x + L_xx x + L_xv a + Dᵀ L_vx x`, no FFT product at all when every `L_xv`
+    /// is zero.
     fn jacobian_product(
         &mut self,
         x: &[f64],
         image: Option<&[f64]>,
         kinetic: Option<(&[f64], f64)>,
+        (scale, beta): (f64, f64),
         y: &mut [f64],
     ) {
         let n = self.n;
+        let onto = |y: f64, jx: f64| {
+            if beta == 0.0 {
+                scale * jx
+            } else {
+                scale * jx + beta * y
+            }
+        };
         if let Some((r, factor)) = kinetic.filter(|_| !self.mixed) {
             // Row j − 1 of the unknowns is node j, whose Hessians are at j − first_row.
             let (xx, shift) = (&self.xx, 1 - self.first_row);
             halves::each((n - 1, D), (&mut y[..], r, x), |first, (y, r, x)| {
                 for i in 0..y.len() / D {
                     let xx = xx.get(first + i + shift);
-                    let v = block::<D>(r, i) * factor + xx * block::<D>(x, i);
-                    set_block(y, i, &v);
+                    let jx = block::<D>(r, i) * factor + xx * block::<D>(x, i);
+                    for (c, jx) in jx.iter().enumerate() {
+                        y[i * D + c] = onto(y[i * D + c], *jx);
+                    }
                 }
             });
             return;
@@ -292,17 +303,19 @@ impl<'a, const D: usize> FastSystem<'a, D> {
                 if (1..n).contains(&j) {
                     let i = j - first_row;
                     let known = kinetic.map_or(0.0, |(r, factor)| r[(j - 1) * D + c] * factor);
-                    y[(j - 1) * D + c] = xx.get(i).row(c).tr_dot(&node_vector(j))
+                    let jx = xx.get(i).row(c).tr_dot(&node_vector(j))
                         + xv.get(i).row(c).tr_dot(&rows(i))
                         + dt_b * minus_sigma
                         + known;
+                    let at = (j - 1) * D + c;
+                    y[at] = onto(y[at], jx);
                 }
             });
         }
         if let Some(columns) = self.active_columns() {
             let b =
                 |i: usize| xv.get(i).transpose() * node_vector(i + first_row) + vv.get(i) * rows(i);
-            columns.add_momentum(b, first_row, |j, e| add_to_block(y, j - 1, &e));
+            columns.add_momentum(b, first_row, |j, e| add_to_block(y, j - 1, &(e * scale)));
         }
     }
 }
@@ -314,7 +327,7 @@ impl<const D: usize> KrylovSystem for FastSystem<'_, D> {
 
     /// `J δ` with `a = D δ`, `b = L_vx δ + L_vv a` (on the rows), `J δ = L_xx δ + L_xv a + Dᵀ b`.
     fn apply(&mut self, x: &[f64], y: &mut [f64]) {
-        self.jacobian_product(x, None, None, y);
+        self.jacobian_product(x, None, None, (1.0, 0.0), y);
     }
 
     /// `z = P'⁻¹ r` ([`Preconditioner`]).
@@ -342,21 +355,21 @@ impl<const D: usize> KrylovSystem for FastSystem<'_, D> {
     fn apply_with_image(&mut self, x: &[f64], image: &[f64], y: &mut [f64]) {
         // No image where none is kept (`image_len`): `D x` by FFT.
         let image = Some(image).filter(|image| !image.is_empty());
-        self.jacobian_product(x, image, None, y);
+        self.jacobian_product(x, image, None, (1.0, 0.0), y);
     }
 
-    /// `J x` for `x = factor · P'⁻¹ r`: `factor · r` stands for `P' x` when the preconditioner
-    /// is exact, sparing the product `Dᵀ L_vv D x`.
+    /// `y ← c · J x + β y` for `x = factor · P'⁻¹ r`: `factor · r` stands for `P' x` when
+    /// the preconditioner is exact, sparing the product `Dᵀ L_vv D x`.
     fn apply_preconditioned(
         &mut self,
         x: &[f64],
         image: &[f64],
-        r: &[f64],
-        factor: f64,
+        preconditioned: (&[f64], f64),
+        onto: (f64, f64),
         y: &mut [f64],
     ) {
-        let kinetic = Some((r, factor)).filter(|_| self.kinetic_known());
+        let kinetic = Some(preconditioned).filter(|_| self.kinetic_known());
         let image = Some(image).filter(|image| !image.is_empty());
-        self.jacobian_product(x, image, kinetic, y);
+        self.jacobian_product(x, image, kinetic, onto, y);
     }
 }

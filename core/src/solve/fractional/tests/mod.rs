@@ -135,8 +135,14 @@ fn sweeps_in_halves_give_the_products_of_one_piece() {
         let mut want = vec![0.0; m];
         system.apply(&z, &mut want);
         let scale = want.iter().fold(0.0f64, |a, y| a.max(y.abs()));
-        let mut from_kinetic = vec![0.0; m];
-        system.apply_preconditioned(&z, &[], &r, 1.0, &mut from_kinetic);
+        // Onto a vector, as MINRES takes it: 0.5 J z − 2 u.
+        let u: Vec<f64> = (0..m).map(|i| ((5 * i + 2) as f64).cos()).collect();
+        let mut from_kinetic = u.clone();
+        system.apply_preconditioned(&z, &[], (&r, 1.0), (0.5, -2.0), &mut from_kinetic);
+        from_kinetic
+            .iter_mut()
+            .zip(&u)
+            .for_each(|(y, u)| *y = 2.0 * (*y + 2.0 * u));
         let mut from_image = vec![0.0; m];
         system.apply_with_image(&z, &image, &mut from_image);
         for (what, got) in [("kinetic", &from_kinetic), ("image", &from_image)] {
@@ -289,8 +295,13 @@ fn products_from_the_preconditioner_match_the_dense_jacobian() {
         z.iter_mut()
             .chain(image.iter_mut())
             .for_each(|x| *x *= factor);
-        let mut y = vec![0.0; m];
-        system.apply_preconditioned(&z, &image, &r, factor, &mut y);
+        // Onto a vector, as MINRES takes it: y ← J z / 4 − 3 u, read back as J z.
+        let u: Vec<f64> = (0..m).map(|i| ((7 * i + 3) as f64).sin()).collect();
+        let mut y = u.clone();
+        system.apply_preconditioned(&z, &image, (&r, factor), (0.25, -3.0), &mut y);
+        y.iter_mut()
+            .zip(&u)
+            .for_each(|(y, u)| *y = 4.0 * (*y + 3.0 * u));
         let reference = Discretisation::new(model, grid, reference);
         let pw = reference.pointwise(&q).unwrap();
         let jac = reference.dense_jacobian(Scheme::Variational, &q, &pw);

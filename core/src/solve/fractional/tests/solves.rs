@@ -106,7 +106,7 @@ fn cg_breaks_down_on_an_indefinite_jacobian_and_minres_solves_it() {
         let at = Location::Newton(0);
         solve_newton_system(
             &mut system,
-            &rhs,
+            &mut rhs.clone(),
             &mut delta,
             1e-10,
             &KrylovBudget::default(),
