@@ -32,13 +32,26 @@
 //! ([`FftOperator::apply_by_differences`]). For a rough vector the differences are as large as
 //! the nodes and `T'`'s weights sum to about `N^{1−α}`, so the Jacobian products of the Krylov
 //! solvers keep the plain form.
+//!
+//! # One spectrum for both forms
+//!
+//! The plain form needs no spectrum of its own: `T = T' B` holds for the truncated matrices,
+//! and the spectrum of `B`'s column `(1, −1)` is `1 − e^{−πi m/K}`, a twiddle the pass between
+//! the transforms computes anyway, so a plain product multiplies by `ĝ'_m (1 − e^{−πi m/K})`
+//! ([`TriangularToeplitz::mul_loaded_with_difference`]). That spares one spectrum, 16 bytes a node.
+//! It rounds like a product with `T'`, whose error grows with `‖g'‖₂`: bounded for `α > ½`
+//! (the `g'_r` fall like `r^{−α}`), `√(log N)` at `α = ½`, but `N^{½−α}` below, where a
+//! residual's product would err above the floor of double precision for small `α` at large
+//! `N`. So the plain spectrum is kept for `α < ½`, and for an operator whose weights are not
+//! the Grünwald–Letnikov weights of its `α` (the moduli of the weights, which the residual's
+//! term sizes apply).
 
 use crate::error::{Result, check_len};
 use crate::lagrangian::Vector;
 use crate::operator::Operator;
 use crate::side::Side;
 use crate::toeplitz::{TriangularToeplitz, Workspace};
-use crate::weights::InverseWeights;
+use crate::weights::{InverseWeights, are_grunwald_letnikov};
 
 /// `Δ_σ` or `Δ^α_σ` (an `N × (N + 1)` matrix) with products by FFT.
 #[derive(Clone, Debug)]
@@ -47,11 +60,19 @@ pub struct FftOperator {
     n: usize,
     scale: f64,
     alpha: f64,
-    toeplitz: TriangularToeplitz,
+    toeplitz: Forms,
     ws: Workspace,
-    /// `T'` (module docs), built on the first
-    /// [`apply_by_differences`](Self::apply_by_differences); its first column `g'` is not kept.
-    differences: Option<TriangularToeplitz>,
+}
+
+/// The Toeplitz matrices of an [`FftOperator`]'s two forms (module docs).
+#[derive(Clone, Debug)]
+enum Forms {
+    /// `T'` alone, whose spectrum serves both forms (`T = T' B`).
+    Differences(TriangularToeplitz),
+    /// `T`, and `T'`, built on the first
+    /// [`apply_by_differences`](FftOperator::apply_by_differences); its first column `g'` is
+    /// not kept.
+    Plain(TriangularToeplitz, Option<TriangularToeplitz>),
 }
 
 impl FftOperator {
@@ -60,17 +81,53 @@ impl FftOperator {
     /// discretisation's evaluations) add them beside its products.
     pub fn new(op: &Operator) -> Self {
         let n = op.rows().count();
-        let weights = op.weights();
-        let column = |r: usize| weights.get(r).copied().unwrap_or(0.0);
-        let (toeplitz, ws) = TriangularToeplitz::with_workspace_from(n + 1, column);
+        let (alpha, weights) = (op.alpha(), op.weights());
+        let (toeplitz, ws) = if alpha >= 0.5 && are_grunwald_letnikov(weights, alpha) {
+            let mut g = InverseWeights::new(1.0 - alpha);
+            let (t, ws) = TriangularToeplitz::with_workspace_from(n + 1, |r| g.at(r));
+            (Forms::Differences(t), ws)
+        } else {
+            let column = |r: usize| weights.get(r).copied().unwrap_or(0.0);
+            let (t, ws) = TriangularToeplitz::with_workspace_from(n + 1, column);
+            (Forms::Plain(t, None), ws)
+        };
         FftOperator {
             side: op.side(),
             n,
             scale: op.scale(),
-            alpha: op.alpha(),
+            alpha,
             toeplitz,
             ws,
-            differences: None,
+        }
+    }
+
+    /// Whether the plain products are taken through `T'`'s spectrum (module docs).
+    #[cfg(test)]
+    fn shares_one_spectrum(&self) -> bool {
+        matches!(self.toeplitz, Forms::Differences(_))
+    }
+
+    /// A matrix of the operator's FFT length: the one whose plans the others share.
+    fn any(&self) -> &TriangularToeplitz {
+        match &self.toeplitz {
+            Forms::Differences(t) | Forms::Plain(t, _) => t,
+        }
+    }
+
+    /// The plain product of `T` (or `Tᵀ`), through closures as [`TriangularToeplitz::mul_with`].
+    fn mul_with(
+        &mut self,
+        transpose: bool,
+        input: impl FnMut(usize) -> f64,
+        out: impl FnMut(usize, f64),
+    ) {
+        match &self.toeplitz {
+            Forms::Differences(t) => {
+                t.load(&mut self.ws, input);
+                t.mul_loaded_with_difference(transpose, &mut self.ws);
+                t.store(&self.ws, out);
+            }
+            Forms::Plain(t, _) => t.mul_with(transpose, &mut self.ws, input, out),
         }
     }
 
@@ -87,8 +144,10 @@ impl FftOperator {
         order: usize,
         column: impl FnMut(usize) -> f64,
     ) -> TriangularToeplitz {
-        self.toeplitz
-            .with_same_plans_from(order, column, &mut self.ws)
+        let (toeplitz, ws) = match &self.toeplitz {
+            Forms::Differences(t) | Forms::Plain(t, _) => (t, &mut self.ws),
+        };
+        toeplitz.with_same_plans_from(order, column, ws)
     }
 
     /// The buffers of the products, to share with other matrices of the same FFT length.
@@ -98,7 +157,7 @@ impl FftOperator {
 
     /// The FFT length (at least `2N + 2`).
     pub fn fft_len(&self) -> usize {
-        self.toeplitz.fft_len()
+        self.any().fft_len()
     }
 
     /// One component of `Δ Q`: `out(i, (Δ Q)_i)` for the rows `i = 0..N` (entry `i` is row
@@ -115,12 +174,11 @@ impl FftOperator {
             Side::Forward => (true, 0),
         };
         let (n, s) = (self.n, self.scale);
-        self.toeplitz
-            .mul_with(transpose, &mut self.ws, input, |k, y| {
-                if k >= shift && k - shift < n {
-                    out(k - shift, y * s);
-                }
-            });
+        self.mul_with(transpose, input, |k, y| {
+            if k >= shift && k - shift < n {
+                out(k - shift, y * s);
+            }
+        });
     }
 
     /// One component of `Δᵀ W`: `out(k, (Δᵀ W)_k)` for the nodes `k = 0..=N`, with row `i`'s
@@ -135,9 +193,8 @@ impl FftOperator {
             Side::Forward => (false, 0),
         };
         let (n, s) = (self.n, self.scale);
-        self.toeplitz.mul_with(
+        self.mul_with(
             transpose,
-            &mut self.ws,
             |k| {
                 if k >= shift && k - shift < n {
                     input(k - shift)
@@ -189,11 +246,13 @@ impl FftOperator {
         mut out: impl FnMut(usize, f64),
     ) {
         let (n, s, beta) = (self.n, self.scale, 1.0 - self.alpha);
-        let (toeplitz, ws) = (&self.toeplitz, &mut self.ws);
-        let t = self.differences.get_or_insert_with(|| {
-            let mut weights = InverseWeights::new(beta);
-            toeplitz.with_same_plans_from(n + 1, |r| weights.at(r), ws)
-        });
+        let t = match &mut self.toeplitz {
+            Forms::Differences(t) => t,
+            Forms::Plain(toeplitz, differences) => differences.get_or_insert_with(|| {
+                let mut weights = InverseWeights::new(beta);
+                toeplitz.with_same_plans_from(n + 1, |r| weights.at(r), &mut self.ws)
+            }),
+        };
         // g'_r for r = 0, 1, 2, … in turn (`InverseWeights`), as the products are read: a row
         // reads g'_r once, and the rows are read in the order that walks r upwards, so the
         // N + 1 weights are not kept.
@@ -274,15 +333,52 @@ mod tests {
     use super::*;
     use crate::grid::Grid;
 
+    /// Every product equals the dense loops', whether the plain form has a spectrum of its own
+    /// (`α < ½`, weights that are not Grünwald–Letnikov's) or is taken through `T'`'s (both
+    /// sides, `Δ` and `Δᵀ`, the plain and the difference forms).
     #[test]
     fn products_equal_the_dense_loops() {
-        let grid = Grid::new(0.0, 1.0, 50).unwrap();
-        let op = Operator::grunwald_letnikov(Side::Backward, 0.6, &grid).unwrap();
-        let mut fast = FftOperator::new(&op);
-        let q: Vec<Vector<1>> = (0..=50)
-            .map(|k| Vector::<1>::new((k as f64).sin()))
+        let n = 300;
+        let grid = Grid::new(0.0, 1.0, n).unwrap();
+        let q: Vec<Vector<1>> = (0..=n)
+            .map(|k| Vector::<1>::new((k as f64).sin() + 0.3))
             .collect();
-        let (a, b) = (op.apply(&q).unwrap(), fast.apply(&q).unwrap());
-        assert!(a.iter().zip(&b).all(|(x, y)| (x - y).amax() < 1e-12));
+        let w: Vec<Vector<1>> = (0..n)
+            .map(|i| Vector::<1>::new((3.0 * i as f64).cos()))
+            .collect();
+        let gap = |a: &[Vector<1>], b: &[Vector<1>]| {
+            let size = a.iter().fold(0.0f64, |m, x| m.max(x.amax()));
+            let gap = a
+                .iter()
+                .zip(b)
+                .fold(0.0f64, |m, (x, y)| m.max((x - y).amax()));
+            gap / size
+        };
+        for side in [Side::Backward, Side::Forward] {
+            let paper = |alpha| Operator::grunwald_letnikov(side, alpha, &grid).unwrap();
+            let cases = [
+                (paper(0.3), false),
+                (paper(0.5), true),
+                (paper(0.7), true),
+                (paper(1.0), true),
+                (Operator::finite_difference(side, &grid), true),
+                (paper(0.7).absolute(), false),
+            ];
+            for (k, (op, shared)) in cases.into_iter().enumerate() {
+                let what = format!("{side:?} α = {}, shared {shared}", op.alpha());
+                let mut fast = FftOperator::new(&op);
+                assert_eq!(fast.shares_one_spectrum(), shared, "{what}");
+                let dense = op.apply(&q).unwrap();
+                assert!(gap(&dense, &fast.apply(&q).unwrap()) < 1e-13, "{what}");
+                // The difference form is of Grünwald–Letnikov weights only.
+                if k < 5 {
+                    let by_differences = fast.apply_by_differences(&q).unwrap();
+                    assert!(gap(&dense, &by_differences) < 1e-13, "{what}");
+                }
+                let dense = op.apply_transpose(&w).unwrap();
+                let product = fast.apply_transpose(&w).unwrap();
+                assert!(gap(&dense, &product) < 1e-13, "{what}");
+            }
+        }
     }
 }

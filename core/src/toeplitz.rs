@@ -297,21 +297,49 @@ impl TriangularToeplitz {
         }
     }
 
+    /// `(T B) x` (or its transpose) of the input [`load`](Self::load)ed into `ws`, as
+    /// [`mul_loaded`](Self::mul_loaded), for `B` the first difference
+    /// (`(B x)_k = x_k − x_{k−1}`, `x_{−1} = 0`): a product with the lower-triangular Toeplitz
+    /// matrix whose first column is `c * (1, −1)` cut at the order, from `T`'s spectrum alone
+    /// (`ĉ_m (1 − e^{−πi m/K})` is the spectrum of `c * (1, −1)`, whose one entry past the
+    /// order lands only on entries past it). One complex multiplication per frequency more in
+    /// the pass.
+    pub(crate) fn mul_loaded_with_difference(&self, transpose: bool, ws: &mut Workspace) {
+        self.mul_loaded_times(transpose, true, ws);
+    }
+
     /// `T x` (or `Tᵀ x`) of the input [`load`](Self::load)ed into `ws`, left in `ws`.
     ///
     /// # Panics
     ///
     /// If `ws` was built for another FFT length (an internal misuse, never user input).
     pub fn mul_loaded(&self, transpose: bool, ws: &mut Workspace) {
+        self.mul_loaded_times(transpose, false, ws);
+    }
+
+    /// [`mul_loaded`](Self::mul_loaded) of `T`, or of `T B` when `difference`
+    /// ([`mul_loaded_with_difference`](Self::mul_loaded_with_difference)).
+    fn mul_loaded_times(&self, transpose: bool, difference: bool, ws: &mut Workspace) {
         self.transform_forward(ws);
         let plan = &self.plan;
         let k = plan.len();
         let (z, w, s, tw) = (&ws.spectrum, &mut ws.packed, &self.spectrum, &plan.twiddles);
         let filter = |c: Complex<f64>| if transpose { c.conj() } else { c };
+        // The spectrum at m and K − m, times that of B (`1 − t` and `1 + conj t`) where asked.
+        let one = Complex::new(1.0, 0.0);
+        let spectrum = |m: usize, t: Complex<f64>| {
+            let (sm, skm) = (s[m], s[k - m]);
+            if difference {
+                (filter(sm * (one - t)), filter(skm * (one + t.conj())))
+            } else {
+                (filter(sm), filter(skm))
+            }
+        };
         // m = 0 and m = K: x̂_0 and x̂_K are real (a NaN input stays in the real parts).
         let z0 = plan.entry(z, 0);
-        let y0 = (z0.re + z0.im) * filter(s[0]).re;
-        let yk = (z0.re - z0.im) * filter(s[k]).re;
+        let (s0, sk) = spectrum(0, one);
+        let y0 = (z0.re + z0.im) * s0.re;
+        let yk = (z0.re - z0.im) * sk.re;
         // conj(W_0) for W_0 = (ŷ_0 + ŷ_K) + i(ŷ_0 − ŷ_K).
         w[0] = Complex::new(y0 + yk, -(y0 - yk));
         // The pairs of entries `(m, K − m)`: into `out`, all of `w` when whole, or one half of
@@ -322,7 +350,8 @@ impl TriangularToeplitz {
             plan.for_each_pair_of(z, parity, |m, zm, zkm| {
                 let t = tw.get(m);
                 let (xm, xkm) = unpack(zm, zkm, t);
-                let (ym, ykm) = (xm * filter(s[m]), xkm * filter(s[k - m]));
+                let (sm, skm) = spectrum(m, t);
+                let (ym, ykm) = (xm * sm, xkm * skm);
                 let (wm, wkm) = pack_conjugate(ym, ykm, t);
                 out[at(m)] = wm;
                 out[at(k - m)] = wkm;

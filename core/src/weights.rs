@@ -8,12 +8,30 @@ pub fn grunwald_letnikov(alpha: f64, len: usize) -> Vec<f64> {
     let mut w = Vec::with_capacity(len);
     let mut current = 1.0;
     for r in 0..len {
-        if r > 0 {
-            current *= (r as f64 - 1.0 - alpha) / r as f64;
-        }
+        current = next_grunwald_letnikov(current, r, alpha);
         w.push(current);
     }
     w
+}
+
+/// `w_r` from `w_{r−1}` (`w_0 = 1` from anything): the recurrence of [`grunwald_letnikov`].
+#[inline]
+fn next_grunwald_letnikov(previous: f64, r: usize, alpha: f64) -> f64 {
+    if r == 0 {
+        1.0
+    } else {
+        previous * ((r as f64 - 1.0 - alpha) / r as f64)
+    }
+}
+
+/// Whether `weights` are the first Grünwald–Letnikov weights of `alpha`, bit for bit as
+/// [`grunwald_letnikov`] computes them.
+pub(crate) fn are_grunwald_letnikov(weights: &[f64], alpha: f64) -> bool {
+    let mut w = 1.0;
+    weights.iter().enumerate().all(|(r, &weight)| {
+        w = next_grunwald_letnikov(w, r, alpha);
+        weight == w
+    })
 }
 
 /// The weights of the inverse of the lower-triangular Toeplitz Grünwald–Letnikov matrix:

@@ -107,14 +107,22 @@ fn report(n: usize, variant: Variant) {
     );
 }
 
-/// The probe process: one fast solve at the default tolerance on `n` steps, then one line on
-/// stdout, `probe n=… seconds=… newton=… peak_kib=… q=…` (`q`: the nodes at t = ¼, ½, ¾, to
-/// all digits, for comparing two builds), and exit.
+/// The probe process: one fast solve at the default tolerance (or at
+/// `VAREMBED_BENCH_PROBE_TOLERANCE`, 1e-16 for a reference at the round-off floor) on `n`
+/// steps, then one line on stdout, `probe n=… seconds=… newton=… peak_kib=… q=…` (`q`: the
+/// nodes at t = ¼, ½, ¾, to all digits, for comparing two builds), and exit.
 fn probe(n: usize) -> ! {
+    let tolerance = std::env::var("VAREMBED_BENCH_PROBE_TOLERANCE")
+        .ok()
+        .map(|t| {
+            t.parse()
+                .expect("VAREMBED_BENCH_PROBE_TOLERANCE is a number")
+        })
+        .unwrap_or(DEFAULT_TOLERANCE);
     let fast = Variant {
         name: "fast",
         solver: FractionalSolver::Fast,
-        tolerance: DEFAULT_TOLERANCE,
+        tolerance,
         corrected: std::env::var_os("VAREMBED_BENCH_PROBE_CORRECTED").is_some(),
     };
     let p = problem(n, fast);

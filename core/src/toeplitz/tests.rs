@@ -56,6 +56,43 @@ fn products_match_the_dense_matrix() {
     }
 }
 
+/// A product with the first difference folded into the spectrum is the product with the
+/// differenced column `c * (1, −1)` cut at the order: against the dense matrix for small
+/// orders, against the FFT product of the differenced column past [`SPLIT_FROM`] (even and odd
+/// half lengths), both ways.
+#[test]
+fn products_with_the_difference_are_those_of_the_differenced_column() {
+    for m in [1usize, 2, 3, 17, 257, 3 * SPLIT_FROM, 354_293] {
+        let c: Vec<f64> = (0..m).map(|r| 1.0 / (1.0 + r as f64).powf(0.6)).collect();
+        let differenced: Vec<f64> = (0..m)
+            .map(|r| c[r] - if r > 0 { c[r - 1] } else { 0.0 })
+            .collect();
+        let x: Vec<f64> = (0..m).map(|r| ((r * 5 + 1) as f64).cos()).collect();
+        let (t, mut ws) = TriangularToeplitz::with_workspace(&c);
+        let reference = TriangularToeplitz::new(&differenced);
+        for transpose in [false, true] {
+            let mut got = vec![0.0; m];
+            t.load(&mut ws, |k| x[k]);
+            t.mul_loaded_with_difference(transpose, &mut ws);
+            t.store(&ws, |k, y| got[k] = y);
+            let want = if m < 1000 {
+                dense(&differenced, &x, transpose)
+            } else {
+                let mut y = vec![0.0; m];
+                reference.mul(transpose, &mut ws, &x, &mut y);
+                y
+            };
+            let scale = want.iter().fold(1e-300f64, |s, x| s.max(x.abs()));
+            for (k, (g, w)) in got.iter().zip(&want).enumerate() {
+                assert!(
+                    (g - w).abs() <= 1e-12 * scale,
+                    "m = {m}, {transpose}, {k}: {g} vs {w}"
+                );
+            }
+        }
+    }
+}
+
 /// Past [`SPLIT_FROM`], where the two half-length transforms may run on two threads,
 /// the products still equal the sums, checked at rows spread over the whole range.
 #[test]
