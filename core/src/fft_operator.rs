@@ -114,6 +114,25 @@ impl FftOperator {
         }
     }
 
+    /// Frees the spectrum that serves both forms, for a phase that makes no product (16 bytes
+    /// a node); the next product computes it again, one transform. An operator with a plain
+    /// spectrum of its own keeps both (its weights are not kept to compute them from).
+    pub(crate) fn release_spectrum(&mut self) {
+        if let Forms::Differences(t) = &mut self.toeplitz {
+            t.release_spectrum();
+        }
+    }
+
+    /// Computes `T'`'s spectrum again where it was released.
+    fn differences_spectrum(&mut self) {
+        if let Forms::Differences(t) = &mut self.toeplitz
+            && !t.has_spectrum()
+        {
+            let mut g = InverseWeights::new(1.0 - self.alpha);
+            t.compute_spectrum_from(|r| g.at(r), &mut self.ws);
+        }
+    }
+
     /// The plain product of `T` (or `Tᵀ`), through closures as [`TriangularToeplitz::mul_with`].
     fn mul_with(
         &mut self,
@@ -121,6 +140,7 @@ impl FftOperator {
         input: impl FnMut(usize) -> f64,
         out: impl FnMut(usize, f64),
     ) {
+        self.differences_spectrum();
         match &self.toeplitz {
             Forms::Differences(t) => {
                 t.load(&mut self.ws, input);
@@ -245,6 +265,7 @@ impl FftOperator {
         input: impl Fn(usize) -> f64,
         mut out: impl FnMut(usize, f64),
     ) {
+        self.differences_spectrum();
         let (n, s, beta) = (self.n, self.scale, 1.0 - self.alpha);
         let t = match &mut self.toeplitz {
             Forms::Differences(t) => t,

@@ -196,17 +196,40 @@ impl TriangularToeplitz {
         plan: Arc<Plan>,
         ws: &mut Workspace,
     ) -> Self {
-        let k = plan.len();
         let mut matrix = TriangularToeplitz {
             order,
             spectrum: Vec::new(),
             plan,
         };
-        matrix.load(ws, column);
-        matrix.transform_forward(ws);
+        matrix.compute_spectrum_from(column, ws);
+        matrix
+    }
+
+    /// Frees the spectrum (16 bytes per `K`), for a phase of a computation that makes no
+    /// product with this matrix; [`compute_spectrum_from`](Self::compute_spectrum_from)
+    /// computes it again, one transform.
+    pub(crate) fn release_spectrum(&mut self) {
+        self.spectrum = Vec::new();
+    }
+
+    /// Whether the spectrum is held (not released).
+    pub(crate) fn has_spectrum(&self) -> bool {
+        !self.spectrum.is_empty()
+    }
+
+    /// Computes the spectrum of the first column whose entry `r` is `column(r)`, asked for as
+    /// [`with_workspace_from`](Self::with_workspace_from) asks, in `ws`.
+    pub(crate) fn compute_spectrum_from(
+        &mut self,
+        column: impl FnMut(usize) -> f64,
+        ws: &mut Workspace,
+    ) {
+        let k = self.plan.len();
+        self.load(ws, column);
+        self.transform_forward(ws);
         let inv_len = 1.0 / (2 * k) as f64;
         let mut spectrum = vec![Complex::new(0.0, 0.0); k + 1];
-        let (z, plan) = (&ws.spectrum, &matrix.plan);
+        let (z, plan) = (&ws.spectrum, &self.plan);
         let tw = &plan.twiddles;
         let z0 = plan.entry(z, 0);
         spectrum[0] = Complex::new((z0.re + z0.im) * inv_len, 0.0);
@@ -216,8 +239,7 @@ impl TriangularToeplitz {
             spectrum[m] = xm * inv_len;
             spectrum[k - m] = xkm * inv_len;
         });
-        matrix.spectrum = spectrum;
-        matrix
+        self.spectrum = spectrum;
     }
 
     /// The order `M`.

@@ -226,10 +226,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
     type Output = (Solution<D>, Vec<usize>);
 
     /// A trial's evaluation borrows three of the idle Krylov vectors. Its `V` and `p` go back
-    /// once the Hessians have been read at them ([`direction`](Self::direction)), its
-    /// residual into an empty place, or freed, before the next line search
-    /// ([`recycle`](Self::recycle)): the Krylov solver allocates what it misses, one vector a
-    /// Newton step on the benchmark pendulum, and nothing is held beside the trials.
+    /// once the Hessians have been read at them ([`direction`](Self::direction)), and its
+    /// residual, which the Krylov solver takes for its own, before the next line search
+    /// ([`recycle`](Self::recycle)): the Krylov solver allocates what it misses, two vectors
+    /// a Newton step on the benchmark pendulum.
     fn evaluate(
         &mut self,
         q: &Vec<Vector<D>>,
@@ -288,13 +288,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
             let ritz = match coarse {
                 Some(ritz) => ritz,
                 None => {
-                    // The last Newton step's Jacobian, at an iterate within that step of this
-                    // one (its eigenvalues move by the step times ∂³L, far below the
-                    // threshold), or a first linearisation when the guess already converged.
-                    if c.iteration == 0 {
-                        let (disc, v) = (self.disc, &c.evaluation.v);
-                        self.system.linearize(disc, &c.q, v, c.at())?;
-                    }
+                    // The Jacobian at the solution: the last Newton step released its blocks
+                    // (or there was none, the guess having converged).
+                    let (disc, v) = (self.disc, &c.evaluation.v);
+                    self.system.linearize(disc, &c.q, v, c.at())?;
                     posedness::ritz(&mut self.system, c.scratch, &mut self.work)
                 }
             };
@@ -351,6 +348,10 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
             self.system.lend_rows(p);
         } else {
             self.work.give(p);
+            // The Krylov solve makes no product with D: the spectrum of its FFT form (16 bytes
+            // a node) is freed meanwhile, and the next evaluation computes it again (one
+            // transform: the peak of a large solve is this phase's).
+            self.system.velocity.release_spectrum();
         }
         let budget = &self.options.krylov;
         let iterations = solve_newton_system(
@@ -363,14 +364,20 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> GlobalSystem for FastNewton<'_, 
             &mut self.work,
         )?;
         self.krylov_iterations.push(iterations);
-        // Not read before the next linearisation: idle beside the trials' evaluations.
+        // Not read before the next linearisation, which sets them again: freed, or given to
+        // the Krylov vectors ([`recycle`](Self::recycle)).
+        self.system.release_hessians();
         self.work.give(self.system.take_rows());
         Ok(ControlFlow::Continue(()))
     }
 
+    /// Of the Krylov vectors, a trial's evaluation borrows three and one more stays idle
+    /// beside the line search: the others are freed, and the next Krylov solve allocates what
+    /// it misses (the line search's phase holds as many vectors as the Krylov solve's).
     fn recycle(&mut self, e: Evaluation<D>) {
         for vector in e.into_buffers() {
             self.work.give(vector);
         }
+        self.work.keep_at_most(4);
     }
 }

@@ -60,6 +60,9 @@ pub(super) struct FastSystem<'a, const D: usize> {
     /// Whether the Hessians held were set by [`keep_hessian`](Self::keep_hessian) for the
     /// next linearisation, which then does not evaluate them again.
     kept: bool,
+    /// The Jacobian bound of the last linearisation, once its `L_xx` and `L_xv` are released
+    /// ([`release_hessians`](Self::release_hessians)); `None` while they are held.
+    released_bound: Option<f64>,
 }
 
 impl<'a, const D: usize> FastSystem<'a, D> {
@@ -88,6 +91,7 @@ impl<'a, const D: usize> FastSystem<'a, D> {
             plain: false,
             mixed: true,
             kept: false,
+            released_bound: None,
         }
     }
 
@@ -106,8 +110,11 @@ impl<'a, const D: usize> FastSystem<'a, D> {
     /// `‖J‖∞ ≤ max‖L_xx‖ + 4h^{−α} max‖L_xv‖ + 4h^{−2α} max‖L_vv‖`, or at the Hessians kept for the
     /// next one ([`keep_hessian`](Self::keep_hessian)); zero before either.
     /// The starting columns add their row sums to the bounds of `D` and of the momenta's
-    /// operator.
+    /// operator. After [`release_hessians`](Self::release_hessians), the bound they gave.
     pub(super) fn jacobian_bound(&self) -> f64 {
+        if let Some(bound) = self.released_bound {
+            return bound;
+        }
         let norm = |m: &Matrix<D>| {
             m.row_iter()
                 .map(|row| row.iter().map(|x| x.abs()).sum::<f64>())
@@ -136,6 +143,7 @@ impl<'a, const D: usize> FastSystem<'a, D> {
         at: Location,
     ) -> Result<()> {
         let (lagrangian, grid) = (disc.lagrangian(), disc.grid());
+        self.released_bound = None;
         if !std::mem::take(&mut self.kept) {
             for i in 0..grid.n() {
                 let k = i + self.first_row;
@@ -152,11 +160,23 @@ impl<'a, const D: usize> FastSystem<'a, D> {
         Ok(())
     }
 
+    /// Frees the `L_xx` and `L_xv` blocks (`L_vv` stays with the preconditioner built on it),
+    /// keeping the Jacobian bound they give: between a Newton step's Krylov solve and the next
+    /// linearisation, which sets them again, nothing reads them, and at `d = 1` a varying
+    /// `L_xx` is 8 bytes a node beside the line search's vectors. Products need a
+    /// [`linearize`](Self::linearize) first.
+    pub(super) fn release_hessians(&mut self) {
+        self.released_bound = Some(self.jacobian_bound());
+        let zero = RowBlocks::uniform(Matrix::<D>::zeros(), self.n);
+        (self.xx, self.xv) = (zero.clone(), zero);
+    }
+
     /// Row `i`'s second derivatives, evaluated at the iterate and velocities the next
     /// [`linearize`](Self::linearize) is called with (the input checks' at the guess), which
     /// then reads them instead of evaluating them again; rows are handed in order from 0.
     /// `false` where a block is not finite: nothing is kept then.
     pub(super) fn keep_hessian(&mut self, i: usize, h: &Hessian<D>) -> bool {
+        self.released_bound = None;
         self.kept = self.set_hessian(i, *h) && (i == 0 || self.kept);
         self.kept
     }
@@ -218,6 +238,10 @@ impl<'a, const D: usize> FastSystem<'a, D> {
         (scale, beta): (f64, f64),
         y: &mut [f64],
     ) {
+        debug_assert!(
+            self.released_bound.is_none(),
+            "a product with released Hessians"
+        );
         let n = self.n;
         let onto = |y: f64, jx: f64| {
             if beta == 0.0 {
