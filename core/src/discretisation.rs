@@ -85,10 +85,7 @@ pub(crate) struct Pointwise<const D: usize> {
 impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
     /// `lagrangian` on `grid` under `embedding`.
     pub(crate) fn new(lagrangian: &'l L, grid: Grid, embedding: Embedding) -> Self {
-        let velocity = embedding.velocity_operator(&grid);
-        let adjoint = embedding
-            .adjoint_operator(&grid)
-            .sharing_weights_of(&velocity);
+        let (velocity, adjoint) = embedding.operators(&grid);
         Discretisation {
             lagrangian,
             grid,
@@ -124,7 +121,7 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
 
     /// Runs `f` with the FFT form of `Δ_σ` (planned and transformed once per discretisation),
     /// for a solver that uses it for a whole solve: the kept one itself, so that its spectra
-    /// and buffers are not copied (at `N = 10⁷` they are about 100 bytes a node), or a copy
+    /// and buffers are not copied (at `N = 10⁷` they are about 60 bytes a node), or a copy
     /// when another thread is using the kept one.
     pub(crate) fn with_velocity_fft<R>(&self, f: impl FnOnce(&mut FftOperator) -> R) -> R {
         self.velocity_fft.with_exclusive(&self.velocity, f)

@@ -152,13 +152,17 @@ impl Operator {
         &self.weights
     }
 
-    /// This operator holding `other`'s weights where they are the same numbers, so that the
-    /// two keep one copy.
-    pub(crate) fn sharing_weights_of(mut self, other: &Operator) -> Self {
-        if self.weights == other.weights {
-            self.weights = Arc::clone(&other.weights);
+    /// The operator of the same weights, `α` and grid on `side`, holding the same copy of the
+    /// weights, without starting columns.
+    pub(crate) fn on_side(&self, side: Side) -> Operator {
+        Operator {
+            side,
+            alpha: self.alpha,
+            n: self.n,
+            scale: self.scale,
+            weights: Arc::clone(&self.weights),
+            columns: Vec::new(),
         }
-        self
     }
 
     /// The rows `k` on which the operator is defined: `1..=N` for σ = −, `0..=N−1` for σ = +.

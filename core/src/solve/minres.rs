@@ -28,6 +28,13 @@
 //! replaced the recurrence of the products `A w_j`, whose two vectors were 16 bytes a node of
 //! the fractional fast path.
 //!
+//! MINRES holds five vectors beside `x` and `b`: `v_{j−1}`, `v_j`, `z_j`, `w_{j−1}`, `w_j`.
+//! The residual's recurrence runs in the storage of the right-hand side, which the caller
+//! hands over ([`minres_in`]), and the product `A z_j` is added onto `v_{j−1}`'s storage
+//! ([`KrylovSystem::apply_preconditioned`] takes `y ← c A x + β y`), where `v_{j+1}` is
+//! built: `δ_j = z_j·A z_j` is then `z_j·(A z_j − β v_{j−1}) + β z_j·v_{j−1}`, the last dot
+//! product (zero but for rounding) taken in the sweep that scales `z_j`.
+//!
 //! The tridiagonal matrix `T_k` (diagonal `δ_j`, off-diagonal `γ_{j+1}`) is that of
 //! `M^{1/2} A M^{1/2}`, so its eigenvalues (the Ritz values) approximate those of `M A`, and
 //! each comes with a bound: some eigenvalue of `M A` lies within `|γ_{k+1} s_k|` of a Ritz
