@@ -119,7 +119,8 @@ impl<'l, L: Lagrangian<D> + ?Sized, const D: usize> Discretisation<'l, L, D> {
         &self.adjoint
     }
 
-    /// Runs `f` with the FFT form of `Δ_σ` (planned and transformed once per discretisation),
+    /// Runs `f` with the FFT form of `Δ_σ` (planned and transformed once per discretisation; a
+    /// fast solve frees its spectrum while it needs none, and computes it again),
     /// for a solver that uses it for a whole solve: the kept one itself, so that its spectra
     /// and buffers are not copied (at `N = 10⁷` they are about 60 bytes a node), or a copy
     /// when another thread is using the kept one.

@@ -8,7 +8,7 @@
 //!
 //! `T x = IFFT(ĉ · x̂)[0..M]`,  `Tᵀ x = IFFT(conj(ĉ) · x̂)[0..M]` (`c` real).
 //!
-//! `ĉ` is computed once, when the matrix is built. All vectors are real, so `L = 2K` real
+//! `ĉ` is computed when the matrix is built (and again after a release). All vectors are real, so `L = 2K` real
 //! values are transformed as `K` complex ones (`z_j = x_{2j} + i x_{2j+1}`), by one complex FFT
 //! of length `K` and an `O(K)` pass that separates the even and odd halves (Sorensen et al.):
 //! half the work and half the memory of a complex FFT of length `L`. `K ≥ M` is a product of
@@ -347,12 +347,13 @@ impl TriangularToeplitz {
         let k = plan.len();
         let (z, w, s, tw) = (&ws.spectrum, &mut ws.packed, &self.spectrum, &plan.twiddles);
         let filter = |c: Complex<f64>| if transpose { c.conj() } else { c };
-        // The spectrum at m and K − m, times that of B (`1 − t` and `1 + conj t`) where asked.
+        // The spectrum at m and K − m, times that of B (`1 − t`, formed without cancellation,
+        // and `1 + conj t`) where asked.
         let one = Complex::new(1.0, 0.0);
         let spectrum = |m: usize, t: Complex<f64>| {
             let (sm, skm) = (s[m], s[k - m]);
             if difference {
-                (filter(sm * (one - t)), filter(skm * (one + t.conj())))
+                (filter(sm * tw.gap(m)), filter(skm * (one + t.conj())))
             } else {
                 (filter(sm), filter(skm))
             }

@@ -23,6 +23,8 @@
 //! Y. Saad, *Iterative Methods for Sparse Linear Systems*, 2nd ed., Algorithms 9.1 (PCG) and
 //! 9.5 (right-preconditioned GMRES).
 
+use crate::linalg::zeroed;
+
 /// A linear system known through products: `y = A x` and `z = M r` with `M ≈ A⁻¹`.
 pub trait KrylovSystem {
     /// The number of unknowns.
@@ -219,12 +221,54 @@ pub fn conjugate_gradient(
     })
 }
 
+/// Vectors lent to a solver and given back, kept by a caller that solves many systems of one
+/// size (at millions of unknowns a fresh vector costs tens of milliseconds of page faults).
+pub(crate) trait VectorPool {
+    /// A vector of any length and content (empty when the pool holds none).
+    fn lend(&mut self) -> Vec<f64>;
+    /// A vector back, kept or dropped.
+    fn give(&mut self, vector: Vec<f64>);
+}
+
+/// A pool that holds nothing: every vector lent is allocated, every one given back dropped.
+struct NoPool;
+
+impl VectorPool for NoPool {
+    fn lend(&mut self) -> Vec<f64> {
+        Vec::new()
+    }
+    fn give(&mut self, _: Vec<f64>) {}
+}
+
+/// A vector of `len` zeros from `pool` (none taken for `len = 0`).
+fn lent(pool: &mut impl VectorPool, len: usize) -> Vec<f64> {
+    if len == 0 {
+        return Vec::new();
+    }
+    let mut v = pool.lend();
+    zeroed(&mut v, len);
+    v
+}
+
 /// Right-preconditioned restarted GMRES(m); `x` is overwritten.
 pub fn gmres(
     system: &mut impl KrylovSystem,
     b: &[f64],
     x: &mut [f64],
     options: &KrylovOptions,
+) -> Result<KrylovStats, KrylovFailure> {
+    gmres_in(system, b, x, options, &mut NoPool)
+}
+
+/// [`gmres`] with its vectors (the Arnoldi basis, the product, the preconditioned vector and
+/// its image) lent by `pool` and given back at the end; a restart's residual is formed in the
+/// product's vector, so no vector is held beside them.
+pub(crate) fn gmres_in(
+    system: &mut impl KrylovSystem,
+    b: &[f64],
+    x: &mut [f64],
+    options: &KrylovOptions,
+    pool: &mut impl VectorPool,
 ) -> Result<KrylovStats, KrylovFailure> {
     let n = system.len();
     x.fill(0.0);
@@ -235,24 +279,67 @@ pub fn gmres(
             relative_residual: 0.0,
         });
     }
+    let mut vectors = GmresVectors {
+        w: lent(pool, n),
+        z: lent(pool, n),
+        z_image: lent(pool, system.image_len()),
+        basis: Vec::new(),
+    };
+    let result = gmres_cycles(system, (b, b_norm), x, options, &mut vectors, pool);
+    let GmresVectors {
+        w,
+        z,
+        z_image,
+        basis,
+    } = vectors;
+    let vectors = basis.into_iter().chain([w, z, z_image]);
+    for vector in vectors.filter(|v| v.capacity() > 0) {
+        pool.give(vector);
+    }
+    result
+}
+
+/// The vectors of [`gmres_in`]: the product `w`, the preconditioned vector `z` and its image,
+/// and the Arnoldi basis.
+struct GmresVectors {
+    w: Vec<f64>,
+    z: Vec<f64>,
+    z_image: Vec<f64>,
+    basis: Vec<Vec<f64>>,
+}
+
+/// The cycles of [`gmres_in`], in its vectors.
+fn gmres_cycles(
+    system: &mut impl KrylovSystem,
+    (b, b_norm): (&[f64], f64),
+    x: &mut [f64],
+    options: &KrylovOptions,
+    vectors: &mut GmresVectors,
+    pool: &mut impl VectorPool,
+) -> Result<KrylovStats, KrylovFailure> {
+    let n = system.len();
     let m = options.restart.clamp(1, n.max(1));
-    let mut r = b.to_vec();
-    let mut w = vec![0.0; n];
-    let mut z = vec![0.0; n];
-    let mut z_image = vec![0.0; system.image_len()];
-    let mut basis: Vec<Vec<f64>> = Vec::with_capacity(m + 1);
+    let GmresVectors {
+        w,
+        z,
+        z_image,
+        basis,
+    } = vectors;
     let mut iterations = 0;
     let mut relative = 1.0;
     let mut x_is_zero = true;
     while iterations < options.max_iterations {
-        // r = b − A x (b itself in the first cycle, from x = 0: no product).
-        if !x_is_zero {
-            system.apply(x, &mut w);
+        // r = b − A x (b itself in the first cycle, from x = 0: no product), in w.
+        let r: &[f64] = if x_is_zero {
+            b
+        } else {
+            system.apply(x, w);
             for i in 0..n {
-                r[i] = b[i] - w[i];
+                w[i] = b[i] - w[i];
             }
-        }
-        let beta = norm(&r);
+            w
+        };
+        let beta = norm(r);
         relative = beta / b_norm;
         if relative <= options.tolerance {
             return Ok(KrylovStats {
@@ -263,8 +350,14 @@ pub fn gmres(
         if !beta.is_finite() {
             break;
         }
-        basis.clear();
-        basis.push(r.iter().map(|v| v / beta).collect());
+        let mut first = lent(pool, n);
+        for (v, r) in first.iter_mut().zip(r) {
+            *v = r / beta;
+        }
+        for vector in basis.drain(..) {
+            pool.give(vector);
+        }
+        basis.push(first);
         // Hessenberg columns, rotated as they come; g = β e₁ rotated.
         let mut hess: Vec<Vec<f64>> = Vec::with_capacity(m);
         let mut rotations: Vec<(f64, f64)> = Vec::with_capacity(m);
@@ -272,18 +365,18 @@ pub fn gmres(
         g[0] = beta;
         let mut inner = 0;
         while inner < m && iterations < options.max_iterations {
-            system.precondition_with_image(&basis[inner], &mut z, &mut z_image);
+            system.precondition_with_image(&basis[inner], z, z_image);
             let preconditioned = (&basis[inner][..], 1.0);
-            system.apply_preconditioned(&z, &z_image, preconditioned, (1.0, 0.0), &mut w);
+            system.apply_preconditioned(z, z_image, preconditioned, (1.0, 0.0), w);
             iterations += 1;
             let mut h = vec![0.0; inner + 2];
             for (j, v) in basis.iter().enumerate() {
-                h[j] = dot(&w, v);
+                h[j] = dot(w, v);
                 for i in 0..n {
                     w[i] -= h[j] * v[i];
                 }
             }
-            h[inner + 1] = norm(&w);
+            h[inner + 1] = norm(w);
             for (j, &(c, s)) in rotations.iter().enumerate() {
                 let (a, b) = (h[j], h[j + 1]);
                 h[j] = c * a + s * b;
@@ -301,14 +394,18 @@ pub fn gmres(
             g[inner + 1] = -s * g[inner];
             g[inner] *= c;
             rotations.push((c, s));
-            let next_norm = norm(&w);
+            let next_norm = norm(w);
             hess.push(h);
             inner += 1;
             relative = g[inner].abs() / b_norm;
             if relative <= options.tolerance || next_norm == 0.0 || !relative.is_finite() {
                 break;
             }
-            basis.push(w.iter().map(|v| v / next_norm).collect());
+            let mut next = lent(pool, n);
+            for (v, w) in next.iter_mut().zip(w.iter()) {
+                *v = w / next_norm;
+            }
+            basis.push(next);
         }
         // Solve the triangular system R y = g and update x += M (V y).
         let mut y = vec![0.0; inner];
@@ -329,7 +426,7 @@ pub fn gmres(
                 w[i] += yj * basis[j][i];
             }
         }
-        system.precondition(&w, &mut z);
+        system.precondition(w, z);
         let before = relative;
         for i in 0..n {
             x[i] += z[i];
@@ -343,10 +440,10 @@ pub fn gmres(
             break;
         }
     }
-    system.apply(x, &mut w);
+    system.apply(x, w);
     let true_residual = b
         .iter()
-        .zip(&w)
+        .zip(w.iter())
         .map(|(b, w)| (b - w) * (b - w))
         .sum::<f64>()
         .sqrt()
@@ -368,144 +465,4 @@ pub fn gmres(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A dense symmetric matrix with a Jacobi preconditioner.
-    struct Dense {
-        a: Vec<Vec<f64>>,
-        jacobi: bool,
-    }
-    impl KrylovSystem for Dense {
-        fn len(&self) -> usize {
-            self.a.len()
-        }
-        fn apply(&mut self, x: &[f64], y: &mut [f64]) {
-            for (yi, row) in y.iter_mut().zip(&self.a) {
-                *yi = dot(row, x);
-            }
-        }
-        fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
-            for i in 0..r.len() {
-                z[i] = if self.jacobi {
-                    r[i] / self.a[i][i].abs()
-                } else {
-                    r[i]
-                };
-            }
-        }
-    }
-
-    /// `tridiag(−1, 2 + shift, −1)`: SPD for `shift > −2(1 − cos(π/(n+1)))`, indefinite below.
-    fn shifted_laplacian(n: usize, shift: f64) -> Dense {
-        let mut a = vec![vec![0.0; n]; n];
-        for i in 0..n {
-            a[i][i] = 2.0 + shift;
-            if i > 0 {
-                a[i][i - 1] = -1.0;
-                a[i - 1][i] = -1.0;
-            }
-        }
-        Dense { a, jacobi: true }
-    }
-
-    fn residual(system: &mut Dense, b: &[f64], x: &[f64]) -> f64 {
-        let mut y = vec![0.0; b.len()];
-        system.apply(x, &mut y);
-        norm(&b.iter().zip(&y).map(|(b, y)| b - y).collect::<Vec<_>>()) / norm(b)
-    }
-
-    /// The 1-D Laplacian `tridiag(−1, 2, −1)` preconditioned by its diagonal, written as a
-    /// user of the trait would: CG and GMRES reach the tolerance and agree.
-    #[test]
-    fn cg_and_gmres_solve_the_laplacian() {
-        struct Laplacian(usize);
-        impl KrylovSystem for Laplacian {
-            fn len(&self) -> usize {
-                self.0
-            }
-            fn apply(&mut self, x: &[f64], y: &mut [f64]) {
-                for i in 0..self.0 {
-                    let left = if i > 0 { x[i - 1] } else { 0.0 };
-                    let right = if i + 1 < self.0 { x[i + 1] } else { 0.0 };
-                    y[i] = 2.0 * x[i] - left - right;
-                }
-            }
-            fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
-                for (z, r) in z.iter_mut().zip(r) {
-                    *z = 0.5 * r;
-                }
-            }
-        }
-        let b = vec![1.0; 20];
-        let options = KrylovOptions {
-            tolerance: 1e-10,
-            max_iterations: 100,
-            restart: 30,
-        };
-        let mut x = vec![0.0; 20];
-        let cg = conjugate_gradient(&mut Laplacian(20), &b, &mut x, &options).unwrap();
-        assert!(cg.iterations <= 20 && cg.relative_residual <= 1e-10);
-        let mut y = vec![0.0; 20];
-        gmres(&mut Laplacian(20), &b, &mut y, &options).unwrap();
-        assert!(x.iter().zip(&y).all(|(a, b)| (a - b).abs() < 1e-8));
-    }
-
-    const OPTIONS: KrylovOptions = KrylovOptions {
-        tolerance: 1e-10,
-        max_iterations: 400,
-        restart: 20,
-    };
-
-    #[test]
-    fn cg_solves_spd_and_reports_indefinite_breakdown() {
-        let n = 60;
-        let b: Vec<f64> = (0..n).map(|i| ((i * 3) as f64).sin() + 0.1).collect();
-        let mut x = vec![0.0; n];
-        let mut spd = shifted_laplacian(n, 0.01);
-        let stats = conjugate_gradient(&mut spd, &b, &mut x, &OPTIONS).unwrap();
-        assert!(residual(&mut spd, &b, &x) <= 1e-10, "{stats:?}");
-        // Shifted well below the smallest eigenvalue: indefinite, CG must stop and say so.
-        let mut indefinite = shifted_laplacian(n, -1.0);
-        let failure = conjugate_gradient(&mut indefinite, &b, &mut x, &OPTIONS).unwrap_err();
-        assert!(
-            matches!(failure, KrylovFailure::Breakdown { .. }),
-            "{failure:?}"
-        );
-    }
-
-    #[test]
-    fn gmres_solves_the_indefinite_system_cg_cannot() {
-        let n = 60;
-        let b: Vec<f64> = (0..n).map(|i| ((i * 3) as f64).cos()).collect();
-        let mut system = shifted_laplacian(n, -1.0);
-        system.jacobi = false;
-        let mut x = vec![0.0; n];
-        let options = KrylovOptions {
-            max_iterations: 2000,
-            restart: 60,
-            ..OPTIONS
-        };
-        let stats = gmres(&mut system, &b, &mut x, &options).unwrap();
-        let r = residual(&mut system, &b, &x);
-        assert!(r <= 1e-10, "{stats:?}, true residual {r:e}");
-    }
-
-    #[test]
-    fn gmres_reports_an_exhausted_budget_with_the_true_residual() {
-        let n = 200;
-        let b = vec![1.0; n];
-        let mut system = shifted_laplacian(n, -1.0);
-        system.jacobi = false;
-        let mut x = vec![0.0; n];
-        let options = KrylovOptions {
-            max_iterations: 5,
-            restart: 3,
-            ..OPTIONS
-        };
-        let failure = gmres(&mut system, &b, &mut x, &options).unwrap_err();
-        let r = residual(&mut system, &b, &x);
-        assert!(failure.relative_residual() > 1e-10);
-        assert!((failure.relative_residual() - r).abs() <= 1e-12 * r.max(1.0));
-    }
-}
+mod tests;

@@ -36,6 +36,9 @@ pub(super) struct Twiddles {
     coarse: Vec<Complex<f64>>,
     /// `e^{−πi b/K}`, `b = 0..S`.
     fine: Vec<Complex<f64>>,
+    /// `1 − e^{−πi aS/K}` and `1 − e^{−πi b/K}` ([`gap`](Self::gap)).
+    coarse_gap: Vec<Complex<f64>>,
+    fine_gap: Vec<Complex<f64>>,
     /// `log₂ S`.
     shift: u32,
 }
@@ -45,10 +48,19 @@ impl Twiddles {
         let last = k / 2;
         let shift = (last + 1).isqrt().next_power_of_two().trailing_zeros();
         let step = -std::f64::consts::PI / k as f64;
+        let theta = |m: usize| -step * m as f64;
         let at = |m: usize| Complex::from_polar(1.0, step * m as f64);
+        // 1 − e^{−iθ} = 2 sin(θ/2) (sin(θ/2) + i cos(θ/2)), with no cancellation for small θ.
+        let gap = |m: usize| {
+            let (sin, cos) = (0.5 * theta(m)).sin_cos();
+            Complex::new(sin, cos) * (2.0 * sin)
+        };
+        let coarse_m = || (0..=last >> shift).map(|a| a << shift);
         Twiddles {
-            coarse: (0..=last >> shift).map(|a| at(a << shift)).collect(),
+            coarse: coarse_m().map(at).collect(),
             fine: (0..1usize << shift).map(at).collect(),
+            coarse_gap: coarse_m().map(gap).collect(),
+            fine_gap: (0..1usize << shift).map(gap).collect(),
             shift,
         }
     }
@@ -57,6 +69,17 @@ impl Twiddles {
     #[inline(always)]
     pub(super) fn get(&self, m: usize) -> Complex<f64> {
         self.coarse[m >> self.shift] * self.fine[m & ((1 << self.shift) - 1)]
+    }
+
+    /// `1 − e^{−πi m/K}`, `m ≤ K/2`, to a few units in the last place of its own size. One
+    /// minus [`get`](Self::get) would lose the relative accuracy where the value is small, at
+    /// low `m` (an absolute error of `ε` on a value of about `πm/K`), and these are the
+    /// frequencies where a smooth vector's transform is largest. Formed as
+    /// `(1 − c) + c (1 − f)` from the two tables' entries `c`, `f` and their gaps.
+    #[inline(always)]
+    pub(super) fn gap(&self, m: usize) -> Complex<f64> {
+        let (a, b) = (m >> self.shift, m & ((1 << self.shift) - 1));
+        self.coarse_gap[a] + self.coarse[a] * self.fine_gap[b]
     }
 }
 

@@ -81,7 +81,7 @@ use crate::lagrangian::{Lagrangian, Vector};
 use crate::linalg::block;
 use crate::options::{KrylovBudget, SolverOptions};
 use crate::solve::bvp::checks::check_nodes_with;
-use crate::solve::krylov::{KrylovFailure, KrylovOptions, gmres};
+use crate::solve::krylov::{KrylovFailure, KrylovOptions, gmres_in};
 use crate::solve::minres::{MinresWork, minres_in};
 use crate::solve::newton::{Converging, GlobalSystem, solve_global};
 use crate::solve::solution::{Solution, Warning};
@@ -138,7 +138,7 @@ fn solve_newton_system<const D: usize>(
         }
     }
     options.max_iterations = budget.gmres_iterations;
-    match gmres(system, rhs, delta, &options) {
+    match gmres_in(system, rhs, delta, &options, work) {
         Ok(stats) => Ok(before_gmres + stats.iterations),
         Err(failure) => accept_or_fail(failure, at),
     }

@@ -102,8 +102,9 @@ fn work_keeps_no_vector_in_an_unused_place() {
 
 /// The Laplacian with a diagonal preconditioner whose last entry is negative: MINRES
 /// breaks down, at the start for `M = −I` and after a few iterations for the other, and
-/// hands the right-hand side back in its residual's storage (exactly at the start, to
-/// rounding after it) for the solver that takes over.
+/// hands the right-hand side back in its residual's storage (exactly at the start, after it
+/// to the recurrence's gap to the true residual, here within 1e-13) for the solver that takes
+/// over.
 #[test]
 fn a_breakdown_gives_the_right_hand_side_back() {
     /// `M = diag(1, …, 1, last)`, or `−I` for `None`.
