@@ -350,12 +350,13 @@ fn gmres_cycles(
         if !beta.is_finite() {
             break;
         }
+        // The last cycle's basis back first, so that the new one reuses its vectors.
+        for vector in basis.drain(..) {
+            pool.give(vector);
+        }
         let mut first = lent(pool, n);
         for (v, r) in first.iter_mut().zip(r) {
             *v = r / beta;
-        }
-        for vector in basis.drain(..) {
-            pool.give(vector);
         }
         basis.push(first);
         // Hessenberg columns, rotated as they come; g = β e₁ rotated.

@@ -122,7 +122,9 @@ fn gmres_solves_the_indefinite_system_cg_cannot() {
 
 /// GMRES in a pool of vectors (left with other lengths and contents) gives the iterates of
 /// GMRES on fresh ones, bit for bit, through restarts, and gives back every vector it
-/// was lent: each solve after the first is served from the pool.
+/// was lent: each solve after the first is served from the pool. It never holds more than its
+/// basis of `restart + 1` vectors, the product and the preconditioned vector (a restart gives
+/// the last basis back before it lends the next).
 #[test]
 fn gmres_in_a_pool_gives_the_same_iterates_and_every_vector_back() {
     #[derive(Default)]
@@ -131,10 +133,12 @@ fn gmres_in_a_pool_gives_the_same_iterates_and_every_vector_back() {
         lent: usize,
         given: usize,
         fresh: usize,
+        most_out: usize,
     }
     impl VectorPool for Counting {
         fn lend(&mut self) -> Vec<f64> {
             self.lent += 1;
+            self.most_out = self.most_out.max(self.lent - self.given);
             self.held.pop().unwrap_or_else(|| {
                 self.fresh += 1;
                 Vec::new()
@@ -171,6 +175,7 @@ fn gmres_in_a_pool_gives_the_same_iterates_and_every_vector_back() {
         assert_eq!(x, alone, "solve {solve}");
         assert_eq!(pool.lent, pool.given, "solve {solve}");
     }
+    assert_eq!(pool.most_out, options.restart + 3);
     let per_solve = pool.lent / 2;
     assert!(
         pool.fresh < per_solve,
