@@ -38,9 +38,12 @@
 //! # One spectrum for both forms
 //!
 //! The plain form needs no spectrum of its own: `T = T' B` holds for the truncated matrices,
-//! and the spectrum of `B`'s column `(1, −1)` is `1 − e^{−πi m/K}`, a twiddle the pass between
-//! the transforms computes anyway, so a plain product multiplies by `ĝ'_m (1 − e^{−πi m/K})`
-//! ([`TriangularToeplitz::mul_loaded_with_difference`]). That spares one spectrum, 16 bytes a node.
+//! and the spectrum of `B`'s column `(1, −1)` is `1 − e^{−πi m/K}`, so a plain product
+//! multiplies by `ĝ'_m (1 − e^{−πi m/K})` in the pass between the transforms
+//! ([`TriangularToeplitz::mul_loaded_with_difference`]). That spares one spectrum, 16 bytes a
+//! node. The factor comes from small tables beside the pass's twiddles, formed so that it
+//! keeps its relative accuracy at the low frequencies, where it is as small as `π/K` (one
+//! minus the twiddle would not, and a smooth curve's transform is largest there).
 //! It rounds like a product with `T'`, whose error grows with `‖g'‖₂`: bounded for `α > ½`
 //! (the `g'_r` fall like `r^{−α}`), `√(log N)` at `α = ½`, but `N^{½−α}` below, where a
 //! residual's product would err above the floor of double precision for small `α` at large
