@@ -8,8 +8,9 @@
 //!
 //! `T x = IFFT(ĉ · x̂)[0..M]`,  `Tᵀ x = IFFT(conj(ĉ) · x̂)[0..M]` (`c` real).
 //!
-//! `ĉ` is computed when the matrix is built (and again after a release). All vectors are real, so `L = 2K` real
-//! values are transformed as `K` complex ones (`z_j = x_{2j} + i x_{2j+1}`), by one complex FFT
+//! `ĉ` is computed when the matrix is built (and again after a release). All vectors are
+//! real, so `L = 2K` real values are transformed as `K` complex ones
+//! (`z_j = x_{2j} + i x_{2j+1}`), by one complex FFT
 //! of length `K` and an `O(K)` pass that separates the even and odd halves (Sorensen et al.):
 //! half the work and half the memory of a complex FFT of length `L`. `K ≥ M` is a product of
 //! small primes ([`fft_len`]).
