@@ -14,6 +14,7 @@
 //! order its band is about `2d` (`O(N d³)` work), while the fill-reducing ordering factorises
 //! it like a two-dimensional mesh.
 
+use crate::solve::krylov::onto;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::sparse::SparseColMatRef;
 use faer::sparse::SymbolicSparseColMatRef;
@@ -131,11 +132,7 @@ impl SparseRows {
                 .zip(&self.values[at])
                 .map(|(&j, v)| v * x[j])
                 .sum();
-            *y = if beta == 0.0 {
-                c * ax
-            } else {
-                c * ax + beta * *y
-            };
+            *y = onto(*y, ax, (c, beta));
         }
     }
 

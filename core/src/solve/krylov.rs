@@ -75,15 +75,18 @@ pub trait KrylovSystem {
     }
 }
 
-/// `y ← c a + β y`, with `y` only written where `β = 0` (a NaN there is not read).
-pub(crate) fn scale_onto(a: &[f64], (c, beta): (f64, f64), y: &mut [f64]) {
-    if beta == 0.0 {
-        y.iter_mut().zip(a).for_each(|(y, a)| *y = c * a);
-    } else {
-        y.iter_mut()
-            .zip(a)
-            .for_each(|(y, a)| *y = c * a + beta * *y);
-    }
+/// `y ← c a + β y` entry by entry ([`onto`]).
+fn scale_onto(a: &[f64], onto_y: (f64, f64), y: &mut [f64]) {
+    y.iter_mut()
+        .zip(a)
+        .for_each(|(y, a)| *y = onto(*y, *a, onto_y));
+}
+
+/// `c a + β y`, where `y` is not read for `β = 0` (a NaN there stays out): the rule of every
+/// [`KrylovSystem::apply_preconditioned`].
+#[inline(always)]
+pub(crate) fn onto(y: f64, a: f64, (c, beta): (f64, f64)) -> f64 {
+    if beta == 0.0 { c * a } else { c * a + beta * y }
 }
 
 /// Stopping rule and sizes of the Krylov solvers.
@@ -250,6 +253,19 @@ fn lent(pool: &mut impl VectorPool, len: usize) -> Vec<f64> {
     v
 }
 
+/// A vector from `pool` holding `values` (of length `len`), written once, not zeroed first.
+fn lent_with(
+    pool: &mut impl VectorPool,
+    len: usize,
+    values: impl Iterator<Item = f64>,
+) -> Vec<f64> {
+    let mut v = pool.lend();
+    v.clear();
+    v.reserve_exact(len);
+    v.extend(values);
+    v
+}
+
 /// Right-preconditioned restarted GMRES(m); `x` is overwritten.
 pub fn gmres(
     system: &mut impl KrylovSystem,
@@ -354,11 +370,7 @@ fn gmres_cycles(
         for vector in basis.drain(..) {
             pool.give(vector);
         }
-        let mut first = lent(pool, n);
-        for (v, r) in first.iter_mut().zip(r) {
-            *v = r / beta;
-        }
-        basis.push(first);
+        basis.push(lent_with(pool, n, r.iter().map(|r| r / beta)));
         // Hessenberg columns, rotated as they come; g = β e₁ rotated.
         let mut hess: Vec<Vec<f64>> = Vec::with_capacity(m);
         let mut rotations: Vec<(f64, f64)> = Vec::with_capacity(m);
@@ -402,11 +414,7 @@ fn gmres_cycles(
             if relative <= options.tolerance || next_norm == 0.0 || !relative.is_finite() {
                 break;
             }
-            let mut next = lent(pool, n);
-            for (v, w) in next.iter_mut().zip(w.iter()) {
-                *v = w / next_norm;
-            }
-            basis.push(next);
+            basis.push(lent_with(pool, n, w.iter().map(|w| w / next_norm)));
         }
         // Solve the triangular system R y = g and update x += M (V y).
         let mut y = vec![0.0; inner];

@@ -203,8 +203,8 @@ pub(crate) fn minres_in(
         record,
         work,
     );
-    if let Err(KrylovFailure::Breakdown { iterations, .. }) = result {
-        if iterations == 0 || x.iter().all(|x| *x == 0.0) {
+    if let Err(KrylovFailure::Breakdown { .. }) = result {
+        if x.iter().all(|x| *x == 0.0) {
             r.iter_mut().for_each(|x| *x *= scale);
         } else {
             let mut ax = vec![0.0; r.len()];

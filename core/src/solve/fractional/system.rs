@@ -14,7 +14,7 @@ use crate::halves;
 use crate::lagrangian::{Hessian, Lagrangian, Matrix, Vector};
 use crate::linalg::{add_to_block, block, set_block, zeroed};
 use crate::operator::Operator;
-use crate::solve::krylov::KrylovSystem;
+use crate::solve::krylov::{KrylovSystem, onto};
 
 /// The Newton system at one iterate: Hessians at the quadrature rows, the preconditioner, and
 /// the FFT operator whose workspace serves every product of the solve.
@@ -243,13 +243,7 @@ impl<'a, const D: usize> FastSystem<'a, D> {
             "a product with released Hessians"
         );
         let n = self.n;
-        let onto = |y: f64, jx: f64| {
-            if beta == 0.0 {
-                scale * jx
-            } else {
-                scale * jx + beta * y
-            }
-        };
+        let combine = |y: f64, jx: f64| onto(y, jx, (scale, beta));
         if let Some((r, factor)) = kinetic.filter(|_| !self.mixed) {
             // Row j − 1 of the unknowns is node j, whose Hessians are at j − first_row.
             let (xx, shift) = (&self.xx, 1 - self.first_row);
@@ -258,7 +252,7 @@ impl<'a, const D: usize> FastSystem<'a, D> {
                     let xx = xx.get(first + i + shift);
                     let jx = block::<D>(r, i) * factor + xx * block::<D>(x, i);
                     for (c, jx) in jx.iter().enumerate() {
-                        y[i * D + c] = onto(y[i * D + c], *jx);
+                        y[i * D + c] = combine(y[i * D + c], *jx);
                     }
                 }
             });
@@ -332,7 +326,7 @@ impl<'a, const D: usize> FastSystem<'a, D> {
                         + dt_b * minus_sigma
                         + known;
                     let at = (j - 1) * D + c;
-                    y[at] = onto(y[at], jx);
+                    y[at] = combine(y[at], jx);
                 }
             });
         }
