@@ -111,6 +111,7 @@ impl<'a, L: DynLagrangian + ?Sized> DynRows<'a, L> {
                 });
             }
         };
+        let (velocity, adjoint) = embedding.operators(&grid);
         Ok(DynRows {
             rule,
             lagrangian,
@@ -118,8 +119,8 @@ impl<'a, L: DynLagrangian + ?Sized> DynRows<'a, L> {
             embedding,
             scheme,
             d: lagrangian.dimension(),
-            velocity: embedding.velocity_operator(&grid),
-            adjoint: embedding.adjoint_operator(&grid),
+            velocity,
+            adjoint,
         })
     }
 

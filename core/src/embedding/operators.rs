@@ -16,15 +16,18 @@ impl Embedding {
 
     /// The operator `Δ_{−σ}` (or `Δ^α_{−σ}`) that the direct scheme of every embedding but
     /// Gauss-FDEσ applies to `p` (with the momentum role's starting columns for the corrected
-    /// Gauss-GLEσ).
+    /// Gauss-GLEσ), built alone: the solvers take it from [`operators`](Self::operators), and
+    /// the tests check that against this.
+    #[cfg(test)]
     pub(crate) fn adjoint_operator(&self, grid: &Grid) -> Operator {
         self.operator(self.side.opposite(), grid, Role::Momentum)
     }
 
-    /// [`velocity_operator`](Self::velocity_operator) and
-    /// [`adjoint_operator`](Self::adjoint_operator), the two holding one copy of their weights
-    /// (the same numbers on both sides): at `N = 10⁷` a copy is 80 MB, and a recurrence over
-    /// them.
+    /// [`velocity_operator`](Self::velocity_operator) and the operator `Δ_{−σ}` (or
+    /// `Δ^α_{−σ}`) that the direct scheme of every embedding but Gauss-FDEσ applies to `p`
+    /// (with the momentum role's starting columns for the corrected Gauss-GLEσ), the two
+    /// holding one copy of their weights (the same numbers on both sides): at `N = 10⁷` a copy
+    /// is 80 MB, and a recurrence over them.
     pub(crate) fn operators(&self, grid: &Grid) -> (Operator, Operator) {
         let velocity = self.velocity_operator(grid);
         let adjoint =
