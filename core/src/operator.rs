@@ -74,7 +74,8 @@ impl Operator {
             Side::Forward => n - distance,
         };
         let [first, second] = role.distances().map(node);
-        let [a, b] = columns(role, self.alpha, n);
+        // The operator's own weights: those the columns correct.
+        let [a, b] = columns(role, self.alpha, &self.weights);
         self.columns = vec![(first, a), (second, b)];
         self
     }
@@ -355,7 +356,7 @@ mod tests {
         let grid = Grid::new(0.0, 0.9, n).unwrap();
         let alpha = 0.55;
         for role in [Role::Velocity, Role::Momentum] {
-            let weights = columns(role, alpha, n);
+            let weights = columns(role, alpha, &grunwald_letnikov(alpha, n + 1));
             for side in [Side::Backward, Side::Forward] {
                 let plain = Operator::grunwald_letnikov(side, alpha, &grid).unwrap();
                 let corrected = plain.clone().with_end_columns(role);

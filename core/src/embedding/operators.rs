@@ -4,12 +4,16 @@
 use super::{Embedding, EmbeddingKind, Scheme};
 use crate::end_correction::Role;
 use crate::grid::Grid;
+use crate::halves;
 use crate::operator::Operator;
 use crate::side::Side;
 use std::ops::RangeInclusive;
 
 impl Embedding {
     /// The operator `Δ_σ` (or `Δ^α_σ`): the velocity is `V = −σ Δ_σ Q` on the quadrature rows.
+    /// Built alone: the solvers take it from [`operators`](Self::operators), and the tests
+    /// check that against this.
+    #[cfg(test)]
     pub(crate) fn velocity_operator(&self, grid: &Grid) -> Operator {
         self.operator(self.side, grid, Role::Velocity)
     }
@@ -23,16 +27,21 @@ impl Embedding {
         self.operator(self.side.opposite(), grid, Role::Momentum)
     }
 
-    /// [`velocity_operator`](Self::velocity_operator) and the operator `Δ_{−σ}` (or
+    /// The operator `Δ_σ` (or `Δ^α_σ`) of the velocity `V = −σ Δ_σ Q` and the operator `Δ_{−σ}` (or
     /// `Δ^α_{−σ}`) that the direct scheme of every embedding but Gauss-FDEσ applies to `p`
     /// (with the momentum role's starting columns for the corrected Gauss-GLEσ), the two
     /// holding one copy of their weights (the same numbers on both sides): at `N = 10⁷` a copy
     /// is 80 MB, and a recurrence over them.
+    ///
+    /// The corrected forms' starting columns of the two are computed at once, on two threads
+    /// with the `parallel` feature: at `N = 10⁷` each set takes seconds.
     pub(crate) fn operators(&self, grid: &Grid) -> (Operator, Operator) {
-        let velocity = self.velocity_operator(grid);
-        let adjoint =
-            self.with_columns(velocity.on_side(self.side.opposite()), grid, Role::Momentum);
-        (velocity, adjoint)
+        let velocity = self.plain_operator(self.side, grid);
+        let adjoint = velocity.on_side(self.side.opposite());
+        halves::both(
+            || self.with_columns(velocity, grid, Role::Velocity),
+            || self.with_columns(adjoint, grid, Role::Momentum),
+        )
     }
 
     /// Row `k` of the operator `B` that brings the momenta into row `k` of `scheme`'s residual,
@@ -66,8 +75,15 @@ impl Embedding {
 
     /// The operator of `side` in `role`: the classical difference, the Grünwald–Letnikov
     /// operator, or that operator with the starting columns of `role` (the corrected form).
+    #[cfg(test)]
     fn operator(&self, side: Side, grid: &Grid, role: Role) -> Operator {
-        let plain = match self.kind {
+        self.with_columns(self.plain_operator(side, grid), grid, role)
+    }
+
+    /// The operator of `side` without starting columns: the classical difference or the
+    /// Grünwald–Letnikov operator.
+    fn plain_operator(&self, side: Side, grid: &Grid) -> Operator {
+        match self.kind {
             // The Caputo form's operators are Grünwald–Letnikov's: its velocity applies them to
             // the shifted curve (the discretisation does), and its direct scheme applies the
             // adjoint to the momenta as Gauss-GLEσ does.
@@ -79,8 +95,7 @@ impl Embedding {
                     .expect("α was checked when the embedding was built")
             }
             _ => Operator::finite_difference(side, grid),
-        };
-        self.with_columns(plain, grid, role)
+        }
     }
 
     /// `plain` with the starting columns of `role` where the embedding is corrected.
