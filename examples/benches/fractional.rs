@@ -12,12 +12,17 @@
 //! **Scaling table.** Peak resident memory is a property of a whole process, so each entry of
 //! the scaling table is measured by a fresh process that runs one solve and nothing else: the
 //! bench starts its own binary with `VAREMBED_BENCH_PROBE=N` (see [`probe`]), which prints the
-//! solve's wall time, Newton iterations, `VmHWM` and a few nodes of the solution. With
+//! solve's wall time, the time `Problem::new` took before it (the discretisation: for the
+//! corrected scheme, its starting columns), Newton iterations, `VmHWM` and a few nodes of the
+//! solution. With
 //! `VAREMBED_BENCH_BASELINE=<another build of this bench>` the same probes run that binary too,
 //! alternately with this one, so that two builds of the library are compared in one run under
 //! the same load. Each probe runs [`PROBE_REPEATS`] times; the table gives the fastest time.
-//! The corrected Gauss-GLE− (its direct scheme, on the fast path) is probed too, by this build
-//! only (`VAREMBED_BENCH_PROBE_CORRECTED=1`, which a build from before it ignores).
+//! The corrected Gauss-GLE− (its direct scheme, on the fast path) is probed too
+//! (`VAREMBED_BENCH_PROBE_CORRECTED=1`), by this build, and by the baseline when
+//! `VAREMBED_BENCH_BASELINE_CORRECTED` is set (a build from before that probe ignores the
+//! variable and solves the paper's scheme). The criterion group also times `Problem::new` of the
+//! corrected scheme at `N = 10⁵` (`corrected_build`).
 //!
 //! `cargo bench -p varembed-examples --bench fractional -- --warm-up-time 1 --measurement-time 3`;
 //! set `VAREMBED_BENCH_MILLION=1` to include N = 10⁶ in the criterion timings, and
@@ -125,7 +130,9 @@ fn probe(n: usize) -> ! {
         tolerance,
         corrected: std::env::var_os("VAREMBED_BENCH_PROBE_CORRECTED").is_some(),
     };
+    let start = Instant::now();
     let p = problem(n, fast);
+    let build_seconds = start.elapsed().as_secs_f64();
     let start = Instant::now();
     let sol = p
         .solve_bvp(fast.scheme(), 0.0, 1.0)
@@ -142,7 +149,8 @@ fn probe(n: usize) -> ! {
         .map(|&k| format!("{:e}", sol.q[k][0]))
         .collect();
     println!(
-        "probe n={n} seconds={seconds:.4} newton={} peak_kib={peak_kib} q={}",
+        "probe n={n} seconds={seconds:.4} build_seconds={build_seconds:.4} newton={} \
+         peak_kib={peak_kib} q={}",
         sol.newton_iterations,
         nodes.join(",")
     );
@@ -152,6 +160,9 @@ fn probe(n: usize) -> ! {
 /// What one probe process printed.
 struct ProbeResult {
     seconds: f64,
+    /// The time `Problem::new` took (the discretisation: for the corrected scheme, its
+    /// starting columns); `None` from a build whose probe did not print it.
+    build_seconds: Option<f64>,
     newton: String,
     peak_kib: f64,
     q: String,
@@ -171,14 +182,15 @@ fn run_probe(binary: &std::path::Path, n: usize, corrected: bool) -> ProbeResult
         .lines()
         .find(|l| l.starts_with("probe "))
         .unwrap_or_else(|| panic!("no probe line from {}: {stdout}", binary.display()));
-    let field = |name: &str| {
+    let optional = |name: &str| {
         line.split_whitespace()
             .find_map(|f| f.strip_prefix(name).and_then(|f| f.strip_prefix('=')))
-            .unwrap_or_else(|| panic!("no {name} in {line}"))
-            .to_string()
+            .map(str::to_string)
     };
+    let field = |name: &str| optional(name).unwrap_or_else(|| panic!("no {name} in {line}"));
     ProbeResult {
         seconds: field("seconds").parse().expect("seconds"),
+        build_seconds: optional("build_seconds").map(|s| s.parse().expect("build_seconds")),
         newton: field("newton"),
         peak_kib: field("peak_kib").parse().expect("peak_kib"),
         q: field("q"),
@@ -198,6 +210,14 @@ fn scaling_table() {
         builds.push(("baseline", baseline.into(), false));
     }
     builds.push(("corrected", this, true));
+    // A baseline that knows the corrected probe (built after it existed: an older one would
+    // solve the paper's scheme under this name) is probed in the corrected scheme too.
+    if let (Some(baseline), Some(_)) = (
+        std::env::var_os("VAREMBED_BENCH_BASELINE"),
+        std::env::var_os("VAREMBED_BENCH_BASELINE_CORRECTED"),
+    ) {
+        builds.push(("baseline corrected", baseline.into(), true));
+    }
     eprintln!("scaling table (fastest of {PROBE_REPEATS} solves, one process per solve):");
     for n in sizes {
         let mut results: Vec<Vec<ProbeResult>> = builds.iter().map(|_| Vec::new()).collect();
@@ -216,9 +236,18 @@ fn scaling_table() {
                 .iter()
                 .map(|r| format!("{:.3}", r.seconds))
                 .collect();
+            let build = results
+                .iter()
+                .filter_map(|r| r.build_seconds)
+                .fold(f64::INFINITY, f64::min);
+            let build = if build.is_finite() {
+                format!("{build:.3} s")
+            } else {
+                "not printed".to_string()
+            };
             eprintln!(
-                "  {name:>10} N = {n:>8}: {fastest:.3} s (runs {} s), peak RSS {:.0} MiB \
-                 ({:.0} bytes/node), Newton {}, Q(¼, ½, ¾) = {}",
+                "  {name:>18} N = {n:>8}: {fastest:.3} s (runs {} s; Problem::new {build}), \
+                 peak RSS {:.0} MiB ({:.0} bytes/node), Newton {}, Q(¼, ½, ¾) = {}",
                 times.join(", "),
                 peak / 1024.0,
                 peak * 1024.0 / n as f64,
@@ -291,6 +320,11 @@ fn bench(c: &mut Criterion) {
             });
         }
     }
+    // Building a corrected discretisation computes its starting columns (O(N log N)).
+    let n = 100_000;
+    group.bench_with_input(BenchmarkId::new("corrected_build", n), &n, |b, &n| {
+        b.iter(|| black_box(problem(n, corrected_fast)))
+    });
     group.finish();
 }
 
