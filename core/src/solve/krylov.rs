@@ -16,7 +16,10 @@
 //!   nonsingular `A`. It too applies `A` to preconditioned vectors only inside a cycle, with
 //!   their images and the vector preconditioned
 //!   ([`KrylovSystem::apply_preconditioned`]), and takes the first cycle's residual as `b`
-//!   (from `x = 0`) without a product.
+//!   (from `x = 0`) without a product. A cycle's update `z = M V y` is such a vector too: the
+//!   residual after it is formed as `r − A z` from that product, and the next cycle starts
+//!   from it, or it is the one reported, with no product `A x` (the true residual up to the
+//!   rounding of the cycles' products).
 //!
 //! ## Reference
 //!
@@ -343,21 +346,16 @@ fn gmres_cycles(
     } = vectors;
     let mut iterations = 0;
     let mut relative = 1.0;
-    let mut x_is_zero = true;
+    // The residual `r = b − A x` after a cycle, formed by that cycle's last product (`None`
+    // before the first, whose residual is `b` itself, from x = 0).
+    let mut residual: Option<Vec<f64>> = None;
     while iterations < options.max_iterations {
-        // r = b − A x (b itself in the first cycle, from x = 0: no product), in w.
-        let r: &[f64] = if x_is_zero {
-            b
-        } else {
-            system.apply(x, w);
-            for i in 0..n {
-                w[i] = b[i] - w[i];
-            }
-            w
-        };
-        let beta = norm(r);
+        let beta = norm(residual.as_deref().unwrap_or(b));
         relative = beta / b_norm;
         if relative <= options.tolerance {
+            if let Some(r) = residual {
+                pool.give(r);
+            }
             return Ok(KrylovStats {
                 iterations,
                 relative_residual: relative,
@@ -366,11 +364,19 @@ fn gmres_cycles(
         if !beta.is_finite() {
             break;
         }
-        // The last cycle's basis back first, so that the new one reuses its vectors.
+        // The last cycle's basis back first, so that the new one reuses its vectors; the
+        // residual becomes the first basis vector in its own storage.
         for vector in basis.drain(..) {
             pool.give(vector);
         }
-        basis.push(lent_with(pool, n, r.iter().map(|r| r / beta)));
+        let first = match residual.take() {
+            Some(mut r) => {
+                r.iter_mut().for_each(|r| *r /= beta);
+                r
+            }
+            None => lent_with(pool, n, b.iter().map(|b| b / beta)),
+        };
+        basis.push(first);
         // Hessenberg columns, rotated as they come; g = β e₁ rotated.
         let mut hess: Vec<Vec<f64>> = Vec::with_capacity(m);
         let mut rotations: Vec<(f64, f64)> = Vec::with_capacity(m);
@@ -435,12 +441,17 @@ fn gmres_cycles(
                 w[i] += yj * basis[j][i];
             }
         }
-        system.precondition(w, z);
+        // z = M (V y), and the cycle's residual r − A z formed onto its first basis vector
+        // (r/β), from the product of the preconditioned vector that the iterations make: the
+        // next cycle's residual, or the one to report, with no product `A x` of its own.
+        system.precondition_with_image(w, z, z_image);
+        let mut r = basis.swap_remove(0);
+        system.apply_preconditioned(z, z_image, (w, 1.0), (-1.0, beta), &mut r);
+        residual = Some(r);
         let before = relative;
         for i in 0..n {
             x[i] += z[i];
         }
-        x_is_zero = false;
         if !x.iter().all(|v| v.is_finite()) {
             break;
         }
@@ -449,14 +460,10 @@ fn gmres_cycles(
             break;
         }
     }
-    system.apply(x, w);
-    let true_residual = b
-        .iter()
-        .zip(w.iter())
-        .map(|(b, w)| (b - w) * (b - w))
-        .sum::<f64>()
-        .sqrt()
-        / b_norm;
+    let true_residual = residual.as_deref().map_or(1.0, |r| norm(r) / b_norm);
+    if let Some(r) = residual {
+        pool.give(r);
+    }
     if true_residual <= options.tolerance {
         return Ok(KrylovStats {
             iterations,

@@ -308,21 +308,33 @@ impl<'a, const D: usize> FastSystem<'a, D> {
         }
         let (xx, xv, vv) = (&self.xx, &self.xv, &self.vv);
         let rows = |i: usize| block::<D>(&self.rows, i);
+        // Where every `L_xv` is zero its terms are left out: two products of blocks fewer a
+        // row on each side of the transform, read one row at a time.
+        let mixed = self.mixed;
         for c in 0..D {
             // b_i = L_vx δ + L_vv a on the rows, component c, formed as the product reads it;
             // y_j = L_xx δ + L_xv a + (Dᵀ b)_j written as the product yields it.
             // Without the kinetic part, b_i = L_vx δ and y_j gains (P' x)_j instead.
             let with_vv = if kinetic.is_some() { 0.0 } else { 1.0 };
             let b = |i: usize| {
-                (xv.get(i).column(c).dot(&node_vector(i + first_row)))
-                    + with_vv * vv.get(i).row(c).tr_dot(&rows(i))
+                let kinetic = with_vv * vv.get(i).row(c).tr_dot(&rows(i));
+                if mixed {
+                    xv.get(i).column(c).dot(&node_vector(i + first_row)) + kinetic
+                } else {
+                    kinetic
+                }
             };
             self.velocity.apply_transpose_with(b, |j, dt_b| {
                 if (1..n).contains(&j) {
                     let i = j - first_row;
                     let known = kinetic.map_or(0.0, |(r, factor)| r[(j - 1) * D + c] * factor);
+                    let mixed_term = if mixed {
+                        xv.get(i).row(c).tr_dot(&rows(i))
+                    } else {
+                        0.0
+                    };
                     let jx = xx.get(i).row(c).tr_dot(&node_vector(j))
-                        + xv.get(i).row(c).tr_dot(&rows(i))
+                        + mixed_term
                         + dt_b * minus_sigma
                         + known;
                     let at = (j - 1) * D + c;

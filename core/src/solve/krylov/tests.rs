@@ -202,3 +202,72 @@ fn gmres_reports_an_exhausted_budget_with_the_true_residual() {
     assert!(failure.relative_residual() > 1e-10);
     assert!((failure.relative_residual() - r).abs() <= 1e-12 * r.max(1.0));
 }
+
+/// GMRES applies `A` only to preconditioned vectors: one product an iteration and one a cycle
+/// (its update, whose product gives the residual after it), none of `A x` from the iterate;
+/// the residual it reports on converging is the true one, through restarts.
+#[test]
+fn gmres_makes_one_product_an_iteration_and_one_a_cycle() {
+    struct Counted {
+        inner: Dense,
+        plain: usize,
+        preconditioned: usize,
+    }
+    impl KrylovSystem for Counted {
+        fn len(&self) -> usize {
+            self.inner.len()
+        }
+        fn apply(&mut self, x: &[f64], y: &mut [f64]) {
+            self.plain += 1;
+            self.inner.apply(x, y);
+        }
+        fn precondition(&mut self, r: &[f64], z: &mut [f64]) {
+            self.inner.precondition(r, z);
+        }
+        fn apply_preconditioned(
+            &mut self,
+            x: &[f64],
+            _: &[f64],
+            _: (&[f64], f64),
+            (c, beta): (f64, f64),
+            y: &mut [f64],
+        ) {
+            self.preconditioned += 1;
+            let mut ax = vec![0.0; x.len()];
+            self.inner.apply(x, &mut ax);
+            for (y, ax) in y.iter_mut().zip(ax) {
+                *y = onto(*y, ax, (c, beta));
+            }
+        }
+    }
+    let n = 60;
+    let b: Vec<f64> = (0..n).map(|i| 1.0 + (i as f64).sin()).collect();
+    for restart in [5, 200] {
+        let mut system = Counted {
+            inner: shifted_laplacian(n, 0.01),
+            plain: 0,
+            preconditioned: 0,
+        };
+        let options = KrylovOptions {
+            max_iterations: 1000,
+            restart,
+            tolerance: 1e-10,
+        };
+        let mut x = vec![0.0; n];
+        let stats = gmres(&mut system, &b, &mut x, &options).unwrap();
+        let cycles = stats.iterations.div_ceil(restart);
+        assert!(restart > n || cycles > 1, "no restart: {stats:?}");
+        assert_eq!(system.plain, 0, "restart {restart}");
+        assert_eq!(
+            system.preconditioned,
+            stats.iterations + cycles,
+            "restart {restart}: {stats:?}"
+        );
+        let r = residual(&mut system.inner, &b, &x);
+        assert!(
+            (stats.relative_residual - r).abs() <= 1e-13 && r <= 1e-10,
+            "restart {restart}: reported {:e}, true {r:e}",
+            stats.relative_residual
+        );
+    }
+}
