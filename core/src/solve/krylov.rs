@@ -18,8 +18,10 @@
 //!   ([`KrylovSystem::apply_preconditioned`]), and takes the first cycle's residual as `b`
 //!   (from `x = 0`) without a product. A cycle's update `z = M V y` is such a vector too: the
 //!   residual after it is formed as `r − A z` from that product, and the next cycle starts
-//!   from it, or it is the one reported, with no product `A x` (the true residual up to the
-//!   rounding of the cycles' products).
+//!   from it, or it is the one reported, with no product `A x`. It is `b − A x` up to the
+//!   rounding of the cycles' products; where those take images or a part of `A` from the
+//!   preconditioner, that rounding is the preconditioner's (a product computed afresh would
+//!   differ by it), as for every residual MINRES reports.
 //!
 //! ## Reference
 //!
