@@ -16,12 +16,7 @@
 //!   nonsingular `A`. It too applies `A` to preconditioned vectors only inside a cycle, with
 //!   their images and the vector preconditioned
 //!   ([`KrylovSystem::apply_preconditioned`]), and takes the first cycle's residual as `b`
-//!   (from `x = 0`) without a product. A cycle's update `z = M V y` is such a vector too: the
-//!   residual after it is formed as `r − A z` from that product, and the next cycle starts
-//!   from it, or it is the one reported, with no product `A x`. It is `b − A x` up to the
-//!   rounding of the cycles' products; where those take images or a part of `A` from the
-//!   preconditioner, that rounding is the preconditioner's (a product computed afresh would
-//!   differ by it), as for every residual MINRES reports.
+//!   (from `x = 0`) without a product.
 //!
 //! ## Reference
 //!
@@ -348,16 +343,21 @@ fn gmres_cycles(
     } = vectors;
     let mut iterations = 0;
     let mut relative = 1.0;
-    // The residual `r = b − A x` after a cycle, formed by that cycle's last product (`None`
-    // before the first, whose residual is `b` itself, from x = 0).
-    let mut residual: Option<Vec<f64>> = None;
+    let mut x_is_zero = true;
     while iterations < options.max_iterations {
-        let beta = norm(residual.as_deref().unwrap_or(b));
+        // r = b − A x (b itself in the first cycle, from x = 0: no product), in w.
+        let r: &[f64] = if x_is_zero {
+            b
+        } else {
+            system.apply(x, w);
+            for i in 0..n {
+                w[i] = b[i] - w[i];
+            }
+            w
+        };
+        let beta = norm(r);
         relative = beta / b_norm;
         if relative <= options.tolerance {
-            if let Some(r) = residual {
-                pool.give(r);
-            }
             return Ok(KrylovStats {
                 iterations,
                 relative_residual: relative,
@@ -366,19 +366,11 @@ fn gmres_cycles(
         if !beta.is_finite() {
             break;
         }
-        // The last cycle's basis back first, so that the new one reuses its vectors; the
-        // residual becomes the first basis vector in its own storage.
+        // The last cycle's basis back first, so that the new one reuses its vectors.
         for vector in basis.drain(..) {
             pool.give(vector);
         }
-        let first = match residual.take() {
-            Some(mut r) => {
-                r.iter_mut().for_each(|r| *r /= beta);
-                r
-            }
-            None => lent_with(pool, n, b.iter().map(|b| b / beta)),
-        };
-        basis.push(first);
+        basis.push(lent_with(pool, n, r.iter().map(|r| r / beta)));
         // Hessenberg columns, rotated as they come; g = β e₁ rotated.
         let mut hess: Vec<Vec<f64>> = Vec::with_capacity(m);
         let mut rotations: Vec<(f64, f64)> = Vec::with_capacity(m);
@@ -443,17 +435,12 @@ fn gmres_cycles(
                 w[i] += yj * basis[j][i];
             }
         }
-        // z = M (V y), and the cycle's residual r − A z formed onto its first basis vector
-        // (r/β), from the product of the preconditioned vector that the iterations make: the
-        // next cycle's residual, or the one to report, with no product `A x` of its own.
-        system.precondition_with_image(w, z, z_image);
-        let mut r = basis.swap_remove(0);
-        system.apply_preconditioned(z, z_image, (w, 1.0), (-1.0, beta), &mut r);
-        residual = Some(r);
+        system.precondition(w, z);
         let before = relative;
         for i in 0..n {
             x[i] += z[i];
         }
+        x_is_zero = false;
         if !x.iter().all(|v| v.is_finite()) {
             break;
         }
@@ -462,10 +449,14 @@ fn gmres_cycles(
             break;
         }
     }
-    let true_residual = residual.as_deref().map_or(1.0, |r| norm(r) / b_norm);
-    if let Some(r) = residual {
-        pool.give(r);
-    }
+    system.apply(x, w);
+    let true_residual = b
+        .iter()
+        .zip(w.iter())
+        .map(|(b, w)| (b - w) * (b - w))
+        .sum::<f64>()
+        .sqrt()
+        / b_norm;
     if true_residual <= options.tolerance {
         return Ok(KrylovStats {
             iterations,
