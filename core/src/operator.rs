@@ -76,7 +76,10 @@ impl Operator {
         let [first, second] = role.distances().map(node);
         // The operator's own weights: those the columns correct (only a Grünwald–Letnikov
         // operator is ever corrected).
-        debug_assert!(crate::weights::are_grunwald_letnikov(&self.weights, self.alpha));
+        debug_assert!(crate::weights::are_grunwald_letnikov(
+            &self.weights,
+            self.alpha
+        ));
         let [a, b] = columns(role, self.alpha, &self.weights);
         self.columns = vec![(first, a), (second, b)];
         self
