@@ -425,3 +425,43 @@ fn a_singular_jacobian_per_step_declines_the_closed_form() {
     assert_eq!(1.0 + b[0].sin(), 0.0);
     assert_eq!(update.explicit(&HalfMassOfXVSquared, &step), None);
 }
+
+/// The affinity and constancy read off the table of terms are the step module's third table
+/// as written out by hand, for every kind and every dependence of the three blocks (each on
+/// any of `x`, `v`, `t`): 512 dependences.
+#[test]
+fn affinity_read_off_the_terms_is_the_written_table() {
+    let written = |kind: StepKind, dependence: &HessianDependence| -> (bool, bool) {
+        let HessianDependence { xx, xv, vv } = *dependence;
+        let on_x_or_v = |d: Dependence| d.x || d.v;
+        let none = Dependence::NONE;
+        match kind {
+            StepKind::VariationalBackward => {
+                (!on_x_or_v(xv) && !on_x_or_v(vv), xv == none && vv == none)
+            }
+            StepKind::VariationalForward => (!xv.v && !vv.v, xv == none && vv == none),
+            StepKind::DirectBackward => (
+                !on_x_or_v(xx) && !on_x_or_v(xv) && !on_x_or_v(vv),
+                xx == none && xv == none && vv == none,
+            ),
+            StepKind::DirectForward => (!vv.v, vv == none),
+            _ => (false, false),
+        }
+    };
+    let dependence = |bits: usize| Dependence {
+        x: bits & 1 != 0,
+        v: bits & 2 != 0,
+        t: bits & 4 != 0,
+    };
+    for bits in 0..512 {
+        let d = HessianDependence {
+            xx: dependence(bits),
+            xv: dependence(bits >> 3),
+            vv: dependence(bits >> 6),
+        };
+        for kind in StepKind::ALL {
+            let read = (is_affine(kind, &d), jacobian_is_constant(kind, &d));
+            assert_eq!(read, written(kind, &d), "{kind:?} {d:?}");
+        }
+    }
+}

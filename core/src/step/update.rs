@@ -6,37 +6,44 @@ use crate::lagrangian::{Dependence, HessianDependence, Lagrangian, Matrix, Vecto
 use crate::linalg::solve_small;
 
 use super::terms::equation_terms;
-use super::{Step, StepKind, StepTimes, equation, scaled_jacobian};
+use super::{Step, StepKind, StepTimes, equation, scaled_jacobian, single_term};
 
 /// Whether the step equation of `kind` is affine in the newest node (third table of the
-/// module docs). The symmetric kinds are never planned in closed form: `false`.
+/// module docs), read off the table of terms: every block its Jacobian reads depends neither on
+/// the velocity, which moves with the newest node at every point, nor, at a point that moves
+/// with it (`@right`, the midpoint), on the position. The symmetric kinds are never planned in
+/// closed form: `false`.
 pub fn is_affine(kind: StepKind, dependence: &HessianDependence) -> bool {
-    let HessianDependence { xx, xv, vv } = *dependence;
-    let on_x_or_v = |d: Dependence| d.x || d.v;
-    match kind {
-        StepKind::VariationalBackward => !on_x_or_v(xv) && !on_x_or_v(vv),
-        StepKind::VariationalForward => !xv.v && !vv.v,
-        StepKind::DirectBackward => !on_x_or_v(xx) && !on_x_or_v(xv) && !on_x_or_v(vv),
-        StepKind::DirectForward => !vv.v,
-        StepKind::MidpointVariational
-        | StepKind::MidpointDirect
-        | StepKind::TrapezoidalVariational
-        | StepKind::TrapezoidalDirect => false,
-    }
+    single_term(kind).is_some()
+        && !jacobian_blocks(kind, dependence).any(|(block, moves)| block.v || (moves && block.x))
 }
 
 /// Whether every block in the Jacobian of `kind` is a constant, so that with a uniform step
-/// the Jacobian is the same at every step.
+/// the Jacobian is the same at every step (asked of the affine kinds only: `false` for the
+/// symmetric kinds).
 pub(crate) fn jacobian_is_constant(kind: StepKind, dependence: &HessianDependence) -> bool {
+    single_term(kind).is_some()
+        && jacobian_blocks(kind, dependence).all(|(block, _)| block == Dependence::NONE)
+}
+
+/// What each block in the Jacobian of `kind`'s step equation depends on (a block is in it where
+/// its weight in some term is not zero; `L_vx` depends on what `L_xv` does), with whether its
+/// term's point moves with the newest node.
+fn jacobian_blocks(
+    kind: StepKind,
+    dependence: &HessianDependence,
+) -> impl Iterator<Item = (Dependence, bool)> {
     let HessianDependence { xx, xv, vv } = *dependence;
-    let none = Dependence::NONE;
-    match kind {
-        StepKind::VariationalBackward | StepKind::VariationalForward => xv == none && vv == none,
-        StepKind::DirectBackward => xx == none && xv == none && vv == none,
-        StepKind::DirectForward => vv == none,
-        // Never affine (`is_affine`), so never asked.
-        _ => false,
-    }
+    let terms = equation_terms(kind);
+    (0..terms.as_slice().len()).flat_map(move |k| {
+        let term = terms.as_slice()[k];
+        let w = term.block_weights(1.0);
+        let moves = term.point.slopes().0 != 0.0;
+        [(w.xx, xx), (w.xv, xv), (w.vx, xv), (w.vv, vv)]
+            .into_iter()
+            .filter(|(weight, _)| *weight != 0.0)
+            .map(move |(_, block)| (block, moves))
+    })
 }
 
 /// How the steps of one run find the newest node, decided once per run by [`Update::plan`].
