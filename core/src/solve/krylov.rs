@@ -315,6 +315,14 @@ pub(crate) fn gmres_in(
     result
 }
 
+/// `r = b − A x` into `r`, from a fresh product.
+fn residual_into(system: &mut impl KrylovSystem, b: &[f64], x: &[f64], r: &mut [f64]) {
+    system.apply(x, r);
+    for (r, b) in r.iter_mut().zip(b) {
+        *r = b - *r;
+    }
+}
+
 /// The vectors of [`gmres_in`]: the product `w`, the preconditioned vector `z` and its image,
 /// and the Arnoldi basis.
 struct GmresVectors {
@@ -349,10 +357,7 @@ fn gmres_cycles(
         let r: &[f64] = if x_is_zero {
             b
         } else {
-            system.apply(x, w);
-            for i in 0..n {
-                w[i] = b[i] - w[i];
-            }
+            residual_into(system, b, x, w);
             w
         };
         let beta = norm(r);
@@ -449,14 +454,8 @@ fn gmres_cycles(
             break;
         }
     }
-    system.apply(x, w);
-    let true_residual = b
-        .iter()
-        .zip(w.iter())
-        .map(|(b, w)| (b - w) * (b - w))
-        .sum::<f64>()
-        .sqrt()
-        / b_norm;
+    residual_into(system, b, x, w);
+    let true_residual = norm(w) / b_norm;
     if true_residual <= options.tolerance {
         return Ok(KrylovStats {
             iterations,
