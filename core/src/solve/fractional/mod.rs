@@ -41,10 +41,6 @@
 //! solve fails with [`Error::KrylovDidNotConverge`], whose message names the remedies; with
 //! [`FractionalSolver::Auto`] a small system then falls back to dense LU.
 //!
-//! **First iterate.** The guess, or, from [`NESTED_FROM`] steps on, where the guess is the
-//! straight line between the ends, the solution on a grid [`COARSENING`] times coarser,
-//! interpolated ([`nested_guess`]): on large grids a Newton step fewer.
-//!
 //! **Globalisation.** The Newton iteration of every global system ([`solve_global`]), whose
 //! line search takes full steps first, in the 2-norm of the residual (the norm in which the
 //! forcing term makes an inexact step a descent direction), with a watchdog.
@@ -81,18 +77,16 @@ use crate::discretisation::Discretisation;
 use crate::embedding::Scheme;
 use crate::error::{Error, Location, Result};
 use crate::fft_operator::FftOperator;
-use crate::grid::Grid;
 use crate::lagrangian::{Lagrangian, Vector};
 use crate::linalg::block;
 use crate::options::{KrylovBudget, SolverOptions};
 use crate::solve::bvp::checks::check_nodes_with;
-use crate::solve::bvp::guess::{is_straight_line, straight_line};
 use crate::solve::krylov::{KrylovFailure, KrylovOptions, gmres_in};
 use crate::solve::minres::{MinresWork, minres_in};
 use crate::solve::newton::{Converging, GlobalSystem, solve_global};
 use crate::solve::solution::{Solution, Warning};
 use end_columns::EndColumns;
-use posedness::{CHECK_STEPS, interpolate};
+use posedness::CHECK_STEPS;
 use residual::{Evaluation, residual, velocities};
 use std::ops::ControlFlow;
 use system::FastSystem;
@@ -163,76 +157,16 @@ fn accept_or_fail(failure: KrylovFailure, at: Location) -> Result<usize> {
     })
 }
 
-/// The fewest steps from which a solve whose guess is the straight line starts Newton from
-/// the solution on a grid [`COARSENING`] times coarser instead ([`nested_guess`]).
-const NESTED_FROM: usize = 1 << 19;
-
-/// How many times coarser the grid of [`nested_guess`]'s solve is than the solve's own.
-const COARSENING: usize = 32;
-
 /// Newton–Krylov on the interior nodes of a Gauss-GLEσ boundary value problem, from `guess`
-/// (already checked: `N + 1` finite nodes, `N ≥ 2`), or from a coarser grid's solution where
-/// `guess` is the straight line ([`nested_guess`]).
+/// (already checked: `N + 1` finite nodes, `N ≥ 2`).
 pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     options: &SolverOptions,
     scheme: Scheme,
     guess: Vec<Vector<D>>,
 ) -> Result<Solution<D>> {
-    solve_nested(disc, options, scheme, guess, NESTED_FROM)
-}
-
-/// [`solve`] with nested iteration from `nested_from` steps on ([`NESTED_FROM`] but in tests).
-fn solve_nested<L: Lagrangian<D> + ?Sized, const D: usize>(
-    disc: &Discretisation<'_, L, D>,
-    options: &SolverOptions,
-    scheme: Scheme,
-    guess: Vec<Vector<D>>,
-    nested_from: usize,
-) -> Result<Solution<D>> {
-    let guess = nested_guess(disc, options, scheme, guess, nested_from)?;
     disc.with_velocity_fft(|fft| solve_with(disc, fft, options, scheme, guess, CHECK_STEPS))
         .map(|(solution, _)| solution)
-}
-
-/// `guess`, or, where it is the straight line between the ends ([`Problem::solve_bvp`]'s) on
-/// `N ≥ from` steps, the solution on a grid [`COARSENING`] times coarser (found the same way,
-/// without its ill-posedness check) interpolated linearly to this grid: nested iteration.
-/// That guess is within the coarse grid's discretisation error of the solution, where
-/// Newton from the straight line spends its first step getting there: on the benchmark
-/// pendulum two Newton steps instead of three (BENCHMARKS.md). Where the coarse solve fails,
-/// the straight line; the solve from it reports what there is to report.
-///
-/// [`Problem::solve_bvp`]: crate::Problem::solve_bvp
-fn nested_guess<L: Lagrangian<D> + ?Sized, const D: usize>(
-    disc: &Discretisation<'_, L, D>,
-    options: &SolverOptions,
-    scheme: Scheme,
-    guess: Vec<Vector<D>>,
-    from: usize,
-) -> Result<Vec<Vector<D>>> {
-    let (grid, n) = (disc.grid(), disc.grid().n());
-    if n < from || !is_straight_line(&guess) {
-        return Ok(guess);
-    }
-    // The fine line is not held while the coarse grid is solved: its ends make it again.
-    let (qa, qb) = (guess[0], guess[n]);
-    drop(guess);
-    let steps = n / COARSENING;
-    let coarse = Grid::new(grid.a(), grid.b(), steps)
-        .map(|grid| Discretisation::new(disc.lagrangian(), grid, *disc.embedding()));
-    let options = SolverOptions {
-        posedness_check: false,
-        ..*options
-    };
-    let solved = coarse.and_then(|coarse| {
-        let line = straight_line(qa, qb, steps)?;
-        solve_nested(&coarse, &options, scheme, line, from)
-    });
-    match solved {
-        Ok(solution) => Ok(interpolate(&solution.q, n)),
-        Err(_) => straight_line(qa, qb, n),
-    }
 }
 
 /// [`solve`] with `fft`, the FFT form of the discretisation's `Δ^α_σ`, the ill-posedness

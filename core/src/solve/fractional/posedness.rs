@@ -134,7 +134,7 @@ pub(super) fn ritz_on_grid<L: Lagrangian<D> + ?Sized, const D: usize>(
 
 /// The curve `q` (nodes on a uniform grid of `N` steps) at the nodes of a uniform grid of
 /// `steps` steps over the same interval, linearly between its nodes; the ends exact.
-pub(super) fn interpolate<const D: usize>(q: &[Vector<D>], steps: usize) -> Vec<Vector<D>> {
+fn interpolate<const D: usize>(q: &[Vector<D>], steps: usize) -> Vec<Vector<D>> {
     let n = q.len() - 1;
     (0..=steps)
         .map(|k| {
