@@ -521,7 +521,7 @@ pub(crate) fn convergence<S: ComparedSolution + Send>(
     runs.pop().expect("one run per scheme")
 }
 
-/// The [`convergence`] runs of several schemes. Timed, every solve runs alone on the calling
+/// The [`convergence`](fn@convergence) runs of several schemes. Timed, every solve runs alone on the calling
 /// thread, scheme after scheme and grid after grid (concurrent solves would spoil each
 /// other's wall time); untimed, all the solves are mapped in parallel by an [`Ensemble`], the
 /// finest grids first, and the runs read the same solutions in the same order. The errors

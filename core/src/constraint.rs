@@ -53,7 +53,7 @@ pub trait Constraint<const D: usize, const M: usize> {
     /// Why these are not holonomic, scleronomic constraints, if they are not: a constraint
     /// that reads the velocity or the time (which [`Holonomic`] would evaluate at `v = 0`,
     /// `t = 0`). The solver refuses such a model with
-    /// [`Error::InvalidModel`](crate::Error::InvalidModel) before any step. The default finds
+    /// [`Error::InvalidModel`] before any step. The default finds
     /// nothing.
     fn not_holonomic(&self) -> Option<String> {
         None

@@ -1,6 +1,6 @@
 //! Models whose dimension is a run-time value: the [`DynLagrangian`] trait, its sparse
-//! second derivatives ([`SparseHessian`]), and the run-time-dimension problem
-//! ([`DynProblem`]) that integrates them step by step with sparse Newton and an observer.
+//! second derivatives ([`SparseHessian`](crate::SparseHessian)), and the run-time-dimension problem
+//! ([`DynProblem`](crate::DynProblem)) that integrates them step by step with sparse Newton and an observer.
 //!
 //! The const-generic [`Lagrangian<D>`](crate::Lagrangian) keeps every vector and block on the
 //! stack, which is the fastest path for the few degrees of freedom of a pendulum or an orbit,

@@ -59,17 +59,17 @@ impl Role {
         }
     }
 
-    /// The exact fractional derivative `Γ(g + 1)/Γ(g + 1 − α) s^{g−α}` of the function of
-    /// exponent `g` in the row at distance `m` (in units of `h`, without `h^{g−α}`): at
-    /// `s = m − α/2` for the velocity, at `s = m` for the momenta. `1/Γ(g + 1 − α)` is zero at
-    /// its pole (`g = 0`, `α = 1`).
+    /// [`exact_in_rows`](Self::exact_in_rows) in the single row at distance `m`.
     #[cfg(test)]
     fn exact(self, alpha: f64, g: f64, m: usize) -> f64 {
         self.exact_in_rows(alpha, g)(m)
     }
 
-    /// [`exact`](Self::exact) in the row at distance `m`, as a function of `m`, with its Gamma
-    /// factor computed once.
+    /// The exact fractional derivative `Γ(g + 1)/Γ(g + 1 − α) s^{g−α}` of the function of
+    /// exponent `g` in the row at distance `m` (in units of `h`, without `h^{g−α}`), as a
+    /// function of `m`, with its Gamma factor computed once: at `s = m − α/2` for the
+    /// velocity, at `s = m` for the momenta. `1/Γ(g + 1 − α)` is zero at its pole (`g = 0`,
+    /// `α = 1`).
     fn exact_in_rows(self, alpha: f64, g: f64) -> impl Fn(usize) -> f64 {
         let reciprocal = if g + 1.0 - alpha > 0.0 {
             1.0 / gamma(g + 1.0 - alpha)

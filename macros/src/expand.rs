@@ -3,14 +3,14 @@
 //!
 //! | stage | function | input → output |
 //! | --- | --- | --- |
-//! | parse (simplifying as it builds) | [`parse::parse`] | tokens → [`Model`](crate::ir::Model) |
+//! | parse (simplifying as it builds) | [`parse::parse_with_helpers`] | tokens → [`Model`] |
 //! | differentiate | [`diff::differentiate`] | graph, `L` → [`Derivatives`](crate::ir::Derivatives) |
 //! | CSE | [`cse::plan`] | graph, `L`, derivatives → [`Plans`](crate::cse::Plans) |
 //! | text | [`text::derivatives_text`] | model, derivatives → `String` |
 //! | emit | [`emit::emit`] | model, derivatives, plans, text → tokens |
 //!
 //! A Lagrangian with loops (or a named dimension) takes the loop path instead: [`assemble`]
-//! (its terms and their derivatives), [`text::loops_text`], [`scatter::emit`] (loops that add
+//! (its terms and their derivatives), [`text::loops_text`], [`loop_impl::emit`] (loops that add
 //! each term's derivatives into their entries, with scoped temporaries: the `Lagrangian<N>`
 //! impl) and [`dynamic::emit`] (the same loops on slices: the `DynLagrangian` impl, alone for a
 //! run-time dimension `x: &[f64]`, `n: usize`). A `#[force]` or `#[constraint]` fn takes

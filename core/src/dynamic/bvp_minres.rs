@@ -16,7 +16,7 @@
 //! too large for the model's stiffness, or a mass that is not positive), or when MINRES does
 //! not reach its tolerance within its budget (the couplings it leaves out are not small), the
 //! Newton iteration stops and the problem is solved again by sparse LU; the reason is the run
-//! report's [`LinearSolve::SparseLuAfterMinres`](crate::LinearSolve::SparseLuAfterMinres).
+//! report's [`LinearSolve::SparseLuAfterMinres`].
 //!
 //! The Newton iteration is the sparse LU path's (stopping rule, line search, errors: a Newton
 //! iteration that does not converge is the problem's error, not a reason to try LU). Each

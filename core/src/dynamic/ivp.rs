@@ -78,7 +78,7 @@ pub(crate) struct DynIvp<'a, L: ?Sized> {
 
 impl<L: DynLagrangian + ?Sized> DynIvp<'_, L> {
     /// The step kind of `scheme`: that of the const-generic path
-    /// ([`step_kind`](crate::solve::ivp::step_kind)).
+    /// ([`step_kind`]).
     fn step_kind(&self, scheme: Scheme) -> Result<StepKind> {
         step_kind(&self.embedding, scheme)
     }

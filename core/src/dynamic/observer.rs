@@ -55,7 +55,7 @@ pub(crate) struct NodeObserver<'l, L: ?Sized> {
 
 impl<'l, L: DynLagrangian + ?Sized> NodeObserver<'l, L> {
     /// The node values of `scheme` under `embedding` on `grid` at dimension `d`;
-    /// [`Error::Unsupported`] for the fractional embeddings. The Gauss–Legendre integrators'
+    /// [`Error::Unsupported`](crate::Error::Unsupported) for the fractional embeddings. The Gauss–Legendre integrators'
     /// momenta are the ones the scheme carries, handed to [`at`](Self::at) and
     /// [`hand`](Self::hand).
     pub(crate) fn new(

@@ -48,8 +48,8 @@ impl Embedding {
     /// `f_k + Σ_m B[k, m] p_m`, as its entries `(m, B[k, m])`: `σ Δ_σ` for the direct
     /// Gauss-FDEσ scheme, `−σ Δ_{−σ}` for the direct scheme of the other three-point embeddings,
     /// `−σ Δ_σᵀ` for every variational scheme. `velocity` and `adjoint` are
-    /// [`velocity_operator`](Self::velocity_operator) and
-    /// [`adjoint_operator`](Self::adjoint_operator) on the grid.
+    /// the velocity operator and the momenta's operator on the grid
+    /// ([`operators`](Self::operators)).
     pub(crate) fn momentum_row(
         &self,
         scheme: Scheme,

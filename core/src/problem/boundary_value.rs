@@ -15,7 +15,9 @@ use std::borrow::Cow;
 
 impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// Solves the boundary value problem `Q_0 = qa`, `Q_N = qb` for `scheme`, from the straight
-    /// line between them. Works for every embedding.
+    /// line between them (on the fractional fast path from `2¹⁹` steps on, from the solution on
+    /// a grid 32 times coarser, interpolated: one Newton step fewer on large grids, see
+    /// [solvers](crate::guide::solvers)). Works for every embedding.
     ///
     /// Newton's method on the rows of [`residual`](Self::residual), full steps first, damped by
     /// a line search on the residual's 2-norm with a watchdog (see

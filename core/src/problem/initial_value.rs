@@ -154,7 +154,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     ///
     /// A model that is also a [`DynLagrangian`](crate::DynLagrangian) (every `#[lagrangian]`
     /// model with loops over `[f64; N]`, see [`Lagrangian::run_time`]) with
-    /// [`RUN_TIME_FROM`](crate::RUN_TIME_FROM) or more degrees of freedom is run by the
+    /// [`RUN_TIME_FROM`] or more degrees of freedom is run by the
     /// run-time-dimension engine: the same steps (Gauss–Legendre's too), with no `D × D` block
     /// on the stack, and without the eigenvalue stability check.
     ///
@@ -170,7 +170,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// [`Error::Unstable`](crate::Error::Unstable) (the linearised step map, checked at step 2 and every 1024 steps, has
     /// a real eigenvalue below −1 or one of modulus ≥ 2: the step is too large for the scheme;
     /// on a run handed to the run-time engine, at its initial data and where the model's modes
-    /// decouple, see [`DynProblem`](crate::DynProblem))
+    /// decouple, see [`DynProblem`])
     /// or [`Error::NotFinite`](crate::Error::NotFinite) (e.g. a recurrence overflowing between two checks); for a
     /// Lagrangian that does not depend on `t`, [`Error::BlowUp`](crate::Error::BlowUp) over a window of steps where the
     /// energy grew far beyond the early run's (see
@@ -200,7 +200,7 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
     /// Runs the recurrence of `scheme` from given first nodes `Q_0`, `Q_1`.
     ///
     /// A model that is also a [`DynLagrangian`](crate::DynLagrangian) with
-    /// [`RUN_TIME_FROM`](crate::RUN_TIME_FROM) or more degrees of freedom is run by the
+    /// [`RUN_TIME_FROM`] or more degrees of freedom is run by the
     /// run-time-dimension engine, as in [`solve_ivp`](Self::solve_ivp)
     /// ([`DynProblem::solve_ivp_from_nodes`](crate::DynProblem::solve_ivp_from_nodes)). Both
     /// paths check the first nodes alike, with the same errors: finite, and `∂²L/∂v²` and the

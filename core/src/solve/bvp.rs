@@ -6,13 +6,15 @@
 //! the FFT Newton–Krylov fast path of [`fractional`], as chosen by [`FractionalSolver`].
 
 pub(crate) mod checks;
+pub(crate) mod guess;
+
+pub(crate) use guess::straight_line;
 
 use crate::discretisation::{Discretisation, Pointwise};
 use crate::embedding::{Embedding, Scheme};
 use crate::error::{Error, Location, Result};
 use crate::lagrangian::{Lagrangian, Matrix, Vector};
 use crate::linalg::{BandedMatrix, DenseLu, max_norm};
-use crate::memory::reserve;
 use crate::options::{FractionalSolver, SolverOptions};
 use crate::side::Side;
 use crate::solve::conditioning::{
@@ -49,23 +51,6 @@ impl<const D: usize> BlockSink<D> for DMatrix<f64> {
             }
         }
     }
-}
-
-/// The straight line from `qa` to `qb` on `n` steps: the default initial guess.
-pub(crate) fn straight_line<const D: usize>(
-    qa: Vector<D>,
-    qb: Vector<D>,
-    n: usize,
-) -> Result<Vec<Vector<D>>> {
-    let mut line = reserve(n + 1, "the nodes Q_0..=Q_N of the initial guess")?;
-    // The ends exactly (`qa + (qb − qa)·1` need not round to `qb`), so that a non-finite end
-    // stays where it was given and is reported as that end.
-    line.extend((0..=n).map(|k| match k {
-        0 => qa,
-        k if k == n => qb,
-        k => qa + (qb - qa) * (k as f64 / n as f64),
-    }));
-    Ok(line)
 }
 
 /// Solves the boundary value problem of `scheme` from `guess` (see [`solve_unchecked`]), with

@@ -25,7 +25,7 @@
 //! **Linear solves.** `J` is symmetric (the Hessian of the discrete action; the corrected
 //! direct scheme's goes to GMRES with the same preconditioner) and the
 //! preconditioner `P'` is symmetric positive definite wherever every `L_vv` is, so the Newton
-//! systems go to preconditioned MINRES ([`minres`]), which needs no definite `J`. A potential
+//! systems go to preconditioned MINRES ([`minres_in`]), which needs no definite `J`. A potential
 //! whose `L_xx` outweighs the kinetic term makes `J` indefinite: on `L = ½v² − 12.5x² + x` at
 //! α = 0.3, `P'⁻¹J = I − 25 P'⁻¹` has about 70 negative eigenvalues at every `N` (the kinetic
 //! eigenvalues grow like `j^{2α}`, so many lie below 25). Conjugate gradients break down there,
@@ -40,6 +40,10 @@
 //! neither below `η_k` nor below `0.1` (which still gives a usable inexact Newton step), the
 //! solve fails with [`Error::KrylovDidNotConverge`], whose message names the remedies; with
 //! [`FractionalSolver::Auto`] a small system then falls back to dense LU.
+//!
+//! **First iterate.** The guess, or, from [`NESTED_FROM`] steps on, where the guess is the
+//! straight line between the ends, the solution on a grid [`COARSENING`] times coarser,
+//! interpolated ([`nested_guess`]): on large grids a Newton step fewer.
 //!
 //! **Globalisation.** The Newton iteration of every global system ([`solve_global`]), whose
 //! line search takes full steps first, in the 2-norm of the residual (the norm in which the
@@ -77,16 +81,18 @@ use crate::discretisation::Discretisation;
 use crate::embedding::Scheme;
 use crate::error::{Error, Location, Result};
 use crate::fft_operator::FftOperator;
+use crate::grid::Grid;
 use crate::lagrangian::{Lagrangian, Vector};
 use crate::linalg::block;
 use crate::options::{KrylovBudget, SolverOptions};
 use crate::solve::bvp::checks::check_nodes_with;
+use crate::solve::bvp::guess::{is_straight_line, straight_line};
 use crate::solve::krylov::{KrylovFailure, KrylovOptions, gmres_in};
 use crate::solve::minres::{MinresWork, minres_in};
 use crate::solve::newton::{Converging, GlobalSystem, solve_global};
 use crate::solve::solution::{Solution, Warning};
 use end_columns::EndColumns;
-use posedness::CHECK_STEPS;
+use posedness::{CHECK_STEPS, interpolate};
 use residual::{Evaluation, residual, velocities};
 use std::ops::ControlFlow;
 use system::FastSystem;
@@ -102,9 +108,9 @@ const ETA_MAX: f64 = 0.1;
 /// Newton step to go whose residual and Krylov start cost more than the few Krylov iterations
 /// (MINRES gains about a factor ten per iteration on these systems, so up to three) that reach
 /// the tolerance at once. At the first step, where there is no prediction, the cap
-/// [`ETA_MAX`] stands for the choice. On the benchmark pendulum at `N = 10⁶` and `10⁷` the
-/// choice is 112 and 58 times the needed term, and one more MINRES iteration makes the third
-/// Newton step the last (BENCHMARKS.md).
+/// [`ETA_MAX`] stands for the choice. On the benchmark pendulum from the straight line at
+/// `N = 10⁶` and `10⁷` the choice is 112 and 58 times the needed term, and one more MINRES
+/// iteration makes the third Newton step the last (BENCHMARKS.md).
 const LAST_STEP_REACH: f64 = 1e3;
 
 /// Solves `J δ = rhs` to the relative tolerance `eta`: MINRES, then GMRES when MINRES breaks
@@ -157,27 +163,113 @@ fn accept_or_fail(failure: KrylovFailure, at: Location) -> Result<usize> {
     })
 }
 
+/// The fewest steps from which a solve whose guess is the straight line starts Newton from
+/// the solution on a grid [`COARSENING`] times coarser instead ([`nested_guess`]).
+const NESTED_FROM: usize = 1 << 19;
+
+/// How many times coarser the grid of [`nested_guess`]'s solve is than the solve's own.
+const COARSENING: usize = 32;
+
+/// The forcing term of the first Newton step from a coarser grid's solution, where the first
+/// step from the straight line has [`ETA_MAX`]. What that step leaves of the first iterate's
+/// error comes back squared in the last step, where the residual hardly sees it (a smooth
+/// error): with [`ETA_MAX`] the two steps from a 32 times coarser grid left the benchmark
+/// pendulum's nodes 9.4e-9 from the round-off floor's solution at `N = 10⁶`, where the three
+/// from the straight line leave 1.9e-11; with this term 6.4e-12, for one or two more Krylov
+/// iterations (BENCHMARKS.md).
+const NESTED_FIRST_FORCING: f64 = 1e-4;
+
 /// Newton–Krylov on the interior nodes of a Gauss-GLEσ boundary value problem, from `guess`
-/// (already checked: `N + 1` finite nodes, `N ≥ 2`).
+/// (already checked: `N + 1` finite nodes, `N ≥ 2`), or from a coarser grid's solution where
+/// `guess` is the straight line ([`nested_guess`]).
 pub(crate) fn solve<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     options: &SolverOptions,
     scheme: Scheme,
     guess: Vec<Vector<D>>,
 ) -> Result<Solution<D>> {
-    disc.with_velocity_fft(|fft| solve_with(disc, fft, options, scheme, guess, CHECK_STEPS))
-        .map(|(solution, _)| solution)
+    solve_nested(disc, options, scheme, guess, NESTED_FROM)
 }
 
-/// [`solve`] with `fft`, the FFT form of the discretisation's `Δ^α_σ`, the ill-posedness
-/// check on at most `check_steps` steps (`posedness`); with the solution, the Krylov
-/// iterations of each Newton step.
+/// [`solve`] with nested iteration from `nested_from` steps on ([`NESTED_FROM`] but in tests).
+fn solve_nested<L: Lagrangian<D> + ?Sized, const D: usize>(
+    disc: &Discretisation<'_, L, D>,
+    options: &SolverOptions,
+    scheme: Scheme,
+    guess: Vec<Vector<D>>,
+    nested_from: usize,
+) -> Result<Solution<D>> {
+    let (guess, nested) = nested_guess(disc, options, scheme, guess, nested_from)?;
+    let ends = (guess[0], guess[disc.grid().n()]);
+    let from = |guess, first_forcing| {
+        disc.with_velocity_fft(|fft| {
+            let guess = (guess, first_forcing);
+            solve_with(disc, fft, options, scheme, guess, CHECK_STEPS)
+        })
+        .map(|(solution, _)| solution)
+    };
+    if !nested {
+        return from(guess, ETA_MAX);
+    }
+    // A solve from the coarser grid's solution that fails is made again from the straight
+    // line, whose checks and errors are those the caller would have had.
+    from(guess, NESTED_FIRST_FORCING)
+        .or_else(|_| from(straight_line(ends.0, ends.1, disc.grid().n())?, ETA_MAX))
+}
+
+/// `guess`, or, where it is the straight line between the ends ([`Problem::solve_bvp`]'s) on
+/// `N ≥ from` steps, the solution on a grid [`COARSENING`] times coarser (found the same way,
+/// without its ill-posedness check) interpolated linearly to this grid: nested iteration;
+/// with whether it is the latter. That first iterate is within the coarse grid's
+/// discretisation error of the solution, where Newton from the straight line spends its
+/// first step getting there: on the benchmark pendulum two Newton steps instead of three
+/// (BENCHMARKS.md). Where the coarse solve fails, the straight line; the solve from it
+/// reports what there is to report (as does [`solve_nested`] where the solve from the
+/// coarser grid's solution fails).
+///
+/// [`Problem::solve_bvp`]: crate::Problem::solve_bvp
+fn nested_guess<L: Lagrangian<D> + ?Sized, const D: usize>(
+    disc: &Discretisation<'_, L, D>,
+    options: &SolverOptions,
+    scheme: Scheme,
+    guess: Vec<Vector<D>>,
+    from: usize,
+) -> Result<(Vec<Vector<D>>, bool)> {
+    let (grid, n) = (disc.grid(), disc.grid().n());
+    // A coarse grid of at least two steps (a corrected operator's starting columns need them).
+    if n < from.max(2 * COARSENING) || !is_straight_line(&guess) {
+        return Ok((guess, false));
+    }
+    // The fine line is not held while the coarse grid is solved: its ends make it again.
+    let (qa, qb) = (guess[0], guess[n]);
+    drop(guess);
+    let steps = n / COARSENING;
+    let coarse = Grid::new(grid.a(), grid.b(), steps)
+        .map(|grid| Discretisation::new(disc.lagrangian(), grid, *disc.embedding()));
+    let options = SolverOptions {
+        posedness_check: false,
+        ..*options
+    };
+    let solved = coarse.and_then(|coarse| {
+        let line = straight_line(qa, qb, steps)?;
+        solve_nested(&coarse, &options, scheme, line, from)
+    });
+    match solved {
+        Ok(solution) => Ok((interpolate(&solution.q, n), true)),
+        Err(_) => Ok((straight_line(qa, qb, n)?, false)),
+    }
+}
+
+/// [`solve`] with `fft`, the FFT form of the discretisation's `Δ^α_σ`, from `guess` with the
+/// forcing term `first_forcing` for the first Newton step ([`ETA_MAX`] but from a coarser
+/// grid's solution), the ill-posedness check on at most `check_steps` steps (`posedness`);
+/// with the solution, the Krylov iterations of each Newton step.
 fn solve_with<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     fft: &mut FftOperator,
     options: &SolverOptions,
     scheme: Scheme,
-    guess: Vec<Vector<D>>,
+    (guess, first_forcing): (Vec<Vector<D>>, f64),
     check_steps: usize,
 ) -> Result<(Solution<D>, Vec<usize>)> {
     let columns = EndColumns::new(scheme, disc.velocity_operator(), disc.adjoint_operator());
@@ -187,7 +279,7 @@ fn solve_with<L: Lagrangian<D> + ?Sized, const D: usize>(
         scheme,
         system: FastSystem::<D>::new(disc.velocity_operator(), columns, fft),
         work: MinresWork::default(),
-        eta: ETA_MAX,
+        eta: first_forcing,
         previous_norm: None,
         krylov_iterations: Vec::new(),
         check_steps,

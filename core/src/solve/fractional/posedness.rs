@@ -134,7 +134,7 @@ pub(super) fn ritz_on_grid<L: Lagrangian<D> + ?Sized, const D: usize>(
 
 /// The curve `q` (nodes on a uniform grid of `N` steps) at the nodes of a uniform grid of
 /// `steps` steps over the same interval, linearly between its nodes; the ends exact.
-fn interpolate<const D: usize>(q: &[Vector<D>], steps: usize) -> Vec<Vector<D>> {
+pub(super) fn interpolate<const D: usize>(q: &[Vector<D>], steps: usize) -> Vec<Vector<D>> {
     let n = q.len() - 1;
     (0..=steps)
         .map(|k| {
@@ -209,7 +209,16 @@ mod tests {
         let options = SolverOptions::default();
         let scheme = Scheme::Variational;
         let (solution, _) = disc
-            .with_velocity_fft(|fft| solve_with(&disc, fft, &options, scheme, guess, check_steps))
+            .with_velocity_fft(|fft| {
+                solve_with(
+                    &disc,
+                    fft,
+                    &options,
+                    scheme,
+                    (guess, super::super::ETA_MAX),
+                    check_steps,
+                )
+            })
             .unwrap();
         match solution.warnings[..] {
             [Warning::IllPosed { measure }] => Some(measure),

@@ -73,7 +73,7 @@ pub(super) fn evaluate<L: Lagrangian<D> + ?Sized, const D: usize>(
     residual(disc, system, q, iteration, eval)
 }
 
-/// The first part of [`evaluate`]: `V` on the rows into `eval.v`.
+/// The first part of an evaluation at `q`: `V` on the rows into `eval.v`.
 pub(super) fn velocities<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     system: &mut FastSystem<'_, D>,
@@ -114,7 +114,8 @@ pub(super) fn velocities<L: Lagrangian<D> + ?Sized, const D: usize>(
     Ok(())
 }
 
-/// The second part of [`evaluate`], after [`velocities`]: the residual from `eval.v`.
+/// The second part of an evaluation, after [`velocities`]: the residual from `eval.v` (a
+/// non-finite value anywhere is [`Error::NotFinite`] at Newton iteration `iteration`).
 pub(super) fn residual<L: Lagrangian<D> + ?Sized, const D: usize>(
     disc: &Discretisation<'_, L, D>,
     system: &mut FastSystem<'_, D>,

@@ -145,7 +145,9 @@ fn krylov_iterations_stay_flat_as_n_grows() {
             .collect();
         let options = SolverOptions::default();
         let (solution, iterations) = disc
-            .with_velocity_fft(|fft| solve_with(&disc, fft, &options, scheme, guess, CHECK_STEPS))
+            .with_velocity_fft(|fft| {
+                solve_with(&disc, fft, &options, scheme, (guess, ETA_MAX), CHECK_STEPS)
+            })
             .unwrap();
         assert_eq!(iterations.len(), solution.newton_iterations);
         iterations.into_iter().max().unwrap()
@@ -225,5 +227,111 @@ fn gmres_reports_the_residual_a_fresh_product_measures() {
         let embedding = Embedding::corrected_grunwald_letnikov(side, 0.95).unwrap();
         check(&Mixed, embedding, 40_000);
         check(&Unmixed, embedding, 40_000);
+    }
+}
+
+/// A solve from the straight line on a grid of at least `nested_from` steps starts Newton from
+/// the solution on a grid 32 times coarser (solved from its own straight line), interpolated
+/// linearly; the solve from there meets its stopping rule in fewer Newton steps than from the
+/// line, with nodes as close to the discrete solution (solved to the round-off floor) as the
+/// solve from the line. A guess that is not the straight line is taken as given, and a coarse
+/// solve that fails leaves the straight line.
+#[test]
+fn a_straight_line_guess_starts_from_a_coarser_grid_solution() {
+    let n = 8192;
+    let pendulum = Pendulum::default();
+    let paper = Embedding::grunwald_letnikov(Side::Backward, 0.7).unwrap();
+    let corrected = Embedding::corrected_grunwald_letnikov(Side::Forward, 0.6).unwrap();
+    let (qa, qb) = (Vector::<1>::new(0.0), Vector::<1>::new(1.0));
+    for (embedding, scheme) in [(paper, Scheme::Variational), (corrected, Scheme::Direct)] {
+        let grid = Grid::new(0.0, 1.0, n).unwrap();
+        let disc = Discretisation::new(&pendulum, grid, embedding);
+        let line = straight_line(qa, qb, n).unwrap();
+        let options = SolverOptions::default();
+
+        // The first iterate: the coarse grid's solution, solved here on its own.
+        let coarse_grid = Grid::new(0.0, 1.0, n / 32).unwrap();
+        let coarse = Discretisation::new(&pendulum, coarse_grid, embedding);
+        let coarse_line = straight_line(qa, qb, n / 32).unwrap();
+        let coarse_options = SolverOptions {
+            posedness_check: false,
+            ..options
+        };
+        let (coarse_solution, _) = coarse
+            .with_velocity_fft(|fft| {
+                solve_with(
+                    &coarse,
+                    fft,
+                    &coarse_options,
+                    scheme,
+                    (coarse_line, ETA_MAX),
+                    1 << 18,
+                )
+            })
+            .unwrap();
+        let (first, nested) = nested_guess(&disc, &options, scheme, line.clone(), n).unwrap();
+        assert!(
+            nested && first == posedness::interpolate(&coarse_solution.q, n),
+            "{embedding}: the interpolated coarse solution"
+        );
+
+        let nested = solve_nested(&disc, &options, scheme, line.clone(), n).unwrap();
+        let mut fft = FftOperator::new(disc.velocity_operator());
+        let (_, evaluation) = linearized_for(&disc, scheme, &mut fft, &nested.q);
+        let (residual, tolerance) = (evaluation.norms().0, options.newton.tolerance);
+        assert!(
+            residual <= tolerance * evaluation.scale,
+            "{embedding}: max|r| {residual:e} against {:e}",
+            tolerance * evaluation.scale
+        );
+        let floor = SolverOptions {
+            newton: crate::NewtonOptions {
+                tolerance: 1e-16,
+                ..options.newton
+            },
+            ..options
+        };
+        let solve_plain = |options: &SolverOptions| {
+            solve_nested(&disc, options, scheme, line.clone(), usize::MAX).unwrap()
+        };
+        let (plain, reference) = (solve_plain(&options), solve_plain(&floor));
+        assert!(
+            nested.newton_iterations < plain.newton_iterations,
+            "{embedding}: {} Newton steps from the coarser grid, {} from the line",
+            nested.newton_iterations,
+            plain.newton_iterations
+        );
+        let gap = |q: &[Vector<1>]| {
+            q.iter()
+                .zip(&reference.q)
+                .map(|(a, b)| (a - b).amax())
+                .fold(0.0, f64::max)
+        };
+        // As close to the floor's solution as the solve from the line, to 1e-13.
+        let (from_line, from_coarse) = (gap(&plain.q), gap(&nested.q));
+        assert!(
+            from_coarse <= from_line.max(1e-13),
+            "{embedding}: {from_coarse:e} from the coarser grid, {from_line:e} from the line"
+        );
+
+        let mut bent = line.clone();
+        bent[1][0] += 1e-3;
+        let kept = nested_guess(&disc, &options, scheme, bent.clone(), 0).unwrap();
+        assert!(
+            kept == (bent, false),
+            "{embedding}: a guess not the line is kept"
+        );
+        let failing = SolverOptions {
+            newton: crate::NewtonOptions {
+                max_iterations: 0,
+                ..options.newton
+            },
+            ..options
+        };
+        let fallback = nested_guess(&disc, &failing, scheme, line.clone(), 0).unwrap();
+        assert!(
+            fallback == (line.clone(), false),
+            "{embedding}: the line where the coarse solve fails"
+        );
     }
 }
