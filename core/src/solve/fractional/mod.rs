@@ -43,7 +43,9 @@
 //!
 //! **First iterate.** The guess, or, from [`NESTED_FROM`] steps on, where the guess is the
 //! straight line between the ends, the solution on a grid [`COARSENING`] times coarser,
-//! interpolated ([`nested_guess`]): on large grids a Newton step fewer.
+//! interpolated ([`nested_guess`]), whose first Newton step is solved to
+//! [`NESTED_FIRST_FORCING`]: on large grids a Newton step fewer. A solve from it that fails is
+//! made again from the straight line ([`solve_nested`]).
 //!
 //! **Globalisation.** The Newton iteration of every global system ([`solve_global`]), whose
 //! line search takes full steps first, in the 2-norm of the residual (the norm in which the
@@ -108,7 +110,7 @@ const ETA_MAX: f64 = 0.1;
 /// Newton step to go whose residual and Krylov start cost more than the few Krylov iterations
 /// (MINRES gains about a factor ten per iteration on these systems, so up to three) that reach
 /// the tolerance at once. At the first step, where there is no prediction, the cap
-/// [`ETA_MAX`] stands for the choice. On the benchmark pendulum from the straight line at
+/// [`ETA_MAX`] stands for the choice ([`NESTED_FIRST_FORCING`] from a coarser grid's solution). On the benchmark pendulum from the straight line at
 /// `N = 10⁶` and `10⁷` the choice is 112 and 58 times the needed term, and one more MINRES
 /// iteration makes the third Newton step the last (BENCHMARKS.md).
 const LAST_STEP_REACH: f64 = 1e3;
