@@ -64,7 +64,8 @@ impl<L: Lagrangian<D> + ?Sized, const D: usize> Problem<'_, L, D> {
 
     /// Solves the boundary value problem from an initial guess of all `N + 1` nodes; its first
     /// and last nodes are the boundary values. (A guess that is the straight line between
-    /// them, node for node, is [`solve_bvp`](Self::solve_bvp)'s, and is treated as it is.)
+    /// them, node for node, is treated as [`solve_bvp`](Self::solve_bvp)'s: on the fractional
+    /// fast path from `2¹⁹` steps on, Newton starts from a coarser grid's solution instead.)
     ///
     /// # Example
     ///

@@ -27,6 +27,25 @@ impl Lagrangian<1> for Pendulum {
     }
 }
 
+/// `c (½v² + cos x)`: the pendulum times `c`.
+struct ScaledPendulum(f64);
+
+impl Lagrangian<1> for ScaledPendulum {
+    fn value(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> f64 {
+        self.0 * (0.5 * v[0] * v[0] + x[0].cos())
+    }
+    fn gradient(&self, x: &Vector<1>, v: &Vector<1>, _t: f64) -> (Vector<1>, Vector<1>) {
+        (Vector::<1>::new(-self.0 * x[0].sin()), v * self.0)
+    }
+    fn hessian(&self, x: &Vector<1>, _v: &Vector<1>, _t: f64) -> Hessian<1> {
+        Hessian {
+            xx: Matrix::<1>::new(-self.0 * x[0].cos()),
+            xv: Matrix::<1>::zeros(),
+            vv: Matrix::<1>::new(self.0),
+        }
+    }
+}
+
 /// A Krylov budget too small for the system is a typed error, never a returned curve.
 #[test]
 fn an_exhausted_krylov_budget_is_a_typed_error() {
@@ -234,8 +253,8 @@ fn gmres_reports_the_residual_a_fresh_product_measures() {
 /// the solution on a grid 32 times coarser (solved from its own straight line), interpolated
 /// linearly; the solve from there meets its stopping rule in fewer Newton steps than from the
 /// line, with nodes as close to the discrete solution (solved to the round-off floor) as the
-/// solve from the line. A guess that is not the straight line is taken as given, and a coarse
-/// solve that fails leaves the straight line.
+/// solve from the line, and the same nodes for `c L` (`c = 10^{±12}`). A guess that is not the
+/// straight line is taken as given, and a coarse solve that fails leaves the straight line.
 #[test]
 fn a_straight_line_guess_starts_from_a_coarser_grid_solution() {
     let n = 8192;
@@ -313,6 +332,24 @@ fn a_straight_line_guess_starts_from_a_coarser_grid_solution() {
             from_coarse <= from_line.max(1e-13),
             "{embedding}: {from_coarse:e} from the coarser grid, {from_line:e} from the line"
         );
+
+        // `c L` gives the nodes of `L` (its Euler–Lagrange equations are those of `L`).
+        for c in [1e-12, 1e12] {
+            let scaled = ScaledPendulum(c);
+            let disc = Discretisation::new(&scaled, grid, embedding);
+            let q = solve_nested(&disc, &options, scheme, line.clone(), n)
+                .unwrap()
+                .q;
+            let moved = q
+                .iter()
+                .zip(&nested.q)
+                .map(|(a, b)| (a - b).amax())
+                .fold(0.0, f64::max);
+            assert!(
+                moved <= 1e-9,
+                "{embedding}: c = {c:e}, nodes moved by {moved:e}"
+            );
+        }
 
         let mut bent = line.clone();
         bent[1][0] += 1e-3;
